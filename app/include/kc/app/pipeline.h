@@ -1,0 +1,36 @@
+#pragma once
+/// The bind pipeline: cage → samples → K → W0 → W → coordinate field (ARCHITECTURE.md data flow).
+
+#include <atomic>
+#include <functional>
+
+#include "kc/app/session.h"
+
+namespace kc::app {
+
+struct BindReport {
+  sampling::SamplingReport sampling;
+  InterpolatorReport factor;
+  InitReport init;
+  OptimizeReport optimize;
+  double solveSeconds = 0.0;   ///< U (and B) from W.
+  double totalSeconds = 0.0;
+};
+
+/// Progress of a bind: stage name and fraction in [0, 1]. Return false to cancel.
+using BindProgress = std::function<bool(const char* stage, double fraction)>;
+
+/// Binds a cage over an image of width×height pixels. Throws std::invalid_argument for bad input
+/// (invalid cage, bad parameters, too many samples) and std::runtime_error when the kernel matrix
+/// cannot be factorized (with the advice of the report).
+Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report = nullptr,
+             const BindProgress& progress = {});
+
+/// Re-optimizes rows `subset` of session.W (all when empty) from session.W0 with `method`, then
+/// refreshes the coordinate field. Returns the optimizer's report.
+OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset = {});
+
+/// Rebuilds session.field from samples, σ and W (after loading a session file).
+InterpolatorReport refreshField(Session& session);
+
+}  // namespace kc::app

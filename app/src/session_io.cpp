@@ -1,0 +1,1 @@
+// kcwarp: implementation pending.

@@ -1,0 +1,46 @@
+#pragma once
+/// The cage: control points and the edges between them (closed polygon or open polylines).
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "kc/core/types.h"
+
+namespace kc {
+
+struct Cage {
+  Points C;                               ///< m×2 control points, in the user's order.
+  std::vector<std::array<int, 2>> edges;  ///< Pairs of control indices.
+  bool closed = true;                     ///< Closed polygon: edges are i → i+1 (mod m).
+
+  Index size() const { return C.rows(); }
+  /// A closed polygon through the points, edges i → i+1 (mod m).
+  static Cage polygon(const Points& C);
+};
+
+/// Throws std::invalid_argument, with a message a user can act on, when the cage is unusable:
+/// fewer than 3 points (closed) or 2 (open), non-finite coordinates, repeated points, an edge
+/// index out of range or degenerate, all points collinear, or edges that intersect other than
+/// at a shared end point. The user's point order is never changed.
+void validateCage(const Cage& cage);
+
+/// Signed area of the closed polygon C (positive = counter-clockwise in x-right/y-up axes).
+double signedArea(const Points& C);
+
+/// True when x lies inside the closed cage (even-odd rule; orientation does not matter).
+/// Points exactly on an edge may go either way: callers treat edges separately.
+bool insideCage(const Cage& cage, const Vec2& x);
+
+/// True when the segment a–b properly crosses a cage edge: the two meet at a point that is
+/// interior to both, or a–b passes through a cage vertex from one side of the cage to the other.
+/// Touching at a or b (samples lying on the cage) is not a crossing.
+bool segmentCrossesCage(const Cage& cage, const Vec2& a, const Vec2& b);
+
+/// Distance from x to the nearest cage edge.
+double distanceToCage(const Cage& cage, const Vec2& x);
+
+/// Indices (into C) of the convex hull of the control points, counter-clockwise (y-up sense).
+std::vector<int> convexHull(const Points& C);
+
+}  // namespace kc

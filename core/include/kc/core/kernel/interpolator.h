@@ -1,0 +1,73 @@
+#pragma once
+/// Kernel interpolation of per-sample weights: the dual kernel functions of thesis 3.1 / 6.1.
+/// compute() assembles K and factorizes it once per sample set; solve() is called per W.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kc/core/kernel/kernel_matrix.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+enum class InterpMode {
+  Exact,   ///< K augmented with a linear polynomial: exact partition of unity and reproduction.
+  Thesis,  ///< Plain w(x) = U k(x) with U = W K⁻¹ (thesis 1.9, 6.2–6.3), ~1e-3 accurate.
+};
+
+enum class FactorStatus { Ok, NotComputed, NotPositiveDefinite, Singular };
+
+struct InterpolatorReport {
+  FactorStatus status = FactorStatus::NotComputed;
+  std::string advice;       ///< What to change when status != Ok (e.g. "σ too large for the spacing").
+  Index nonZeros = 0;       ///< Non-zeros of K.
+  double assembleSeconds = 0.0;
+  double factorSeconds = 0.0;
+};
+
+/// Coefficients of the interpolant of one W: w(x)ᵀ = k(x)ᵀ U + [1 x y] B.
+struct KernelCoefficients {
+  RowMatrix U;  ///< #S×m, U = K⁻¹(W − P B) (thesis 6.2, transposed to one row per sample).
+  Eigen::Matrix<double, 3, Eigen::Dynamic> B;  ///< 3×m polynomial part; zero in Thesis mode.
+};
+
+class KernelInterpolator {
+ public:
+  KernelInterpolator();
+  ~KernelInterpolator();
+  KernelInterpolator(KernelInterpolator&&) noexcept;
+  KernelInterpolator& operator=(KernelInterpolator&&) noexcept;
+
+  /// Assembles K for samples X and factorizes it (thesis 6.1); in Exact mode also the 3×3
+  /// Schur complement PᵀK⁻¹P of the polynomial block. Throws std::invalid_argument on bad input
+  /// (non-finite X, σ ≤ 0); a failed factorization is reported, not thrown.
+  InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
+
+  bool ok() const;
+  InterpMode mode() const;
+  const GaussianKernel& kernel() const;
+  const Points& samples() const;
+  const SparseMatrix& K() const;
+
+  /// Coefficients for weights W (#S×m): U = K⁻¹W (6.2) in Thesis mode; in Exact mode the
+  /// augmented system [K P; Pᵀ 0][U; B] = [W; 0]. Requires ok().
+  KernelCoefficients solve(const Weights& W) const;
+
+  /// w(p) for every row of P (6.3): #P×m, computed in parallel.
+  Weights evaluate(const KernelCoefficients& coef, const Points& P) const;
+
+  /// Gradients ∂w/∂x and ∂w/∂y at every row of P (3.41–3.43): two #P×m matrices.
+  void evaluateGradient(const KernelCoefficients& coef, const Points& P, Weights& dWdx, Weights& dWdy) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+/// Jacobian of the linear-blend-skinning map f(x) = Σ_i w_i(x) T_i x at x (thesis 3.39, 3.44),
+/// given w(x) (m), ∇w(x) (m×2 as two m-vectors) and the handle transforms T_i.
+Eigen::Matrix2d deformationJacobian(const Vec2& x, const Eigen::VectorXd& w, const Eigen::VectorXd& dwdx,
+                                    const Eigen::VectorXd& dwdy, const std::vector<Affine2>& T);
+
+}  // namespace kc

@@ -1,0 +1,20 @@
+#pragma once
+/// Sparse kernel matrices assembled through a uniform grid: O(n · neighbours), never all pairs.
+
+#include <Eigen/SparseCore>
+
+#include "kc/core/kernel/gaussian_kernel.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;                   ///< column-major
+using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+/// K #S×#S, K_ij = k(x_i, x_j) for |x_i − x_j| ≤ θ (thesis 3.32, 6.1). Symmetric, full storage.
+SparseMatrix assembleKernelMatrix(const Points& X, const GaussianKernel& kernel);
+
+/// k(p)ᵀ for every query point: #P×#S, row p holds k(p, x_j) for |p − x_j| ≤ θ (3.32).
+SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel);
+
+}  // namespace kc

@@ -1,0 +1,45 @@
+#pragma once
+/// Shared value types of kcwarp's numerics. Matrices hold one row per element.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace kc {
+
+using Index = Eigen::Index;
+using Vec2 = Eigen::Vector2d;
+
+/// #P×2 points, one (x, y) row per point, pixel coordinates (x right, y down).
+using Points = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+/// Dense row-major matrix: one row per sample / point. Weights W are #S×m.
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using Weights = RowMatrix;
+
+/// 2×3 affine map [A | t] acting on (x, y, 1).
+using Affine2 = Eigen::Matrix<double, 2, 3>;
+
+/// What a sample is (ARCHITECTURE.md, file formats). Controls are samples 0..m-1 (thesis 3.18).
+enum class SampleKind : std::uint8_t { Control, Edge, Line, Interior, Exterior };
+
+std::string_view toString(SampleKind kind);
+/// Parses "control", "edge", "line", "interior", "exterior"; returns false on anything else.
+bool parseSampleKind(std::string_view text, SampleKind& kind);
+
+/// The sample set handed to core: positions, kinds, and for edge samples the cage edge they lie on.
+struct SampleSet {
+  Points X;                       ///< #S×2 positions; rows 0..m-1 are the control points.
+  std::vector<SampleKind> kind;   ///< #S kinds.
+  /// #S×2: for Edge samples the control indices (k, l) of the edge's ends; (-1, -1) otherwise.
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
+
+  Index size() const { return X.rows(); }
+  /// Number of leading Control samples.
+  Index controlCount() const;
+  /// Throws std::invalid_argument when shapes disagree, kinds/edges are inconsistent or X is not finite.
+  void validate(Index m) const;
+};
+
+}  // namespace kc

@@ -1,0 +1,50 @@
+#pragma once
+/// Per-sample weight optimization (thesis chapter 4), every sample independent and parallel,
+/// for all samples or any subset (painting re-optimizes only painted samples).
+
+#include <span>
+
+#include "kc/core/types.h"
+
+namespace kc {
+
+enum class Method {
+  QP,   ///< (4.1) min |w − w0|² s.t. Cw = x, 1ᵀw = 1, w ≥ 0 — exact optimum.
+  QEC,  ///< (4.2–4.6) the same without w ≥ 0, closed form.
+  L1,   ///< (4.8) min |w − w0|₁ s.t. Cw = x, 1ᵀw = 1 — exact LP optimum.
+};
+
+struct OptimizeOptions {
+  Method method = Method::QP;
+};
+
+struct OptimizeReport {
+  Index solved = 0;              ///< Samples optimized (control and edge samples included).
+  Index infeasible = 0;          ///< QP samples outside the control points' convex hull (fallback used).
+  Index failed = 0;              ///< Samples where the solver did not certify an optimum (fallback used).
+  int maxIterations = 0;         ///< Largest per-sample iteration count.
+  double seconds = 0.0;
+};
+
+/// Precomputes what every sample shares (A = [Cᵀ; 1ᵀ], (AAᵀ)⁻¹, the convex hull of C), then
+/// optimizes rows of W.
+class WeightOptimizer {
+ public:
+  WeightOptimizer() = default;
+  /// C: m×2 control points. Throws std::invalid_argument when C is degenerate (collinear / < 3).
+  explicit WeightOptimizer(const Points& C) { precompute(C); }
+  void precompute(const Points& C);
+
+  /// Optimizes rows `subset` of W (all rows when empty) from targets W0 (#S×m). Control samples
+  /// get e_i (3.18), edge samples the linear weights (4.7), other samples the method's optimum.
+  /// Never produces NaN; infeasible QP samples use the documented fallback (see sample_qp.h).
+  OptimizeReport optimize(const SampleSet& S, const Weights& W0, Weights& W, const OptimizeOptions& options,
+                          std::span<const Index> subset = {}) const;
+
+ private:
+  Points m_C;
+  Eigen::Matrix3d m_AAtInv = Eigen::Matrix3d::Zero();
+  std::vector<int> m_hull;
+};
+
+}  // namespace kc

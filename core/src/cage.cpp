@@ -1,0 +1,205 @@
+#include "kc/core/cage.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace kc {
+namespace {
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Orientation of c relative to the line a→b, with a tolerance relative to the lengths involved.
+int orient(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double v = cross(b - a, c - a);
+  const double scale = (b - a).norm() * (c - a).norm();
+  const double eps = 1e-12 * scale;
+  return v > eps ? 1 : (v < -eps ? -1 : 0);
+}
+
+bool onSegment(const Vec2& a, const Vec2& b, const Vec2& p) {
+  return std::min(a.x(), b.x()) - 1e-12 <= p.x() && p.x() <= std::max(a.x(), b.x()) + 1e-12 &&
+         std::min(a.y(), b.y()) - 1e-12 <= p.y() && p.y() <= std::max(a.y(), b.y()) + 1e-12;
+}
+
+/// Closed segments a–b and c–d share at least one point.
+bool segmentsIntersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const int o1 = orient(a, b, c), o2 = orient(a, b, d), o3 = orient(c, d, a), o4 = orient(c, d, b);
+  if (o1 != o2 && o3 != o4) return true;
+  if (o1 == 0 && onSegment(a, b, c)) return true;
+  if (o2 == 0 && onSegment(a, b, d)) return true;
+  if (o3 == 0 && onSegment(c, d, a)) return true;
+  if (o4 == 0 && onSegment(c, d, b)) return true;
+  return false;
+}
+
+std::vector<std::array<int, 2>> edgesOf(const Cage& cage) {
+  if (!cage.closed || !cage.edges.empty()) return cage.edges;
+  std::vector<std::array<int, 2>> e;
+  const int m = static_cast<int>(cage.size());
+  for (int i = 0; i < m; ++i) e.push_back({i, (i + 1) % m});
+  return e;
+}
+
+std::string pointText(const Points& C, Index i) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "point %ld (%.6g, %.6g)", static_cast<long>(i), C(i, 0), C(i, 1));
+  return buf;
+}
+
+}  // namespace
+
+Cage Cage::polygon(const Points& C) {
+  Cage cage;
+  cage.C = C;
+  cage.closed = true;
+  const int m = static_cast<int>(C.rows());
+  for (int i = 0; i < m; ++i) cage.edges.push_back({i, (i + 1) % m});
+  return cage;
+}
+
+void validateCage(const Cage& cage) {
+  const Index m = cage.size();
+  const Points& C = cage.C;
+  if (cage.closed && m < 3)
+    throw std::invalid_argument("cage has " + std::to_string(m) + " points; a closed cage needs at least 3");
+  if (!cage.closed && m < 2) throw std::invalid_argument("cage has fewer than 2 points");
+  for (Index i = 0; i < m; ++i)
+    if (!std::isfinite(C(i, 0)) || !std::isfinite(C(i, 1)))
+      throw std::invalid_argument("cage point " + std::to_string(i) + " has a non-finite coordinate");
+  const double extent = std::max(C.col(0).maxCoeff() - C.col(0).minCoeff(), C.col(1).maxCoeff() - C.col(1).minCoeff());
+  if (!(extent > 0.0)) throw std::invalid_argument("cage points all coincide");
+  for (Index i = 0; i < m; ++i)
+    for (Index j = i + 1; j < m; ++j)
+      if ((C.row(i) - C.row(j)).norm() <= 1e-9 * extent)
+        throw std::invalid_argument("cage " + pointText(C, i) + " is repeated as point " + std::to_string(j));
+  bool collinear = true;
+  for (Index i = 2; i < m && collinear; ++i)
+    if (orient(C.row(0), C.row(1), C.row(i)) != 0) collinear = false;
+  if (collinear && cage.closed) throw std::invalid_argument("cage points are all collinear (the cage has no area)");
+
+  const auto edges = edgesOf(cage);
+  if (!cage.closed && edges.empty()) throw std::invalid_argument("open cage has no edges");
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto [a, b] = edges[e];
+    if (a < 0 || b < 0 || a >= m || b >= m)
+      throw std::invalid_argument("cage edge " + std::to_string(e) + " names a point that does not exist");
+    if (a == b) throw std::invalid_argument("cage edge " + std::to_string(e) + " joins point " + std::to_string(a) + " to itself");
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    for (std::size_t f = e + 1; f < edges.size(); ++f) {
+      const auto [a, b] = edges[e];
+      const auto [c, d] = edges[f];
+      const int shared = (a == c) + (a == d) + (b == c) + (b == d);
+      const Vec2 A = C.row(a), B = C.row(b), Cc = C.row(c), D = C.row(d);
+      if (shared >= 2) throw std::invalid_argument("cage edges " + std::to_string(e) + " and " + std::to_string(f) + " are the same edge");
+      if (shared == 1) {
+        // Adjacent edges may only touch at their shared end: reject folding back onto each other.
+        const int s = (a == c || a == d) ? a : b;
+        const Vec2 S = C.row(s);
+        const Vec2 u = ((a == s) ? B : A) - S, v = ((c == s) ? D : Cc) - S;
+        if (std::abs(cross(u, v)) <= 1e-12 * u.norm() * v.norm() && u.dot(v) > 0)
+          throw std::invalid_argument("cage edges " + std::to_string(e) + " and " + std::to_string(f) +
+                                      " overlap (the cage folds back on itself at " + pointText(C, s) + ")");
+        continue;
+      }
+      if (segmentsIntersect(A, B, Cc, D))
+        throw std::invalid_argument("cage is self-intersecting: edge " + std::to_string(e) + " (points " +
+                                    std::to_string(a) + "-" + std::to_string(b) + ") crosses edge " + std::to_string(f) +
+                                    " (points " + std::to_string(c) + "-" + std::to_string(d) + ")");
+    }
+  }
+}
+
+double signedArea(const Points& C) {
+  double a = 0.0;
+  const Index m = C.rows();
+  for (Index i = 0; i < m; ++i) {
+    const Index j = (i + 1) % m;
+    a += C(i, 0) * C(j, 1) - C(j, 0) * C(i, 1);
+  }
+  return 0.5 * a;
+}
+
+bool insideCage(const Cage& cage, const Vec2& x) {
+  if (!cage.closed) return false;
+  bool inside = false;
+  for (const auto& [a, b] : edgesOf(cage)) {
+    const Vec2 A = cage.C.row(a), B = cage.C.row(b);
+    if ((A.y() > x.y()) != (B.y() > x.y())) {
+      const double xc = A.x() + (x.y() - A.y()) * (B.x() - A.x()) / (B.y() - A.y());
+      if (x.x() < xc) inside = !inside;
+    }
+  }
+  return inside;
+}
+
+bool segmentCrossesCage(const Cage& cage, const Vec2& p, const Vec2& q) {
+  const Points& C = cage.C;
+  const Vec2 d = q - p;
+  const double len = d.norm();
+  if (len == 0.0) return false;
+  // Parameters along p→q where the segment meets the cage; between consecutive ones the segment
+  // is either on the cage or wholly inside or outside. It crosses when two such pieces disagree.
+  std::vector<double> ts{0.0, 1.0};
+  for (const auto& [a, b] : edgesOf(cage)) {
+    const Vec2 A = C.row(a), B = C.row(b), e = B - A;
+    const double denom = cross(d, e);
+    if (std::abs(denom) > 1e-14 * len * e.norm()) {
+      const double t = cross(A - p, e) / denom, s = cross(A - p, d) / denom;
+      if (s >= -1e-12 && s <= 1 + 1e-12 && t > 0.0 && t < 1.0) ts.push_back(t);
+    } else if (std::abs(cross(A - p, d)) <= 1e-12 * len * std::max(len, (A - p).norm())) {
+      for (const Vec2& V : {A, B}) {  // collinear: the overlap's ends split the segment
+        const double t = (V - p).dot(d) / (len * len);
+        if (t > 0.0 && t < 1.0) ts.push_back(t);
+      }
+    }
+  }
+  if (!cage.closed) return ts.size() > 2;
+  std::sort(ts.begin(), ts.end());
+  int status = -1;  // -1 unknown, 0 outside, 1 inside
+  for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+    if (ts[k + 1] - ts[k] <= 1e-12) continue;
+    const Vec2 mid = p + 0.5 * (ts[k] + ts[k + 1]) * d;
+    if (distanceToCage(cage, mid) <= 1e-9 * len) continue;  // this piece runs along the cage
+    const int in = insideCage(cage, mid) ? 1 : 0;
+    if (status >= 0 && in != status) return true;
+    status = in;
+  }
+  return false;
+}
+
+double distanceToCage(const Cage& cage, const Vec2& x) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [a, b] : edgesOf(cage)) {
+    const Vec2 A = cage.C.row(a), B = cage.C.row(b);
+    const Vec2 d = B - A;
+    const double t = std::clamp((x - A).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (A + t * d - x).norm());
+  }
+  return best;
+}
+
+std::vector<int> convexHull(const Points& C) {
+  const int m = static_cast<int>(C.rows());
+  std::vector<int> idx(static_cast<std::size_t>(m));
+  for (int i = 0; i < m; ++i) idx[static_cast<std::size_t>(i)] = i;
+  std::sort(idx.begin(), idx.end(), [&](int a, int b) { return C(a, 0) < C(b, 0) || (C(a, 0) == C(b, 0) && C(a, 1) < C(b, 1)); });
+  if (m < 3) return idx;
+  std::vector<int> hull(2 * static_cast<std::size_t>(m));
+  int k = 0;
+  auto turn = [&](int o, int a, int b) { return cross(Vec2(C.row(a)) - Vec2(C.row(o)), Vec2(C.row(b)) - Vec2(C.row(o))); };
+  for (int i = 0; i < m; ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  for (int i = m - 2, t = k + 1; i >= 0; --i) {
+    while (k >= t && turn(hull[k - 2], hull[k - 1], idx[i]) <= 0) --k;
+    hull[k++] = idx[i];
+  }
+  hull.resize(static_cast<std::size_t>(k - 1));
+  return hull;
+}
+
+}  // namespace kc

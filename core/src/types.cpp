@@ -1,0 +1,58 @@
+#include "kc/core/types.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace kc {
+
+std::string_view toString(SampleKind kind) {
+  switch (kind) {
+    case SampleKind::Control: return "control";
+    case SampleKind::Edge: return "edge";
+    case SampleKind::Line: return "line";
+    case SampleKind::Interior: return "interior";
+    case SampleKind::Exterior: return "exterior";
+  }
+  return "unknown";
+}
+
+bool parseSampleKind(std::string_view text, SampleKind& kind) {
+  for (SampleKind k : {SampleKind::Control, SampleKind::Edge, SampleKind::Line, SampleKind::Interior,
+                       SampleKind::Exterior}) {
+    if (text == toString(k)) {
+      kind = k;
+      return true;
+    }
+  }
+  return false;
+}
+
+Index SampleSet::controlCount() const {
+  Index m = 0;
+  while (m < size() && kind[static_cast<std::size_t>(m)] == SampleKind::Control) ++m;
+  return m;
+}
+
+void SampleSet::validate(Index m) const {
+  const Index n = X.rows();
+  if (static_cast<Index>(kind.size()) != n)
+    throw std::invalid_argument("samples: " + std::to_string(n) + " points but " + std::to_string(kind.size()) + " kinds");
+  if (edge.rows() != n)
+    throw std::invalid_argument("samples: " + std::to_string(n) + " points but " + std::to_string(edge.rows()) + " edge rows");
+  if (n < m) throw std::invalid_argument("samples: fewer samples than control points");
+  if (!X.allFinite()) throw std::invalid_argument("samples: non-finite coordinate");
+  for (Index i = 0; i < n; ++i) {
+    const SampleKind k = kind[static_cast<std::size_t>(i)];
+    if ((i < m) != (k == SampleKind::Control))
+      throw std::invalid_argument("samples: the first " + std::to_string(m) +
+                                  " samples must be exactly the control points (sample " + std::to_string(i) + ")");
+    if (k == SampleKind::Edge) {
+      const int a = edge(i, 0), b = edge(i, 1);
+      if (a < 0 || b < 0 || a >= m || b >= m || a == b)
+        throw std::invalid_argument("samples: edge sample " + std::to_string(i) + " names no valid cage edge");
+    }
+  }
+}
+
+}  // namespace kc

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Sets up a fresh Debian 12 machine (as root), builds kcwarp and runs the main job: the GUI on a
+# bundled example when a display is available, otherwise the headless demo (writes ./out/demo).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$jobs"
+if [ -n "${DISPLAY:-}" ] && [ -x build/app/kcwarp ]; then
+  exec build/app/kcwarp "$@"
+fi
+exec build/app/kcwarp-cli demo --out out/demo "$@"

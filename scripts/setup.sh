@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package kcwarp builds, tests and runs with. Idempotent: packages
+# already present are left alone, so a second run costs a second.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libopencv-dev libcgal-dev libsuitesparse-dev
+  nlohmann-json3-dev libcli11-dev
+  libglfw3-dev libimgui-dev libgl-dev
+  libgtest-dev libbenchmark-dev
+  libglpk-dev coinor-libclp-dev   # reference LP / QP solvers used only by the tests
+  xvfb xauth mesa-utils xdotool imagemagick
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
