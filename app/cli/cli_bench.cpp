@@ -1,1 +1,112 @@
-// kcwarp: implementation pending.
+// kcwarp-cli bench: performance tables of the bind pipeline and of the per-sample optimizers,
+// measured on real bound cages (not timed tests: run it and read the table).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numbers>
+#include <vector>
+
+#include "cli_common.h"
+#include "kc/app/pipeline.h"
+#include "kc/core/parallel.h"
+
+namespace kc::cli {
+namespace {
+
+/// A non-convex blob of m control points, centred in a size×size image.
+Cage blobCage(int m, double size) {
+  Points C(m, 2);
+  for (int i = 0; i < m; ++i) {
+    const double t = 2.0 * std::numbers::pi * i / m;
+    const double r = 0.36 * size * (1.0 + 0.18 * std::sin(5.0 * t));
+    C.row(i) << 0.5 * size + r * std::cos(t), 0.5 * size - r * std::sin(t);
+  }
+  return Cage::polygon(C);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+struct BenchArgs {
+  int samples = 10000;
+  int repeats = 3;
+  int threads = 0;
+};
+
+void benchBind(const BenchArgs& a) {
+  const int m = 34;
+  const double size = 512.0;
+  // Samples cover the image plus an automatic margin of ~3h per side: ((size + 6h) / h)² ≈ N.
+  app::BindParams p;
+  p.spacing = size / (std::sqrt(static_cast<double>(a.samples)) - 6.0);
+  std::vector<double> t[8];
+  Index n = 0;
+  for (int r = 0; r < a.repeats; ++r) {
+    app::BindReport rep;
+    const app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p, &rep);
+    n = s.samples.size();
+    const app::BindTimings& b = s.timings;
+    const double v[8] = {b.sampling, b.assemble, b.factor, b.init, b.optimize, b.solve, b.total, 0};
+    for (int k = 0; k < 7; ++k) t[k].push_back(v[k]);
+  }
+  std::printf("bind: %ld samples, m = %d, spacing %.2f px, %d threads, median of %d runs\n", static_cast<long>(n), m, p.spacing,
+              threadCount(), a.repeats);
+  const char* names[7] = {"sampling", "kernel assembly", "factorization", "initial weights (heat)", "optimization (QP)",
+                          "U = K^-1 W", "total"};
+  for (int k = 0; k < 7; ++k) std::printf("  %-24s %9.1f ms\n", names[k], 1e3 * median(t[k]));
+}
+
+void benchOptimizers(const BenchArgs& a) {
+  std::printf("\nper-sample optimization, 1 thread, real heat-diffusion targets (median of %d runs):\n", a.repeats);
+  std::printf("  %4s %9s %12s %12s %12s %9s %9s\n", "m", "samples", "QEC ns", "QP ns", "L1 ns", "QP/QEC", "L1/QEC");
+  for (int m : {4, 10, 34}) {
+    app::BindParams p;
+    p.spacing = 4.0;
+    const app::Session s = app::bind(blobCage(m, 400.0), 400, 400, p);
+    std::vector<Index> rows;
+    for (Index i = 0; i < s.samples.size(); ++i)
+      if (s.samples.kind[static_cast<std::size_t>(i)] == SampleKind::Interior) rows.push_back(i);
+    const WeightOptimizer optimizer(s.cage.C);
+    const ScopedThreadCount one(1);
+    double ns[3];
+    const Method methods[3] = {Method::QEC, Method::QP, Method::L1};
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> runs;
+      Weights W = s.W;
+      OptimizeOptions o;
+      o.method = methods[k];
+      for (int r = 0; r < a.repeats; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        optimizer.optimize(s.samples, s.W0, W, o, rows);
+        runs.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count());
+      }
+      ns[k] = median(runs) / static_cast<double>(rows.size());
+    }
+    std::printf("  %4d %9zu %12.1f %12.1f %12.1f %8.1fx %8.1fx\n", m, rows.size(), ns[0], ns[1], ns[2], ns[1] / ns[0],
+                ns[2] / ns[0]);
+  }
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app) {
+  auto a = std::make_shared<BenchArgs>();
+  CLI::App* sub = app.add_subcommand("bench", "Performance tables: bind stages and per-sample optimizers");
+  sub->add_option("--samples", a->samples, "Target sample count of the bind benchmark")->capture_default_str();
+  sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
+  sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  sub->callback([a] {
+    if (a->samples < 100 || a->samples > 1000000) throw std::invalid_argument("--samples must be within 100..1000000");
+    if (a->repeats < 1 || a->repeats > 100) throw std::invalid_argument("--repeats must be within 1..100");
+    const ScopedThreadCount threads(a->threads);
+    benchBind(*a);
+    benchOptimizers(*a);
+  });
+}
+
+}  // namespace kc::cli

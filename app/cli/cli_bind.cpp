@@ -1,1 +1,97 @@
-// kcwarp: implementation pending.
+// kcwarp-cli bind: cage + image → session file (samples, W0, W).
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+#include "cli_common.h"
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+
+namespace kc::cli {
+namespace {
+
+struct BindArgs {
+  std::string cage, image, size, output;
+  double spacing = 6.0, sigma = 0.0, margin = -1.0;
+  std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
+  int heatIterations = 0;
+  std::uint64_t seed = 1;
+};
+
+template <class E>
+E parseOrThrow(const std::string& text, bool (*parse)(std::string_view, E&), const char* option, const char* accepted) {
+  E e{};
+  if (!parse(text, e)) throw app::InputError(option, "unknown value '" + text + "' (accepted: " + accepted + ")");
+  return e;
+}
+
+void runBind(const BindArgs& a) {
+  const Cage cage = app::loadCage(a.cage);
+  const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageSize(a.image);
+  app::BindParams p;
+  p.spacing = a.spacing;
+  p.sigma = a.sigma;
+  p.margin = a.margin;
+  p.seed = a.seed;
+  p.backend = a.backend;
+  p.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance");
+  p.init.iterations = a.heatIterations;
+  p.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
+  p.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
+  p.sampler = parseOrThrow(a.sampler, &app::parseSamplerKind, "--sampler", "blue-noise, grid");
+  if (p.backend != "kc") throw app::InputError("--backend", "'" + p.backend + "' is not available in this build (only kc)");
+
+  app::BindReport r;
+  app::BindProgress progress;
+  if (stderrIsTerminal())
+    progress = [](const char* stage, double f) {
+      std::fprintf(stderr, "\r%-20s %3.0f%%", stage, 100.0 * f);
+      if (f >= 1.0) std::fprintf(stderr, "\n");
+      return true;
+    };
+  app::Session s = app::bind(cage, w, h, p, &r, progress);
+  if (!a.image.empty()) s.image = imagePathForSession(a.image, a.output);
+  app::saveSession(a.output, s);
+
+  std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
+              static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
+              static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
+  std::printf("method %s: %ld samples optimized, %ld outside the control hull (fallback), %ld fallback\n",
+              std::string(app::toString(p.method)).c_str(), static_cast<long>(r.optimize.solved),
+              static_cast<long>(r.optimize.infeasible), static_cast<long>(r.optimize.failed));
+  const app::BindTimings& t = s.timings;
+  std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",
+              t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
+  std::printf("wrote %s\n", a.output.c_str());
+}
+
+}  // namespace
+
+void addBindCommand(CLI::App& app) {
+  auto a = std::make_shared<BindArgs>();
+  CLI::App* sub = app.add_subcommand("bind", "Sample the cage and image, compute and optimize weights, write a session");
+  sub->add_option("--cage", a->cage, "Cage file (JSON)")->required();
+  auto* image = sub->add_option("--image", a->image, "Image the cage is drawn over (gives the domain size)");
+  auto* size = sub->add_option("--size", a->size, "Domain size W,H in pixels (instead of --image)");
+  image->excludes(size);
+  sub->add_option("--spacing", a->spacing, "Sample spacing h in pixels")->capture_default_str();
+  sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
+  sub->add_option("--init", a->init, "Initial weights: heat-linear | heat-impulse | inverse-distance")->capture_default_str();
+  sub->add_option("--heat-iterations", a->heatIterations, "Heat diffusion iterations (0 = converged steady state)")
+      ->capture_default_str();
+  sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
+  sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
+  sub->add_option("--backend", a->backend, "Weight backend: kc")->capture_default_str();
+  sub->add_option("--sampler", a->sampler, "Sampling: blue-noise | grid")->capture_default_str();
+  sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
+  sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();
+  sub->add_option("-o,--output", a->output, "Session file to write (*.kcw.json)")->required();
+  sub->callback([a] {
+    if (a->image.empty() && a->size.empty()) throw app::InputError("bind", "give --image I.png or --size W,H");
+    runBind(*a);
+  });
+}
+
+}  // namespace kc::cli

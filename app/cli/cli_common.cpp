@@ -1,1 +1,50 @@
-// kcwarp: implementation pending.
+#include "cli_common.h"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+
+#include "kc/app/errors.h"
+
+namespace kc::cli {
+
+std::pair<int, int> parseSize(const std::string& text, const std::string& option) {
+  const auto comma = text.find_first_of(",x");
+  try {
+    if (comma == std::string::npos) throw std::invalid_argument("");
+    std::size_t a = 0, b = 0;
+    const int w = std::stoi(text.substr(0, comma), &a);
+    const int h = std::stoi(text.substr(comma + 1), &b);
+    if (a != comma || b != text.size() - comma - 1 || w <= 0 || h <= 0) throw std::invalid_argument("");
+    return {w, h};
+  } catch (const std::exception&) {
+    throw app::InputError(option, "expected a size W,H in positive whole pixels, got '" + text + "'");
+  }
+}
+
+std::pair<int, int> imageSize(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw app::InputError(path, "no such file");
+  const cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (img.empty()) throw app::InputError(path, "not a readable image (PNG or JPEG expected)");
+  return {img.cols, img.rows};
+}
+
+std::string imagePathForSession(const std::string& imagePath, const std::string& sessionPath) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir = fs::absolute(fs::path(sessionPath), ec).parent_path();
+  const fs::path rel = fs::relative(fs::absolute(imagePath, ec), dir, ec);
+  return ec || rel.empty() ? fs::absolute(imagePath).string() : rel.string();
+}
+
+std::string resolveSessionImage(const std::string& stored, const std::string& sessionPath) {
+  namespace fs = std::filesystem;
+  if (stored.empty() || fs::path(stored).is_absolute()) return stored;
+  return (fs::path(sessionPath).parent_path() / stored).lexically_normal().string();
+}
+
+bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
+
+}  // namespace kc::cli

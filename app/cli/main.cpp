@@ -1,1 +1,37 @@
-int main() { return 0; }
+// kcwarp-cli: the headless face of kcwarp (ARCHITECTURE.md, "Command line").
+
+#include <iostream>
+
+#include "cli_common.h"
+#include "kc/app/errors.h"
+#include "kc/app/process.h"
+
+int main(int argc, char** argv) {
+  kc::app::preferPassiveOpenMpWaiting(argv);
+  CLI::App app{"kcwarp-cli: warp images with a cage and kernel coordinates"};
+  app.require_subcommand(1);
+  kc::cli::addSampleCommand(app);
+  kc::cli::addBindCommand(app);
+  kc::cli::addEvalCommand(app);
+  kc::cli::addWarpCommand(app);
+  kc::cli::addStatsCommand(app);
+  kc::cli::addDemoCommand(app);
+  kc::cli::addBenchCommand(app);
+  try {
+    app.parse(argc, argv);
+    return kc::cli::kExitOk;
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "kcwarp-cli: " << e.what() << "\n";
+    return kc::cli::kExitBadInput;
+  } catch (const kc::app::InputError& e) {
+    std::cerr << "kcwarp-cli: " << e.what() << "\n";
+    return kc::cli::kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "kcwarp-cli: " << e.what() << "\n";
+    return kc::cli::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "kcwarp-cli: internal error: " << e.what() << "\n";
+    return kc::cli::kExitInternal;
+  }
+}

@@ -1,1 +1,74 @@
-// kcwarp: implementation pending.
+#include "kc/app/image_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+
+namespace kc::app {
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+Image loadImage(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such image file");
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a folder, not an image");
+  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (m.empty()) throw InputError(path, "cannot decode the image (not a PNG/JPEG or corrupt)");
+  if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
+  else if (m.depth() != CV_8U) throw InputError(path, "unsupported pixel depth (need 8 or 16 bit)");
+  cv::Mat rgba;
+  switch (m.channels()) {
+    case 1: cv::cvtColor(m, rgba, cv::COLOR_GRAY2RGBA); break;
+    case 3: cv::cvtColor(m, rgba, cv::COLOR_BGR2RGBA); break;
+    case 4: cv::cvtColor(m, rgba, cv::COLOR_BGRA2RGBA); break;
+    default: throw InputError(path, "unsupported channel count " + std::to_string(m.channels()));
+  }
+  Image img(rgba.cols, rgba.rows);
+  for (int y = 0; y < rgba.rows; ++y) std::copy_n(rgba.ptr<std::uint8_t>(y), std::size_t(rgba.cols) * 4, img.pixel(0, y));
+  return img;
+}
+
+std::string encodeImage(const Image& image, const std::string& ext) {
+  image.validate();
+  if (image.empty()) throw std::invalid_argument("cannot encode an empty image");
+  const cv::Mat rgba(image.height, image.width, CV_8UC4, const_cast<std::uint8_t*>(image.rgba.data()));
+  cv::Mat bgr;
+  std::vector<int> params;
+  if (ext == ".png") {
+    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGRA);
+    params = {cv::IMWRITE_PNG_COMPRESSION, 9};
+  } else if (ext == ".jpg" || ext == ".jpeg") {
+    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+    params = {cv::IMWRITE_JPEG_QUALITY, 92};
+  } else {
+    throw std::invalid_argument("unknown image format '" + ext + "' (use .png or .jpg)");
+  }
+  std::vector<uchar> buf;
+  if (!cv::imencode(ext, bgr, buf, params)) throw std::runtime_error("OpenCV could not encode the image as " + ext);
+  return std::string(buf.begin(), buf.end());
+}
+
+void saveImage(const std::string& path, const Image& image) {
+  const std::string ext = lowerExtension(path);
+  std::string bytes;
+  try {
+    bytes = encodeImage(image, ext);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path, e.what());
+  }
+  writeFileAtomic(path, bytes);
+}
+
+}  // namespace kc::app

@@ -1,1 +1,146 @@
-// kcwarp: implementation pending.
+#include "json_util.h"
+
+#include <cmath>
+
+#include "kc/app/errors.h"
+
+namespace kc::app::detail {
+
+json parseJson(const std::string& text, const std::string& where) {
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    std::string what = e.what();
+    // nlohmann's message is "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
+    const auto p = what.find("parse error");
+    if (p != std::string::npos) what = what.substr(p);
+    if (e.byte >= text.size()) what += " (the file looks truncated)";
+    throw InputError(where, "malformed JSON: " + what);
+  } catch (const json::exception& e) {  // e.g. a number too large for a double
+    std::string what = e.what();
+    const auto p = what.find("] ");
+    throw InputError(where, "malformed JSON: " + (p == std::string::npos ? what : what.substr(p + 2)));
+  }
+}
+
+void checkVersion(const json& j, const std::string& where) {
+  if (!j.is_object()) throw InputError(where, "expected a JSON object at the top level");
+  if (!j.contains("version")) throw InputError(where, "missing key 'version' (expected \"version\": 1)");
+  const json& v = j["version"];
+  if (!v.is_number_integer()) throw InputError(where, "'version' must be an integer");
+  if (v.get<long long>() != 1)
+    throw InputError(where, "unsupported version " + std::to_string(v.get<long long>()) + " (this kcwarp reads version 1)");
+}
+
+const json& require(const json& obj, const char* key, const std::string& where) {
+  if (!obj.is_object() || !obj.contains(key)) throw InputError(where, std::string("missing key '") + key + "'");
+  return obj[key];
+}
+
+double finiteNumber(const json& v, const std::string& where, const std::string& field) {
+  if (!v.is_number()) throw InputError(where, field + " must be a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw InputError(where, field + " is not finite");
+  return d;
+}
+
+Points parsePoints(const json& arr, const std::string& where, const std::string& field) {
+  if (!arr.is_array()) throw InputError(where, field + " must be an array of [x, y] pairs");
+  Points P(static_cast<Index>(arr.size()), 2);
+  for (std::size_t i = 0; i < arr.size(); ++i) {
+    const json& p = arr[i];
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    if (!p.is_array() || p.size() != 2) throw InputError(where, f + " must be a pair [x, y]");
+    P(static_cast<Index>(i), 0) = finiteNumber(p[0], where, f + "[0]");
+    P(static_cast<Index>(i), 1) = finiteNumber(p[1], where, f + "[1]");
+  }
+  return P;
+}
+
+json pointsToJson(const Points& P) {
+  json arr = json::array();
+  for (Index i = 0; i < P.rows(); ++i) arr.push_back({P(i, 0), P(i, 1)});
+  return arr;
+}
+
+Cage parseCage(const json& obj, const std::string& where, const std::string& field) {
+  const std::string pre = field.empty() ? "" : field + ".";
+  Cage cage;
+  cage.C = parsePoints(require(obj, "points", where), where, pre + "points");
+  cage.closed = true;
+  if (obj.contains("closed")) {
+    if (!obj["closed"].is_boolean()) throw InputError(where, pre + "closed must be true or false");
+    cage.closed = obj["closed"].get<bool>();
+  }
+  if (obj.contains("edges") && !obj["edges"].is_null()) {
+    const json& e = obj["edges"];
+    if (!e.is_array()) throw InputError(where, pre + "edges must be an array of [i, j] pairs");
+    for (std::size_t k = 0; k < e.size(); ++k) {
+      const std::string f = pre + "edges[" + std::to_string(k) + "]";
+      if (!e[k].is_array() || e[k].size() != 2 || !e[k][0].is_number_integer() || !e[k][1].is_number_integer())
+        throw InputError(where, f + " must be a pair of point indices");
+      cage.edges.push_back({e[k][0].get<int>(), e[k][1].get<int>()});
+    }
+  } else if (cage.closed) {
+    cage = Cage::polygon(cage.C);
+  } else {
+    for (int i = 0; i + 1 < static_cast<int>(cage.C.rows()); ++i) cage.edges.push_back({i, i + 1});
+  }
+  try {
+    validateCage(cage);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where, e.what());
+  }
+  return cage;
+}
+
+json cageToJson(const Cage& cage) {
+  json j = {{"points", pointsToJson(cage.C)}, {"closed", cage.closed}};
+  const Cage poly = Cage::polygon(cage.C);
+  if (!cage.closed || cage.edges != poly.edges) {
+    json e = json::array();
+    for (const auto& [a, b] : cage.edges) e.push_back({a, b});
+    j["edges"] = e;
+  }
+  return j;
+}
+
+Pose parsePose(const json& obj, const Points& C, const std::string& where, const std::string& field) {
+  const std::string pre = field.empty() ? "" : field + ".";
+  const Index m = C.rows();
+  auto countError = [&](std::size_t n, const char* key) {
+    return InputError(where, pre + key + " has " + std::to_string(n) + " entries but the cage has " + std::to_string(m) +
+                                 " control points");
+  };
+  Pose pose(static_cast<std::size_t>(m));
+  if (obj.contains("positions")) {
+    const Points P = parsePoints(obj["positions"], where, pre + "positions");
+    if (P.rows() != m) throw countError(static_cast<std::size_t>(P.rows()), "positions");
+    for (Index i = 0; i < m; ++i) pose[static_cast<std::size_t>(i)].translate = (P.row(i) - C.row(i)).transpose();
+    return pose;
+  }
+  if (!obj.contains("handles")) throw InputError(where, "missing key '" + pre + "positions' or '" + pre + "handles'");
+  const json& h = obj["handles"];
+  if (!h.is_array()) throw InputError(where, pre + "handles must be an array");
+  if (static_cast<Index>(h.size()) != m) throw countError(h.size(), "handles");
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const std::string f = pre + "handles[" + std::to_string(i) + "]";
+    if (!h[i].is_object()) throw InputError(where, f + " must be an object {\"translate\": [dx, dy], \"rotate\": r}");
+    HandlePose& p = pose[i];
+    if (h[i].contains("translate")) {
+      const json& t = h[i]["translate"];
+      if (!t.is_array() || t.size() != 2) throw InputError(where, f + ".translate must be a pair [dx, dy]");
+      p.translate = Vec2(finiteNumber(t[0], where, f + ".translate[0]"), finiteNumber(t[1], where, f + ".translate[1]"));
+    }
+    if (h[i].contains("rotate")) p.rotate = finiteNumber(h[i]["rotate"], where, f + ".rotate");
+  }
+  return pose;
+}
+
+json poseToJson(const Pose& pose) {
+  json h = json::array();
+  for (const HandlePose& p : pose) h.push_back({{"translate", {p.translate.x(), p.translate.y()}}, {"rotate", p.rotate}});
+  return {{"handles", h}};
+}
+
+}  // namespace kc::app::detail

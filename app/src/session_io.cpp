@@ -1,1 +1,189 @@
-// kcwarp: implementation pending.
+#include <cmath>
+
+#include "json_util.h"
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+
+namespace kc::app {
+namespace {
+
+using detail::json;
+
+json weightsToJson(const Weights& W) {
+  json rows = json::array();
+  for (Index i = 0; i < W.rows(); ++i) {
+    json r = json::array();
+    for (Index k = 0; k < W.cols(); ++k) r.push_back(W(i, k));
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+Weights parseWeights(const json& rows, Index n, Index m, const std::string& where, const std::string& field) {
+  if (!rows.is_array()) throw InputError(where, field + " must be an array of rows");
+  if (static_cast<Index>(rows.size()) != n)
+    throw InputError(where, field + " has " + std::to_string(rows.size()) + " rows but there are " + std::to_string(n) + " samples");
+  Weights W(n, m);
+  for (Index i = 0; i < n; ++i) {
+    const json& r = rows[static_cast<std::size_t>(i)];
+    if (!r.is_array() || static_cast<Index>(r.size()) != m)
+      throw InputError(where, field + "[" + std::to_string(i) + "] must have " + std::to_string(m) + " weights (one per control point)");
+    for (Index k = 0; k < m; ++k) {
+      const json& v = r[static_cast<std::size_t>(k)];
+      if (!v.is_number() || !std::isfinite(v.get<double>()))
+        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is not a finite number");
+      W(i, k) = v.get<double>();
+    }
+  }
+  return W;
+}
+
+template <class E>
+E parseEnum(const json& params, const char* key, E fallback, bool (*parse)(std::string_view, E&), const std::string& where) {
+  if (!params.contains(key)) return fallback;
+  const json& v = params[key];
+  E e{};
+  if (!v.is_string() || !parse(v.get<std::string>(), e))
+    throw InputError(where, std::string("params.") + key + " has an unknown value " + v.dump());
+  return e;
+}
+
+}  // namespace
+
+std::string sessionToJson(const Session& s) {
+  const BindParams& p = s.params;
+  json params = {{"spacing", p.spacing},
+                 {"sigma", s.sigma},
+                 {"sigma_auto", !(p.sigma > 0.0)},
+                 {"init", std::string(toString(p.init.method))},
+                 {"heat_iterations", p.init.iterations},
+                 {"method", std::string(toString(p.method))},
+                 {"interp", std::string(toString(p.interp))},
+                 {"backend", p.backend},
+                 {"sampler", std::string(toString(p.sampler))},
+                 {"margin", p.margin},
+                 {"seed", p.seed}};
+  json kinds = json::array(), ends = json::array();
+  for (Index i = 0; i < s.samples.size(); ++i) {
+    kinds.push_back(std::string(kc::toString(s.samples.kind[static_cast<std::size_t>(i)])));
+    ends.push_back({s.samples.edge(i, 0), s.samples.edge(i, 1)});
+  }
+  json j = {{"version", 1},
+            {"cage", detail::cageToJson(s.cage)},
+            {"image_size", {s.imageWidth, s.imageHeight}},
+            {"params", params},
+            {"samples", {{"points", detail::pointsToJson(s.samples.X)}, {"kinds", kinds}, {"edge_ends", ends}}},
+            {"weights", {{"initial", weightsToJson(s.W0)}, {"optimized", weightsToJson(s.W)}}},
+            {"lines", json::array()},
+            {"rigid", json::array()},
+            {"image", s.image}};
+  if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
+  const BindTimings& t = s.timings;
+  j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
+                  {"optimize", t.optimize}, {"solve", t.solve},       {"total", t.total}};
+  return j.dump() + "\n";
+}
+
+Session sessionFromJson(const std::string& text, const std::string& where) {
+  const json j = detail::parseJson(text, where);
+  detail::checkVersion(j, where);
+  Session s;
+  s.cage = detail::parseCage(detail::require(j, "cage", where), where, "cage");
+  const Index m = s.cage.size();
+
+  if (j.contains("image_size")) {
+    const json& sz = j["image_size"];
+    if (!sz.is_array() || sz.size() != 2 || !sz[0].is_number_integer() || !sz[1].is_number_integer() || sz[0].get<long>() <= 0 ||
+        sz[1].get<long>() <= 0)
+      throw InputError(where, "image_size must be [width, height] in whole pixels");
+    s.imageWidth = sz[0].get<int>();
+    s.imageHeight = sz[1].get<int>();
+  }
+
+  const json& params = detail::require(j, "params", where);
+  if (!params.is_object()) throw InputError(where, "params must be an object");
+  BindParams& p = s.params;
+  p.spacing = detail::finiteNumber(detail::require(params, "spacing", where), where, "params.spacing");
+  if (!(p.spacing > 0)) throw InputError(where, "params.spacing must be positive");
+  s.sigma = detail::finiteNumber(detail::require(params, "sigma", where), where, "params.sigma");
+  if (!(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
+  const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
+  p.sigma = sigmaAuto ? 0.0 : s.sigma;
+  p.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
+  if (params.contains("heat_iterations")) {
+    if (!params["heat_iterations"].is_number_integer() || params["heat_iterations"].get<long>() < 0)
+      throw InputError(where, "params.heat_iterations must be a whole number ≥ 0");
+    p.init.iterations = params["heat_iterations"].get<int>();
+  }
+  p.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
+  p.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);
+  p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, &parseSamplerKind, where);
+  if (params.contains("backend")) {
+    if (!params["backend"].is_string() || params["backend"].get<std::string>() != "kc")
+      throw InputError(where, "params.backend " + params["backend"].dump() + " is not supported (only \"kc\")");
+  }
+  if (params.contains("margin")) p.margin = detail::finiteNumber(params["margin"], where, "params.margin");
+  if (params.contains("seed")) {
+    if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
+    p.seed = params["seed"].get<std::uint64_t>();
+  }
+
+  const json& samples = detail::require(j, "samples", where);
+  s.samples.X = detail::parsePoints(detail::require(samples, "points", where), where, "samples.points");
+  const Index n = s.samples.X.rows();
+  const json& kinds = detail::require(samples, "kinds", where);
+  if (!kinds.is_array() || static_cast<Index>(kinds.size()) != n)
+    throw InputError(where, "samples.kinds must have one entry per sample (" + std::to_string(n) + ")");
+  s.samples.kind.resize(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    const json& k = kinds[static_cast<std::size_t>(i)];
+    if (!k.is_string() || !parseSampleKind(k.get<std::string>(), s.samples.kind[static_cast<std::size_t>(i)]))
+      throw InputError(where, "samples.kinds[" + std::to_string(i) + "] is not one of control, edge, line, interior, exterior");
+  }
+  s.samples.edge.setConstant(n, 2, -1);
+  if (samples.contains("edge_ends")) {
+    const json& e = samples["edge_ends"];
+    if (!e.is_array() || static_cast<Index>(e.size()) != n)
+      throw InputError(where, "samples.edge_ends must have one [k, l] pair per sample");
+    for (Index i = 0; i < n; ++i) {
+      const json& r = e[static_cast<std::size_t>(i)];
+      if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
+        throw InputError(where, "samples.edge_ends[" + std::to_string(i) + "] must be a pair of integers");
+      s.samples.edge(i, 0) = r[0].get<int>();
+      s.samples.edge(i, 1) = r[1].get<int>();
+    }
+  }
+  try {
+    s.samples.validate(m);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where, e.what());
+  }
+  for (Index i = 0; i < m; ++i)
+    if ((s.samples.X.row(i) - s.cage.C.row(i)).norm() > 1e-9 * (1.0 + s.cage.C.row(i).norm()))
+      throw InputError(where, "samples.points[" + std::to_string(i) + "] differs from cage point " + std::to_string(i) +
+                                  " (the first samples must be the control points)");
+
+  const json& weights = detail::require(j, "weights", where);
+  s.W0 = parseWeights(detail::require(weights, "initial", where), n, m, where, "weights.initial");
+  s.W = parseWeights(detail::require(weights, "optimized", where), n, m, where, "weights.optimized");
+  if (j.contains("pose") && !j["pose"].is_null()) s.pose = detail::parsePose(j["pose"], s.cage.C, where, "pose");
+  if (j.contains("image")) {
+    if (!j["image"].is_string()) throw InputError(where, "image must be a path string");
+    s.image = j["image"].get<std::string>();
+  }
+  if (j.contains("timings") && j["timings"].is_object()) {
+    const json& t = j["timings"];
+    auto get = [&](const char* k) { return t.contains(k) && t[k].is_number() ? t[k].get<double>() : 0.0; };
+    s.timings = {get("sampling"), get("assemble"), get("factor"), get("init"), get("optimize"), get("solve"), get("total")};
+  }
+  const InterpolatorReport report = refreshField(s);
+  if (report.status != FactorStatus::Ok) throw InputError(where, "the kernel matrix of these samples cannot be factorized: " + report.advice);
+  return s;
+}
+
+Session loadSession(const std::string& path) { return sessionFromJson(readTextFile(path), path); }
+
+void saveSession(const std::string& path, const Session& session) { writeFileAtomic(path, sessionToJson(session)); }
+
+}  // namespace kc::app

@@ -2,7 +2,9 @@
 /// The bind pipeline: cage → samples → K → W0 → W → coordinate field (ARCHITECTURE.md data flow).
 
 #include <atomic>
+#include <exception>
 #include <functional>
+#include <span>
 
 #include "kc/app/session.h"
 
@@ -19,6 +21,19 @@ struct BindReport {
 
 /// Progress of a bind: stage name and fraction in [0, 1]. Return false to cancel.
 using BindProgress = std::function<bool(const char* stage, double fraction)>;
+
+/// Thrown by bind() when its progress callback asked to cancel.
+class BindCancelled : public std::exception {
+ public:
+  const char* what() const noexcept override { return "bind cancelled"; }
+};
+
+/// Largest image side bind() accepts, in pixels.
+inline constexpr int kMaxImageSide = 32768;
+
+/// Estimate of the automatic σ before sampling: 3T/π (thesis 3.28) with T = h. bind() itself
+/// uses the measured mean nearest-neighbour spacing of the samples (sampling::suggestSigma).
+double automaticSigma(double spacing);
 
 /// Binds a cage over an image of width×height pixels. Throws std::invalid_argument for bad input
 /// (invalid cage, bad parameters, too many samples) and std::runtime_error when the kernel matrix

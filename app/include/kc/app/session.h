@@ -18,12 +18,12 @@ namespace kc::app {
 /// Parameters of one bind. Defaults are what `kcwarp-cli bind` uses.
 struct BindParams {
   double spacing = 6.0;    ///< h, pixels.
-  double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28).
+  double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28, T measured).
   InitOptions init;        ///< W0: method and diffusion iterations.
   Method method = Method::QP;
   InterpMode interp = InterpMode::Exact;
   std::string backend = "kc";
-  sampling::SamplerKind sampler = sampling::SamplerKind::Grid;
+  sampling::SamplerKind sampler = sampling::SamplerKind::BlueNoise;
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
   std::uint64_t seed = 1;
 };
@@ -48,6 +48,11 @@ struct CoordinateField {
   Weights weightsAt(const Points& P) const { return interpolator.evaluate(coefficients, P); }
 };
 
+/// Seconds spent in each stage of the bind that produced a session (saved with it).
+struct BindTimings {
+  double sampling = 0.0, assemble = 0.0, factor = 0.0, init = 0.0, optimize = 0.0, solve = 0.0, total = 0.0;
+};
+
 struct Session {
   Cage cage;
   BindParams params;
@@ -58,6 +63,7 @@ struct Session {
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).
   std::string image;           ///< Image path as written in the file (may be empty).
+  BindTimings timings;         ///< How long the bind took.
   CoordinateField field;       ///< Derived from samples, σ and W; not saved.
 };
 

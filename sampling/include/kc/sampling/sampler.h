@@ -7,6 +7,8 @@
 
 #include "kc/core/cage.h"
 #include "kc/core/types.h"
+#include "kc/sampling/boundary.h"
+#include "kc/sampling/blue_noise.h"
 
 namespace kc::sampling {
 
@@ -25,20 +27,39 @@ struct SamplingOptions {
   double margin = -1.0;
   SamplerKind kind = SamplerKind::Grid;
   std::uint64_t seed = 1;
-  /// Progress callback for long relaxations (fraction in [0, 1]); may be empty.
+  /// Progress callback for long relaxations (fraction in [0, 1]); may be empty. Called on the
+  /// calling thread, outside parallel loops: it may throw to cancel (the exception propagates).
   std::function<void(double)> progress;
+  /// Blue noise: density and inverse mean shift parameters (λ, s, stopping rule); defaults
+  /// derive from h. relax.spacing and relax.progress are taken from the fields above.
+  BlueNoiseOptions blueNoise;
 };
 
 struct SamplingReport {
   Index controls = 0, edge = 0, interior = 0, exterior = 0, frame = 0;
   int iterations = 0;        ///< Relaxation iterations (blue noise).
   double seconds = 0.0;
+  bool converged = true;     ///< Blue noise: largest move fell below the tolerance.
+  double lastMove = 0.0;     ///< Blue noise: largest move of the last iteration / h.
+  Index rejectedMoves = 0;   ///< Blue noise: moves refused because they left the region.
 };
+
+/// Automatic margin (3h) when options.margin < 0, else options.margin.
+double resolvedMargin(const SamplingOptions& options);
+/// The sampled domain: [0, width] × [0, height] grown by the margin on every side.
+Rect samplingDomain(const SamplingOptions& options);
 
 /// Samples: control points first (0..m−1, thesis 3.18), then every cage edge at a common
 /// spacing ≈ h (kind Edge, with its edge's ends), then free samples covering the domain plus
-/// margin, each labelled Interior or Exterior and kept at least h/2 away from edge samples.
-/// Throws std::invalid_argument for spacing ≤ 0, non-finite input, or a count above kMaxSamples.
+/// margin, each labelled Interior or Exterior.
+/// Grid: a regular grid of spacing h, points closer than h/2 to the cage dropped.
+/// BlueNoise: fixed frame points on the domain boundary (kind Exterior, stored right after the
+/// edge samples: report.frame of them), then interior and exterior samples (jittered start at
+/// least h/2 from the cage) relaxed by inverse mean shift (thesis 6.4, Figs 6.6, 6.9), never
+/// closer than relax.clearance·h (0.35 h) to the cage. Same seed → same samples on any thread
+/// count. For an open cage (sticks) every free sample is Exterior.
+/// Throws std::invalid_argument for spacing ≤ 0 or larger than the cage, non-finite input, an
+/// invalid cage, a cage outside the domain, or a count above kMaxSamples.
 SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingReport* report = nullptr);
 
 }  // namespace kc::sampling

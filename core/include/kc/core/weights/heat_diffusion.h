@@ -16,7 +16,9 @@ enum class InitMethod {
 
 struct InitOptions {
   InitMethod method = InitMethod::HeatLinear;
-  /// Diffusion iterations; 0 = the converged steady state solved directly (HeatLinear only).
+  /// Diffusion iterations (4.12, 4.13); 0 = the converged steady state solved directly:
+  /// (D_FF − K_FF) W_F = K_FB W_B, one sparse SPD solve with m right-hand sides. For HeatImpulse
+  /// the steady state is the same system with only the control points fixed.
   int iterations = 0;
   /// p of (4.10), in the units of X; ≤ 0 picks a tenth of the cage's bounding-box diagonal.
   double inverseDistanceP = 0.0;
@@ -25,13 +27,21 @@ struct InitOptions {
 struct InitReport {
   int iterations = 0;
   bool steadyState = false;
+  /// Free samples with no path (inside the shape) to a fixed sample: they get (4.10) weights
+  /// normalized to sum 1 instead of diffused ones.
+  Index fallbackSamples = 0;
   double seconds = 0.0;
 };
 
 /// W0 (#S×m). Control samples get e_i (3.18), edge samples the linear weights of (4.7) in the
 /// HeatLinear variant. Diffusion uses K with each row normalized to sum 1, restricted to pairs of
 /// samples whose connecting segment does not cross the cage, so heat never jumps between the
-/// inside and the outside (edge samples are the shared boundary).
+/// inside and the outside (edge samples are the shared boundary). The operator is also directed:
+/// inside and on-cage samples take heat only through segments inside (or along) the cage, exterior
+/// samples from exterior and on-cage ones, so heat cannot leave at one wall of a notch and re-enter
+/// at the other. The steady state (iterations = 0, the default) is a partition of unity in [0, 1]
+/// reaching every sample; a few iterations leave most samples with row sums ≪ 1. S.X rows 0..m−1 are the
+/// controls; cage.C supplies the edge ends of (4.7). Throws std::invalid_argument on bad shapes.
 Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix& K, const InitOptions& options,
                        InitReport* report = nullptr);
 

@@ -5,6 +5,9 @@
 #include <span>
 
 #include "kc/core/types.h"
+#include "kc/core/weights/sample_l1.h"
+#include "kc/core/weights/sample_qec.h"
+#include "kc/core/weights/sample_qp.h"
 
 namespace kc {
 
@@ -15,7 +18,13 @@ enum class Method {
 };
 
 struct OptimizeOptions {
+  OptimizeOptions() = default;
+  /// Implicit on purpose: `OptimizeOptions{Method::L1}` and passing a Method keep working.
+  OptimizeOptions(Method m) : method(m) {}  // NOLINT(google-explicit-constructor)
+
   Method method = Method::QP;
+  QpOptions qp;  ///< Used when method == QP.
+  L1Options l1;  ///< Used when method == L1.
 };
 
 struct OptimizeReport {
@@ -33,18 +42,28 @@ class WeightOptimizer {
   WeightOptimizer() = default;
   /// C: m×2 control points. Throws std::invalid_argument when C is degenerate (collinear / < 3).
   explicit WeightOptimizer(const Points& C) { precompute(C); }
+  /// Builds the shared constraint data (see ControlFrame). Same throws as the constructor.
   void precompute(const Points& C);
 
+  /// Number of control points m (0 before precompute).
+  Index size() const { return m_C.rows(); }
+  const ControlFrame& frame() const { return m_frame; }
+
   /// Optimizes rows `subset` of W (all rows when empty) from targets W0 (#S×m). Control samples
-  /// get e_i (3.18), edge samples the linear weights (4.7), other samples the method's optimum.
-  /// Never produces NaN; infeasible QP samples use the documented fallback (see sample_qp.h).
+  /// get e_i (3.18), edge samples the linear weights (4.7), other samples the method's optimum:
+  /// QP (4.1, sample_qp.h), QEC (4.2–4.6, sample_qec.h) or ℓ1 (4.8, sample_l1.h). Rows outside
+  /// the subset are untouched. W is resized to #S×m when the subset is empty; with a subset it
+  /// must already be #S×m. Never produces NaN; infeasible QP samples use the
+  /// documented fallback (see sample_qp.h). Parallel over samples; each sample writes only its
+  /// own row, so results are bit-identical for any thread count.
+  /// Throws std::invalid_argument on bad shapes (S.validate(m) included), non-finite W0, an
+  /// out-of-range subset index or optimize() before precompute().
   OptimizeReport optimize(const SampleSet& S, const Weights& W0, Weights& W, const OptimizeOptions& options,
                           std::span<const Index> subset = {}) const;
 
  private:
   Points m_C;
-  Eigen::Matrix3d m_AAtInv = Eigen::Matrix3d::Zero();
-  std::vector<int> m_hull;
+  ControlFrame m_frame;
 };
 
 }  // namespace kc

@@ -1,0 +1,36 @@
+#pragma once
+// Shared pieces of kcwarp-cli: exit codes, subcommand registration, small argument helpers.
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <utility>
+
+namespace kc::cli {
+
+/// Exit codes (ARCHITECTURE.md): 0 success, 1 internal failure, 2 bad input (one line on stderr).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInternal = 1;
+inline constexpr int kExitBadInput = 2;
+
+// One function per subcommand, each in its own cli_<name>.cpp: adds the subcommand and its
+// callback (which throws kc::app::InputError / std::invalid_argument on bad input).
+void addSampleCommand(CLI::App& app);
+void addBindCommand(CLI::App& app);
+void addEvalCommand(CLI::App& app);
+void addWarpCommand(CLI::App& app);
+void addStatsCommand(CLI::App& app);
+void addDemoCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
+
+/// "W,H" → (W, H); InputError naming `option` when malformed or not positive.
+std::pair<int, int> parseSize(const std::string& text, const std::string& option);
+/// Width and height of an image file; InputError naming the file when it cannot be read.
+std::pair<int, int> imageSize(const std::string& path);
+/// The image path as stored in a session written to `sessionPath`: relative to its folder.
+std::string imagePathForSession(const std::string& imagePath, const std::string& sessionPath);
+/// The image path of a session file resolved against the session's folder.
+std::string resolveSessionImage(const std::string& stored, const std::string& sessionPath);
+/// True when stderr is a terminal (progress output is shown only then).
+bool stderrIsTerminal();
+
+}  // namespace kc::cli

@@ -1,0 +1,34 @@
+#pragma once
+/// The property table of a bound session (thesis Tables 6.1–6.4, with measured numbers) and its
+/// locality statistics (LBC paper eq. 19–21). Shared by `kcwarp-cli stats` and the GUI.
+
+#include "kc/app/session.h"
+#include "kc/core/metrics.h"
+
+namespace kc::app {
+
+/// One property measured over a set of points.
+struct PropertyRow {
+  double partitionOfUnity = 0.0;  ///< max |Σ w_i − 1|
+  double reproduction = 0.0;      ///< max |Σ w_i c_i − x|_∞, pixels
+  double minWeight = 0.0;
+  Index negatives = 0;            ///< weights < −1e-6
+  Index points = 0;
+};
+
+struct Diagnostics {
+  PropertyRow samples;   ///< W itself, at the samples.
+  PropertyRow inside;    ///< w(x) at pixel centres inside the cage.
+  PropertyRow image;     ///< w(x) at pixel centres over the whole image.
+  double lagrange = 0.0;        ///< max |w_i(c_j) − δ_ij|
+  double edgeLinearity = 0.0;   ///< max deviation from (4.7) at points along the cage edges
+  LocalityStats locality;       ///< inside the cage
+  int pixelStep = 1;            ///< evaluation grid step in pixels
+  double evalSeconds = 0.0;
+};
+
+/// Measures every property of session.field (which must be ready) on a grid of pixel centres
+/// with at most about maxPoints points.
+Diagnostics diagnose(const Session& session, Index maxPoints = 250000);
+
+}  // namespace kc::app

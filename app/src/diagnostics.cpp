@@ -1,0 +1,81 @@
+#include "kc/app/diagnostics.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace kc::app {
+namespace {
+
+PropertyRow measure(const Weights& W, const Points& C, const Points& P) {
+  PropertyRow r;
+  r.points = P.rows();
+  if (P.rows() == 0) return r;
+  r.partitionOfUnity = partitionOfUnityError(W);
+  r.reproduction = reproductionError(W, C, P);
+  r.minWeight = minWeight(W);
+  r.negatives = negativeCount(W);
+  return r;
+}
+
+Points selectRows(const Points& P, const std::vector<Index>& rows) {
+  Points Q(static_cast<Index>(rows.size()), 2);
+  for (std::size_t k = 0; k < rows.size(); ++k) Q.row(static_cast<Index>(k)) = P.row(rows[k]);
+  return Q;
+}
+
+Weights selectRows(const Weights& W, const std::vector<Index>& rows) {
+  Weights Q(static_cast<Index>(rows.size()), W.cols());
+  for (std::size_t k = 0; k < rows.size(); ++k) Q.row(static_cast<Index>(k)) = W.row(rows[k]);
+  return Q;
+}
+
+}  // namespace
+
+Diagnostics diagnose(const Session& s, Index maxPoints) {
+  if (!s.field.ready()) throw std::invalid_argument("the session has no coordinate field (bind it first)");
+  const auto t0 = std::chrono::steady_clock::now();
+  Diagnostics d;
+  const Points& C = s.cage.C;
+  d.samples = measure(s.W, C, s.samples.X);
+
+  // Pixel centres over the image on a step chosen to keep the count near maxPoints.
+  const double area = static_cast<double>(s.imageWidth) * s.imageHeight;
+  d.pixelStep = std::max(1, static_cast<int>(std::ceil(std::sqrt(area / static_cast<double>(std::max<Index>(1, maxPoints))))));
+  const int nx = (s.imageWidth + d.pixelStep - 1) / d.pixelStep, ny = (s.imageHeight + d.pixelStep - 1) / d.pixelStep;
+  Points P(static_cast<Index>(nx) * ny, 2);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) P.row(static_cast<Index>(y) * nx + x) << (x * d.pixelStep + 0.5), (y * d.pixelStep + 0.5);
+  const Weights W = s.field.weightsAt(P);
+  d.image = measure(W, C, P);
+
+  std::vector<Index> inside;
+  for (Index i = 0; i < P.rows(); ++i)
+    if (insideCage(s.cage, P.row(i).transpose())) inside.push_back(i);
+  const Weights Win = selectRows(W, inside);
+  d.inside = measure(Win, C, selectRows(P, inside));
+
+  d.lagrange = lagrangeError(s.field.weightsAt(C));
+
+  // 16 points strictly inside every cage edge.
+  std::vector<std::array<int, 2>> ends;
+  const Cage poly = s.cage.edges.empty() ? Cage::polygon(C) : s.cage;
+  Points E(static_cast<Index>(poly.edges.size()) * 16, 2);
+  Index k = 0;
+  for (const auto& [a, b] : poly.edges)
+    for (int t = 1; t <= 16; ++t, ++k) {
+      const double u = t / 17.0;
+      E.row(k) = (1 - u) * C.row(a) + u * C.row(b);
+      ends.push_back({a, b});
+    }
+  d.edgeLinearity = edgeLinearityError(s.field.weightsAt(E), C, E, ends);
+
+  if (!inside.empty()) {
+    const Eigen::VectorXd pixelArea = Eigen::VectorXd::Constant(static_cast<Index>(inside.size()), 1.0);
+    d.locality = localityStats(Win, pixelArea, {1e-4, 1e-3, 1e-2, 1e-1});
+  }
+  d.evalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+}  // namespace kc::app

@@ -1,0 +1,35 @@
+#pragma once
+// Private helpers of kc::app for reading and writing JSON with messages that name the file and field.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "kc/core/cage.h"
+#include "kc/core/deform.h"
+#include "kc/core/types.h"
+
+namespace kc::app::detail {
+
+using nlohmann::json;
+
+/// Parses text; InputError "<where>: malformed JSON ..." (truncated files included).
+json parseJson(const std::string& text, const std::string& where);
+/// Requires {"version": 1}; a missing or other major version is an InputError.
+void checkVersion(const json& j, const std::string& where);
+/// obj[key], InputError "<where>: missing key '<key>'" when absent.
+const json& require(const json& obj, const char* key, const std::string& where);
+/// A finite number; InputError naming `field` otherwise.
+double finiteNumber(const json& v, const std::string& where, const std::string& field);
+/// [[x, y], ...] → #P×2; every coordinate finite.
+Points parsePoints(const json& arr, const std::string& where, const std::string& field);
+json pointsToJson(const Points& P);
+
+/// {"points": ..., "closed": ..., "edges"?: ...} → validated Cage.
+Cage parseCage(const json& obj, const std::string& where, const std::string& field);
+json cageToJson(const Cage& cage);
+
+/// {"positions": ...} or {"handles": ...} with exactly C.rows() entries.
+Pose parsePose(const json& obj, const Points& C, const std::string& where, const std::string& field);
+json poseToJson(const Pose& pose);
+
+}  // namespace kc::app::detail

@@ -1,1 +1,0 @@
-// kcwarp: implementation pending.

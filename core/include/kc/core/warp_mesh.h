@@ -1,0 +1,117 @@
+#pragma once
+/// The warp mesh: a triangle grid over the image whose vertices carry compact weights, deformed by
+/// linear blend skinning (thesis 3.37) and rendered by the rasterizer (thesis 6.3.3).
+///
+/// Use: build once per (image size, cage, options); evaluate the weights at restVertices() (e.g.
+/// `CoordinateField::weightsAt`) and hand them to setWeights(); then deform(pose) per pose
+/// (one sparse product, parallel) and render(source).
+
+#include <Eigen/SparseCore>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "kc/core/cage.h"
+#include "kc/core/deform.h"
+#include "kc/core/rasterize.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+/// What happens to the image outside the cage.
+enum class OutsideMode {
+  Deform,       ///< Everything follows the weights (kernel coordinates cover the whole image).
+  Fixed,        ///< Outside stays in place (like GIMP's cage tool): deformed inside drawn over the original.
+  Transparent,  ///< Only the inside of the cage is drawn.
+};
+
+/// Parses "deform", "fixed", "transparent"; returns false on anything else.
+bool parseOutsideMode(const std::string& text, OutsideMode& mode);
+const char* toString(OutsideMode mode);
+
+struct WarpMeshOptions {
+  double spacing = 4.0;          ///< Grid spacing in pixels (≥ 0.5).
+  /// Keep |w_i(v)| > keepThreshold / m (LBC paper, Table 1, whose weights are non-negative; we
+  /// compare magnitudes so that kernel coordinates' small negative lobes, which carry linear
+  /// precision, are kept too).
+  double keepThreshold = 1e-3;
+  OutsideMode outside = OutsideMode::Deform;
+};
+
+/// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
+struct CompactWeightsReport {
+  Index vertices = 0;
+  Index controls = 0;
+  Index nonZeros = 0;            ///< Entries kept.
+  double meanPerVertex = 0.0;    ///< Mean kept entries per vertex.
+  Index maxPerVertex = 0;
+  std::size_t compactBytes = 0;  ///< CSR: values (8 B) + column indices (4 B) + row offsets (4 B).
+  std::size_t denseBytes = 0;    ///< #V·m·8 B.
+  double droppedMass = 0.0;      ///< max_v Σ |dropped entries| before renormalization.
+  double seconds = 0.0;
+};
+
+/// Result of one deformation.
+struct DeformReport {
+  Index flippedTriangles = 0;    ///< Triangles with det J ≤ 0 (fold-overs), among drawn triangles.
+  double flippedArea = 0.0;      ///< Rest area (px²) of the flipped triangles.
+  double minJacobian = 0.0;      ///< min det J over drawn triangles (1 = area kept).
+  double maxJacobian = 0.0;
+  double seconds = 0.0;
+};
+
+class WarpMesh {
+ public:
+  using SparseWeights = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+  WarpMesh() = default;
+  /// Grid over [−0.5, w−0.5]×[−0.5, h−0.5] (pixel centres at integers) with about `spacing`
+  /// pixels between vertices, two triangles per cell. In Fixed/Transparent modes only triangles
+  /// that can meet the cage are kept. Throws std::invalid_argument on bad sizes or options.
+  WarpMesh(int width, int height, const Cage& cage, const WarpMeshOptions& options = {});
+
+  int width() const { return m_width; }
+  int height() const { return m_height; }
+  const WarpMeshOptions& options() const { return m_options; }
+  const Cage& cage() const { return m_cage; }
+  /// #V×2 rest positions: where to evaluate weights.
+  const Points& restVertices() const { return m_rest; }
+  /// Triangles that are drawn (#T).
+  const Triangles& triangles() const { return m_triangles; }
+
+  /// Stores weights W (#V×m, dense, at restVertices()) compactly: entries with |w| ≤ keepThreshold/m
+  /// are dropped and each row is renormalized to sum to 1 (partition of unity). Throws on shape
+  /// mismatch or non-finite weights.
+  CompactWeightsReport setWeights(const Weights& W);
+  /// Same, from weights already sparse (#V×m); they are thresholded and renormalized too.
+  CompactWeightsReport setWeights(const SparseWeights& W);
+  bool hasWeights() const { return m_weights.rows() > 0; }
+  const SparseWeights& weights() const { return m_weights; }
+
+  /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex — one sparse product, parallel over vertices —
+  /// and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
+  /// area). Throws std::invalid_argument for a bad pose or when no weights are set.
+  DeformReport deform(const Pose& pose);
+  /// Deformed vertices (#V×2) of the last deform() (rest positions before the first).
+  const Points& deformedVertices() const { return m_deformed; }
+  /// det J per triangle of the last deform() (#T).
+  const Eigen::VectorXd& jacobians() const { return m_jacobian; }
+
+  /// Renders `source` (width()×height()) through the deformed mesh according to the outside
+  /// mode; output has the source's size.
+  Image render(const Image& source, const RasterOptions& options = {}, RasterReport* report = nullptr) const;
+
+ private:
+  int m_width = 0, m_height = 0;
+  WarpMeshOptions m_options;
+  Cage m_cage;
+  Points m_rest, m_deformed;
+  Triangles m_triangles;
+  SparseWeights m_weights;
+  Eigen::VectorXd m_restArea, m_jacobian;
+};
+
+/// The grid of vertex positions along one axis covering [−0.5, n−0.5] with steps ≤ spacing.
+std::vector<double> gridAxis(int n, double spacing);
+
+}  // namespace kc

@@ -1,0 +1,54 @@
+#pragma once
+/// Per-sample quadratic program (thesis 4.1) solved exactly in its 3-variable dual.
+
+#include <span>
+
+#include "kc/core/weights/sample_qec.h"
+
+namespace kc {
+
+/// Outcome of one per-sample solve (shared by the QP and L1 solvers).
+enum class SampleStatus {
+  Optimal,     ///< KKT conditions certified to the tolerance.
+  Infeasible,  ///< QP only: x outside the control points' convex hull; fallback solution returned.
+  Failed,      ///< No certified optimum within the iteration limit; fallback (QEC) returned.
+};
+
+struct QpOptions {
+  int maxIterations = 100;      ///< Newton iterations (each one O(m)).
+  double tolerance = 1e-13;     ///< Max-norm of the equality residual A w − b (normalized units).
+  double hullTolerance = 1e-12; ///< x̂ farther than this outside the hull is treated as infeasible.
+};
+
+struct SampleReport {
+  SampleStatus status = SampleStatus::Optimal;
+  int iterations = 0;
+  double residual = 0.0;  ///< |A w − b|∞ of the returned w (normalized units).
+};
+
+/// Per-sample QP (thesis 4.1): min |w − w0|² s.t. Ĉw = x̂, 1ᵀw = 1, w ≥ 0 — the exact optimum.
+///
+/// The problem is the Euclidean projection of w0 onto a polytope cut by only three equalities,
+/// so it is solved in its dual over λ ∈ R³: w(λ) = max(0, w0 + Aᵀλ) and the convex, C¹,
+/// piecewise-quadratic f(λ) = ½|w(λ)|² − bᵀλ. Semismooth Newton (generalized Hessian
+/// A_S A_Sᵀ over the positive set S, tiny Levenberg term when S is rank deficient, Armijo line
+/// search with safeguarded quadratic backtracking) starts from the QEC multipliers (4.4), so a
+/// QEC solution that is already non-negative costs one pass. On each piece f is quadratic, so a
+/// full Newton step is the exact equality-constrained solve on S; the result is certified by the
+/// KKT conditions: w ≥ 0 and complementarity hold by construction of w(λ), stationarity and
+/// primal feasibility by |A w − b|∞ ≤ tolerance.
+///
+/// Infeasible x̂ (outside the convex hull of the control points): there is no w ≥ 0. Fallback:
+/// min |w − w0|² s.t. Aw = b, w ≥ −t with the smallest t ≥ 0 that makes it feasible. With
+/// u = w + t1 ≥ 0 this is the QP above for the point βx̂ on the segment from x̂ to the centroid
+/// where it meets the hull (β = hullShrink, t = (1 − β)/(mβ)), so it is solved by the same code.
+/// Partition of unity and reproduction stay exact, the most negative weight is as small as any
+/// affine-reproducing weights allow, and the weights are continuous across the hull boundary
+/// (t → 0 there), unlike switching to QEC, which would jump. Reported as Infeasible.
+/// If Newton is not certified (never seen in tests), w = the QEC solution and status Failed.
+///
+/// w0, w: length m; w must not alias w0. xh: normalized position (ControlFrame::normalize).
+SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, std::span<double> w,
+                      const QpOptions& options = {});
+
+}  // namespace kc

@@ -1,0 +1,53 @@
+#pragma once
+/// Blue-noise sampling by inverse mean shift (thesis 6.2.1, eq. 6.4, Figs 6.3, 6.6, 6.9).
+
+#include <cstdint>
+
+#include "kc/core/cage.h"
+#include "kc/core/types.h"
+#include "kc/sampling/boundary.h"
+#include "kc/sampling/inverse_mean_shift.h"
+
+namespace kc::sampling {
+
+/// Area per sample of a hexagonal packing at spacing h, in units of h²: √3/2.
+inline constexpr double kHexCellFactor = 0.8660254037844386;
+
+struct BlueNoiseOptions {
+  /// Area per free sample in units of h² (sets the free-sample count from the region's area).
+  double cellArea = 1.0;
+  InverseMeanShiftOptions relax;   ///< `spacing` is overwritten with h.
+};
+
+/// Upper estimate of the number of samples blue noise puts in `domain` (for limit checks).
+double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea);
+
+/// Random start for the free samples: one uniformly jittered point per square cell of area
+/// cellArea · h² over `domain` (so the count follows h and the region's area), dropping those
+/// closer than h/2 to the cage or to the domain's boundary. Rows are interior points first, then
+/// exterior ones; `interiorCount` receives their split. Deterministic in `seed`.
+Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
+                     Index& interiorCount);
+
+struct BlueNoiseResult {
+  SampleSet samples;               ///< controls, edges, frame (Exterior), interior, exterior
+  Index frameCount = 0;            ///< fixed frame points, stored right after the edge samples
+  Index interiorCount = 0, exteriorCount = 0;  ///< free samples
+  InverseMeanShiftReport relax;
+};
+
+/// Fixed samples (controls, edges at spacing h, a frame of points on `domain`'s boundary at
+/// spacing h, dropped within h/2 of the cage), then free samples from jitteredStart relaxed by
+/// inverse mean shift with the fixed ones held in place. Free samples keep their region: interior
+/// samples stay inside the cage, exterior ones outside it and inside the domain.
+/// No input checks: `sample` validates.
+BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, std::uint64_t seed,
+                                const BlueNoiseOptions& options = {});
+
+/// `count` blue-noise points in `rect` (no cage): jittered start, then inverse mean shift on the
+/// torus (periodic boundary, like Balzer et al.'s point sets used in thesis 3.3.2), spacing
+/// h = sqrt(area / (count · kHexCellFactor)). count×2, every point inside rect.
+Points blueNoiseRectangle(Index count, const Rect& rect, std::uint64_t seed, InverseMeanShiftOptions relax = {},
+                          InverseMeanShiftReport* report = nullptr);
+
+}  // namespace kc::sampling

@@ -1,0 +1,48 @@
+#pragma once
+/// Fixed samples of a sampling: control points, cage edges at a common spacing, and the regular
+/// frame of fixed points on the boundary of the sampled domain (thesis 6.2.1, Figs 6.6, 6.9).
+
+#include <array>
+#include <vector>
+
+#include "kc/core/cage.h"
+#include "kc/core/types.h"
+
+namespace kc::sampling {
+
+/// Axis-aligned rectangle [x0, x1] × [y0, y1] (pixels).
+struct Rect {
+  double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
+
+  double width() const { return x1 - x0; }
+  double height() const { return y1 - y0; }
+  double area() const { return width() * height(); }
+  bool contains(const Vec2& p) const { return p.x() >= x0 && p.x() <= x1 && p.y() >= y0 && p.y() <= y1; }
+  /// Distance from p (inside) to the nearest side; negative outside.
+  double insideDistance(const Vec2& p) const;
+};
+
+/// The cage's edges as control-index pairs: the explicit list when given, otherwise the closed
+/// polygon i → i+1 (mod m).
+std::vector<std::array<int, 2>> cageEdges(const Cage& cage);
+
+/// Number of equal pieces an edge of length `length` is split into for spacing h:
+/// max(1, round(length / h)), so the period on every edge is within a factor ~1.5 of h.
+Index edgePieces(double length, double h);
+
+/// Control points (samples 0..m−1, thesis 3.18) followed by every cage edge sampled at a
+/// common spacing ≈ h (kind Edge, `edge` row = the edge's control indices). The edge's ends are
+/// the controls themselves and are not repeated.
+SampleSet boundarySamples(const Cage& cage, double h);
+
+/// Regular points on the boundary of `domain`, spacing ≈ h on each side, corners included,
+/// counter-clockwise from (x0, y0). #F×2.
+Points framePoints(const Rect& domain, double h);
+
+/// Appends the rows of P to S with kind `kind` and edge (−1, −1).
+void appendSamples(SampleSet& S, const Points& P, SampleKind kind);
+
+/// Keeps the rows of P whose distance to the cage is at least `minDistance`.
+Points dropNearCage(const Cage& cage, const Points& P, double minDistance);
+
+}  // namespace kc::sampling

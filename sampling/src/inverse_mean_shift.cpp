@@ -1,0 +1,169 @@
+#include "kc/sampling/inverse_mean_shift.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "cage_locator.h"
+#include "kc/core/parallel.h"
+#include "kc/core/spatial_grid.h"
+
+namespace kc::sampling {
+namespace {
+
+/// X plus, for a periodic domain, copies of the samples near a side shifted by the period, so
+/// that plain neighbour queries see the torus. ghostOf maps each row to its original sample.
+void withGhosts(const Points& X, const Rect& domain, double radius, Points& Y, std::vector<Index>& ghostOf) {
+  const Index n = X.rows();
+  const double W = domain.width(), H = domain.height();
+  std::vector<Vec2> extra;
+  ghostOf.resize(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) ghostOf[static_cast<std::size_t>(i)] = i;
+  for (Index i = 0; i < n; ++i) {
+    const double x = X(i, 0), y = X(i, 1);
+    const int sx = x - domain.x0 < radius ? 1 : (domain.x1 - x < radius ? -1 : 0);
+    const int sy = y - domain.y0 < radius ? 1 : (domain.y1 - y < radius ? -1 : 0);
+    auto add = [&](int ax, int ay) {
+      extra.emplace_back(x + ax * W, y + ay * H);
+      ghostOf.push_back(i);
+    };
+    if (sx != 0) add(sx, 0);
+    if (sy != 0) add(0, sy);
+    if (sx != 0 && sy != 0) add(sx, sy);
+  }
+  Y.resize(n + static_cast<Index>(extra.size()), 2);
+  Y.topRows(n) = X;
+  for (std::size_t k = 0; k < extra.size(); ++k) Y.row(n + static_cast<Index>(k)) = extra[k].transpose();
+}
+
+double wrap(double v, double lo, double period) {
+  double t = std::fmod(v - lo, period);
+  if (t < 0.0) t += period;
+  return lo + t;
+}
+
+}  // namespace
+
+InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const RelaxRegion& region,
+                                             const InverseMeanShiftOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const double h = options.spacing;
+  if (!(h > 0.0) || !std::isfinite(h)) throw std::invalid_argument("inverse mean shift: spacing must be positive and finite");
+  if (firstFree < 0 || firstFree > X.rows()) throw std::invalid_argument("inverse mean shift: firstFree out of range");
+  if (region.periodic && !(region.domain.width() > 0.0 && region.domain.height() > 0.0))
+    throw std::invalid_argument("inverse mean shift: periodic domain must have positive size");
+  const double s = options.scale > 0.0 ? options.scale : 0.6 * h;
+  const double lambda = options.step > 0.0 ? options.step : 0.3 * s * s;
+  const double radius = std::max(options.cutoff, 0.5) * s;
+  const double maxMove = options.maxMove * h, tolerance = options.tolerance * h, clearance = options.clearance * h;
+  const double inv2s2 = 1.0 / (2.0 * s * s), gain = lambda / (s * s);
+  // G_s shifted down by its value at the cut-off, so the force goes to zero continuously there:
+  // with a jump, neighbours crossing the cut-off make samples chatter and the moves never settle.
+  const double gCut = std::exp(-radius * radius * inv2s2);
+  // G_s(d) − G_s(r) tabulated in u = d²/r² (linear interpolation, relative error ~1e-6): the
+  // exponential is most of the cost of an iteration.
+  constexpr int kTable = 2048;
+  std::vector<double> table(kTable + 2);
+  for (int q = 0; q <= kTable + 1; ++q)
+    table[static_cast<std::size_t>(q)] = std::exp(-std::min(1.0, static_cast<double>(q) / kTable) * radius * radius * inv2s2) - gCut;
+  const double invR2 = kTable / (radius * radius);
+  auto shiftedGaussian = [&](double d2) {
+    const double u = d2 * invR2;
+    const int q = static_cast<int>(u);
+    const double t = u - q;
+    return (1.0 - t) * table[static_cast<std::size_t>(q)] + t * table[static_cast<std::size_t>(q) + 1];
+  };
+
+  std::optional<detail::CageLocator> locator;
+  if (region.cage && region.cage->size() >= 2 && !region.periodic) locator.emplace(*region.cage, std::max(h, radius));
+
+  const Index n = X.rows(), nFree = n - firstFree;
+  InverseMeanShiftReport report;
+  if (nFree == 0) {
+    report.converged = true;
+    return report;
+  }
+  Points next = X, Y;
+  std::vector<Index> ghostOf;
+  std::vector<double> moved(static_cast<std::size_t>(nFree));
+  std::vector<unsigned char> rejected(static_cast<std::size_t>(nFree));
+  Points velocity = Points::Zero(nFree, 2);  // last move of each free sample (momentum)
+  const double beta = std::clamp(options.momentum, 0.0, 0.99);
+  SpatialGrid grid;
+
+  // The domain's side is a plain wall: moves are projected onto it (inset by the clearance).
+  // The cage is not convex: a move that would come closer than the clearance is refused.
+  const Rect inner{region.domain.x0 + clearance, region.domain.y0 + clearance, region.domain.x1 - clearance,
+                   region.domain.y1 - clearance};
+  auto allowed = [&](const Vec2& from, const Vec2& to) {
+    return region.periodic || !locator || locator->segmentClear(from, to, clearance);
+  };
+
+  for (int it = 0; it < options.maxIterations; ++it) {
+    if (region.periodic) {
+      withGhosts(X, region.domain, radius, Y, ghostOf);
+      grid.build(Y, 0.5 * radius);
+    } else {
+      grid.build(X, 0.5 * radius);
+    }
+    parallelFor(nFree, [&](Index f) {
+      const Index k = firstFree + f;
+      const Vec2 xk = X.row(k);
+      Vec2 force = Vec2::Zero();
+      grid.forEachWithin(xk, radius, [&](Index j, double d2) {
+        if (j == k) return;
+        const Vec2 xj = region.periodic ? Vec2(Y.row(j)) : Vec2(X.row(j));
+        force += (xk - xj) * shiftedGaussian(d2);
+      });
+      Vec2 step = gain * force;  // (6.4)
+      const Vec2 previous = velocity.row(f);
+      if (beta > 0.0 && previous.dot(step) > 0.0) step += beta * previous;
+      const double len = step.norm();
+      if (len > maxMove) step *= maxMove / len;
+      Vec2 to = xk + step;
+      if (!region.periodic) {
+        to.x() = std::clamp(to.x(), std::min(inner.x0, xk.x()), std::max(inner.x1, xk.x()));
+        to.y() = std::clamp(to.y(), std::min(inner.y0, xk.y()), std::max(inner.y1, xk.y()));
+        step = to - xk;
+      }
+      unsigned char refused = 0;
+      if (!allowed(xk, to)) {
+        to = xk + 0.5 * step;  // one retry with half the step, then stay
+        if (!allowed(xk, to)) {
+          to = xk;
+          refused = 1;
+        }
+      }
+      velocity.row(f) = (to - xk).transpose();
+      moved[static_cast<std::size_t>(f)] = (to - xk).norm();
+      if (region.periodic) {
+        to.x() = wrap(to.x(), region.domain.x0, region.domain.width());
+        to.y() = wrap(to.y(), region.domain.y0, region.domain.height());
+      }
+      next.row(k) = to.transpose();
+      rejected[static_cast<std::size_t>(f)] = refused;
+    }, 256);
+    X.swap(next);  // fixed rows are equal in both; every free row of `next` is rewritten
+    double largest = 0.0;
+    for (Index f = 0; f < nFree; ++f) {
+      largest = std::max(largest, moved[static_cast<std::size_t>(f)]);
+      report.rejectedMoves += rejected[static_cast<std::size_t>(f)];
+    }
+    report.iterations = it + 1;
+    report.lastMove = largest / h;
+    report.largestMoves.push_back(report.lastMove);
+    if (options.progress && (it % 10 == 0)) options.progress(static_cast<double>(it) / options.maxIterations);
+    if (largest < tolerance) {
+      report.converged = true;
+      break;
+    }
+  }
+  if (options.progress) options.progress(1.0);
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace kc::sampling

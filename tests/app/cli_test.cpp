@@ -1,0 +1,108 @@
+// End-to-end checks of kcwarp-cli bind / eval / stats: exit codes, messages and outputs.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "cli_run.h"
+
+namespace kc::test {
+namespace {
+
+const char* kSquare = R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})";
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+TEST(CliBind, BindEvalStatsOnSquare) {
+  const auto dir = scratchDir("cli_bind");
+  writeText(dir / "cage.json", kSquare);
+  CliResult r = runCli("bind --cage cage.json --size 96,96 --spacing 4 -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "wrote s.kcw.json"));
+
+  writeText(dir / "p.csv", "x,y\n48,48\n16,16\n30.5,70\n\n90,5\n");
+  r = runCli("eval --session s.kcw.json --points p.csv -o w.csv", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream in(slurp(dir / "w.csv"));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "w0,w1,w2,w3");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    double sum = 0, v = 0;
+    std::string cell;
+    std::vector<double> w;
+    while (std::getline(ls, cell, ',')) w.push_back(std::stod(cell));
+    ASSERT_EQ(w.size(), 4u);
+    for (double x : w) sum += x;
+    EXPECT_NEAR(sum, 1.0, 1e-9) << "row " << rows;
+    if (rows == 1) {  // at control point 0: Lagrange
+      EXPECT_NEAR(w[0], 1.0, 1e-6);
+      EXPECT_NEAR(w[2], 0.0, 1e-6);
+    }
+    (void)v;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 4);
+
+  r = runCli("stats --session s.kcw.json --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["controls"], 4);
+  EXPECT_LT(j["properties"]["image"]["partition_of_unity"].get<double>(), 1e-9);
+  EXPECT_LT(j["properties"]["image"]["reproduction"].get<double>(), 1e-7);
+  EXPECT_LT(j["properties"]["lagrange"].get<double>(), 1e-6);
+  EXPECT_GE(j["properties"]["inside"]["min_weight"].get<double>(), -0.05);
+  r = runCli("stats --session s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "partition of unity"));
+  EXPECT_TRUE(contains(r.out, "Lagrange"));
+}
+
+struct BadCase {
+  const char* name;
+  const char* args;
+  const char* message;
+};
+
+TEST(CliBind, BadInputExitsTwoWithOneLine) {
+  const auto dir = scratchDir("cli_bad");
+  writeText(dir / "cage.json", kSquare);
+  writeText(dir / "bowtie.json", R"({"version": 1, "points": [[0,0],[50,50],[50,0],[0,50]]})");
+  writeText(dir / "trunc.json", R"({"version": 1, "points": [[0,0],[50,)");
+  writeText(dir / "notimage.png", "this is not a png");
+  writeText(dir / "p.csv", "1,2\n3,4\n5;6\n");
+  const BadCase cases[] = {
+      {"missing cage", "bind --cage nope.json --size 96,96 -o s.kcw.json", "nope.json: no such file"},
+      {"self-intersecting", "bind --cage bowtie.json --size 96,96 -o s.kcw.json", "bowtie.json: cage is self-intersecting"},
+      {"truncated", "bind --cage trunc.json --size 96,96 -o s.kcw.json", "trunc.json: malformed JSON"},
+      {"bad size", "bind --cage cage.json --size 96 -o s.kcw.json", "--size"},
+      {"zero spacing", "bind --cage cage.json --size 96,96 --spacing 0 -o s.kcw.json", "spacing"},
+      {"tiny spacing", "bind --cage cage.json --size 30000,30000 --spacing 0.5 -o s.kcw.json", "samples"},
+      {"absurd size", "bind --cage cage.json --size 100000,100 -o s.kcw.json", "image size"},
+      {"unknown method", "bind --cage cage.json --size 96,96 --method newton -o s.kcw.json", "--method: unknown value 'newton'"},
+      {"corrupt image", "bind --cage cage.json --image notimage.png -o s.kcw.json", "notimage.png"},
+      {"missing session", "eval --session none.kcw.json --points p.csv -o w.csv", "none.kcw.json: no such file"},
+      {"no subcommand", "", "subcommand"},
+  };
+  for (const BadCase& c : cases) {
+    const CliResult r = runCli(c.args, dir);
+    EXPECT_EQ(r.code, 2) << c.name << ": " << r.err;
+    EXPECT_TRUE(contains(r.err, c.message)) << c.name << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << c.name << ": " << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.kcw.json"));
+
+  // A bad points row names the file and line.
+  ASSERT_EQ(runCli("bind --cage cage.json --size 96,96 --spacing 6 -o s.kcw.json", dir).code, 0);
+  const CliResult r = runCli("eval --session s.kcw.json --points p.csv -o w.csv", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "p.csv: line 3")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "w.csv"));
+}
+
+}  // namespace
+}  // namespace kc::test

@@ -1,0 +1,102 @@
+#include "kc/app/image_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+
+namespace kc::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir(const std::string& name) {
+  const fs::path dir = fs::path(testing::TempDir()) / ("kc_image_io_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+Image pattern(int w, int h) {
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      p[0] = std::uint8_t(x * 7), p[1] = std::uint8_t(y * 5), p[2] = std::uint8_t((x ^ y) * 3), p[3] = std::uint8_t(x + y);
+    }
+  return img;
+}
+
+TEST(ImageIo, PngRoundTripKeepsRgba) {
+  const fs::path dir = freshDir("png");
+  const Image img = pattern(37, 23);
+  saveImage((dir / "a.png").string(), img);
+  const Image back = loadImage((dir / "a.png").string());
+  EXPECT_EQ(back.width, 37);
+  EXPECT_EQ(back.height, 23);
+  EXPECT_EQ(back.rgba, img.rgba);
+  // Channel order on disk is what other programs expect: OpenCV reads red where we wrote red.
+  const cv::Mat m = cv::imread((dir / "a.png").string(), cv::IMREAD_UNCHANGED);
+  EXPECT_EQ(m.at<cv::Vec4b>(2, 5)[2], img.pixel(5, 2)[0]);
+}
+
+TEST(ImageIo, JpegDropsAlphaAndIsClose) {
+  const fs::path dir = freshDir("jpg");
+  Image img(64, 64, Rgba{200, 100, 50, 255});
+  saveImage((dir / "a.jpg").string(), img);
+  const Image back = loadImage((dir / "a.jpg").string());
+  ASSERT_EQ(back.width, 64);
+  EXPECT_GT(psnr(back, img), 35.0);
+  EXPECT_EQ(back.at(10, 10).a, 255);
+}
+
+TEST(ImageIo, GreyAndSixteenBitImagesBecomeRgba) {
+  const fs::path dir = freshDir("grey");
+  cv::Mat grey(5, 4, CV_8U, cv::Scalar(77));
+  cv::imwrite((dir / "g.png").string(), grey);
+  const Image g = loadImage((dir / "g.png").string());
+  EXPECT_EQ(g.at(3, 4), (Rgba{77, 77, 77, 255}));
+  cv::Mat deep(3, 3, CV_16UC3, cv::Scalar(0, 0, 65535));  // BGR: pure red
+  cv::imwrite((dir / "d.png").string(), deep);
+  EXPECT_EQ(loadImage((dir / "d.png").string()).at(1, 1), (Rgba{255, 0, 0, 255}));
+}
+
+TEST(ImageIo, FailedLoadNamesTheFile) {
+  const fs::path dir = freshDir("fail");
+  const std::string missing = (dir / "missing.png").string();
+  try {
+    loadImage(missing);
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+  }
+  const std::string junk = (dir / "junk.png").string();
+  std::ofstream(junk) << "not a png";
+  try {
+    loadImage(junk);
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(junk), std::string::npos) << e.what();
+  }
+}
+
+TEST(ImageIo, SaveIsAtomicAndLeavesNoTemporaryFiles) {
+  const fs::path dir = freshDir("atomic");
+  const std::string path = (dir / "out.png").string();
+  saveImage(path, pattern(8, 8));
+  saveImage(path, pattern(9, 9));  // replaces
+  EXPECT_EQ(loadImage(path).width, 9);
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1);
+  // Failures throw (naming the file) and leave the previous file alone.
+  EXPECT_THROW(saveImage((dir / "out.bmpx").string(), pattern(8, 8)), std::runtime_error);
+  EXPECT_THROW(saveImage((dir / "nope" / "out.png").string(), pattern(8, 8)), std::runtime_error);
+  EXPECT_THROW(saveImage(path, Image()), std::exception);
+  EXPECT_EQ(loadImage(path).width, 9);
+}
+
+}  // namespace
+}  // namespace kc::app

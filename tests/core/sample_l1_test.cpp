@@ -1,0 +1,171 @@
+// Per-sample ℓ1 optimization (thesis 4.8) against GLPK on random and degenerate problems.
+#include "kc/core/weights/sample_l1.h"
+
+#include <gtest/gtest.h>
+#include <glpk.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace kc {
+namespace {
+
+struct Problem {
+  Points C;
+  Vec2 x;
+  Eigen::VectorXd w0;
+};
+
+/// GLPK on min Σ(p_i + q_i) s.t. Σ a_i(p_i − q_i) = b − A w0, p, q ≥ 0, optionally with an
+/// extra objective bound Σ(p + q) ≤ bound and a secondary objective dir·v (to probe the optimal
+/// face). Returns v = p − q and the objective value; false when GLPK reports no optimum.
+bool glpkSolve(const Problem& p, Eigen::VectorXd& v, double& objective, const Eigen::VectorXd* dir = nullptr,
+               double bound = 0.0) {
+  const int m = static_cast<int>(p.C.rows());
+  const Eigen::Vector3d r = Eigen::Vector3d(p.x.x(), p.x.y(), 1.0) -
+                            Eigen::Vector3d(p.C.col(0).dot(p.w0), p.C.col(1).dot(p.w0), p.w0.sum());
+  glp_term_out(GLP_OFF);
+  glp_prob* lp = glp_create_prob();
+  glp_set_obj_dir(lp, GLP_MIN);
+  glp_add_cols(lp, 2 * m);
+  glp_add_rows(lp, dir ? 4 : 3);
+  for (int k = 0; k < 3; ++k) glp_set_row_bnds(lp, k + 1, GLP_FX, r(k), r(k));
+  if (dir) glp_set_row_bnds(lp, 4, GLP_UP, 0.0, bound);
+  for (int i = 0; i < m; ++i) {
+    for (int s = 0; s < 2; ++s) {
+      const int col = 2 * i + s + 1;
+      const double sign = s == 0 ? 1.0 : -1.0;
+      glp_set_col_bnds(lp, col, GLP_LO, 0.0, 0.0);
+      glp_set_obj_coef(lp, col, dir ? sign * (*dir)(i) : 1.0);
+      int idx[5] = {0, 1, 2, 3, 4};
+      double val[5] = {0.0, sign * p.C(i, 0), sign * p.C(i, 1), sign, 1.0};
+      glp_set_mat_col(lp, col, dir ? 4 : 3, idx, val);
+    }
+  }
+  glp_smcp parm;
+  glp_init_smcp(&parm);
+  glp_simplex(lp, &parm);
+  glp_exact(lp, &parm);  // rational arithmetic from GLPK's basis: an exact reference
+  const bool ok = glp_get_status(lp) == GLP_OPT;
+  v.resize(m);
+  objective = 0.0;
+  for (int i = 0; i < m; ++i) {
+    v(i) = glp_get_col_prim(lp, 2 * i + 1) - glp_get_col_prim(lp, 2 * i + 2);
+    objective += glp_get_col_prim(lp, 2 * i + 1) + glp_get_col_prim(lp, 2 * i + 2);
+  }
+  glp_delete_prob(lp);
+  return ok;
+}
+
+Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
+  const ControlFrame frame(p.C);
+  Eigen::VectorXd w(p.C.rows());
+  const SampleReport r = sampleL1(frame, frame.normalize(p.x), {p.w0.data(), static_cast<std::size_t>(p.w0.size())},
+                                  {w.data(), static_cast<std::size_t>(w.size())});
+  if (report) *report = r;
+  return w;
+}
+
+/// Objective always matches GLPK's to 1e-8 (relative to 1 + objective); the solution too (relative
+/// to 1 + |v|∞) when GLPK finds the optimal face to be a single point (min and max of a random
+/// direction over it agree). Returns whether the optimum was unique.
+bool expectMatchesGlpk(const Problem& p, const std::string& what, std::mt19937& rng) {
+  SampleReport report;
+  const Eigen::VectorXd w = solve(p, &report);
+  EXPECT_EQ(report.status, SampleStatus::Optimal) << what;
+  EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
+  EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-12) << what;
+  Eigen::VectorXd v;
+  double objective = 0.0;
+  EXPECT_TRUE(glpkSolve(p, v, objective)) << what;
+  const double ours = (w - p.w0).lpNorm<1>();
+  EXPECT_NEAR(ours, objective, 1e-8 * (1.0 + objective)) << what;
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::VectorXd dir(p.C.rows());
+  for (Index i = 0; i < dir.size(); ++i) dir(i) = n(rng);
+  Eigen::VectorXd vMin, vMax;
+  double oMin = 0.0, oMax = 0.0;
+  const Eigen::VectorXd neg = -dir;
+  if (!glpkSolve(p, vMin, oMin, &dir, objective + 1e-10) || !glpkSolve(p, vMax, oMax, &neg, objective + 1e-10))
+    return false;
+  const double scale = 1.0 + v.lpNorm<Eigen::Infinity>();
+  if ((vMin - vMax).lpNorm<Eigen::Infinity>() > 1e-6 * scale) return false;
+  EXPECT_LE((w - p.w0 - v).lpNorm<Eigen::Infinity>(), 1e-8 * scale) << what << "\nv   = " << (w - p.w0).transpose()
+                                                          << "\nref = " << v.transpose();
+  return true;
+}
+
+Points randomControls(std::mt19937& rng, int m) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Points C(m, 2);
+  for (int i = 0; i < m; ++i) C.row(i) = Vec2(u(rng), u(rng)).transpose();
+  return C;
+}
+
+TEST(SampleL1, MatchesGlpkOnRandomProblems) {
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int unique = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int m = 3 + trial % 38;
+    Problem p{randomControls(rng, m), Vec2(1.2 * (2 * u(rng) - 1), 1.2 * (2 * u(rng) - 1)), Eigen::VectorXd(m)};
+    for (int i = 0; i < m; ++i) p.w0(i) = trial % 2 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;
+    unique += expectMatchesGlpk(p, "trial " + std::to_string(trial), rng);
+  }
+  // Not all optima are unique: whenever some v ≥ 0 (or ≤ 0) is feasible, every such v has
+  // |v|₁ = |1 − 1ᵀw0|, the lower bound, so the optimal face is a polytope. About 2/3 are unique.
+  EXPECT_GE(unique, 200);
+}
+
+TEST(SampleL1, MatchesGlpkOnDegenerateProblems) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const int m = 3 + trial % 38;
+    Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd::Zero(m)};
+    const int k = trial % m, l = (trial + 1) % m;
+    switch (trial % 4) {
+      case 0: p.x = Vec2(p.C.row(k)); break;  // at a control point
+      case 1: {
+        const double a = u(rng);  // on a segment between two controls
+        p.x = a * Vec2(p.C.row(k)) + (1.0 - a) * Vec2(p.C.row(l));
+        break;
+      }
+      default: p.x = Vec2(2 * u(rng) - 1, 2 * u(rng) - 1); break;
+    }
+    // Many zeros; every third problem already feasible (w0 = e_k at x = c_k: v = 0).
+    for (int i = 0; i < m; ++i) p.w0(i) = u(rng) < 0.7 ? 0.0 : u(rng);
+    if (trial % 3 == 0) {
+      p.w0.setZero();
+      p.w0(k) = 1.0;
+      p.x = Vec2(p.C.row(k));
+    }
+    expectMatchesGlpk(p, "trial " + std::to_string(trial), rng);
+  }
+}
+
+TEST(SampleL1, FeasibleTargetIsReturnedUnchanged) {
+  std::mt19937 rng(8);
+  const Points C = randomControls(rng, 15);
+  Eigen::VectorXd w0 = Eigen::VectorXd::Random(15);
+  w0 /= w0.sum();
+  const Problem p{C, C.transpose() * w0, w0};
+  const Eigen::VectorXd w = solve(p);
+  EXPECT_LE((w - w0).lpNorm<Eigen::Infinity>(), 1e-14);
+}
+
+TEST(SampleL1, DifferenceIsSparse) {
+  // A basic optimal solution changes at most three weights (3 equality constraints).
+  std::mt19937 rng(77);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Points C = randomControls(rng, 20);
+    const Problem p{C, Vec2(0.1, -0.2), Eigen::VectorXd::Random(20).cwiseAbs() / 20.0};
+    const Eigen::VectorXd v = solve(p) - p.w0;
+    EXPECT_LE((v.array().abs() > 0.0).count(), 3);
+  }
+}
+
+}  // namespace
+}  // namespace kc

@@ -1,0 +1,233 @@
+#include "kc/core/warp_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "kc/core/parallel.h"
+
+namespace kc {
+namespace {
+
+/// Mean value coordinates (Floater 2003) of the closed polygon C at the rows of X: partition of
+/// unity and linear reproduction everywhere off the boundary; linear on the edges.
+Weights meanValueWeights(const Points& C, const Points& X) {
+  const Index m = C.rows();
+  Weights W = Weights::Zero(X.rows(), m);
+  for (Index p = 0; p < X.rows(); ++p) {
+    const Points S = C.rowwise() - X.row(p);  // s_i = c_i − x
+    const Eigen::VectorXd r = S.rowwise().norm();
+    Eigen::VectorXd t = Eigen::VectorXd::Zero(m);  // tan(α_i / 2) for the angle at x of edge i
+    bool done = false;
+    for (Index i = 0; i < m && !done; ++i)
+      if (r(i) < 1e-12) W(p, i) = 1.0, done = true;
+    for (Index i = 0; i < m && !done; ++i) {
+      const Index j = (i + 1) % m;
+      const double A = 0.5 * (S(i, 0) * S(j, 1) - S(i, 1) * S(j, 0)), D = S.row(i).dot(S.row(j));
+      if (std::abs(A) < 1e-12 * r(i) * r(j)) {
+        if (D < 0) {  // on the edge: linear interpolation
+          W(p, i) = r(j) / (r(i) + r(j));
+          W(p, j) = r(i) / (r(i) + r(j));
+          done = true;
+        }
+      } else {
+        t(i) = (r(i) * r(j) - D) / (2 * A);
+      }
+    }
+    if (done) continue;
+    for (Index i = 0; i < m; ++i) W(p, i) = (t((i + m - 1) % m) + t(i)) / r(i);
+    W.row(p) /= W.row(p).sum();
+  }
+  return W;
+}
+
+Image checker(int w, int h) {
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      const bool c = ((x / 10) + (y / 10)) % 2 == 0;
+      p[0] = c ? 230 : 20;
+      p[1] = static_cast<std::uint8_t>(2 * x);
+      p[2] = static_cast<std::uint8_t>(2 * y);
+      p[3] = 255;
+    }
+  return img;
+}
+
+/// A non-convex 8-point "L"-ish cage inside a 120×100 image.
+Cage lCage() {
+  Points C(8, 2);
+  C << 15, 10, 70, 12, 72, 45, 105, 48, 108, 90, 40, 92, 12, 88, 30, 50;
+  return Cage::polygon(C);
+}
+
+TEST(WarpMesh, GridCoversTheImage) {
+  const auto ax = gridAxis(100, 4.0);
+  EXPECT_DOUBLE_EQ(ax.front(), -0.5);
+  EXPECT_DOUBLE_EQ(ax.back(), 99.5);
+  for (std::size_t k = 1; k < ax.size(); ++k) EXPECT_LE(ax[k] - ax[k - 1], 4.0 + 1e-12);
+  const WarpMesh mesh(120, 100, lCage(), {});
+  EXPECT_EQ(mesh.triangles().size(), std::size_t(2 * 30 * 25));
+  EXPECT_EQ(mesh.restVertices().rows(), 31 * 26);
+}
+
+TEST(WarpMesh, CompactWeightsKeepPartitionOfUnity) {
+  const Cage cage = lCage();
+  WarpMesh mesh(120, 100, cage, {});
+  const Weights W = meanValueWeights(cage.C, mesh.restVertices());
+  const CompactWeightsReport rep = mesh.setWeights(W);
+  const auto& S = mesh.weights();
+  EXPECT_EQ(rep.nonZeros, S.nonZeros());
+  EXPECT_LE(rep.maxPerVertex, 8);
+  EXPECT_EQ(rep.denseBytes, std::size_t(mesh.restVertices().rows()) * 8 * 8);
+  for (Index v = 0; v < S.rows(); ++v) {
+    double sum = 0;
+    for (WarpMesh::SparseWeights::InnerIterator it(S, v); it; ++it) {
+      EXPECT_GT(std::abs(it.value()), 1e-3 / 8);
+      sum += it.value();
+    }
+    ASSERT_NEAR(sum, 1.0, 1e-12);
+  }
+  EXPECT_THROW(mesh.setWeights(Weights(W.rows(), 7)), std::invalid_argument);
+  Weights bad = W;
+  bad(3, 2) = std::nan("");
+  EXPECT_THROW(mesh.setWeights(bad), std::invalid_argument);
+}
+
+TEST(WarpMesh, CompactStorageIsSmallerForLocalWeights) {
+  // Local weights (each vertex influenced by ≤ 3 of 30 controls) take far less than dense.
+  Points C(30, 2);
+  for (int i = 0; i < 30; ++i) C.row(i) << 60 + 40 * std::cos(2 * std::numbers::pi * i / 30), 50 + 40 * std::sin(2 * std::numbers::pi * i / 30);
+  WarpMesh mesh(120, 100, Cage::polygon(C), {});
+  Weights W = Weights::Zero(mesh.restVertices().rows(), 30);
+  for (Index v = 0; v < W.rows(); ++v) {
+    const int k = int(v % 30);
+    W(v, k) = 0.7, W(v, (k + 1) % 30) = 0.2999, W(v, (k + 2) % 30) = 1e-5;  // below 1e-3/30: dropped
+  }
+  const CompactWeightsReport rep = mesh.setWeights(W);
+  EXPECT_EQ(rep.maxPerVertex, 2);
+  EXPECT_NEAR(rep.droppedMass, 1e-5, 1e-12);
+  EXPECT_LT(rep.compactBytes * 5, rep.denseBytes);
+}
+
+TEST(WarpMesh, AffinePoseMovesVerticesInsideTheCageByThatMap) {
+  const Cage cage = lCage();
+  WarpMesh mesh(120, 100, cage, {});
+  mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+  EXPECT_THROW(mesh.deform(restPose(7)), std::invalid_argument);
+  DeformReport rest = mesh.deform({});
+  EXPECT_LT((mesh.deformedVertices() - mesh.restVertices()).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_EQ(rest.flippedTriangles, 0);
+  Eigen::Matrix2d A;
+  A << 1.1, 0.2, -0.1, 0.95;
+  const Vec2 b(3, 4);
+  Points P(cage.size(), 2);
+  for (Index i = 0; i < cage.size(); ++i) P.row(i) = (A * cage.C.row(i).transpose() + b).transpose();
+  const DeformReport rep = mesh.deform(poseFromPositions(cage.C, P));
+  EXPECT_EQ(rep.flippedTriangles, 0);
+  double worst = 0;
+  for (Index v = 0; v < mesh.restVertices().rows(); ++v) {
+    const Vec2 x = mesh.restVertices().row(v).transpose();
+    if (!insideCage(cage, x)) continue;
+    worst = std::max(worst, (mesh.deformedVertices().row(v).transpose() - (A * x + b)).norm());
+  }
+  EXPECT_LT(worst, 0.05);  // only the dropped entries (≤ 1e-3/m each) perturb exact reproduction
+  EXPECT_NEAR(rep.minJacobian, A.determinant(), 0.05);
+}
+
+TEST(WarpMesh, FoldOverIsReported) {
+  Points C(4, 2);
+  C << 10, 10, 90, 10, 90, 90, 10, 90;
+  const Cage cage = Cage::polygon(C);
+  WarpMesh mesh(100, 100, cage, {});
+  mesh.setWeights(meanValueWeights(C, mesh.restVertices()));
+  Pose pose = restPose(4);
+  pose[2].translate = Vec2(-140, -140);  // drag the bottom-right corner past the top-left one
+  const DeformReport rep = mesh.deform(pose);
+  EXPECT_GT(rep.flippedTriangles, 0);
+  EXPECT_GT(rep.flippedArea, 0.0);
+  EXPECT_LE(rep.minJacobian, 0.0);
+  Index count = 0;
+  for (Index t = 0; t < mesh.jacobians().size(); ++t) count += mesh.jacobians()(t) <= 0 ? 1 : 0;
+  EXPECT_EQ(count, rep.flippedTriangles);
+}
+
+TEST(WarpMesh, RestPoseRendersTheSourceImage) {
+  const Cage cage = lCage();
+  WarpMesh mesh(120, 100, cage, {});
+  mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+  mesh.deform({});
+  const Image src = checker(120, 100);
+  const Image out = mesh.render(src);
+  EXPECT_GT(psnr(out, src), 45.0);
+}
+
+TEST(WarpMesh, OutsideModes) {
+  const Cage cage = lCage();
+  const Image src = checker(120, 100);
+  Pose pose = restPose(8);
+  pose[3].translate = Vec2(6, -5);
+  for (OutsideMode mode : {OutsideMode::Transparent, OutsideMode::Fixed}) {
+    WarpMeshOptions opt;
+    opt.outside = mode;
+    WarpMesh mesh(120, 100, cage, opt);
+    EXPECT_LT(mesh.triangles().size(), std::size_t(2 * 30 * 25));  // culled away from the cage
+    mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+    mesh.deform(pose);
+    const Image out = mesh.render(src);
+    // (2, 98) and (118, 2) are far outside the cage (and its deformation).
+    for (auto [x, y] : {std::pair{2, 98}, std::pair{118, 2}, std::pair{100, 20}}) {
+      if (mode == OutsideMode::Transparent) EXPECT_EQ(out.at(x, y).a, 0);
+      else EXPECT_EQ(out.at(x, y), src.at(x, y));
+    }
+    for (int c = 0; c < 4; ++c)  // inside, near controls that did not move: (almost) unchanged
+      EXPECT_NEAR(out.pixel(20, 20)[c], src.pixel(20, 20)[c], 3);
+  }
+  OutsideMode m;
+  EXPECT_TRUE(parseOutsideMode("fixed", m));
+  EXPECT_EQ(m, OutsideMode::Fixed);
+  EXPECT_FALSE(parseOutsideMode("gimp", m));
+}
+
+TEST(WarpMesh, DeformAndRenderAreIdenticalForOneAndTwoThreads) {
+  const Cage cage = lCage();
+  WarpMesh mesh(120, 100, cage, {});
+  mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+  Pose pose = restPose(8);
+  pose[1] = {Vec2(10, 5), 0.3};
+  pose[5] = {Vec2(-8, 2), -0.5};
+  const Image src = checker(120, 100);
+  Points f1, f2;
+  Image i1, i2;
+  {
+    ScopedThreadCount t(1);
+    mesh.deform(pose);
+    f1 = mesh.deformedVertices();
+    i1 = mesh.render(src);
+  }
+  {
+    ScopedThreadCount t(2);
+    mesh.deform(pose);
+    f2 = mesh.deformedVertices();
+    i2 = mesh.render(src);
+  }
+  EXPECT_EQ(f1, f2);
+  EXPECT_EQ(i1.rgba, i2.rgba);
+}
+
+TEST(WarpMesh, RejectsBadConstruction) {
+  EXPECT_THROW(WarpMesh(0, 10, lCage(), {}), std::invalid_argument);
+  WarpMeshOptions opt;
+  opt.spacing = 0.1;
+  EXPECT_THROW(WarpMesh(10, 10, lCage(), opt), std::invalid_argument);
+  WarpMesh mesh(120, 100, lCage(), {});
+  EXPECT_THROW(mesh.deform({}), std::invalid_argument);  // no weights yet
+  EXPECT_THROW(mesh.render(checker(10, 10)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace kc

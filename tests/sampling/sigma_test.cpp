@@ -1,0 +1,77 @@
+// Kernel scale: σ = 3T/π (3.28), spectral choice (Fig 6.10), row sums and conditioning (3.3.1-3.3.2).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "kc/sampling/blue_noise.h"
+#include "kc/sampling/sigma.h"
+
+namespace kc::sampling {
+namespace {
+
+Points squareGrid(int n, double T) {
+  Points X(n * n, 2);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) X.row(i * n + j) << i * T, j * T;
+  return X;
+}
+
+TEST(Sigma, RuleOfEquation328) {
+  EXPECT_DOUBLE_EQ(sigmaFromSpacing(1.0), 3.0 / std::numbers::pi);
+  EXPECT_NEAR(suggestSigma(squareGrid(10, 2.0)), 6.0 / std::numbers::pi, 1e-12);
+  SampleSet S;
+  S.X = squareGrid(5, 3.0);
+  EXPECT_NEAR(suggestSigma(S), 9.0 / std::numbers::pi, 1e-12);
+  EXPECT_THROW(suggestSigma(Points::Zero(1, 2)), std::invalid_argument);
+}
+
+TEST(Sigma, GridRowSumsAndConditionMatchThesis331) {
+  // Thesis 3.3.1: grid T = 1, σ = 3T/π: inner row sums 18/π (3.30), condition number ~1e3.
+  const Points X = squareGrid(61, 1.0);
+  const KernelDiagnostics d = kernelDiagnostics(X, sigmaFromSpacing(1.0));
+  ASSERT_GT(d.innerRows, 100);
+  // 18/π up to the kernel's truncation at 5σ (a relative tail of ~4e-6 · 12.5).
+  EXPECT_NEAR(d.innerRowSumMean, 18.0 / std::numbers::pi, 1e-4);
+  EXPECT_LT(d.innerRowSumSpread, 1e-9);
+  EXPECT_LT(d.rowSumMin, 0.6 * d.innerRowSumMean) << "sums fall off at the grid's border (Fig 3.1)";
+  EXPECT_TRUE(d.positiveDefinite);
+  EXPECT_GT(d.conditionEstimate, 1e3);
+  EXPECT_LT(d.conditionEstimate, 1e4);
+}
+
+TEST(Sigma, BlueNoiseSetOfThesis332) {
+  // 1024 blue-noise points on [−30, 30]², σ = 2.5: row sums fluctuate a little inside (Fig 3.3),
+  // condition number ≈ 2.3e5 in the thesis (Balzer et al.'s points; ours are similar).
+  const Points X = blueNoiseRectangle(1024, Rect{-30, -30, 30, 30}, 1);
+  const KernelDiagnostics d = kernelDiagnostics(X, 2.5);
+  EXPECT_GT(d.innerRowSumSpread, 1e-4);
+  EXPECT_LT(d.innerRowSumSpread, 0.05);
+  EXPECT_GT(d.conditionEstimate, 1e4);
+  EXPECT_LT(d.conditionEstimate, 1e6);
+  // Larger σ: flatter sums, much worse conditioning (the trade-off of 3.2).
+  const KernelDiagnostics wide = kernelDiagnostics(X, 3.5);
+  EXPECT_LT(wide.innerRowSumSpread, d.innerRowSumSpread);
+  EXPECT_GT(wide.conditionEstimate, 100.0 * d.conditionEstimate);
+}
+
+TEST(Sigma, SpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise) {
+  // The finite window broadens the grid's first peak by up to 4π/L, so the gap ends a little early.
+  const double T = 1.0;
+  const SpectralSigma g = spectralSigma(squareGrid(60, T));
+  EXPECT_NEAR(g.sigma, sigmaFromSpacing(T), 0.08 * sigmaFromSpacing(T));
+  EXPECT_NEAR(g.gapOmega, 2.0 * std::numbers::pi / T, 4.0 * std::numbers::pi / 60.0);
+  const Points B = blueNoiseRectangle(1600, Rect{0, 0, 40, 40}, 2);
+  const SpectralSigma b = spectralSigma(B);
+  EXPECT_GT(b.sigma, suggestSigma(B));
+  EXPECT_LT(b.sigma, 2.0 * suggestSigma(B));
+}
+
+TEST(Sigma, TooLargeSigmaIsVisibleInTheReport) {
+  const KernelDiagnostics d = kernelDiagnostics(squareGrid(30, 1.0), 3.0);
+  EXPECT_TRUE(!d.positiveDefinite || d.conditionEstimate > 1e12);
+  EXPECT_THROW(kernelDiagnostics(squareGrid(3, 1.0), 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace kc::sampling
