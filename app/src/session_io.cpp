@@ -49,7 +49,23 @@ E parseEnum(const json& params, const char* key, E fallback, bool (*parse)(std::
   return e;
 }
 
+json samplesToJson(const SampleSet& S) {
+  json kinds = json::array(), ends = json::array();
+  for (Index i = 0; i < S.size(); ++i) {
+    kinds.push_back(std::string(kc::toString(S.kind[static_cast<std::size_t>(i)])));
+    ends.push_back({S.edge(i, 0), S.edge(i, 1)});
+  }
+  return {{"points", detail::pointsToJson(S.X)}, {"kinds", kinds}, {"edge_ends", ends}};
+}
+
 }  // namespace
+
+void saveSamples(const std::string& path, const SampleSet& samples, const std::string& extraJsonObject) {
+  json j = {{"version", 1}};
+  j.update(detail::parseJson(extraJsonObject, "saveSamples"));
+  j["samples"] = samplesToJson(samples);
+  writeFileAtomic(path, j.dump() + "\n");
+}
 
 std::string sessionToJson(const Session& s) {
   const BindParams& p = s.params;
@@ -64,16 +80,11 @@ std::string sessionToJson(const Session& s) {
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
                  {"seed", p.seed}};
-  json kinds = json::array(), ends = json::array();
-  for (Index i = 0; i < s.samples.size(); ++i) {
-    kinds.push_back(std::string(kc::toString(s.samples.kind[static_cast<std::size_t>(i)])));
-    ends.push_back({s.samples.edge(i, 0), s.samples.edge(i, 1)});
-  }
   json j = {{"version", 1},
             {"cage", detail::cageToJson(s.cage)},
             {"image_size", {s.imageWidth, s.imageHeight}},
             {"params", params},
-            {"samples", {{"points", detail::pointsToJson(s.samples.X)}, {"kinds", kinds}, {"edge_ends", ends}}},
+            {"samples", samplesToJson(s.samples)},
             {"weights", {{"initial", weightsToJson(s.W0)}, {"optimized", weightsToJson(s.W)}}},
             {"lines", json::array()},
             {"rigid", json::array()},

@@ -62,6 +62,31 @@ TEST(CliBind, BindEvalStatsOnSquare) {
   EXPECT_TRUE(contains(r.out, "Lagrange"));
 }
 
+TEST(CliSample, WritesSamplesMetricsAndPicture) {
+  const auto dir = scratchDir("cli_sample");
+  writeText(dir / "cage.json", kSquare);
+  CliResult r = runCli("sample --cage cage.json --size 96,96 --spacing 4 --seed 3 -o s.json --png s.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(slurp(dir / "s.json"));
+  const auto& kinds = j["samples"]["kinds"];
+  ASSERT_EQ(kinds.size(), j["samples"]["points"].size());
+  EXPECT_EQ(kinds[0], "control");
+  EXPECT_EQ(kinds[4], "edge");
+  int interior = 0;
+  for (const auto& k : kinds) interior += k == "interior";
+  EXPECT_GT(interior, 100);  // (80-16)² / 4² = 256 cells inside, minus the band near the edges
+  EXPECT_GE(j["metrics"]["separation"].get<double>(), 0.6);
+  EXPECT_LE(j["metrics"]["fill"].get<double>(), 0.9);
+  EXPECT_GT(std::filesystem::file_size(dir / "s.png"), 1000u);
+  // Same seed, same samples.
+  ASSERT_EQ(runCli("sample --cage cage.json --size 96,96 --spacing 4 --seed 3 -o t.json", dir).code, 0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "t.json"))["samples"], j["samples"]);
+  r = runCli("sample --cage cage.json --size 96,96 --spacing -1 -o u.json", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "u.json"));
+}
+
 struct BadCase {
   const char* name;
   const char* args;

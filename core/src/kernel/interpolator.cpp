@@ -1,12 +1,12 @@
 #include "kc/core/kernel/interpolator.h"
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <chrono>
 #include <stdexcept>
 
 #include "kc/core/parallel.h"
 #include "kc/core/spatial_grid.h"
+#include "../sparse_cholesky.h"
 
 namespace kc {
 namespace {
@@ -33,7 +33,7 @@ struct KernelInterpolator::Impl {
   GaussianKernel kernel;
   InterpMode mode = InterpMode::Exact;
   SparseMatrix K;
-  Eigen::SimplicialLDLT<SparseMatrix> ldlt;
+  detail::SupernodalCholesky llt;
   SpatialGrid grid;
   bool ok = false;
   // Exact mode: polynomial basis in centred, scaled coordinates x̂ = (x − c)/s.
@@ -43,7 +43,7 @@ struct KernelInterpolator::Impl {
   Poly KinvP;  // K⁻¹P
   Eigen::LDLT<Eigen::Matrix3d> schur;  // of PᵀK⁻¹P
 
-  ColMatrix solveK(const ColMatrix& rhs) const { return ldlt.solve(rhs); }
+  ColMatrix solveK(const ColMatrix& rhs) const { return llt.solve(rhs); }
 
   /// Solves [K P; Pᵀ 0][U; B̂] = [R1; R2] with the Schur complement (Exact mode), or K U = R1.
   void augmentedSolve(const ColMatrix& R1, const Eigen::Matrix<double, 3, Eigen::Dynamic>& R2, ColMatrix& U,
@@ -82,18 +82,17 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
   report.assembleSeconds = secondsSince(t0);
 
   t0 = std::chrono::steady_clock::now();
-  impl->ldlt.compute(impl->K);
+  impl->llt.compute(impl->K);
   report.status = FactorStatus::Ok;
-  if (impl->ldlt.info() != Eigen::Success) {
+  if (impl->llt.info() != Eigen::Success) {
     report.status = FactorStatus::NotPositiveDefinite;
     report.advice = kSigmaAdvice;
   } else {
-    const auto D = impl->ldlt.vectorD();
-    const double maxD = D.maxCoeff(), minD = D.minCoeff();
-    if (!(minD > 0.0) || !std::isfinite(maxD)) {
+    const double ratio = impl->llt.pivotRatio();
+    if (!(ratio > 0.0) || !std::isfinite(ratio)) {
       report.status = FactorStatus::NotPositiveDefinite;
       report.advice = kSigmaAdvice;
-    } else if (minD < kMinRelativePivot * maxD) {
+    } else if (ratio < kMinRelativePivot) {
       report.status = FactorStatus::Singular;
       report.advice =
           "the kernel matrix is numerically singular: sigma is too large for the sample spacing "

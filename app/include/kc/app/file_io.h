@@ -29,6 +29,10 @@ void savePose(const std::string& path, const Pose& pose);
 Session loadSession(const std::string& path);
 void saveSession(const std::string& path, const Session& session);
 
+/// Sample file: {"version": 1, "samples": {"points", "kinds", "edge_ends"}} (the session's layout),
+/// plus the keys of `extraJsonObject` (a JSON object as text, e.g. metrics). Atomic.
+void saveSamples(const std::string& path, const SampleSet& samples, const std::string& extraJsonObject = "{}");
+
 /// The same as text (used by the GUI's autosave and by tests).
 std::string sessionToJson(const Session& session);
 Session sessionFromJson(const std::string& text, const std::string& where);
