@@ -6,6 +6,7 @@
 
 #include "cli_common.h"
 #include "kc/app/errors.h"
+#include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
 
@@ -52,7 +53,7 @@ void runBind(const BindArgs& a) {
       return true;
     };
   app::Session s = app::bind(cage, w, h, p, &r, progress);
-  if (!a.image.empty()) s.image = imagePathForSession(a.image, a.output);
+  if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
   app::saveSession(a.output, s);
 
   std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",

@@ -31,20 +31,6 @@ std::pair<int, int> imageSize(const std::string& path) {
   return {img.cols, img.rows};
 }
 
-std::string imagePathForSession(const std::string& imagePath, const std::string& sessionPath) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path dir = fs::absolute(fs::path(sessionPath), ec).parent_path();
-  const fs::path rel = fs::relative(fs::absolute(imagePath, ec), dir, ec);
-  return ec || rel.empty() ? fs::absolute(imagePath).string() : rel.string();
-}
-
-std::string resolveSessionImage(const std::string& stored, const std::string& sessionPath) {
-  namespace fs = std::filesystem;
-  if (stored.empty() || fs::path(stored).is_absolute()) return stored;
-  return (fs::path(sessionPath).parent_path() / stored).lexically_normal().string();
-}
-
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
 
 }  // namespace kc::cli

@@ -26,10 +26,6 @@ void addBenchCommand(CLI::App& app);
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
 /// Width and height of an image file; InputError naming the file when it cannot be read.
 std::pair<int, int> imageSize(const std::string& path);
-/// The image path as stored in a session written to `sessionPath`: relative to its folder.
-std::string imagePathForSession(const std::string& imagePath, const std::string& sessionPath);
-/// The image path of a session file resolved against the session's folder.
-std::string resolveSessionImage(const std::string& stored, const std::string& sessionPath);
 /// True when stderr is a terminal (progress output is shown only then).
 bool stderrIsTerminal();
 

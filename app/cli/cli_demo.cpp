@@ -11,6 +11,7 @@
 #include "cli_common.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/errors.h"
+#include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
@@ -60,7 +61,6 @@ Index mostMoved(const Pose& pose) {
 }
 
 void runExample(const std::string& dir, const std::string& name, const std::string& out, std::string& report) {
-  using Clock = std::chrono::steady_clock;
   const std::string base = (fs::path(dir) / name).string();
   const Cage cage = app::loadCage(base + ".cage.json");
   const Pose pose = app::loadPose(base + ".pose.json", cage.C);
@@ -69,14 +69,14 @@ void runExample(const std::string& dir, const std::string& name, const std::stri
   app::BindReport br;
   app::Session s = app::bind(cage, source.width, source.height, app::BindParams{}, &br);
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
-  s.image = imagePathForSession(base + ".png", sessionPath);
+  s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;
   app::saveSession(sessionPath, s);
 
-  auto t0 = Clock::now();
-  WarpMesh mesh(source.width, source.height, cage, {});
-  const CompactWeightsReport cw = mesh.setWeights(s.field.weightsAt(mesh.restVertices()));
-  const double vertexMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  app::WarpExportReport er;
+  WarpMesh mesh = app::buildWarpMesh(s, {}, &er);
+  const CompactWeightsReport& cw = er.weights;
+  const double vertexMs = 1e3 * er.weightSeconds;
   const DeformReport dr = mesh.deform(pose);
   RasterReport rr;
   Image warped = mesh.render(source, {}, &rr);

@@ -8,6 +8,7 @@
 
 #include "cli_common.h"
 #include "kc/app/errors.h"
+#include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
@@ -69,7 +70,7 @@ void runWarp(const WarpArgs& a) {
   }
   if (a.output.empty()) return;
 
-  const std::string imagePath = a.image.empty() ? resolveSessionImage(s.image, a.session) : a.image;
+  const std::string imagePath = a.image.empty() ? app::resolveSessionImage(s.image, a.session) : a.image;
   if (imagePath.empty()) throw app::InputError("--image", "the session names no image; give --image I.png");
   const Image source = app::loadImage(imagePath);
   if (source.width != s.imageWidth || source.height != s.imageHeight)
@@ -83,10 +84,10 @@ void runWarp(const WarpArgs& a) {
     throw app::InputError(a.pose.empty() ? a.session : a.pose, e.what());
   }
 
-  auto t0 = std::chrono::steady_clock::now();
-  WarpMesh mesh(source.width, source.height, s.cage, meshOptions);
-  const CompactWeightsReport cw = mesh.setWeights(s.field.weightsAt(mesh.restVertices()));
-  const double bindMs = msSince(t0);
+  app::WarpExportReport er;
+  WarpMesh mesh = app::buildWarpMesh(s, meshOptions, &er);
+  const CompactWeightsReport& cw = er.weights;
+  const double bindMs = 1e3 * er.weightSeconds;
   const DeformReport dr = mesh.deform(pose);
   RasterReport rr;
   Image out = mesh.render(source, raster, &rr);

@@ -86,14 +86,35 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
   return s;
 }
 
-OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset) {
+OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset,
+                          std::vector<Index>* changedColumns) {
   const WeightOptimizer optimizer(session.cage.C);
+  const bool whole = subset.empty() || session.W.rows() != session.W0.rows() || session.W.cols() != session.W0.cols();
   if (session.W.rows() != session.W0.rows() || session.W.cols() != session.W0.cols()) session.W = session.W0;
+  const Index m = session.W0.cols();
+  RowMatrix before(static_cast<Index>(subset.size()), m);
+  if (!whole)
+    for (std::size_t k = 0; k < subset.size(); ++k) before.row(static_cast<Index>(k)) = session.W.row(subset[k]);
   OptimizeOptions oo;
   oo.method = method;
-  const OptimizeReport r = optimizer.optimize(session.samples, session.W0, session.W, oo, subset);
+  const OptimizeReport r = optimizer.optimize(session.samples, session.W0, session.W, oo, whole ? std::span<const Index>{} : subset);
   session.params.method = method;
-  if (session.field.interpolator.ok()) session.field.coefficients = session.field.interpolator.solve(session.W);
+
+  std::vector<Index> columns;
+  for (Index c = 0; c < m; ++c) {
+    bool changed = whole;
+    for (std::size_t k = 0; k < subset.size() && !changed; ++k)
+      changed = session.W(subset[k], c) != before(static_cast<Index>(k), c);
+    if (changed) columns.push_back(c);
+  }
+  CoordinateField& f = session.field;
+  if (f.interpolator.ok()) {
+    if (whole || f.coefficients.U.rows() != session.W.rows() || f.coefficients.U.cols() != m)
+      f.coefficients = f.interpolator.solve(session.W);
+    else
+      f.interpolator.solveColumns(session.W, columns, f.coefficients);
+  }
+  if (changedColumns) *changedColumns = std::move(columns);
   return r;
 }
 

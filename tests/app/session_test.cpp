@@ -5,6 +5,7 @@
 
 #include "cli_run.h"
 #include "kc/app/errors.h"
+#include "kc/app/field_sampler.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
 
@@ -99,7 +100,19 @@ TEST(Session, ReoptimizeSubsetTouchesOnlyThoseRows) {
     if (s.samples.kind[static_cast<std::size_t>(i)] == SampleKind::Interior) painted.push_back(i);
   ASSERT_EQ(painted.size(), 5u);
   for (Index i : painted) s.W0(i, 0) += 0.3;
-  reoptimize(s, Method::QP, painted);
+  std::vector<Index> columns;
+  reoptimize(s, Method::QP, painted, &columns);
+  EXPECT_FALSE(columns.empty());
+  // Only the changed columns were re-solved, yet the field equals a full solve.
+  const KernelCoefficients full = s.field.interpolator.solve(s.W);
+  EXPECT_LT((full.U - s.field.coefficients.U).cwiseAbs().maxCoeff(), 1e-9 * full.U.cwiseAbs().maxCoeff());
+  EXPECT_LT((full.B - s.field.coefficients.B).cwiseAbs().maxCoeff(), 1e-9);
+  for (Index c = 0; c < s.W.cols(); ++c) {
+    const bool listed = std::find(columns.begin(), columns.end(), c) != columns.end();
+    bool differs = false;
+    for (Index i : painted) differs = differs || s.W(i, c) != before(i, c);
+    EXPECT_EQ(listed, differs) << "column " << c;
+  }
   Index changed = 0;
   for (Index i = 0; i < s.samples.size(); ++i) {
     const bool isPainted = std::find(painted.begin(), painted.end(), i) != painted.end();
@@ -110,6 +123,27 @@ TEST(Session, ReoptimizeSubsetTouchesOnlyThoseRows) {
     }
   }
   EXPECT_GT(changed, 0);
+}
+
+TEST(FieldSampler, MatchesTheFieldAndUpdatesOnlyGivenColumns) {
+  Session s = smallSession();
+  Points P(200, 2);
+  for (Index i = 0; i < P.rows(); ++i) P.row(i) << 0.3 * static_cast<double>(i % 20) * 10.0 + 1.5, 0.31 * static_cast<double>(i / 10) * 10.0;
+  const FieldSampler sampler(s.field, P);
+  const Weights direct = s.field.weightsAt(P);
+  Weights W = sampler.evaluate(s.field.coefficients);
+  EXPECT_LT((W - direct).cwiseAbs().maxCoeff(), 1e-12);
+  // Change the coefficients of column 2 only: updating column 2 alone gives the full result.
+  KernelCoefficients coef = s.field.coefficients;
+  coef.U.col(2) *= 0.5;
+  coef.B.col(2) *= 0.5;
+  const Weights expected = sampler.evaluate(coef);
+  const Weights old = W;
+  const Index cols[] = {2};
+  sampler.updateColumns(coef, cols, W);
+  EXPECT_LT((W - expected).cwiseAbs().maxCoeff(), 1e-14);
+  for (Index c : {0, 1, 3}) EXPECT_EQ(W.col(c), old.col(c));
+  EXPECT_NE(W.col(2), old.col(2));
 }
 
 }  // namespace

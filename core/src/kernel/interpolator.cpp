@@ -169,6 +169,24 @@ KernelCoefficients KernelInterpolator::solve(const Weights& W, int refinementSte
   return coef;
 }
 
+void KernelInterpolator::solveColumns(const Weights& W, std::span<const Index> columns, KernelCoefficients& coef) const {
+  const Index m = W.cols();
+  if (coef.U.rows() != W.rows() || coef.U.cols() != m || coef.B.cols() != m)
+    throw std::invalid_argument("interpolator: solveColumns needs coefficients of the same shape as W");
+  if (columns.empty()) return;
+  Weights Wsub(W.rows(), static_cast<Index>(columns.size()));
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const Index c = columns[k];
+    if (c < 0 || c >= m) throw std::invalid_argument("interpolator: column " + std::to_string(c) + " out of range");
+    Wsub.col(static_cast<Index>(k)) = W.col(c);
+  }
+  const KernelCoefficients sub = solve(Wsub);
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    coef.U.col(columns[k]) = sub.U.col(static_cast<Index>(k));
+    coef.B.col(columns[k]) = sub.B.col(static_cast<Index>(k));
+  }
+}
+
 namespace {
 void checkEval(const Points& X, const KernelCoefficients& coef, const Points& P) {
   if (coef.U.rows() != X.rows())

@@ -5,6 +5,7 @@
 #include <exception>
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "kc/app/session.h"
 
@@ -42,8 +43,11 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
              const BindProgress& progress = {});
 
 /// Re-optimizes rows `subset` of session.W (all when empty) from session.W0 with `method`, then
-/// refreshes the coordinate field. Returns the optimizer's report.
-OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset = {});
+/// refreshes the coordinate field, re-solving only the columns of W that changed (all of them when
+/// the subset is empty). `changedColumns`, when given, receives those columns. Returns the
+/// optimizer's report.
+OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset = {},
+                          std::vector<Index>* changedColumns = nullptr);
 
 /// Rebuilds session.field from samples, σ and W (after loading a session file).
 InterpolatorReport refreshField(Session& session);

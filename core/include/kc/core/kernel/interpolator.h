@@ -3,6 +3,7 @@
 /// compute() assembles K and factorizes it once per sample set; solve() is called per W.
 
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,11 @@ class KernelInterpolator {
   /// is not finite). refinementSteps > 0 adds steps of iterative refinement (one more solve each;
   /// the Lagrange residual is already ~1e-15 without it, see thesis_regular_sampling_test).
   KernelCoefficients solve(const Weights& W, int refinementSteps = 0) const;
+
+  /// Re-solves only `columns` of coef for weights W (#S×m); the other columns of U and B are left
+  /// as they are. Each column's system is independent (6.2), so an edit that changes a few
+  /// controls' weights costs a few solves. coef must come from solve() for the same samples.
+  void solveColumns(const Weights& W, std::span<const Index> columns, KernelCoefficients& coef) const;
 
   /// w(p) for every row of P (6.3): #P×m, computed in parallel.
   Weights evaluate(const KernelCoefficients& coef, const Points& P) const;

@@ -1,0 +1,178 @@
+// Tool logic without a window: pose tool, brush strokes (subset re-optimization), undo, method
+// switch, cage tool.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numbers>
+
+#include "kc/ui/tools/brush_tool.h"
+#include "ui_fixture.h"
+
+namespace kc::ui {
+namespace {
+
+PointerEvent at(double x, double y, MouseButton b = MouseButton::Left) {
+  PointerEvent e;
+  e.position = Vec2(x, y);
+  e.button = b;
+  e.pickRadius = 6.0;
+  return e;
+}
+
+/// A stroke from a to b with the brush tool.
+void stroke(AppState& s, const Vec2& a, const Vec2& b) {
+  s.brushTool.press(s, at(a.x(), a.y()));
+  for (int k = 1; k <= 10; ++k) {
+    const Vec2 p = a + (b - a) * (k / 10.0);
+    s.brushTool.drag(s, at(p.x(), p.y()));
+  }
+  s.brushTool.release(s, at(b.x(), b.y()));
+  s.worker.waitFinished();
+  pollWorker(s);
+}
+
+TEST(PoseTool, LeftDragTranslatesAndUndoRestores) {
+  auto s = test::boundState();
+  const Vec2 c1 = s->boundCage.C.row(1).transpose();
+  s->poseTool.press(*s, at(c1.x(), c1.y()));
+  s->poseTool.drag(*s, at(c1.x() - 20, c1.y() + 30));
+  s->poseTool.release(*s, at(c1.x() - 20, c1.y() + 30));
+  EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(-20, 30)));
+  EXPECT_EQ(s->pose[0].translate, Vec2::Zero());
+  ASSERT_EQ(s->undo.undoCount(), 1u);
+  EXPECT_TRUE(updateDeformation(*s));
+  EXPECT_TRUE(undo(*s));
+  EXPECT_EQ(s->pose[1].translate, Vec2::Zero());
+  EXPECT_TRUE(redo(*s));
+  EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(-20, 30)));
+}
+
+TEST(PoseTool, RightDragRotatesAboutTheRestPosition) {
+  auto s = test::boundState();
+  const Vec2 c = s->boundCage.C.row(2).transpose();  // (255, 255)
+  s->poseTool.press(*s, at(c.x(), c.y(), MouseButton::Right));
+  s->poseTool.drag(*s, at(c.x() - 40, c.y(), MouseButton::Right));       // reference direction: left
+  s->poseTool.release(*s, at(c.x(), c.y() + 40, MouseButton::Right));   // quarter turn to "down"
+  EXPECT_NEAR(s->pose[2].rotate, std::numbers::pi / 2, 1e-9);           // counter-clockwise on screen
+  EXPECT_EQ(s->pose[2].translate, Vec2::Zero());
+}
+
+TEST(PoseTool, RectangleSelectsAndMovesSeveral) {
+  auto s = test::boundState();
+  s->poseTool.press(*s, at(-20, -20));
+  s->poseTool.release(*s, at(300, 100));  // covers controls 0 and 1 (top edge)
+  ASSERT_EQ(s->selection.size(), 2u);
+  s->poseTool.press(*s, at(0, 0));
+  s->poseTool.release(*s, at(10, 15));
+  EXPECT_TRUE(s->pose[0].translate.isApprox(Vec2(10, 15)));
+  EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(10, 15)));
+  EXPECT_EQ(s->pose[2].translate, Vec2::Zero());
+}
+
+TEST(BrushTool, StrokeReoptimizesExactlyThePaintedSamples) {
+  auto s = test::boundState();
+  s->activeControl = 2;
+  const Weights W0 = s->session->W0, W = s->session->W;
+  stroke(*s, Vec2(150, 150), Vec2(200, 180));
+  ASSERT_TRUE(s->session);
+  ASSERT_EQ(s->undo.undoCount(), 1u);
+  const auto& edit = std::get<WeightEdit>(s->undo.nextUndo()->edit);
+  ASSERT_FALSE(edit.rows.empty());
+  std::vector<char> painted(static_cast<std::size_t>(W.rows()), 0);
+  for (Index r : edit.rows) painted[static_cast<std::size_t>(r)] = 1;
+  Index changed = 0;
+  for (Index r = 0; r < W.rows(); ++r) {
+    if (painted[static_cast<std::size_t>(r)]) {
+      changed += s->session->W.row(r) != W.row(r);
+      continue;
+    }
+    ASSERT_TRUE(s->session->W.row(r) == W.row(r)) << "unpainted sample " << r << " changed";
+    ASSERT_TRUE(s->session->W0.row(r) == W0.row(r));
+  }
+  EXPECT_GT(changed, Index(edit.rows.size() / 2));
+  EXPECT_EQ(s->timings.reoptimizeSamples, Index(edit.rows.size()));
+  // Painted targets moved towards control 2.
+  EXPECT_GT(s->session->W0(edit.rows[0], 2), W0(edit.rows[0], 2));
+}
+
+TEST(BrushTool, UndoRestoresWeightsBitForBit) {
+  auto s = test::boundState();
+  s->activeControl = 1;
+  const Weights W0 = s->session->W0, W = s->session->W;
+  const auto U = s->session->field.coefficients.U;
+  stroke(*s, Vec2(100, 60), Vec2(180, 90));
+  ASSERT_FALSE(s->session->W == W);
+  ASSERT_TRUE(undo(*s));
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_TRUE(s->session->W == W);
+  EXPECT_TRUE(s->session->W0 == W0);
+  EXPECT_TRUE(s->session->field.coefficients.U.isApprox(U, 1e-12));
+  ASSERT_TRUE(redo(*s));
+  pollWorker(*s);
+  EXPECT_FALSE(s->session->W == W);
+}
+
+TEST(BrushTool, DabKeepsRowsSummingToOne) {
+  auto s = test::boundState();
+  Weights W0 = s->session->W0;
+  std::vector<char> painted;
+  const Index n = paintDab(W0, s->session->samples, 0, Vec2(128, 128), 40.0, 0.5, painted);
+  EXPECT_GT(n, 0);
+  for (Index r = 0; r < W0.rows(); ++r) EXPECT_NEAR(W0.row(r).sum(), s->session->W0.row(r).sum(), 1e-9);
+}
+
+TEST(MethodSwitch, KeepsPaintedTargets) {
+  auto s = test::boundState();
+  s->activeControl = 3;
+  stroke(*s, Vec2(60, 200), Vec2(120, 220));
+  const Weights painted = s->session->W0, Wqp = s->session->W;
+  ASSERT_TRUE(switchMethod(*s, Method::L1));
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->method, Method::L1);
+  EXPECT_EQ(s->session->params.method, Method::L1);
+  EXPECT_TRUE(s->session->W0 == painted);
+  EXPECT_FALSE(s->session->W == Wqp);
+  ASSERT_TRUE(undo(*s));  // back to QP, bit for bit
+  pollWorker(*s);
+  EXPECT_EQ(s->method, Method::QP);
+  EXPECT_TRUE(s->session->W == Wqp);
+}
+
+TEST(CageTool, ClicksBuildAndCloseAPolygon) {
+  AppState s;
+  Cage open;
+  open.closed = false;
+  setDraftCage(s, open);
+  for (const Vec2& p : {Vec2(10, 10), Vec2(100, 10), Vec2(100, 100), Vec2(10, 100)}) {
+    s.cageTool.press(s, at(p.x(), p.y()));
+    s.cageTool.release(s, at(p.x(), p.y()));
+  }
+  EXPECT_EQ(s.cage.size(), 4);
+  EXPECT_FALSE(s.cageValid);
+  s.cageTool.press(s, at(11, 11));  // the first point closes it
+  s.cageTool.release(s, at(11, 11));
+  EXPECT_TRUE(s.cage.closed);
+  EXPECT_TRUE(s.cageValid) << s.cageStatus;
+  s.cageTool.press(s, at(100, 100, MouseButton::Right));  // delete a point: still a valid triangle
+  EXPECT_EQ(s.cage.size(), 3);
+  EXPECT_TRUE(s.cageValid);
+  EXPECT_TRUE(undo(s));
+  EXPECT_EQ(s.cage.size(), 4);
+}
+
+TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {
+  AppState s;
+  Points C(4, 2);
+  C << 0, 0, 100, 100, 100, 0, 0, 100;  // a bow tie
+  setDraftCage(s, Cage::polygon(C));
+  EXPECT_FALSE(s.cageValid);
+  EXPECT_NE(s.cageStatus.find("intersect"), std::string::npos) << s.cageStatus;
+  s.source = Image(128, 128, Rgba{1, 2, 3, 255});
+  EXPECT_FALSE(startBind(s));
+  EXPECT_FALSE(s.worker.busy());
+}
+
+}  // namespace
+}  // namespace kc::ui

@@ -1,0 +1,69 @@
+#pragma once
+// Test support for kc::ui: an AppState with a small bound session (checker example, coarse
+// spacing) and a headless Dear ImGui context (the null backend of example_null: no window).
+
+#include <imgui.h>
+
+#include <memory>
+#include <string>
+
+#include "kc/app/export.h"
+#include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
+#include "kc/app/pipeline.h"
+#include "kc/ui/app_state.h"
+#include "kc/ui/edits.h"
+#include "kc/ui/jobs.h"
+
+namespace kc::test {
+
+/// A bound AppState on images/checker.png with its cage; jobs run inline (synchronous worker).
+inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
+  auto state = std::make_unique<ui::AppState>();
+  state->worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  state->source = app::loadImage(dir + "checker.png");
+  state->imagePath = dir + "checker.png";
+  app::BindParams p;
+  p.spacing = spacing;
+  auto s = std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), state->source.width,
+                                                    state->source.height, p));
+  ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(s->imageWidth, s->imageHeight)));
+  return state;
+}
+
+/// Headless ImGui: a context with a display size and a built font atlas; frames run NewFrame →
+/// draw → Render with no renderer backend.
+class HeadlessImGui {
+ public:
+  HeadlessImGui() {
+    ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(1400, 900);
+    io.DeltaTime = 1.0f / 60.0f;
+    io.IniFilename = nullptr;
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+  }
+  ~HeadlessImGui() { ImGui::DestroyContext(); }
+  template <class F>
+  void frame(F&& draw) {
+    ImGui::NewFrame();
+    draw();
+    ImGui::Render();
+  }
+  /// Clicks at screen point p over three frames (move, press, release), drawing with `draw`.
+  template <class F>
+  void click(const Vec2& p, F&& draw) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = ImVec2(float(p.x()), float(p.y()));
+    frame(draw);
+    io.MouseDown[0] = true;
+    frame(draw);
+    io.MouseDown[0] = false;
+    frame(draw);
+  }
+};
+
+}  // namespace kc::test

@@ -1,0 +1,139 @@
+#pragma once
+/// The one object the GUI reads and writes each frame (STYLE.md, Immediate-mode UI): the document
+/// (image, session, draft cage, pose, undo history) and the interaction state (tool, view,
+/// selection, brush, overlays, messages, timings). No globals.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kc/app/diagnostics.h"
+#include "kc/app/field_sampler.h"
+#include "kc/app/session.h"
+#include "kc/core/rasterize.h"
+#include "kc/core/warp_mesh.h"
+#include "kc/ui/tools/brush_tool.h"
+#include "kc/ui/tools/cage_tool.h"
+#include "kc/ui/tools/pose_tool.h"
+#include "kc/ui/undo.h"
+#include "kc/ui/view.h"
+#include "kc/ui/worker.h"
+
+namespace kc::ui {
+
+enum class Tool { Pose, Brush, Cage };
+
+struct BrushSettings {
+  double radius = 30.0;     ///< Image pixels.
+  double strength = 0.25;   ///< Change of the target weight per dab at the centre.
+  bool subtract = false;    ///< Ctrl inverts while painting.
+};
+
+struct HeatmapSettings {
+  bool show = true;         ///< In the brush tool.
+  bool showInPose = false;  ///< In the pose tool (off: the picture stays clean while posing).
+  bool log = false;
+  float opacity = 0.55f;
+  double logFloor = 1e-4;
+};
+
+struct ViewOptions {
+  bool cage = true, samples = false, mesh = false, foldovers = true, restCage = false;
+};
+
+/// Measured times (milliseconds unless noted) shown in the diagnostics panel.
+struct Timings {
+  double bindSeconds = 0.0;
+  double reoptimizeMs = 0.0;     ///< Last re-optimization (optimizer + field solve).
+  Index reoptimizeSamples = 0;
+  double meshWeightsMs = 0.0;    ///< Weights at the display mesh's vertices.
+  double releaseToPictureMs = 0.0;  ///< Stroke release (or method switch) → updated picture.
+  double frameMs = 0.0, deformMs = 0.0, uploadMs = 0.0;
+};
+
+/// What the canvas is doing with the mouse between press and release.
+struct CanvasDrag {
+  int button = -1;          ///< 0 left, 1 right, 2 middle; −1 = no drag.
+  bool panning = false;     ///< Middle-drag or space+left-drag.
+  Vec2 lastScreen = Vec2::Zero();
+};
+
+/// Files asked for by menus and shortcuts (answered by the path dialog).
+enum class PathPurpose { None, Open, SaveSession, Export, LoadCage, SaveCage };
+
+struct Message {
+  std::string text;
+  bool error = false;
+};
+
+struct AppState {
+  // --- Document -------------------------------------------------------------------------------
+  Image source;                            ///< The picture (RGBA8), uploaded once as a texture.
+  std::string imagePath;
+  std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
+  /// The bound session; null when nothing is bound or while a worker job holds it.
+  std::shared_ptr<app::Session> session;
+  bool bound = false;                      ///< A session exists (possibly held by a job).
+  Cage boundCage;                          ///< Display copy of the session's cage.
+  SampleSet samples;                       ///< Display copy of the session's samples.
+  Method method = Method::QP;              ///< The session's current optimization method.
+  app::BindParams bindParams;              ///< Bind panel values (next bind).
+  Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
+  bool cageValid = false;
+  std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).
+  Pose pose;                               ///< Current pose, one handle per bound control point.
+  std::uint64_t poseRevision = 0;
+  WarpMesh mesh;                           ///< Display warp mesh (weights at its vertices).
+  /// Where the display mesh's weights come from: the field sampler at its vertices and the dense
+  /// vertex weights, so a paint stroke re-evaluates only the controls whose weights changed.
+  struct MeshSource {
+    app::FieldSampler sampler;
+    Weights W;
+  };
+  std::shared_ptr<MeshSource> meshSource;
+  std::uint64_t meshRevision = 0;          ///< Bumped when mesh or its weights change.
+  std::uint64_t deformedPose = ~0ull, deformedMesh = ~0ull;  ///< Revisions of the last deform().
+  std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
+  DeformReport deformReport;
+  std::optional<app::Diagnostics> diagnostics;
+  std::string sessionPath, exportPath, recoveryPath;
+  bool unsaved = false;
+  double lastAutosave = 0.0;               ///< Seconds (glfw/steady clock) of the last autosave.
+  UndoStack undo;
+
+  // --- Interaction ----------------------------------------------------------------------------
+  Tool tool = Tool::Pose;
+  View view;
+  bool fitPending = true;                  ///< Fit the view at the next frame (new image).
+  std::vector<Index> selection;            ///< Selected control points (pose tool).
+  Index activeControl = -1;                ///< Control whose weights are painted and shown.
+  BrushSettings brush;
+  HeatmapSettings heat;
+  ViewOptions show;
+  PoseTool poseTool;
+  BrushTool brushTool;
+  CageTool cageTool;
+  Worker worker;
+  std::vector<Message> messages;
+  Timings timings;
+  double releaseStart = 0.0;               ///< Seconds at stroke release (for releaseToPictureMs).
+  bool quitRequested = false;              ///< Close asked while unsaved: confirm dialog open.
+  bool quitConfirmed = false;              ///< The user agreed to close.
+  CanvasDrag canvasDrag;
+  bool canvasHovered = false;
+  Vec2 mouseImage = Vec2::Zero();          ///< Mouse position in image pixels (status bar, brush ring).
+  PathPurpose pathDialog = PathPurpose::None;
+  std::string pathDialogText;
+  /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
+  std::map<std::string, Vec2> widgets;
+  /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).
+  double heatLow = 0.0, heatHigh = 1.0;
+};
+
+/// Seconds on a monotonic clock (for timings and autosave).
+double nowSeconds();
+
+}  // namespace kc::ui

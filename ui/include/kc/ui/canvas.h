@@ -1,0 +1,27 @@
+#pragma once
+/// The canvas: the picture area behind the panels. Mouse input goes to pan/zoom and to the active
+/// tool (only when ImGui does not want the mouse); overlays (cage, control points, samples,
+/// fold-overs, brush ring, selection rectangle) are drawn on ImGui's background draw list.
+
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+/// Sets the canvas rectangle (screen pixels) and fits the view when a new image was opened.
+void layoutCanvas(AppState& state, const Vec2& min, const Vec2& size);
+
+/// Reads the mouse (ImGui IO) and drives pan/zoom and the active tool.
+void handleCanvasInput(AppState& state);
+
+/// Draws the overlays of the canvas.
+void drawCanvasOverlay(AppState& state);
+
+/// True when the picture is shown deformed (a bound session, not in the cage tool).
+bool showsWarp(const AppState& state);
+
+/// Rest position of a point of the deformed picture: the deformed warp-mesh triangle containing
+/// `p` (the topmost, i.e. last, one where folded) mapped back barycentrically. False when `p` lies
+/// outside the deformed mesh.
+bool restPositionOf(const WarpMesh& mesh, const Vec2& p, Vec2& rest);
+
+}  // namespace kc::ui

@@ -1,0 +1,39 @@
+#pragma once
+/// Setters of the document that mark what is stale (STYLE.md: "one method that sets the value and
+/// marks what is stale"), and undo/redo. Main thread only.
+
+#include <string>
+
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+/// Shows a line in the message bar (errors stay until dismissed).
+void postMessage(AppState& state, std::string text, bool error);
+
+/// Sets the pose (one handle per bound control); the deformation is redone next frame.
+void setPose(AppState& state, Pose pose);
+/// Records the change from `before` to the current pose as one undo entry and marks unsaved.
+void commitPose(AppState& state, const Pose& before, std::string label);
+/// Back to the rest pose (undoable).
+void resetPose(AppState& state);
+
+/// Sets the draft cage and re-validates it (cageValid, cageStatus).
+void setDraftCage(AppState& state, Cage cage);
+/// Records the change from `before` to the current draft cage as one undo entry.
+void commitCage(AppState& state, const Cage& before, std::string label);
+
+/// Undo / redo the newest entry. Weight edits need the session (not while a job runs); they
+/// restore W0 and W bit for bit and refresh the field and the display mesh on the worker.
+/// Returns false (with a message) when nothing could be done.
+bool undo(AppState& state);
+bool redo(AppState& state);
+
+/// Re-deforms the display mesh when the pose or the mesh changed since the last call
+/// (WarpMesh::deform, one sparse product). Returns true when it deformed.
+bool updateDeformation(AppState& state);
+
+/// Switches tool, ending any drag in progress.
+void selectTool(AppState& state, Tool tool);
+
+}  // namespace kc::ui

@@ -1,0 +1,59 @@
+#pragma once
+/// Background jobs on the AppState's worker: bind, re-optimization (strokes, method switch, undo
+/// of weights), opening a session, export. A job borrows the session (AppState::session is null
+/// meanwhile), works on its own data, and hands everything back in a closure applied on the main
+/// thread by pollWorker() — also on failure or cancel, so nothing is lost.
+
+#include <memory>
+#include <string>
+
+#include "kc/app/session.h"
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+/// Display warp mesh options for an image size: the export's 4 px spacing up to ~70k vertices,
+/// coarser for larger images.
+WarpMeshOptions displayMeshOptions(int width, int height);
+
+/// Binds the draft cage over the current image with state.bindParams (progress, Cancel).
+/// Returns false (with a message) when the cage is invalid or a job is running.
+bool startBind(AppState& state);
+
+/// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
+/// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to
+/// the undo stack as `label`. W0 must already hold edit.W0After.
+bool startReoptimize(AppState& state, WeightEdit edit, std::string label);
+
+/// Re-optimizes all samples from the current targets with `method` (painted targets survive).
+bool switchMethod(AppState& state, Method method);
+
+/// Writes W0/W rows (after undo/redo) and refreshes field + display mesh on the worker.
+bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const Weights& W,
+                         Method method);
+
+/// Loads a session file (and its image) on the worker; on success it replaces the document, on
+/// failure the current one is untouched and the error is shown.
+bool startOpenSession(AppState& state, const std::string& path);
+
+/// Exports the warped picture at full resolution (app::warpSessionImage, as kcwarp-cli warp).
+bool startExport(AppState& state, const std::string& path);
+
+/// A display warp mesh and the source of its weights (built on the worker, installed on the main thread).
+struct DisplayMesh {
+  std::shared_ptr<WarpMesh> mesh;
+  std::shared_ptr<AppState::MeshSource> source;
+};
+/// The display mesh of a bound session, keeping the field sampler at its vertices.
+DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options);
+
+/// Makes `session` (bound for `source`) the document: display copies, mesh, pose, undo cleared.
+void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display);
+
+/// Applies a finished job's result, if any. Call once per frame on the main thread.
+void pollWorker(AppState& state);
+
+/// Runs diagnose() on the session (synchronous; used by the diagnostics panel's Refresh).
+void refreshDiagnostics(AppState& state);
+
+}  // namespace kc::ui

@@ -1,0 +1,29 @@
+#pragma once
+/// The panels of the window, one function per file (STYLE.md, Immediate-mode UI). Each reads and
+/// writes the AppState directly; a change calls one setter or starts one job.
+
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+/// Menu bar (File, Edit, View); returns its height in pixels.
+float drawMainMenu(AppState& state);
+/// Tool choice and the active tool's options (pose buttons, brush radius/strength/mode).
+void drawToolsPanel(AppState& state);
+/// Method radio buttons (QP / QEC / L1), heatmap options and colour bar.
+void drawWeightsPanel(AppState& state);
+/// Bind parameters, cage status, Bind button; cage files.
+void drawBindPanel(AppState& state);
+/// Property table, fold-overs and timings.
+void drawDiagnosticsPanel(AppState& state);
+/// Bottom bar: latest message, job progress with Cancel, zoom and cursor; error banner on the canvas.
+void drawStatusBar(AppState& state, float y, float width, float height);
+/// The path dialog (open/save/export/cage files) and the unsaved-changes confirmation.
+void drawDialogs(AppState& state);
+
+/// Asks for a file path for `purpose` (opens the path dialog prefilled with `initial`).
+void requestPath(AppState& state, PathPurpose purpose, const std::string& initial);
+/// Records the centre of the last ImGui item under `name` (AppState::widgets, for UI automation).
+void markWidget(AppState& state, const char* name);
+
+}  // namespace kc::ui

@@ -1,0 +1,45 @@
+#pragma once
+/// Draws the picture on the GPU as a textured triangle mesh: the warp mesh's deformed vertices
+/// (uploaded when the pose or the mesh changed), rest positions as texture coordinates (the
+/// texture is uploaded once per image), and the heatmap of the active control as vertex colours.
+/// Needs a current OpenGL 3.3 core context.
+
+#include <cstdint>
+#include <vector>
+
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+class Renderer {
+ public:
+  Renderer() = default;
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  /// Compiles the shaders and creates the buffers. Returns false with a reason in error().
+  bool init();
+  const std::string& error() const { return m_error; }
+
+  /// Uploads whatever changed since the last call (texture, mesh, deformed vertices, heat colours)
+  /// and draws the picture into the canvas of a framebuffer of fbWidth×fbHeight pixels whose
+  /// logical size is displayWidth×displayHeight. Updates state.timings.uploadMs, heatLow/High.
+  void draw(AppState& state, int fbWidth, int fbHeight, double displayWidth, double displayHeight);
+
+ private:
+  void uploadTexture(const Image& image);
+  void uploadMesh(const AppState& state, bool warped);
+  void uploadHeat(AppState& state, bool warped);
+
+  std::string m_error;
+  unsigned m_program = 0, m_vao = 0, m_posBuffer = 0, m_uvBuffer = 0, m_heatBuffer = 0, m_indexBuffer = 0;
+  unsigned m_texture = 0;
+  int m_uScale = -1, m_uOffset = -1, m_uHeat = -1, m_uFlat = -1, m_uColor = -1, m_uTex = -1;
+  std::uint64_t m_sourceRevision = ~0ull, m_meshRevision = ~0ull, m_deformKey = ~0ull, m_heatKey = ~0ull;
+  bool m_warped = false;
+  int m_indexCount = 0, m_vertexCount = 0;
+  std::vector<float> m_scratch;
+};
+
+}  // namespace kc::ui

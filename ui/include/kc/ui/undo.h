@@ -1,0 +1,69 @@
+#pragma once
+/// Undo/redo history of the document: cage edits, pose changes, and weight edits (paint strokes,
+/// method switches). Entries store exact before/after values, so undo restores bit for bit.
+
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "kc/core/cage.h"
+#include "kc/core/deform.h"
+#include "kc/core/types.h"
+#include "kc/core/weights/optimizer.h"
+
+namespace kc::ui {
+
+/// The pose before and after a drag, rotation or reset.
+struct PoseEdit {
+  Pose before, after;
+};
+
+/// The draft cage before and after a cage-tool edit.
+struct CageEdit {
+  Cage before, after;
+};
+
+/// Rows of W0 (targets) and W (optimized) before and after a stroke or method switch.
+/// `rows` lists the sample indices (#R); the matrices are #R×m. Empty `rows` = all samples.
+struct WeightEdit {
+  std::vector<Index> rows;
+  Weights W0Before, W0After, WBefore, WAfter;
+  Method methodBefore = Method::QP, methodAfter = Method::QP;
+};
+
+using Edit = std::variant<PoseEdit, CageEdit, WeightEdit>;
+
+struct UndoEntry {
+  std::string label;  ///< Shown in the Edit menu, e.g. "paint w3".
+  Edit edit;
+};
+
+/// Two stacks; push() clears the redo stack.
+class UndoStack {
+ public:
+  void push(UndoEntry entry);
+  bool canUndo() const { return !m_undo.empty(); }
+  bool canRedo() const { return !m_redo.empty(); }
+  const UndoEntry* nextUndo() const { return m_undo.empty() ? nullptr : &m_undo.back(); }
+  const UndoEntry* nextRedo() const { return m_redo.empty() ? nullptr : &m_redo.back(); }
+  /// Moves the newest entry to the redo stack and returns it (call only when canUndo()).
+  UndoEntry& popUndo();
+  /// Moves the newest redo entry back to the undo stack and returns it (only when canRedo()).
+  UndoEntry& popRedo();
+  void clear();
+  std::size_t undoCount() const { return m_undo.size(); }
+  std::size_t redoCount() const { return m_redo.size(); }
+
+  /// At most this many entries are kept (oldest dropped first).
+  std::size_t limit = 200;
+
+ private:
+  std::vector<UndoEntry> m_undo, m_redo;
+};
+
+/// Copies rows `rows` of W (all when empty) into a #R×m matrix.
+Weights gatherRows(const Weights& W, const std::vector<Index>& rows);
+/// Writes R (#R×m) into rows `rows` of W (all of W when rows is empty).
+void scatterRows(Weights& W, const std::vector<Index>& rows, const Weights& R);
+
+}  // namespace kc::ui

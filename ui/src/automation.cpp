@@ -1,0 +1,106 @@
+#include "kc/ui/automation.h"
+
+#include <GL/gl.h>
+
+#include <nlohmann/json.hpp>
+
+#include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
+#include "kc/app/session.h"
+#include "kc/ui/canvas.h"
+
+namespace kc::ui {
+
+std::string stateJson(const AppState& state, const int window[4], int screenshots, int exports) {
+  using nlohmann::json;
+  json j;
+  const bool busy = state.worker.busy();
+  j["busy"] = busy;
+  j["bound"] = state.bound;
+  j["idle"] = !busy && state.canvasDrag.button < 0;
+  j["tool"] = state.tool == Tool::Pose ? "pose" : state.tool == Tool::Brush ? "brush" : "cage";
+  j["method"] = std::string(app::toString(state.method));
+  j["window"] = {window[0], window[1], window[2], window[3]};
+  json controls = json::array();
+  if (state.bound) {
+    const Points P = posedControls(state.boundCage.C, state.pose);
+    for (Index i = 0; i < P.rows(); ++i) {
+      const Vec2 s = state.view.toScreen(P.row(i).transpose());
+      controls.push_back({s.x(), s.y()});
+    }
+  }
+  j["controls"] = controls;
+  json cage = json::array();
+  for (Index i = 0; i < state.cage.size(); ++i) {
+    const Vec2 s = state.view.toScreen(state.cage.C.row(i).transpose());
+    cage.push_back({s.x(), s.y()});
+  }
+  j["cage"] = cage;
+  j["cage_valid"] = state.cageValid;
+  j["cage_status"] = state.cageStatus;
+  json widgets = json::object();
+  for (const auto& [name, c] : state.widgets) widgets[name] = {c.x(), c.y()};
+  j["widgets"] = widgets;
+  j["view"] = {{"zoom", state.view.zoom},
+               {"origin", {state.view.canvasMin.x() + state.view.offset.x(), state.view.canvasMin.y() + state.view.offset.y()}}};
+  j["active_control"] = state.activeControl;
+  j["selection"] = state.selection;
+  j["undo"] = state.undo.undoCount();
+  j["redo"] = state.undo.redoCount();
+  j["unsaved"] = state.unsaved;
+  j["mesh_revision"] = state.meshRevision;
+  j["pose_revision"] = state.poseRevision;
+  j["flipped_triangles"] = state.deformReport.flippedTriangles;
+  j["screenshots"] = screenshots;
+  j["exports"] = exports;
+  json messages = json::array();
+  for (const Message& m : state.messages) messages.push_back({{"text", m.text}, {"error", m.error}});
+  j["messages"] = messages;
+  j["timings"] = {{"release_to_picture_ms", state.timings.releaseToPictureMs},
+                  {"reoptimize_ms", state.timings.reoptimizeMs},
+                  {"reoptimize_samples", state.timings.reoptimizeSamples},
+                  {"mesh_weights_ms", state.timings.meshWeightsMs},
+                  {"bind_s", state.timings.bindSeconds}};
+  return j.dump(1);
+}
+
+bool writeAtomically(const std::string& path, const std::string& text) {
+  try {
+    app::writeFileAtomic(path, text);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool saveScreenshot(const std::string& path, int fbWidth, int fbHeight) {
+  Image img(fbWidth, fbHeight);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  std::vector<std::uint8_t> raw(img.rgba.size());
+  glReadPixels(0, 0, fbWidth, fbHeight, GL_RGBA, GL_UNSIGNED_BYTE, raw.data());
+  const std::size_t row = static_cast<std::size_t>(fbWidth) * 4;
+  for (int y = 0; y < fbHeight; ++y)  // GL rows are bottom-up
+    std::copy_n(raw.data() + static_cast<std::size_t>(fbHeight - 1 - y) * row, row, img.rgba.data() + y * row);
+  for (std::size_t k = 3; k < img.rgba.size(); k += 4) img.rgba[k] = 255;
+  try {
+    app::saveImage(path, img);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool FrameLog::write(const std::string& path) const {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  std::fprintf(f, "frame,time_s,frame_ms,deform_ms,upload_ms,dragging,deformed,vertices\n");
+  for (std::size_t k = 0; k < m_rows.size(); ++k) {
+    const Row& r = m_rows[k];
+    std::fprintf(f, "%zu,%.4f,%.3f,%.3f,%.3f,%d,%d,%ld\n", k, r.time, r.frameMs, r.deformMs, r.uploadMs, r.dragging ? 1 : 0,
+                 r.deformed ? 1 : 0, r.vertices);
+  }
+  return std::fclose(f) == 0;
+}
+
+}  // namespace kc::ui

@@ -1,0 +1,156 @@
+#include "kc/ui/edits.h"
+
+#include <chrono>
+#include <stdexcept>
+#include <type_traits>
+
+#include "kc/ui/jobs.h"
+
+namespace kc::ui {
+
+double nowSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void postMessage(AppState& state, std::string text, bool error) {
+  if (state.messages.size() >= 8) state.messages.erase(state.messages.begin());
+  state.messages.push_back({std::move(text), error});
+}
+
+void setPose(AppState& state, Pose pose) {
+  state.pose = std::move(pose);
+  ++state.poseRevision;
+}
+
+void commitPose(AppState& state, const Pose& before, std::string label) {
+  if (before.size() == state.pose.size()) {
+    bool same = true;
+    for (std::size_t i = 0; i < before.size() && same; ++i)
+      same = before[i].translate == state.pose[i].translate && before[i].rotate == state.pose[i].rotate;
+    if (same) return;
+  }
+  state.undo.push({std::move(label), PoseEdit{before, state.pose}});
+  state.unsaved = true;
+}
+
+void resetPose(AppState& state) {
+  if (!state.bound) return;
+  const Pose before = state.pose;
+  setPose(state, restPose(state.boundCage.size()));
+  commitPose(state, before, "reset pose");
+}
+
+void setDraftCage(AppState& state, Cage cage) {
+  state.cage = std::move(cage);
+  if (!state.cage.closed) {
+    state.cageValid = false;
+    state.cageStatus = state.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
+                                             : "The cage is open: click its first point to close it.";
+    return;
+  }
+  try {
+    validateCage(state.cage);
+    state.cageValid = true;
+    state.cageStatus.clear();
+  } catch (const std::invalid_argument& e) {
+    state.cageValid = false;
+    state.cageStatus = e.what();
+  }
+}
+
+void commitCage(AppState& state, const Cage& before, std::string label) {
+  state.undo.push({std::move(label), CageEdit{before, state.cage}});
+  state.unsaved = true;
+}
+
+namespace {
+
+/// Applies one side of an entry (forward = redo).
+bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
+  return std::visit(
+      [&](const auto& edit) -> bool {
+        using T = std::decay_t<decltype(edit)>;
+        if constexpr (std::is_same_v<T, PoseEdit>) {
+          const Pose& p = forward ? edit.after : edit.before;
+          if (p.size() != static_cast<std::size_t>(state.boundCage.size()) && !p.empty()) return false;
+          setPose(state, p);
+        } else if constexpr (std::is_same_v<T, CageEdit>) {
+          setDraftCage(state, forward ? edit.after : edit.before);
+        } else {
+          if (!state.session) return false;
+          return startRestoreWeights(state, edit.rows, forward ? edit.W0After : edit.W0Before,
+                                     forward ? edit.WAfter : edit.WBefore, forward ? edit.methodAfter : edit.methodBefore);
+        }
+        return true;
+      },
+      entry.edit);
+}
+
+bool endInteractions(AppState& state) {
+  state.poseTool.cancel(state);
+  state.brushTool.cancel(state);
+  state.cageTool.cancel(state);
+  return true;
+}
+
+}  // namespace
+
+bool undo(AppState& state) {
+  if (!state.undo.canUndo()) return false;
+  endInteractions(state);
+  if (std::holds_alternative<WeightEdit>(state.undo.nextUndo()->edit) && !state.session) {
+    postMessage(state, "Busy: undo after the current job has finished.", false);
+    return false;
+  }
+  UndoEntry& e = state.undo.popUndo();
+  if (!applyEntry(state, e, false)) {
+    const std::string label = e.label;
+    state.undo.popRedo();
+    postMessage(state, "Cannot undo '" + label + "' now.", false);
+    return false;
+  }
+  state.unsaved = true;
+  return true;
+}
+
+bool redo(AppState& state) {
+  if (!state.undo.canRedo()) return false;
+  endInteractions(state);
+  if (std::holds_alternative<WeightEdit>(state.undo.nextRedo()->edit) && !state.session) {
+    postMessage(state, "Busy: redo after the current job has finished.", false);
+    return false;
+  }
+  UndoEntry& e = state.undo.popRedo();
+  if (!applyEntry(state, e, true)) {
+    const std::string label = e.label;
+    state.undo.popUndo();
+    postMessage(state, "Cannot redo '" + label + "' now.", false);
+    return false;
+  }
+  state.unsaved = true;
+  return true;
+}
+
+bool updateDeformation(AppState& state) {
+  if (!state.mesh.hasWeights()) return false;
+  if (state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision) return false;
+  if (state.pose.size() != static_cast<std::size_t>(state.mesh.cage().size())) return false;
+  try {
+    state.deformReport = state.mesh.deform(state.pose);
+  } catch (const std::exception& e) {
+    postMessage(state, std::string("Deformation failed: ") + e.what(), true);
+  }
+  state.timings.deformMs = state.deformReport.seconds * 1e3;
+  state.deformedPose = state.poseRevision;
+  state.deformedMesh = state.meshRevision;
+  ++state.deformCount;
+  return true;
+}
+
+void selectTool(AppState& state, Tool tool) {
+  if (state.tool == tool) return;
+  endInteractions(state);
+  state.tool = tool;
+}
+
+}  // namespace kc::ui

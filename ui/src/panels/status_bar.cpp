@@ -1,0 +1,70 @@
+#include <imgui.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "kc/ui/panels/panels.h"
+
+namespace kc::ui {
+namespace {
+
+/// Errors stay on the canvas until dismissed.
+void errorBanner(AppState& state) {
+  std::size_t index = state.messages.size();
+  for (std::size_t k = state.messages.size(); k-- > 0;)
+    if (state.messages[k].error) {
+      index = k;
+      break;
+    }
+  if (index == state.messages.size()) return;
+  const View& v = state.view;
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(v.canvasMin.x() + 0.5 * v.canvasSize.x()), static_cast<float>(v.canvasMin.y() + 48)),
+                          ImGuiCond_Always, ImVec2(0.5f, 0.0f));
+  ImGui::SetNextWindowBgAlpha(0.92f);
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.35f, 0.06f, 0.08f, 1.0f));
+  ImGui::Begin("##error", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoMove);
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
+  ImGui::TextUnformatted(state.messages[index].text.c_str());
+  ImGui::PopTextWrapPos();
+  if (ImGui::Button("Dismiss")) state.messages.erase(state.messages.begin() + static_cast<long>(index));
+  markWidget(state, "dismiss_error");
+  ImGui::End();
+  ImGui::PopStyleColor();
+}
+
+}  // namespace
+
+void drawStatusBar(AppState& state, float y, float width, float height) {
+  errorBanner(state);
+  ImGui::SetNextWindowPos(ImVec2(0, y));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin("##status", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoBringToFrontOnFocus);
+  if (state.worker.busy()) {
+    const std::string stage = state.worker.stage();
+    const std::string label = state.worker.name() + (stage.empty() ? "" : ": " + stage);
+    ImGui::ProgressBar(static_cast<float>(state.worker.fraction()), ImVec2(260, 0), label.c_str());
+    ImGui::SameLine();
+    if (state.worker.cancelRequested()) ImGui::TextDisabled("cancelling...");
+    else if (ImGui::SmallButton("Cancel")) state.worker.cancel();
+    ImGui::SameLine();
+  }
+  if (!state.messages.empty()) {
+    const Message& m = state.messages.back();
+    if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", m.text.c_str());
+    else ImGui::TextUnformatted(m.text.c_str());
+  }
+  char right[160];
+  std::snprintf(right, sizeof right, "%.0f%%   x %.0f  y %.0f   %.1f ms/frame", state.view.zoom * 100.0, state.mouseImage.x(),
+                state.mouseImage.y(), state.timings.frameMs);
+  const float w = ImGui::CalcTextSize(right).x;
+  ImGui::SameLine(std::max(ImGui::GetCursorPosX() + 20.0f, width - w - 16.0f));
+  ImGui::TextDisabled("%s", right);
+  ImGui::End();
+}
+
+}  // namespace kc::ui

@@ -1,0 +1,49 @@
+#include "kc/ui/shortcuts.h"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "kc/ui/document.h"
+#include "kc/ui/edits.h"
+#include "kc/ui/jobs.h"
+#include "kc/ui/panels/panels.h"
+
+namespace kc::ui {
+
+void handleShortcuts(AppState& state) {
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput || state.pathDialog != PathPurpose::None) return;
+  auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
+  if (io.KeyCtrl) {
+    if (pressed(GLFW_KEY_Z)) io.KeyShift ? redo(state) : undo(state);
+    if (pressed(GLFW_KEY_Y)) redo(state);
+    if (pressed(GLFW_KEY_S) && state.session) {
+      if (io.KeyShift || state.sessionPath.empty())
+        requestPath(state, PathPurpose::SaveSession, state.sessionPath.empty() ? "untitled.kcw.json" : state.sessionPath);
+      else
+        saveSessionFile(state, state.sessionPath);
+    }
+    if (pressed(GLFW_KEY_E) && state.bound) {
+      if (state.exportPath.empty() || io.KeyShift) requestPath(state, PathPurpose::Export, state.exportPath.empty() ? "warped.png" : state.exportPath);
+      else startExport(state, state.exportPath);
+    }
+    if (pressed(GLFW_KEY_O)) requestPath(state, PathPurpose::Open, state.imagePath);
+    if (pressed(GLFW_KEY_R)) resetPose(state);
+    if (pressed(GLFW_KEY_Q)) state.quitRequested = true;
+    return;
+  }
+  if (state.canvasDrag.button >= 0 && pressed(GLFW_KEY_ESCAPE)) {
+    state.poseTool.cancel(state);
+    state.brushTool.cancel(state);
+    state.cageTool.cancel(state);
+    state.canvasDrag.button = -1;
+    return;
+  }
+  if (pressed(GLFW_KEY_P)) selectTool(state, Tool::Pose);
+  if (pressed(GLFW_KEY_B)) selectTool(state, Tool::Brush);
+  if (pressed(GLFW_KEY_C)) selectTool(state, Tool::Cage);
+  if (pressed(GLFW_KEY_F)) state.fitPending = true;
+  if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Cage) state.cageTool.deleteSelected(state);
+}
+
+}  // namespace kc::ui

@@ -1,0 +1,128 @@
+#include "kc/ui/tools/cage_tool.h"
+
+#include <algorithm>
+
+#include "kc/ui/app_state.h"
+#include "kc/ui/edits.h"
+
+namespace kc::ui {
+namespace {
+
+Cage withPoints(const Points& C, bool closed) {
+  Cage c = closed ? Cage::polygon(C) : Cage{};
+  c.C = C;
+  c.closed = closed;
+  if (!closed) c.edges.clear();
+  return c;
+}
+
+}  // namespace
+
+Cage cageWithout(const Cage& cage, Index i) {
+  Points C(cage.size() - 1, 2);
+  for (Index r = 0, k = 0; r < cage.size(); ++r)
+    if (r != i) C.row(k++) = cage.C.row(r);
+  // A closed cage with fewer than 3 points reopens so the user can keep adding points.
+  return withPoints(C, cage.closed && C.rows() >= 3);
+}
+
+Cage cageWithInserted(const Cage& cage, Index i, const Vec2& p) {
+  Points C(cage.size() + 1, 2);
+  for (Index r = 0, k = 0; r <= cage.size(); ++r) {
+    if (r == i) C.row(r) = p.transpose();
+    else C.row(r) = cage.C.row(k++);
+  }
+  return withPoints(C, cage.closed);
+}
+
+Index nearestEdge(const Cage& cage, const Vec2& p, double radius) {
+  const Index m = cage.size();
+  if (!cage.closed || m < 2) return -1;
+  Index best = -1;
+  double bestDistance = radius;
+  for (Index k = 0; k < m; ++k) {
+    const Vec2 a = cage.C.row(k).transpose(), b = cage.C.row((k + 1) % m).transpose();
+    const double t = std::clamp((p - a).dot(b - a) / std::max(1e-12, (b - a).squaredNorm()), 0.0, 1.0);
+    const double d = (a + t * (b - a) - p).norm();
+    if (d <= bestDistance) {
+      bestDistance = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+void CageTool::press(AppState& state, const PointerEvent& e) {
+  if (m_dragging >= 0) return;
+  const Index hit = pickPoint(state.cage.C, e.position, e.pickRadius);
+  if (e.button == MouseButton::Right) {
+    if (hit >= 0) {
+      const Cage before = state.cage;
+      setDraftCage(state, cageWithout(state.cage, hit));
+      commitCage(state, before, "delete cage point");
+      m_selected = -1;
+    }
+    return;
+  }
+  if (e.button != MouseButton::Left) return;
+  if (hit >= 0) {
+    if (!state.cage.closed && hit == 0 && state.cage.size() >= 3) {  // close the polygon
+      const Cage before = state.cage;
+      setDraftCage(state, withPoints(state.cage.C, true));
+      commitCage(state, before, "close cage");
+      m_selected = hit;
+      return;
+    }
+    m_dragging = m_selected = hit;
+    m_before = state.cage;
+    m_grab = e.position - state.cage.C.row(hit).transpose();
+    m_moved = false;
+    return;
+  }
+  const Cage before = state.cage;
+  if (!state.cage.closed) {
+    setDraftCage(state, cageWithInserted(state.cage, state.cage.size(), e.position));
+    m_selected = state.cage.size() - 1;
+  } else {
+    const Index k = nearestEdge(state.cage, e.position, 2.0 * e.pickRadius);
+    if (k < 0) return;
+    setDraftCage(state, cageWithInserted(state.cage, k + 1, e.position));
+    m_selected = k + 1;
+  }
+  commitCage(state, before, "add cage point");
+  // Let the user keep dragging the point just added.
+  m_dragging = m_selected;
+  m_before = state.cage;
+  m_grab = Vec2::Zero();
+  m_moved = false;
+}
+
+void CageTool::drag(AppState& state, const PointerEvent& e) {
+  if (m_dragging < 0 || m_dragging >= state.cage.size()) return;
+  Cage c = state.cage;
+  c.C.row(m_dragging) = (e.position - m_grab).transpose();
+  m_moved = true;
+  setDraftCage(state, std::move(c));
+}
+
+void CageTool::release(AppState& state, const PointerEvent& e) {
+  if (m_dragging < 0) return;
+  drag(state, e);
+  if (m_moved && !(m_before.C.rows() == state.cage.C.rows() && m_before.C == state.cage.C)) commitCage(state, m_before, "move cage point");
+  m_dragging = -1;
+}
+
+void CageTool::cancel(AppState& state) {
+  if (m_dragging >= 0 && m_moved) setDraftCage(state, m_before);
+  m_dragging = -1;
+}
+
+void CageTool::deleteSelected(AppState& state) {
+  if (m_selected < 0 || m_selected >= state.cage.size()) return;
+  const Cage before = state.cage;
+  setDraftCage(state, cageWithout(state.cage, m_selected));
+  commitCage(state, before, "delete cage point");
+  m_selected = -1;
+}
+
+}  // namespace kc::ui

@@ -1,0 +1,111 @@
+#include "kc/ui/tools/pose_tool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "kc/ui/app_state.h"
+#include "kc/ui/edits.h"
+
+namespace kc::ui {
+
+double screenAngle(const Vec2& d) { return std::atan2(-d.y(), d.x()); }
+
+Index pickPoint(const Points& P, const Vec2& p, double radius) {
+  Index best = -1;
+  double bestDistance = radius;
+  for (Index i = 0; i < P.rows(); ++i) {
+    const double d = (P.row(i).transpose() - p).norm();
+    if (d <= bestDistance) {
+      bestDistance = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+namespace {
+
+bool isSelected(const AppState& s, Index i) { return std::find(s.selection.begin(), s.selection.end(), i) != s.selection.end(); }
+
+}  // namespace
+
+void PoseTool::press(AppState& state, const PointerEvent& e) {
+  if (!state.bound || m_mode != Mode::None) return;
+  const Points P = posedControls(state.boundCage.C, state.pose);
+  const Index hit = pickPoint(P, e.position, e.pickRadius);
+  m_start = m_current = e.position;
+  m_before = state.pose;
+  m_pivot = hit;
+  m_additive = e.shift;
+  if (hit < 0) {
+    if (e.button == MouseButton::Left) m_mode = Mode::Select;
+    return;
+  }
+  if (e.shift && e.button == MouseButton::Left) {  // toggle membership, no drag
+    auto it = std::find(state.selection.begin(), state.selection.end(), hit);
+    if (it == state.selection.end()) state.selection.push_back(hit);
+    else state.selection.erase(it);
+    if (!state.selection.empty()) state.activeControl = state.selection.back();
+    return;
+  }
+  if (!isSelected(state, hit)) state.selection = {hit};
+  state.activeControl = hit;
+  if (e.button == MouseButton::Left) {
+    m_mode = Mode::Move;
+  } else if (e.button == MouseButton::Right) {
+    m_mode = Mode::Rotate;
+    m_angleSet = (e.position - P.row(hit).transpose()).norm() >= e.pickRadius;
+    m_startAngle = screenAngle(e.position - P.row(hit).transpose());
+  }
+}
+
+void PoseTool::drag(AppState& state, const PointerEvent& e) {
+  m_current = e.position;
+  if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
+    if (m_before.size() != static_cast<std::size_t>(state.boundCage.size())) return;
+    Pose pose = m_before;
+    if (m_mode == Mode::Move) {
+      const Vec2 delta = e.position - m_start;
+      for (Index i : state.selection) pose[static_cast<std::size_t>(i)].translate += delta;
+    } else {
+      const Vec2 pivot = state.boundCage.C.row(m_pivot).transpose() + m_before[static_cast<std::size_t>(m_pivot)].translate;
+      // The reference direction is set once the mouse is a pick radius away from the pivot, so a
+      // press right on the point does not jump.
+      if ((e.position - pivot).norm() < e.pickRadius) return;
+      if (!m_angleSet) {
+        m_angleSet = true;
+        m_startAngle = screenAngle(e.position - pivot);
+      }
+      double angle = screenAngle(e.position - pivot) - m_startAngle;
+      angle = std::remainder(angle, 2.0 * std::numbers::pi);
+      for (Index i : state.selection) pose[static_cast<std::size_t>(i)].rotate += angle;
+    }
+    setPose(state, std::move(pose));
+  }
+}
+
+void PoseTool::release(AppState& state, const PointerEvent& e) {
+  drag(state, e);
+  if (m_mode == Mode::Select) {
+    const Points P = posedControls(state.boundCage.C, state.pose);
+    const Vec2 lo = m_start.cwiseMin(m_current), hi = m_start.cwiseMax(m_current);
+    if (!m_additive) state.selection.clear();
+    for (Index i = 0; i < P.rows(); ++i) {
+      const Vec2 p = P.row(i).transpose();
+      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all() && !isSelected(state, i))
+        state.selection.push_back(i);
+    }
+    if (!state.selection.empty()) state.activeControl = state.selection.back();
+  } else if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
+    commitPose(state, m_before, m_mode == Mode::Move ? "move control" : "rotate control");
+  }
+  m_mode = Mode::None;
+}
+
+void PoseTool::cancel(AppState& state) {
+  if (m_mode == Mode::Move || m_mode == Mode::Rotate) setPose(state, m_before);
+  m_mode = Mode::None;
+}
+
+}  // namespace kc::ui

@@ -1,0 +1,203 @@
+#include "kc/ui/window.h"
+
+#include <GL/gl.h>
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "kc/app/file_io.h"
+#include "kc/ui/automation.h"
+#include "kc/ui/canvas.h"
+#include "kc/ui/document.h"
+#include "kc/ui/edits.h"
+#include "kc/ui/jobs.h"
+#include "kc/ui/panels/panels.h"
+#include "kc/ui/renderer.h"
+#include "kc/ui/shortcuts.h"
+
+namespace kc::ui {
+namespace {
+
+std::atomic<bool> g_terminate{false};  // set by SIGTERM/SIGINT only (signal handlers need a global)
+
+constexpr float kPanelWidth = 350.0f;
+
+void onSignal(int) { g_terminate = true; }
+
+void applyStyle() {
+  ImGui::StyleColorsDark();
+  ImGuiStyle& s = ImGui::GetStyle();
+  s.WindowRounding = 0.0f;
+  s.FrameRounding = 3.0f;
+  s.GrabRounding = 3.0f;
+  s.FramePadding = ImVec2(6, 4);
+  s.ItemSpacing = ImVec2(8, 6);
+  s.WindowPadding = ImVec2(10, 10);
+  s.Colors[ImGuiCol_WindowBg].w = 0.97f;
+}
+
+/// The document at startup: INPUT, IMAGE + --cage, or the bundled figure example (bound).
+void openStartup(AppState& state, const WindowOptions& o) {
+  std::string image = o.input, cage = o.cage;
+  if (image.empty()) {
+    const std::string dir = o.examplesDir.empty() ? std::string("images") : o.examplesDir;
+    image = dir + "/figure.png";
+    cage = dir + "/figure.cage.json";
+  }
+  if (o.spacing > 0.0) state.bindParams.spacing = o.spacing;
+  if (!openPath(state, image) || cage.empty()) return;
+  if (loadCageFile(state, cage) && state.cageValid) {
+    state.undo.clear();
+    startBind(state);
+  }
+}
+
+/// Side panel (right), status bar (bottom) and the canvas between them.
+void drawLayout(AppState& state, float menuHeight) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const float statusHeight = ImGui::GetFrameHeight() + 12.0f;
+  const float panelHeight = io.DisplaySize.y - menuHeight - statusHeight;
+  layoutCanvas(state, Vec2(0, menuHeight), Vec2(io.DisplaySize.x - kPanelWidth, panelHeight));
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kPanelWidth, menuHeight));
+  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, panelHeight));
+  ImGui::Begin("##side", nullptr,
+               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_NoSavedSettings);
+  if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) drawToolsPanel(state);
+  if (ImGui::CollapsingHeader("Weights", ImGuiTreeNodeFlags_DefaultOpen)) drawWeightsPanel(state);
+  if (ImGui::CollapsingHeader("Bind", ImGuiTreeNodeFlags_DefaultOpen)) drawBindPanel(state);
+  if (ImGui::CollapsingHeader("Diagnostics", ImGuiTreeNodeFlags_DefaultOpen)) drawDiagnosticsPanel(state);
+  ImGui::End();
+  drawStatusBar(state, io.DisplaySize.y - statusHeight, io.DisplaySize.x, statusHeight);
+}
+
+double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+}  // namespace
+
+int runWindow(const WindowOptions& o) {
+  glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "kcwarp: GLFW error %d: %s\n", code, text); });
+  if (!glfwInit()) {
+    std::fprintf(stderr, "kcwarp: cannot initialize GLFW (is DISPLAY set? try kcwarp-cli for headless use)\n");
+    return 1;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  GLFWwindow* window = glfwCreateWindow(o.width, o.height, "kcwarp", nullptr, nullptr);
+  if (!window) {
+    std::fprintf(stderr, "kcwarp: cannot open an OpenGL 3.3 window\n");
+    glfwTerminate();
+    return 1;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(1);
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  applyStyle();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330");
+  std::signal(SIGTERM, onSignal);
+  std::signal(SIGINT, onSignal);
+
+  int exitCode = 0;
+  {
+    auto state = std::make_unique<AppState>();
+    Renderer renderer;
+    if (!renderer.init()) postMessage(*state, "OpenGL: " + renderer.error(), true);
+    state->worker.setWakeup([] { glfwPostEmptyEvent(); });
+    state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
+    state->exportPath = o.exportPath;
+    state->lastAutosave = nowSeconds();
+    openStartup(*state, o);
+
+    FrameLog frameLog;
+    std::string title, lastState;
+    int screenshots = 0, exportsSeen = 0;
+    bool readyWritten = false;
+    auto previous = std::chrono::steady_clock::now();
+    const auto start = previous;
+    while (!state->quitConfirmed && !g_terminate) {
+      // Display rate while dragging; otherwise wait for input (a running job only needs a few
+      // progress updates per second and should get the CPU).
+      if (state->canvasDrag.button >= 0) glfwPollEvents();
+      else glfwWaitEventsTimeout(state->worker.busy() ? 0.1 : 0.05);
+      if (glfwWindowShouldClose(window)) {
+        glfwSetWindowShouldClose(window, GLFW_FALSE);
+        state->quitRequested = true;
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      const bool wasBusy = state->worker.busy();
+      pollWorker(*state);
+      if (wasBusy && !state->worker.busy() && state->messages.size() && state->messages.back().text.rfind("Exported", 0) == 0)
+        ++exportsSeen;
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      const float menuHeight = drawMainMenu(*state);
+      drawLayout(*state, menuHeight);
+      handleShortcuts(*state);
+      handleCanvasInput(*state);
+      const bool deformed = updateDeformation(*state);
+      drawCanvasOverlay(*state);
+      drawDialogs(*state);
+      ImGui::Render();
+      int fbw = 0, fbh = 0;
+      glfwGetFramebufferSize(window, &fbw, &fbh);
+      glViewport(0, 0, fbw, fbh);
+      glClearColor(0.13f, 0.13f, 0.15f, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT);
+      const ImVec2 display = ImGui::GetIO().DisplaySize;
+      renderer.draw(*state, fbw, fbh, display.x, display.y);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      if (ImGui::IsKeyPressed(GLFW_KEY_F12, false) && !o.screenshotDir.empty()) {
+        char name[64];
+        std::snprintf(name, sizeof name, "shot-%03d.png", ++screenshots);
+        std::filesystem::create_directories(o.screenshotDir);
+        if (!saveScreenshot((std::filesystem::path(o.screenshotDir) / name).string(), fbw, fbh)) --screenshots;
+      }
+      glfwSwapBuffers(window);
+      const auto t1 = std::chrono::steady_clock::now();
+      state->timings.frameMs = msBetween(t0, t1);
+      if (!o.frameLog.empty())
+        frameLog.add({std::chrono::duration<double>(t1 - start).count(), msBetween(previous, t1), state->timings.deformMs * deformed,
+                      state->timings.uploadMs, state->canvasDrag.button >= 0, deformed, long(state->mesh.restVertices().rows())});
+      previous = t1;
+
+      if (const std::string t = windowTitle(*state); t != title) glfwSetWindowTitle(window, (title = t).c_str());
+      maybeAutosave(*state, nowSeconds());
+      if (!o.readyFile.empty() && (readyWritten || (!state->worker.busy() && !state->source.empty()))) {
+        int win[4];
+        glfwGetWindowPos(window, &win[0], &win[1]);
+        glfwGetWindowSize(window, &win[2], &win[3]);
+        const std::string text = stateJson(*state, win, screenshots, exportsSeen);
+        if (text != lastState && writeAtomically(o.readyFile, text)) {
+          lastState = text;
+          readyWritten = true;
+        }
+      }
+    }
+    if (!o.frameLog.empty()) frameLog.write(o.frameLog);
+    state->worker.cancel();
+    pollWorker(*state);
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return exitCode;
+}
+
+}  // namespace kc::ui
