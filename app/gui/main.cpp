@@ -1,9 +1,11 @@
 // kcwarp: the GUI (kc::ui). Parses the command line and runs the window.
 #include <cstdio>
 
+#include "kc/app/process.h"
 #include "kc/ui/window.h"
 
 int main(int argc, char** argv) {
+  kc::app::preferPassiveOpenMpWaiting(argv);
   kc::ui::WindowOptions options = kc::ui::parseWindowOptions(argc, argv);
   if (options.help) {
     std::fputs(kc::ui::usageText(), stdout);

@@ -223,6 +223,16 @@ bool maybeAutosave(AppState& state, double now, double interval) {
   return true;
 }
 
+bool hasRecoveryCopy(const AppState& state) {
+  std::error_code ec;
+  return !state.recoveryPath.empty() && fs::exists(state.recoveryPath, ec);
+}
+
+void discardRecoveryCopy(const AppState& state) {
+  std::error_code ec;
+  if (!state.recoveryPath.empty()) fs::remove(state.recoveryPath, ec);
+}
+
 std::string windowTitle(const AppState& state) {
   std::string name = !state.sessionPath.empty() ? fs::path(state.sessionPath).filename().string()
                      : !state.imagePath.empty() ? fs::path(state.imagePath).filename().string()

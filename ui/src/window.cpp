@@ -120,7 +120,11 @@ int runWindow(const WindowOptions& o) {
     state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
     state->exportPath = o.exportPath;
     state->lastAutosave = nowSeconds();
+    const bool recovered = hasRecoveryCopy(*state);
     openStartup(*state, o);
+    if (recovered)
+      postMessage(*state, "Unsaved work from an earlier run was kept: File > Open recovery copy (" + state->recoveryPath + ").",
+                  false);
 
     FrameLog frameLog;
     std::string title, lastState;
@@ -189,6 +193,7 @@ int runWindow(const WindowOptions& o) {
       }
     }
     if (!o.frameLog.empty()) frameLog.write(o.frameLog);
+    if (state->quitConfirmed) discardRecoveryCopy(*state);  // a crash or a signal keeps it
     state->worker.cancel();
     pollWorker(*state);
   }

@@ -23,6 +23,8 @@ float drawMainMenu(AppState& state) {
   const bool haveSession = state.session != nullptr;
   if (ImGui::BeginMenu("File")) {
     if (ImGui::MenuItem("Open image or session...", "Ctrl+O", false, idle)) requestPath(state, PathPurpose::Open, state.imagePath);
+    if (hasRecoveryCopy(state) && ImGui::MenuItem("Open recovery copy", nullptr, false, idle))
+      startOpenSession(state, state.recoveryPath);
     if (ImGui::MenuItem("Save session", "Ctrl+S", false, haveSession)) {
       if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
       else saveSessionFile(state, state.sessionPath);

@@ -25,6 +25,10 @@ bool loadCageFile(AppState& state, const std::string& path);
 bool maybeAutosave(AppState& state, double now, double interval = 60.0);
 /// Default recovery path: $XDG_CACHE_HOME or ~/.cache, then kcwarp/recovery.kcw.json.
 std::string defaultRecoveryPath();
+/// A recovery copy (autosaved unsaved work of a run that did not end normally) exists.
+bool hasRecoveryCopy(const AppState& state);
+/// Removes the recovery copy (on a normal quit: the user saved or chose to discard).
+void discardRecoveryCopy(const AppState& state);
 
 /// "kcwarp — name*" (the star when there are unsaved changes).
 std::string windowTitle(const AppState& state);
