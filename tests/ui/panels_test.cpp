@@ -81,3 +81,29 @@ TEST(DiagnosticsPanel, MeasuresTheBoundSession) {
 
 }  // namespace
 }  // namespace kc::ui
+
+namespace kc::ui {
+namespace {
+
+TEST(QuitDialog, AsksBeforeDiscardingUnsavedWork) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  // Nothing unsaved: quitting needs no confirmation.
+  s->unsaved = false;
+  s->quitRequested = true;
+  gui.frame([&] { drawDialogs(*s); });
+  EXPECT_TRUE(s->quitConfirmed);
+
+  // Unsaved work: the dialog opens and the program keeps running until the user chooses.
+  s->quitConfirmed = false;
+  s->unsaved = true;
+  s->quitRequested = true;
+  for (int i = 0; i < 3; ++i) gui.frame([&] { drawDialogs(*s); });
+  EXPECT_FALSE(s->quitConfirmed);
+  ASSERT_TRUE(s->widgets.count("quit_discard"));
+  gui.click(s->widgets["quit_discard"], [&] { drawDialogs(*s); });
+  EXPECT_TRUE(s->quitConfirmed);
+}
+
+}  // namespace
+}  // namespace kc::ui
