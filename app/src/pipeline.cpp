@@ -53,7 +53,9 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
   so.spacing = params.spacing;
   so.width = width;
   so.height = height;
-  so.margin = params.margin;
+  // The plain (thesis) interpolation is accurate only a few kernel widths inside the sampled
+  // domain (thesis Fig 3.1), so it gets a wider automatic margin than the exact one.
+  so.margin = params.margin >= 0.0 || params.interp == InterpMode::Exact ? params.margin : kThesisMarginSpacings * params.spacing;
   so.kind = params.sampler;
   so.seed = params.seed;
   s.samples = sampling::sample(cage, so, &r.sampling);
