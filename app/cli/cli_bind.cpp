@@ -18,6 +18,7 @@ struct BindArgs {
   double spacing = 6.0, sigma = 0.0, margin = -1.0;
   std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
   int heatIterations = 0;
+  double locality = -1.0;  // automatic
   std::uint64_t seed = 1;
 };
 
@@ -39,6 +40,7 @@ void runBind(const BindArgs& a) {
   p.backend = a.backend;
   p.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance");
   p.init.iterations = a.heatIterations;
+  p.init.locality = a.locality;
   p.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
   p.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
   p.sampler = parseOrThrow(a.sampler, &app::parseSamplerKind, "--sampler", "blue-noise, grid");
@@ -82,6 +84,8 @@ void addBindCommand(CLI::App& app) {
   sub->add_option("--init", a->init, "Initial weights: heat-linear | heat-impulse | inverse-distance")->capture_default_str();
   sub->add_option("--heat-iterations", a->heatIterations, "Heat diffusion iterations (0 = converged steady state)")
       ->capture_default_str();
+  sub->add_option("--locality", a->locality,
+                  "Locality length of the heat-linear targets in pixels: 0 = global (harmonic-like), <0 = automatic (5% of the cage diagonal)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
   sub->add_option("--backend", a->backend, "Weight backend: kc")->capture_default_str();

@@ -74,6 +74,7 @@ std::string sessionToJson(const Session& s) {
                  {"sigma_auto", !(p.sigma > 0.0)},
                  {"init", std::string(toString(p.init.method))},
                  {"heat_iterations", p.init.iterations},
+                 {"locality", p.init.locality},
                  {"method", std::string(toString(p.method))},
                  {"interp", std::string(toString(p.interp))},
                  {"backend", p.backend},
@@ -126,6 +127,11 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     if (!params["heat_iterations"].is_number_integer() || params["heat_iterations"].get<long>() < 0)
       throw InputError(where, "params.heat_iterations must be a whole number ≥ 0");
     p.init.iterations = params["heat_iterations"].get<int>();
+  }
+  if (params.contains("locality")) {
+    p.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // < 0 = automatic
+  } else {
+    p.init.locality = 0.0;  // sessions written before the option existed
   }
   p.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
   p.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);

@@ -141,7 +141,9 @@ TEST(HeatDiffusion, IterationsConvergeToTheSteadyState) {
   const Cage cage = Cage::polygon(C);
   const SampleSet S = sampleCage(cage, 1.0, 0.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
-  const Weights Wss = initialWeights(S, cage, K, InitOptions{});
+  InitOptions unscreened;
+  unscreened.locality = 0.0;  // the iterations converge to the plain (unscreened) steady state
+  const Weights Wss = initialWeights(S, cage, K, unscreened);
   double previous = 1e300;
   for (int n : {10, 100, 1000}) {
     InitOptions opt;
@@ -153,6 +155,34 @@ TEST(HeatDiffusion, IterationsConvergeToTheSteadyState) {
     previous = err;
   }
   EXPECT_LT(previous, 1e-4);
+}
+
+TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
+  // A square with controls at its corners and edge midpoints: unscreened (harmonic-like) targets
+  // near one corner still take a share from the far controls; screened ones (almost) none.
+  Points C(8, 2);
+  C << 0, 0, 20, 0, 40, 0, 40, 20, 40, 40, 20, 40, 0, 40, 0, 20;
+  const Cage cage = Cage::polygon(C);
+  const SampleSet S = sampleCage(cage, 1.0, 0.0);
+  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
+  InitOptions global, local;
+  global.locality = 0.0;
+  local.locality = 4.0;
+  const Weights Wg = initialWeights(S, cage, K, global), Wl = initialWeights(S, cage, K, local);
+  double farGlobal = 0.0, farLocal = 0.0;
+  for (Index i = 0; i < S.size(); ++i) {
+    EXPECT_NEAR(Wl.row(i).sum(), 1.0, 1e-12) << "row " << i;
+    EXPECT_GE(Wl.row(i).minCoeff(), 0.0);
+    if (S.kind[static_cast<std::size_t>(i)] == SampleKind::Control || S.kind[static_cast<std::size_t>(i)] == SampleKind::Edge) {
+      EXPECT_EQ(Wl.row(i), Wg.row(i)) << "fixed row " << i;  // controls and edges are not screened
+      continue;
+    }
+    if (S.kind[static_cast<std::size_t>(i)] != SampleKind::Interior || S.X.row(i).norm() > 8.0) continue;
+    farGlobal = std::max(farGlobal, Wg(i, 3) + Wg(i, 4) + Wg(i, 5));  // controls ≥ 30 away
+    farLocal = std::max(farLocal, Wl(i, 3) + Wl(i, 4) + Wl(i, 5));
+  }
+  EXPECT_GT(farGlobal, 1e-3);
+  EXPECT_LT(farLocal, 0.02 * farGlobal) << "global " << farGlobal << ", screened " << farLocal;
 }
 
 TEST(HeatDiffusion, OneIterationIsTheRowNormalizedKernelUpdate) {

@@ -1,6 +1,5 @@
 #include "kc/core/weights/heat_diffusion.h"
 
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <vector>
 
 #include "kc/core/parallel.h"
+#include "../sparse_cholesky.h"
 
 namespace kc {
 namespace {
@@ -193,8 +193,12 @@ std::vector<char> reachableFromKnown(const SparseRowMatrix& R, const std::vector
   return seen;
 }
 
-/// Steady state for the rows `unknown` (all others known): (D_UU − R_UU) W_U = R_UK W_K.
-bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const std::vector<Index>& unknown, Weights& W) {
+/// Steady state for the rows `unknown` (all others known): ((1+μ) D_UU − R_UU) W_U = R_UK W_K.
+/// μ = 0 is the converged diffusion of (4.13); μ > 0 absorbs a fraction of the heat at every step
+/// (screened diffusion), so heat from an edge decays exponentially with the distance travelled
+/// inside the shape. The rows are then normalized to sum 1.
+bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const std::vector<Index>& unknown, double mu,
+                      Weights& W) {
   const Index nu = static_cast<Index>(unknown.size());
   if (nu == 0) return true;
   std::vector<Index> slot(static_cast<std::size_t>(R.rows()), -1);
@@ -203,7 +207,7 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, W.cols());
   for (Index f = 0; f < nu; ++f) {
     const Index i = unknown[static_cast<std::size_t>(f)];
-    trip.emplace_back(f, f, D(i));
+    trip.emplace_back(f, f, (1.0 + mu) * D(i));
     for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) {
       const Index s = slot[static_cast<std::size_t>(e.col())];
       if (s >= 0)
@@ -214,11 +218,16 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
   }
   SparseMatrix A(nu, nu);
   A.setFromTriplets(trip.begin(), trip.end());
-  Eigen::SimplicialLDLT<SparseMatrix> solver(A);
+  detail::SupernodalCholesky solver;
+  solver.compute(A);
   if (solver.info() != Eigen::Success) return false;
   const Eigen::MatrixXd WU = solver.solve(rhs);
   if (solver.info() != Eigen::Success || !WU.allFinite()) return false;
-  for (Index f = 0; f < nu; ++f) W.row(unknown[static_cast<std::size_t>(f)]) = WU.row(f);
+  for (Index f = 0; f < nu; ++f) {
+    const double sum = WU.row(f).sum();
+    if (!(sum > 1e-200)) return false;  // screened away entirely: the caller falls back
+    W.row(unknown[static_cast<std::size_t>(f)]) = WU.row(f) / sum;
+  }
   return true;
 }
 
@@ -273,6 +282,20 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   // Diffusion operator P = D⁻¹R, R = K restricted to the shape (rows normalized to sum 1).
   const SparseRowMatrix R = diffusionOperator(S, cage, K);
   const Eigen::VectorXd D = R * Eigen::VectorXd::Ones(n);
+  // Screening μ for the locality length ℓ. A step of the walk P moves heat by s² = E|x_j − x_i|²;
+  // its generator is (s²/4)Δ, so absorbing μ per step gives (s²/4)Δw = μw: decay exp(−d/ℓ) with
+  // ℓ = s / (2√μ), i.e. μ = s² / (4ℓ²).
+  double mu = 0.0;
+  const double locality = options.locality >= 0.0
+                              ? options.locality
+                              : kAutoLocalityFraction * (C.colwise().maxCoeff() - C.colwise().minCoeff()).norm();
+  if (locality > 0.0 && options.method == InitMethod::HeatLinear) {
+    double s2 = 0.0;
+    for (Index i = 0; i < n; ++i)
+      for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) s2 += e.value() / D(i) * (X.row(e.col()) - X.row(i)).squaredNorm();
+    s2 /= static_cast<double>(n);
+    mu = s2 / (4.0 * locality * locality);
+  }
   auto fallback = [&](Index i) {  // normalized (4.10) for samples heat cannot reach
     inverseDistanceRow(C, X.row(i).transpose(), p, W.row(i));
     W.row(i) /= W.row(i).sum();
@@ -300,8 +323,11 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
         fallback(i);
     }
     if (options.iterations == 0) {
-      if (!solveSteadyState(R, D, solvable, W))  // cannot happen for a diagonally dominant system
-        for (Index i : solvable) fallback(i);
+      if (!solveSteadyState(R, D, solvable, mu, W)) {  // screened to nothing: retry unscreened
+        rep.screeningDropped = mu > 0.0;
+        if (!solveSteadyState(R, D, solvable, 0.0, W))  // cannot happen for a diagonally dominant system
+          for (Index i : solvable) fallback(i);
+      }
     } else {
       active.insert(active.end(), solvable.begin(), solvable.end());
     }
