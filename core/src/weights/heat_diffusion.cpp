@@ -233,6 +233,10 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
 
 }  // namespace
 
+double automaticLocality(const Points& C) {
+  return C.rows() == 0 ? 0.0 : kAutoLocalityFraction * (C.colwise().maxCoeff() - C.colwise().minCoeff()).norm();
+}
+
 Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix& K, const InitOptions& options,
                        InitReport* report) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -286,9 +290,7 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   // its generator is (s²/4)Δ, so absorbing μ per step gives (s²/4)Δw = μw: decay exp(−d/ℓ) with
   // ℓ = s / (2√μ), i.e. μ = s² / (4ℓ²).
   double mu = 0.0;
-  const double locality = options.locality >= 0.0
-                              ? options.locality
-                              : kAutoLocalityFraction * (C.colwise().maxCoeff() - C.colwise().minCoeff()).norm();
+  const double locality = options.locality >= 0.0 ? options.locality : automaticLocality(C);
   if (locality > 0.0 && options.method == InitMethod::HeatLinear) {
     double s2 = 0.0;
     for (Index i = 0; i < n; ++i)

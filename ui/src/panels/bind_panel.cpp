@@ -48,6 +48,24 @@ void drawBindPanel(AppState& state) {
   static constexpr Method methods[] = {Method::QP, Method::QEC, Method::L1};
   static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
   enumCombo("Initialization", p.init.method, inits);
+  if (p.init.method == InitMethod::HeatLinear) {
+    // Locality length of the targets: how far a control point's influence reaches inside the shape.
+    const double automatic = automaticLocality(state.cage.C);
+    bool autoLocality = p.init.locality < 0.0;
+    if (ImGui::Checkbox("Auto locality", &autoLocality)) p.init.locality = autoLocality ? -1.0 : automatic;
+    ImGui::SameLine();
+    if (autoLocality) {
+      ImGui::TextDisabled("= %.0f px", automatic);
+    } else {
+      float locality = static_cast<float>(p.init.locality);
+      ImGui::SetNextItemWidth(100);
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 0.0f, 2000.0f, locality > 0.0f ? "%.0f px" : "global"))
+        p.init.locality = std::max(0.0f, locality);
+    }
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("How far each control point's influence reaches inside the shape (smaller = more local;\n"
+                        "0 = global, harmonic-like weights). Takes effect at the next Bind.");
+  }
   enumCombo("Method", p.method, methods);
   enumCombo("Interpolation", p.interp, interps);
   ImGui::PopItemWidth();

@@ -35,6 +35,10 @@ struct InitOptions {
 /// number of controls influencing a point inside drops from 23.4 (unscreened) to about 19 with QP.
 inline constexpr double kAutoLocalityFraction = 0.05;
 
+/// The automatic locality length for control points C: kAutoLocalityFraction of their
+/// bounding-box diagonal.
+double automaticLocality(const Points& C);
+
 struct InitReport {
   int iterations = 0;
   bool steadyState = false;
