@@ -18,7 +18,7 @@ struct BindArgs {
   double spacing = 6.0, sigma = 0.0, margin = -1.0;
   std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
   int heatIterations = 0;
-  double locality = -1.0;  // automatic
+  double locality = 0.0;  // unscreened
   std::uint64_t seed = 1;
 };
 
@@ -85,7 +85,7 @@ void addBindCommand(CLI::App& app) {
   sub->add_option("--heat-iterations", a->heatIterations, "Heat diffusion iterations (0 = converged steady state)")
       ->capture_default_str();
   sub->add_option("--locality", a->locality,
-                  "Locality length of the heat-linear targets in pixels: 0 = global (harmonic-like), <0 = automatic (5% of the cage diagonal)");
+                  "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
   sub->add_option("--backend", a->backend, "Weight backend: kc")->capture_default_str();

@@ -129,7 +129,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     p.init.iterations = params["heat_iterations"].get<int>();
   }
   if (params.contains("locality")) {
-    p.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // < 0 = automatic
+    p.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // 0 off, < 0 automatic
   } else {
     p.init.locality = 0.0;  // sessions written before the option existed
   }

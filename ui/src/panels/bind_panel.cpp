@@ -49,22 +49,19 @@ void drawBindPanel(AppState& state) {
   static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
   enumCombo("Initialization", p.init.method, inits);
   if (p.init.method == InitMethod::HeatLinear) {
-    // Locality length of the targets: how far a control point's influence reaches inside the shape.
-    const double automatic = automaticLocality(state.cage.C);
-    bool autoLocality = p.init.locality < 0.0;
-    if (ImGui::Checkbox("Auto locality", &autoLocality)) p.init.locality = autoLocality ? -1.0 : automatic;
-    ImGui::SameLine();
-    if (autoLocality) {
-      ImGui::TextDisabled("= %.0f px", automatic);
-    } else {
-      float locality = static_cast<float>(p.init.locality);
-      ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 0.0f, 2000.0f, locality > 0.0f ? "%.0f px" : "global"))
-        p.init.locality = std::max(0.0f, locality);
-    }
+    // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
+    bool screened = p.init.locality != 0.0;
+    if (ImGui::Checkbox("Local targets", &screened)) p.init.locality = screened ? -1.0 : 0.0;
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("How far each control point's influence reaches inside the shape (smaller = more local;\n"
-                        "0 = global, harmonic-like weights). Takes effect at the next Bind.");
+      ImGui::SetTooltip("Screened heat diffusion: targets decay with the distance inside the shape.\n"
+                        "More local, but the QP may then give far controls small weights.\n"
+                        "Off: smooth, global (harmonic-like) targets. Takes effect at the next Bind.");
+    if (screened) {
+      ImGui::SameLine();
+      float locality = static_cast<float>(p.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.init.locality);
+      ImGui::SetNextItemWidth(100);
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.init.locality = std::max(1.0f, locality);
+    }
   }
   enumCombo("Method", p.method, methods);
   enumCombo("Interpolation", p.interp, interps);
