@@ -3,10 +3,7 @@
 # bundled example when a display is available, otherwise the headless demo (writes ./out/demo).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$jobs"
+bash scripts/build.sh
 if [ -n "${DISPLAY:-}" ] && [ -x build/app/kcwarp ]; then
   exec build/app/kcwarp "$@"
 fi

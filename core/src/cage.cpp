@@ -170,14 +170,23 @@ bool segmentCrossesCage(const Cage& cage, const Vec2& p, const Vec2& q) {
   return false;
 }
 
+double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 d = b - a;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+  return (a + t * d - p).norm();
+}
+
+double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double o1 = cross(b - a, c - a), o2 = cross(b - a, d - a), o3 = cross(d - c, a - c), o4 = cross(d - c, b - c);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
+  return std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d), pointSegmentDistance(c, a, b),
+                   pointSegmentDistance(d, a, b)});
+}
+
 double distanceToCage(const Cage& cage, const Vec2& x) {
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& [a, b] : edgesOf(cage)) {
-    const Vec2 A = cage.C.row(a), B = cage.C.row(b);
-    const Vec2 d = B - A;
-    const double t = std::clamp((x - A).dot(d) / d.squaredNorm(), 0.0, 1.0);
-    best = std::min(best, (A + t * d - x).norm());
-  }
+  for (const auto& [a, b] : edgesOf(cage)) best = std::min(best, pointSegmentDistance(x, cage.C.row(a), cage.C.row(b)));
   return best;
 }
 

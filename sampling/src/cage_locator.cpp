@@ -7,24 +7,6 @@
 #include "kc/sampling/boundary.h"
 
 namespace kc::sampling::detail {
-namespace {
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-}  // namespace
-
-double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double l2 = d.squaredNorm();
-  const double t = l2 > 0.0 ? std::clamp((p - a).dot(d) / l2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
-}
-
-double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
-  const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
-  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0))) return 0.0;
-  return std::min(std::min(pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d)),
-                  std::min(pointSegmentDistance(c, a, b), pointSegmentDistance(d, a, b)));
-}
 
 CageLocator::CageLocator(const Cage& cage, double cell) {
   for (const auto& [a, b] : cageEdges(cage)) m_seg.push_back({Vec2(cage.C.row(a)), Vec2(cage.C.row(b))});

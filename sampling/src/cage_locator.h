@@ -33,9 +33,4 @@ class CageLocator {
   std::vector<int> m_items;  // edge indices per cell
 };
 
-/// Distance from p to segment a–b.
-double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b);
-/// Distance between segments a–b and c–d (0 when they intersect).
-double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
-
 }  // namespace kc::sampling::detail

@@ -24,23 +24,6 @@ std::vector<Edge> cageEdges(const Cage& cage) {
   return e;
 }
 
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
-}
-
-/// Distance between segments a–b and c–d (0 when they properly cross).
-double segmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double o1 = cross(b - a, c - a), o2 = cross(b - a, d - a), o3 = cross(d - c, a - c), o4 = cross(d - c, b - c);
-  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0))) return 0.0;
-  return std::min({pointSegmentDistance(a, c, d), pointSegmentDistance(b, c, d), pointSegmentDistance(c, a, b),
-                   pointSegmentDistance(d, a, b)});
-}
-
 /// Uniform grid over the cage edges: a segment can only cross the cage if it comes within `tol`
 /// of an edge bucketed in the cells its bounding box meets; only those pairs pay for the exact
 /// (and O(#edges)) kc::segmentCrossesCage.
@@ -68,7 +51,7 @@ class EdgeGrid {
         if (near) return;
         const Vec2 p = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][0]);
         const Vec2 q = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][1]);
-        if (segmentDistance(a, b, p, q) <= m_tol) near = true;
+        if (segmentSegmentDistance(a, b, p, q) <= m_tol) near = true;
       }
     });
     return near && segmentCrossesCage(m_cage, a, b);

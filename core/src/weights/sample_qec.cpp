@@ -1,5 +1,7 @@
 #include "kc/core/weights/sample_qec.h"
 
+#include "simd2.h"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cassert>
@@ -12,6 +14,9 @@
 #include "kc/core/cage.h"
 
 namespace kc {
+using detail::D2;
+using detail::load2;
+using detail::store2;
 
 ControlFrame::ControlFrame(const Points& C) {
   const Index m = C.rows();
@@ -100,17 +105,6 @@ double ControlFrame::hullShrink(const Vec2& xh) const {
   return beta;
 }
 
-namespace {
-// Two-lane double vectors (GCC/Clang vector extensions; SSE2 on x86-64): the compiler does not
-// vectorize floating-point reductions by itself.
-using D2 = double __attribute__((vector_size(16)));
-inline D2 load2(const double* p) {
-  D2 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store2(double* p, D2 v) { std::memcpy(p, &v, sizeof v); }
-}  // namespace
 
 Eigen::Vector3d qecMultipliers(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0) {
   const Index m = frame.size();

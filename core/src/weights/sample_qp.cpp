@@ -1,5 +1,7 @@
 #include "kc/core/weights/sample_qp.h"
 
+#include "simd2.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -7,6 +9,9 @@
 #include <vector>
 
 namespace kc {
+using detail::D2;
+using detail::load2;
+using detail::store2;
 namespace {
 
 /// The dual at λ: f = ½|max(0, z)|² − bᵀλ with z = w0 + Aᵀλ, its gradient g = A max(0, z) − b
@@ -19,15 +24,6 @@ struct DualPoint {
   double h[6] = {0, 0, 0, 0, 0, 0};
 };
 
-// Two-lane double vectors (SSE2 / NEON / generic, GCC and Clang vector extensions): the dual
-// pass is the QP's inner loop and the compiler does not vectorize floating-point reductions.
-using D2 = double __attribute__((vector_size(16)));
-inline D2 load2(const double* p) {
-  D2 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store2(double* p, D2 v) { std::memcpy(p, &v, sizeof v); }
 template <class M>
 inline D2 select(D2 v, M mask) {
   return reinterpret_cast<D2>(reinterpret_cast<M>(v) & mask);

@@ -37,6 +37,11 @@ bool insideCage(const Cage& cage, const Vec2& x);
 /// Touching at a or b (samples lying on the cage) is not a crossing.
 bool segmentCrossesCage(const Cage& cage, const Vec2& a, const Vec2& b);
 
+/// Distance from p to the segment a–b.
+double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b);
+/// Distance between the segments a–b and c–d (0 when they properly cross).
+double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+
 /// Distance from x to the nearest cage edge.
 double distanceToCage(const Cage& cage, const Vec2& x);
 
