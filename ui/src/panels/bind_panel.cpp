@@ -38,7 +38,7 @@ void drawBindPanel(AppState& state) {
   if (ImGui::Checkbox("Auto sigma", &autoSigma)) p.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   if (autoSigma) {
-    ImGui::TextDisabled("= %.2f px (3h/pi)", app::automaticSigma(p.spacing));
+    ImGui::TextDisabled("~ %.2f px (3T/pi, T measured)", app::automaticSigma(p.spacing));
   } else {
     float sigma = static_cast<float>(p.sigma);
     ImGui::SetNextItemWidth(100);
