@@ -2,10 +2,8 @@
 
 #include <unistd.h>
 
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
-
 #include "kc/app/errors.h"
+#include "kc/app/image_io.h"
 
 namespace kc::cli {
 
@@ -24,11 +22,8 @@ std::pair<int, int> parseSize(const std::string& text, const std::string& option
 }
 
 std::pair<int, int> imageSize(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw app::InputError(path, "no such file");
-  const cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw app::InputError(path, "not a readable image (PNG or JPEG expected)");
-  return {img.cols, img.rows};
+  const Image img = app::loadImage(path);  // InputError naming the file when missing or unreadable
+  return {img.width, img.height};
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }

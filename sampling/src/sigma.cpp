@@ -1,5 +1,7 @@
 #include "kc/sampling/sigma.h"
 
+#include "kc/core/kernel/kernel_matrix.h"
+
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -10,8 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "kc/core/parallel.h"
-#include "kc/core/spatial_grid.h"
+#include "kc/core/kernel/kernel_matrix.h"
 
 namespace kc::sampling {
 
@@ -55,30 +56,13 @@ KernelDiagnostics kernelDiagnostics(const Points& X, double sigma, const KernelD
   d.sigma = sigma;
   const Index n = X.rows();
   if (n == 0) return d;
-  const double theta = options.cutoff * sigma, inv2s2 = 1.0 / (2.0 * sigma * sigma);
-  const SpatialGrid grid(X, theta);
-
-  // Rows of K, each built by its own task (deterministic), then gathered.
-  std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
-  parallelFor(n, [&](Index i) {
-    auto& r = rows[static_cast<std::size_t>(i)];
-    grid.forEachWithin(X.row(i), theta, [&](Index j, double d2) { r.emplace_back(j, std::exp(-d2 * inv2s2)); });
-    std::sort(r.begin(), r.end());
-  }, 256);
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::VectorXd rowSum(n);
-  for (Index i = 0; i < n; ++i) {
-    double sum = 0.0;
-    for (const auto& [j, v] : rows[static_cast<std::size_t>(i)]) {
-      triplets.emplace_back(static_cast<int>(i), static_cast<int>(j), v);
-      sum += v;
-    }
-    rowSum(i) = sum;
-  }
-  rows.clear();
-  Eigen::SparseMatrix<double> K(n, n);
-  K.setFromTriplets(triplets.begin(), triplets.end());
-  triplets.clear();
+  const double theta = options.cutoff * sigma;
+  // The same truncated kernel matrix the interpolator factorizes (unit scale, thesis 3.5–3.6, 6.1).
+  GaussianKernel kernel;
+  kernel.sigma = sigma;
+  kernel.cutoffFactor = options.cutoff;
+  const SparseMatrix K = assembleKernelMatrix(X, kernel);
+  const Eigen::VectorXd rowSum = K * Eigen::VectorXd::Ones(n);
 
   d.rowSumMin = rowSum.minCoeff();
   d.rowSumMax = rowSum.maxCoeff();

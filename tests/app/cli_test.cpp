@@ -32,7 +32,7 @@ TEST(CliBind, BindEvalStatsOnSquare) {
   int rows = 0;
   while (std::getline(in, line)) {
     std::istringstream ls(line);
-    double sum = 0, v = 0;
+    double sum = 0;
     std::string cell;
     std::vector<double> w;
     while (std::getline(ls, cell, ',')) w.push_back(std::stod(cell));
@@ -43,7 +43,6 @@ TEST(CliBind, BindEvalStatsOnSquare) {
       EXPECT_NEAR(w[0], 1.0, 1e-6);
       EXPECT_NEAR(w[2], 0.0, 1e-6);
     }
-    (void)v;
     ++rows;
   }
   EXPECT_EQ(rows, 4);

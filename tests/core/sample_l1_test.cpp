@@ -2,6 +2,8 @@
 #include "kc/core/weights/sample_l1.h"
 
 #include <gtest/gtest.h>
+
+#include "sample_problems.h"
 #include <glpk.h>
 
 #include <Eigen/Dense>
@@ -12,11 +14,12 @@
 namespace kc {
 namespace {
 
-struct Problem {
-  Points C;
-  Vec2 x;
-  Eigen::VectorXd w0;
-};
+using test::Problem;
+using test::randomControls;
+
+Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
+  return test::solveSample(sampleL1, p, report);
+}
 
 /// GLPK on min Σ(p_i + q_i) s.t. Σ a_i(p_i − q_i) = b − A w0, p, q ≥ 0, optionally with an
 /// extra objective bound Σ(p + q) ≤ bound and a secondary objective dir·v (to probe the optimal
@@ -59,15 +62,6 @@ bool glpkSolve(const Problem& p, Eigen::VectorXd& v, double& objective, const Ei
   return ok;
 }
 
-Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
-  const ControlFrame frame(p.C);
-  Eigen::VectorXd w(p.C.rows());
-  const SampleReport r = sampleL1(frame, frame.normalize(p.x), {p.w0.data(), static_cast<std::size_t>(p.w0.size())},
-                                  {w.data(), static_cast<std::size_t>(w.size())});
-  if (report) *report = r;
-  return w;
-}
-
 /// Objective always matches GLPK's to 1e-8 (relative to 1 + objective); the solution too (relative
 /// to 1 + |v|∞) when GLPK finds the optimal face to be a single point (min and max of a random
 /// direction over it agree). Returns whether the optimum was unique.
@@ -95,13 +89,6 @@ bool expectMatchesGlpk(const Problem& p, const std::string& what, std::mt19937& 
   EXPECT_LE((w - p.w0 - v).lpNorm<Eigen::Infinity>(), 1e-8 * scale) << what << "\nv   = " << (w - p.w0).transpose()
                                                           << "\nref = " << v.transpose();
   return true;
-}
-
-Points randomControls(std::mt19937& rng, int m) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Points C(m, 2);
-  for (int i = 0; i < m; ++i) C.row(i) = Vec2(u(rng), u(rng)).transpose();
-  return C;
 }
 
 TEST(SampleL1, MatchesGlpkOnRandomProblems) {

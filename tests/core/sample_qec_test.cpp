@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sample_problems.h"
+
 #include <Eigen/Dense>
 #include <random>
 #include <stdexcept>
@@ -10,12 +12,7 @@
 namespace kc {
 namespace {
 
-Points randomControls(std::mt19937& rng, int m, double scale, const Vec2& offset) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Points C(m, 2);
-  for (int i = 0; i < m; ++i) C.row(i) = (offset + scale * Vec2(u(rng), u(rng))).transpose();
-  return C;
-}
+using test::randomControls;
 
 /// Reference: the KKT system [2I Aᵀ; A 0][w; ν] = [2w0; b] of (4.2) in the original coordinates,
 /// solved by full-pivoting LU.

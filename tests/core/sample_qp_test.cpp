@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sample_problems.h"
+
 #include <ClpSimplex.hpp>
 #include <CoinPackedMatrix.hpp>
 #include <glpk.h>
@@ -17,26 +19,12 @@
 namespace kc {
 namespace {
 
-struct Problem {
-  Points C;
-  Vec2 x;
-  Eigen::VectorXd w0;
-};
+using test::Problem;
+using test::randomControls;
+using test::randomInside;
 
-Points randomControls(std::mt19937& rng, int m) {
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Points C(m, 2);
-  for (int i = 0; i < m; ++i) C.row(i) = Vec2(u(rng), u(rng)).transpose();
-  return C;
-}
-
-/// A random convex combination of the control points (strictly inside the hull).
-Vec2 randomInside(std::mt19937& rng, const Points& C) {
-  std::exponential_distribution<double> e(1.0);
-  Eigen::VectorXd a(C.rows());
-  for (Index i = 0; i < C.rows(); ++i) a(i) = e(rng);
-  a /= a.sum();
-  return C.transpose() * a;
+Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
+  return test::solveSample(sampleQp, p, report);
 }
 
 /// CLP's QP solver, min ½|w|² − w0ᵀw s.t. Cw = x, 1ᵀw = 1, w ≥ 0, in the original coordinates
@@ -184,15 +172,6 @@ void expectKkt(const Problem& p, const Eigen::VectorXd& w, double tol) {
     if (w(i) <= 1e-10) {
       EXPECT_LE(p.w0(i) + Eigen::Vector3d(p.C(i, 0), p.C(i, 1), 1.0).dot(mu), tol) << "i=" << i;
     }
-}
-
-Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
-  const ControlFrame frame(p.C);
-  Eigen::VectorXd w(p.C.rows());
-  const SampleReport r = sampleQp(frame, frame.normalize(p.x), {p.w0.data(), static_cast<std::size_t>(p.w0.size())},
-                                  {w.data(), static_cast<std::size_t>(w.size())});
-  if (report) *report = r;
-  return w;
 }
 
 /// Checks w against CLP when CLP delivers a feasible answer (returns false otherwise) and always

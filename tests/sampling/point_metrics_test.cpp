@@ -1,6 +1,8 @@
 // Point-set metrics: separation, fill distance, nearest-neighbour statistics, radial spectrum.
 #include <gtest/gtest.h>
 
+#include "test_shapes.h"
+
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -11,12 +13,7 @@
 namespace kc::sampling {
 namespace {
 
-Points squareGrid(int n, double T) {
-  Points X(n * n, 2);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) X.row(i * n + j) << i * T, j * T;
-  return X;
-}
+using test::squareGrid;
 
 TEST(PointMetrics, RegularGridHasKnownSeparationAndFill) {
   const double T = 2.0;

@@ -1,6 +1,8 @@
 // Kernel scale: σ = 3T/π (3.28), spectral choice (Fig 6.10), row sums and conditioning (3.3.1-3.3.2).
 #include <gtest/gtest.h>
 
+#include "test_shapes.h"
+
 #include <cmath>
 #include <numbers>
 
@@ -10,12 +12,7 @@
 namespace kc::sampling {
 namespace {
 
-Points squareGrid(int n, double T) {
-  Points X(n * n, 2);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) X.row(i * n + j) << i * T, j * T;
-  return X;
-}
+using test::squareGrid;
 
 TEST(Sigma, RuleOfEquation328) {
   EXPECT_DOUBLE_EQ(sigmaFromSpacing(1.0), 3.0 / std::numbers::pi);

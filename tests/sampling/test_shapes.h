@@ -9,6 +9,14 @@
 
 namespace kc::test {
 
+/// An n×n grid of spacing T starting at the origin.
+inline Points squareGrid(int n, double T) {
+  Points X(n * n, 2);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) X.row(i * n + j) << i * T, j * T;
+  return X;
+}
+
 inline Cage cageFrom(const std::vector<Vec2>& pts) {
   Points C(static_cast<Index>(pts.size()), 2);
   for (std::size_t i = 0; i < pts.size(); ++i) C.row(static_cast<Index>(i)) = pts[i].transpose();
