@@ -76,7 +76,8 @@ void drawBindPanel(AppState& state) {
   }
   const bool canBind = state.cageValid && !state.worker.busy() && !state.source.empty();
   if (!canBind) ImGui::BeginDisabled();
-  if (ImGui::Button("Bind", ImVec2(120, 0))) startBind(state);
+  // "##run": the side panel's "Bind" header has the label "Bind" too; one ID would take both clicks.
+  if (ImGui::Button("Bind##run", ImVec2(120, 0))) startBind(state);
   if (!canBind) ImGui::EndDisabled();
   markWidget(state, "bind");
   if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {

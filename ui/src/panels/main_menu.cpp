@@ -47,6 +47,8 @@ float drawMainMenu(AppState& state) {
     if (ImGui::MenuItem(redoLabel.c_str(), "Ctrl+Shift+Z", false, state.undo.canRedo())) redo(state);
     ImGui::Separator();
     if (ImGui::MenuItem("Reset pose", "Ctrl+R", false, state.bound)) resetPose(state);
+    ImGui::Separator();
+    if (ImGui::MenuItem("Bind", "Ctrl+B", false, idle && state.cageValid && !state.source.empty())) startBind(state);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("View")) {
