@@ -11,7 +11,9 @@
 #include <glpk.h>
 #include <Eigen/Dense>
 #include <cmath>
+#include <algorithm>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "kc/core/cage.h"
@@ -229,6 +231,104 @@ TEST(SampleQp, MatchesReferencesOnDegenerateProblems) {
     if (!expectMatchesReference(p, "trial " + std::to_string(trial))) ++clpFailures;
   }
   EXPECT_LE(clpFailures, 24);
+}
+
+/// The objective |w − w0|² of w against CLP's on the same problem, when CLP delivers a feasible
+/// answer; false otherwise.
+bool clpObjective(const Problem& p, double& objective) {
+  Eigen::VectorXd ref;
+  if (!clpReference(p, ref)) return false;
+  objective = (ref - p.w0).squaredNorm();
+  return true;
+}
+
+/// A sample exactly on an edge or at a vertex of the control points' convex hull (issue 9, §4):
+/// the feasible set has no interior, the optimal multipliers run off along the edge's normal and
+/// a Newton iteration that evaluates w0 + Aᵀλ directly stalls at its rounding level. Every such
+/// sample must be certified optimal (never the fallback), non-negative, and match CLP's
+/// objective; at a vertex the only feasible point is e_k.
+/// Before the incremental evaluation and the null-space step, 1–20% of such samples failed
+/// (more with larger m) and fell back to QEC weights.
+TEST(SampleQp, SolvesSamplesOnHullEdgesAndVertices) {
+  struct Size {
+    int m, problems;
+  };
+  for (const Size size : {Size{50, 300}, Size{200, 300}, Size{1000, 120}, Size{3000, 60}}) {
+    const int m = size.m;
+    std::mt19937 rng(9000 + m);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int compared = 0;
+    for (int trial = 0; trial < size.problems; ++trial) {
+      Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd(m)};
+      const std::vector<int> hull = convexHull(p.C);
+      const std::size_t h = hull.size();
+      const int k = hull[static_cast<std::size_t>(trial) % h], l = hull[(static_cast<std::size_t>(trial) + 1) % h];
+      const bool vertex = trial % 3 == 1;
+      const double a = u(rng);
+      p.x = vertex ? Vec2(p.C.row(k)) : Vec2(a * Vec2(p.C.row(k)) + (1.0 - a) * Vec2(p.C.row(l)));
+      for (int i = 0; i < m; ++i) p.w0(i) = trial % 3 == 2 ? 2.0 * u(rng) - 1.0 : u(rng) / m;  // mixed signs or positive
+      const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
+      SampleReport r;
+      const Eigen::VectorXd w = solve(p, &r);
+      ASSERT_EQ(r.status, SampleStatus::Optimal) << what << ", iterations " << r.iterations;
+      EXPECT_GE(w.minCoeff(), 0.0) << what;
+      EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
+      EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-12) << what;
+      if (vertex) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(m);
+        e(k) = 1.0;
+        // e_k up to the residual tolerance: a control at distance δ may keep a weight ~1e-13/δ.
+        EXPECT_LE((w - e).lpNorm<Eigen::Infinity>(), 1e-10) << what;
+      }
+      double objective = 0.0;
+      if (clpObjective(p, objective)) {
+        ++compared;
+        EXPECT_NEAR((w - p.w0).squaredNorm(), objective, 1e-9 * (1.0 + objective)) << what;
+      }
+    }
+    // CLP answers the edge problems (a unique feasible point between two hull vertices).
+    EXPECT_GE(compared, size.problems / 2) << "m=" << m;
+  }
+}
+
+/// Controls on the hull edges themselves (a rectangular cage with subdivided sides): a sample on
+/// such an edge has a whole segment of feasible weights, so the optimum is a genuine projection
+/// on the edge's controls; at a corner it is e_corner. Samples just outside use the documented
+/// infeasible fallback, never the QEC one.
+TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
+  for (const int m : {50, 200, 1000}) {
+    std::mt19937 rng(31 + m);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int trial = 0; trial < 40; ++trial) {
+      const int side = std::min(4 + trial % 10, m / 4 - 1);
+      Points C(m, 2);
+      int i = 0;
+      for (int s = 0; s < 4; ++s)
+        for (int j = 0; j < side; ++j) {
+          const double a = -1.0 + 2.0 * j / side;
+          const Vec2 q = s == 0 ? Vec2(a, -1) : s == 1 ? Vec2(1, a) : s == 2 ? Vec2(-a, 1) : Vec2(-1, -a);
+          C.row(i++) = 100.0 * q.transpose();  // pixels
+        }
+      for (; i < m; ++i) C.row(i) = (100.0 * Vec2(2 * u(rng) - 1, 2 * u(rng) - 1)).transpose();
+      Problem p{C, trial % 4 == 0 ? Vec2(100, 100) : Vec2(100.0 * (2 * u(rng) - 1), -100), Eigen::VectorXd(m)};
+      for (int j = 0; j < m; ++j) p.w0(j) = trial % 3 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;
+      const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
+      SampleReport r;
+      Eigen::VectorXd w = solve(p, &r);
+      ASSERT_EQ(r.status, SampleStatus::Optimal) << what << ", iterations " << r.iterations;
+      EXPECT_GE(w.minCoeff(), 0.0) << what;
+      EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
+      double objective = 0.0;
+      if (clpObjective(p, objective)) {
+        EXPECT_NEAR((w - p.w0).squaredNorm(), objective, 1e-9 * (1.0 + objective)) << what;
+      }
+      p.x += Vec2(0.5, -2.0);  // just outside
+      w = solve(p, &r);
+      ASSERT_EQ(r.status, SampleStatus::Infeasible) << what;
+      EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
+      EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
+    }
+  }
 }
 
 TEST(SampleQp, FeasibleTargetIsReturnedUnchanged) {

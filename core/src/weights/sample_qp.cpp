@@ -6,7 +6,10 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <vector>
+
+#include <Eigen/Eigenvalues>
 
 namespace kc {
 using detail::D2;
@@ -33,16 +36,31 @@ inline D2 select(D2 v, M mask) {
 /// point of this λ (the last evaluation is the returned solution). Kept to four accumulators so
 /// the loop stays in registers; the Hessian sums come from a second pass (hessianSums) that is
 /// only needed when another Newton step follows.
-void evaluateDual(const ControlFrame& frame, const double* w0, double* w, const Eigen::Vector3d& b, DualPoint& p) {
+///
+/// Incremental: p.lambda = λ + d where w holds max(0, z) of λ on entry; z on the positive set
+/// S = {i : w_i > 0} is updated as z_S = w_S + A_Sᵀd, elsewhere z = w0 + Aᵀ(λ + d). Both give
+/// the same point in exact arithmetic; the incremental form keeps the digits that w0 + Aᵀλ
+/// loses to cancellation when |λ| is large. That happens when x̂ lies on or near the hull
+/// boundary: the optimal λ then runs far along the boundary's normal, and the plain
+/// evaluation's residual stalls at about ε|λ|, above the tolerance.
+template <bool Incremental>
+void evaluate(const ControlFrame& frame, const double* w0, double* w, const Eigen::Vector3d& b, const Eigen::Vector3d& d,
+              DualPoint& p) {
   const Index m = frame.size();
   const double *cx = frame.cx(), *cy = frame.cy();
   const double l0 = p.lambda(0), l1 = p.lambda(1), l2 = p.lambda(2);
   const D2 L0 = {l0, l0}, L1 = {l1, l1}, L2 = {l2, l2}, zero = {0.0, 0.0};
+  const D2 S0 = {d(0), d(0)}, S1 = {d(1), d(1)}, S2 = {d(2), d(2)};
   D2 f = zero, gx = zero, gy = zero, g1 = zero;
   Index i = 0;
   for (; i + 1 < m; i += 2) {
     const D2 x = load2(cx + i), y = load2(cy + i);
-    const D2 z = load2(w0 + i) + (L0 * x + L1 * y + L2);
+    D2 z = load2(w0 + i) + (L0 * x + L1 * y + L2);
+    if constexpr (Incremental) {
+      const D2 wi = load2(w + i);
+      const auto on = wi > zero;
+      z = select(wi + (S0 * x + S1 * y + S2), on) + select(z, ~on);
+    }
     const D2 zp = select(z, z > zero);
     store2(w + i, zp);
     f += zp * zp;
@@ -52,7 +70,8 @@ void evaluateDual(const ControlFrame& frame, const double* w0, double* w, const 
   }
   double t[4] = {f[0] + f[1], gx[0] + gx[1], gy[0] + gy[1], g1[0] + g1[1]};
   if (i < m) {
-    const double z = w0[i] + (l0 * cx[i] + l1 * cy[i] + l2);
+    double z = w0[i] + (l0 * cx[i] + l1 * cy[i] + l2);
+    if (Incremental && w[i] > 0.0) z = w[i] + (d(0) * cx[i] + d(1) * cy[i] + d(2));
     const double zp = z > 0.0 ? z : 0.0;
     w[i] = zp;
     t[0] += zp * zp;
@@ -62,6 +81,10 @@ void evaluateDual(const ControlFrame& frame, const double* w0, double* w, const 
   }
   p.f = 0.5 * t[0] - b.dot(p.lambda);
   p.g = Eigen::Vector3d(t[1] - b(0), t[2] - b(1), t[3] - b(2));
+}
+
+void evaluateDual(const ControlFrame& frame, const double* w0, double* w, const Eigen::Vector3d& b, DualPoint& p) {
+  evaluate<false>(frame, w0, w, b, Eigen::Vector3d::Zero(), p);
 }
 
 /// The generalized Hessian A_S A_Sᵀ over S = {i : w_i > 0} (w from evaluateDual) as six sums.
@@ -97,50 +120,135 @@ void hessianSums(const ControlFrame& frame, const double* w, DualPoint& p) {
   }
 }
 
-/// Solves (H + δI) d = rhs for the symmetric positive semidefinite H given as six sums: by the
-/// adjugate when H is well conditioned, else by a 3×3 LDLᵀ factorization with pivot checks;
-/// δ > 0 only when a pivot falls below 1e-12·trace,
-/// i.e. H is (nearly) singular (Levenberg term for rank-deficient positive sets).
-Eigen::Vector3d newtonStep(const double* h, const Eigen::Vector3d& rhs) {
-  {
-    // Fast path for a well-conditioned H (Hadamard ratio det H / (h00 h11 h22) ≥ 1e-6): the
-    // adjugate needs a single division.
-    const double a00 = h[0], a01 = h[1], a02 = h[2], a11 = h[3], a12 = h[4], a22 = h[5];
-    const double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22, c02 = a01 * a12 - a02 * a11;
-    const double det = a00 * c00 + a01 * c01 + a02 * c02;
-    if (det > 1e-6 * a00 * a11 * a22 && det > 0.0) {
-      const double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
-      const double id = 1.0 / det;
-      return Eigen::Vector3d((c00 * rhs(0) + c01 * rhs(1) + c02 * rhs(2)) * id,
-                             (c01 * rhs(0) + c11 * rhs(1) + c12 * rhs(2)) * id,
-                             (c02 * rhs(0) + c12 * rhs(1) + c22 * rhs(2)) * id);
-    }
-  }
+/// Solves H d = rhs for the symmetric H given as six sums by the adjugate when H is well
+/// conditioned (Hadamard ratio det H / (h00 h11 h22) ≥ 1e-6: a single division). Returns false
+/// otherwise.
+bool adjugateStep(const double* h, const Eigen::Vector3d& rhs, Eigen::Vector3d& d) {
+  const double a00 = h[0], a01 = h[1], a02 = h[2], a11 = h[3], a12 = h[4], a22 = h[5];
+  const double c00 = a11 * a22 - a12 * a12, c01 = a02 * a12 - a01 * a22, c02 = a01 * a12 - a02 * a11;
+  const double det = a00 * c00 + a01 * c01 + a02 * c02;
+  if (!(det > 1e-6 * a00 * a11 * a22 && det > 0.0)) return false;
+  const double c11 = a00 * a22 - a02 * a02, c12 = a01 * a02 - a00 * a12, c22 = a00 * a11 - a01 * a01;
+  const double id = 1.0 / det;
+  d = Eigen::Vector3d((c00 * rhs(0) + c01 * rhs(1) + c02 * rhs(2)) * id, (c01 * rhs(0) + c11 * rhs(1) + c12 * rhs(2)) * id,
+                      (c02 * rhs(0) + c12 * rhs(1) + c22 * rhs(2)) * id);
+  return true;
+}
+
+/// Solves H d = rhs for the symmetric positive semidefinite H given as six sums: by the adjugate
+/// when H is well conditioned, else by a 3×3 LDLᵀ factorization. Returns false when a pivot falls
+/// below 1e-12·trace, i.e. H is (nearly) singular.
+bool spdStep(const double* h, const Eigen::Vector3d& rhs, Eigen::Vector3d& d) {
+  if (adjugateStep(h, rhs, d)) return true;
   const double trace = h[0] + h[3] + h[5];
   const double floor = 1e-12 * (trace + 1e-300);
-  double delta = 0.0;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const double a00 = h[0] + delta, a10 = h[1], a20 = h[2], a11 = h[3] + delta, a21 = h[4], a22 = h[5] + delta;
-    if (a00 > floor) {
-      const double i0 = 1.0 / a00;
-      const double l10 = a10 * i0, l20 = a20 * i0;
-      const double d1 = a11 - l10 * a10;
-      if (d1 > floor) {
-        const double i1 = 1.0 / d1;
-        const double l21 = (a21 - l20 * a10) * i1;
-        const double d2 = a22 - l20 * a20 - l21 * l21 * d1;
-        if (d2 > floor) {
-          // L D Lᵀ d = rhs.
-          const double y0 = rhs(0), y1 = rhs(1) - l10 * y0, y2 = rhs(2) - l20 * y0 - l21 * y1;
-          const double z2 = y2 / d2, z1 = y1 * i1 - l21 * z2, z0 = y0 * i0 - l10 * z1 - l20 * z2;
-          return Eigen::Vector3d(z0, z1, z2);
-        }
-      }
-    }
-    delta = 1e-10 * (trace + 1.0);
+  const double a00 = h[0], a10 = h[1], a20 = h[2], a11 = h[3], a21 = h[4], a22 = h[5];
+  if (!(a00 > floor)) return false;
+  const double i0 = 1.0 / a00;
+  const double l10 = a10 * i0, l20 = a20 * i0;
+  const double d1 = a11 - l10 * a10;
+  if (!(d1 > floor)) return false;
+  const double i1 = 1.0 / d1;
+  const double l21 = (a21 - l20 * a10) * i1;
+  const double d2 = a22 - l20 * a20 - l21 * l21 * d1;
+  if (!(d2 > floor)) return false;
+  // L D Lᵀ d = rhs.
+  const double y0 = rhs(0), y1 = rhs(1) - l10 * y0, y2 = rhs(2) - l20 * y0 - l21 * y1;
+  const double z2 = y2 / d2, z1 = y1 * i1 - l21 * z2, z0 = y0 * i0 - l10 * z1 - l20 * z2;
+  d = Eigen::Vector3d(z0, z1, z2);
+  return true;
+}
+
+/// −g split by the eigenvectors of a singular H: the minimum-norm Newton step −H⁺g on H's range
+/// (eigenvalues above 1e-10 of the largest) and the steepest descent −P_N g in its null space N.
+struct SingularStep {
+  Eigen::Vector3d range = Eigen::Vector3d::Zero();
+  Eigen::Vector3d null = Eigen::Vector3d::Zero();
+};
+
+SingularStep splitStep(const double* h, const Eigen::Vector3d& g) {
+  Eigen::Matrix3d H;
+  H << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(H);
+  const Eigen::Vector3d& ev = eig.eigenvalues();
+  SingularStep s;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d v = eig.eigenvectors().col(k);
+    if (ev(k) > 1e-10 * ev(2))
+      s.range -= (v.dot(g) / ev(k)) * v;
+    else
+      s.null -= v.dot(g) * v;
   }
-  // Unreachable in exact arithmetic (H + δI is positive definite); a gradient step otherwise.
-  return rhs / (1e-10 * (trace + 1.0));
+  return s;
+}
+
+/// The Newton direction at p (p.h: Hessian sums; w = max(0, z) of p). When H is singular (the
+/// positive set S lies on a line or has fewer than two controls, e.g. near a hull edge or
+/// vertex) f is linear along H's null space on the current piece, so the model has no minimizer
+/// there: the direction is the range step plus the null-space descent taken to the minimizer
+/// past the first breakpoint (ratio test over the inactive controls: the smallest s ≥ 0 with
+/// z_i + a_iᵀ(range + s·null) = 0). A fixed Levenberg term would crawl instead when the
+/// null-space gradient is small (a sample within ~1e-10 of an edge line).
+Eigen::Vector3d newtonDirection(const ControlFrame& frame, const double* w0, const double* w, const DualPoint& p) {
+  Eigen::Vector3d d;
+  if (spdStep(p.h, -p.g, d)) return d;
+  const SingularStep s = splitStep(p.h, p.g);
+  if (s.null.squaredNorm() == 0.0) return s.range;
+  const Index m = frame.size();
+  const double *cx = frame.cx(), *cy = frame.cy();
+  const Eigen::Vector3d l = p.lambda + s.range;
+  // Controls on the line of S have rate 0 up to rounding: they never activate along the null space.
+  const double noise = 1e-12 * s.null.lpNorm<1>();
+  double first = std::numeric_limits<double>::infinity(), firstRate = 0.0;
+  for (Index i = 0; i < m; ++i) {
+    if (w[i] > 0.0) continue;
+    const double rate = s.null(0) * cx[i] + s.null(1) * cy[i] + s.null(2);
+    if (!(rate > noise * (std::abs(cx[i]) + std::abs(cy[i]) + 1.0))) continue;
+    const double z = w0[i] + (l(0) * cx[i] + l(1) * cy[i] + l(2));
+    const double at = std::max(0.0, -z) / rate;
+    if (at < first) {
+      first = at;
+      firstRate = rate;
+    }
+  }
+  // No breakpoint: f decreases along the null space without bound (x̂ outside the hull up to
+  // rounding); a long step, which the line search shortens.
+  if (!std::isfinite(first)) return s.range + 1e10 * s.null;
+  // Along s·null, f' = −|null|² up to the breakpoint, then −|null|² + rate²(s − first): its
+  // minimizer if no other control activates on the way (the line search checks).
+  return s.range + (first + s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
+}
+
+/// The minimum-norm solution −H⁺g: the Newton step when H is regular; when it is singular, the
+/// range part only, which does not move λ along the null space (where g holds only rounding
+/// noise once the positive set is the optimal one).
+Eigen::Vector3d rangeStep(const double* h, const Eigen::Vector3d& g) {
+  Eigen::Vector3d d;
+  if (spdStep(h, -g, d)) return d;
+  return splitStep(h, g).range;
+}
+
+/// Below this gradient norm, Newton first tries to finish in one step (polish).
+constexpr double kPolishGradient = 1e-6;
+
+enum class Polish { Certified, Improved, Rejected };
+
+/// Near the optimum, the full step on the current positive set S: λ + H⁺(−g), evaluated
+/// incrementally on S (evaluate<true>). Certified: |A w − b|∞ ≤ tolerance. Improved: not
+/// certified but |g|∞ decreased (e.g. a control with a rounding-level weight left S), so the
+/// point is taken as the next iterate; the line search could not judge it, because f itself
+/// carries the rounding error ε|bᵀλ|. In both cases the result is in `trial` and w. Rejected:
+/// w is restored to max(0, z) of p. p.h must hold the Hessian sums of p.
+Polish polish(const ControlFrame& frame, const Eigen::Vector3d& b, const double* w0, double* w, DualPoint& p,
+              DualPoint& trial, double tolerance) {
+  const Eigen::Vector3d d = rangeStep(p.h, p.g);
+  trial.lambda = p.lambda + d;
+  evaluate<true>(frame, w0, w, b, d, trial);
+  const double g = trial.g.lpNorm<Eigen::Infinity>();
+  if (g <= tolerance) return Polish::Certified;
+  if (g < p.g.lpNorm<Eigen::Infinity>()) return Polish::Improved;
+  evaluateDual(frame, w0, w, b, p);
+  return Polish::Rejected;
 }
 
 /// Dual semismooth Newton for the projection of w0 onto {w ≥ 0, Aw = b}, from the evaluated
@@ -153,8 +261,16 @@ bool dualNewton(const ControlFrame& frame, const Eigen::Vector3d& b, const doubl
   while (!ok && it < options.maxIterations) {
     ++it;
     hessianSums(frame, w, p);  // w = max(0, z) of p
-    const Eigen::Vector3d d = newtonStep(p.h, -p.g);
-    const double slope = p.g.dot(d);  // < 0: H + δI is positive definite
+    if (p.g.lpNorm<Eigen::Infinity>() <= kPolishGradient) {
+      const Polish result = polish(frame, b, w0, w, p, trial, options.tolerance);
+      if (result != Polish::Rejected) {
+        std::swap(p, trial);
+        ok = result == Polish::Certified;
+        continue;
+      }
+    }
+    const Eigen::Vector3d d = newtonDirection(frame, w0, w, p);
+    const double slope = p.g.dot(d);  // < 0: a descent direction
     double t = 1.0;
     const double gNorm = p.g.lpNorm<Eigen::Infinity>();
     for (int ls = 0; ls < 80; ++ls) {
@@ -226,10 +342,11 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
     }
     if (ok) return report;
   }
-  // Not certified: the QEC solution keeps partition of unity and reproduction exact.
-  sampleQec(frame, xh, w0, w);
+  // Not certified: the last iterate projected onto Aw = b (QEC with the iterate as target) keeps
+  // partition of unity and reproduction exact and moves w only by the small residual, so the
+  // weights keep the QP's character (local, non-negative up to that residual).
+  sampleQec(frame, xh, w, w);
   report.status = SampleStatus::Failed;
-  report.residual = 0.0;
   return report;
 }
 

@@ -11,7 +11,7 @@ namespace kc {
 enum class SampleStatus {
   Optimal,     ///< KKT conditions certified to the tolerance.
   Infeasible,  ///< QP only: x outside the control points' convex hull; fallback solution returned.
-  Failed,      ///< No certified optimum within the iteration limit; fallback (QEC) returned.
+  Failed,      ///< No certified optimum within the iteration limit; the solver's documented fallback returned.
 };
 
 struct QpOptions {
@@ -45,7 +45,14 @@ struct SampleReport {
 /// Partition of unity and reproduction stay exact, the most negative weight is as small as any
 /// affine-reproducing weights allow, and the weights are continuous across the hull boundary
 /// (t → 0 there), unlike switching to QEC, which would jump. Reported as Infeasible.
-/// If Newton is not certified (never seen in tests), w = the QEC solution and status Failed.
+/// On and near the hull boundary the optimal λ is large (it runs along the boundary's normal) and
+/// the positive set often lies on one line (H singular): the last step is then evaluated
+/// incrementally on the positive set, which avoids the cancellation in w0 + Aᵀλ, and on a
+/// singular H the step along its null space goes to the first control that becomes positive.
+/// If Newton is not certified within maxIterations (not seen in the tests, which include samples
+/// on hull edges and vertices for m up to 3,000), w = the last iterate projected onto Aw = b
+/// (exact constraints, moved only by the residual) and status Failed; report.residual is the
+/// iterate's residual before that projection.
 ///
 /// w0, w: length m; w must not alias w0. xh: normalized position (ControlFrame::normalize).
 SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, std::span<double> w,
