@@ -125,7 +125,7 @@ void benchStroke(const BenchArgs& a) {
     std::vector<Index> columns;
     app::reoptimize(s, Method::QP, rows, &columns);
     const auto t1 = std::chrono::steady_clock::now();
-    sampler.updateColumns(s.field.coefficients, columns, vertexWeights);
+    sampler.updateColumns(*s.field, columns, vertexWeights);
     mesh.setWeights(vertexWeights);
     const auto t2 = std::chrono::steady_clock::now();
     opt.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());

@@ -34,17 +34,21 @@ void runBind(const BindArgs& a) {
   const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageSize(a.image);
   app::BindParams p;
   p.spacing = a.spacing;
-  p.sigma = a.sigma;
+  p.kc.sigma = a.sigma;
   p.margin = a.margin;
   p.seed = a.seed;
   p.backend = a.backend;
-  p.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance");
-  p.init.iterations = a.heatIterations;
-  p.init.locality = a.locality;
-  p.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
-  p.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
+  p.kc.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance");
+  p.kc.init.iterations = a.heatIterations;
+  p.kc.init.locality = a.locality;
+  p.kc.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
+  p.kc.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
   p.sampler = parseOrThrow(a.sampler, &app::parseSamplerKind, "--sampler", "blue-noise, grid");
-  if (p.backend != "kc") throw app::InputError("--backend", "'" + p.backend + "' is not available in this build (only kc)");
+  try {
+    app::backendFor(p.backend);
+  } catch (const std::invalid_argument& e) {
+    throw app::InputError("--backend", e.what());
+  }
 
   app::BindReport r;
   app::BindProgress progress;
@@ -61,9 +65,7 @@ void runBind(const BindArgs& a) {
   std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
               static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
               static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
-  std::printf("method %s: %ld samples optimized, %ld outside the control hull (fallback), %ld fallback\n",
-              std::string(app::toString(p.method)).c_str(), static_cast<long>(r.optimize.solved),
-              static_cast<long>(r.optimize.infeasible), static_cast<long>(r.optimize.failed));
+  std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
   const app::BindTimings& t = s.timings;
   std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",
               t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);

@@ -99,7 +99,8 @@ void runExample(const std::string& dir, const std::string& name, const std::stri
   const app::BindTimings& t = s.timings;
   say(report, "\n== %s: %dx%d image, %ld control points, %ld samples, sigma %.3g px, method %s\n", name.c_str(),
       source.width, source.height, long(cage.size()), long(s.samples.size()), s.sigma,
-      std::string(app::toString(s.params.method)).c_str());
+      std::string(app::toString(s.params.kc.method)).c_str());
+  say(report, "%s\n", s.reports.summary().c_str());
   say(report, "bind %.3f s (sampling %.3f, kernel %.3f, factor %.3f, init %.3f, optimize %.3f, solve %.3f)\n", t.total,
       t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve);
   say(report, "%-34s %12s %12s %12s\n", "property", "samples", "inside", "image");

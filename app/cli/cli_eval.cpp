@@ -62,7 +62,7 @@ void addEvalCommand(CLI::App& app) {
   sub->callback([a] {
     const app::Session s = app::loadSession(a->session);
     const Points P = readPointsCsv(a->points);
-    const Weights W = s.field.weightsAt(P);
+    const Weights W = s.field->weightsAt(P);
     std::string out;
     out.reserve(static_cast<std::size_t>(W.size()) * 24 + 64);
     for (Index k = 0; k < W.cols(); ++k) out += (k ? ",w" : "w") + std::to_string(k);

@@ -31,8 +31,8 @@ void printText(const app::Session& s, const app::Diagnostics& d, const std::stri
               static_cast<long>(s.samples.size()), static_cast<long>(counts[1]), static_cast<long>(counts[3]),
               static_cast<long>(counts[4]), s.imageWidth, s.imageHeight);
   std::printf("  spacing %.4g px, sigma %.4g px, init %s, method %s, interp %s\n\n", s.params.spacing, s.sigma,
-              std::string(app::toString(s.params.init.method)).c_str(), std::string(app::toString(s.params.method)).c_str(),
-              std::string(app::toString(s.params.interp)).c_str());
+              std::string(app::toString(s.params.kc.init.method)).c_str(), std::string(app::toString(s.params.kc.method)).c_str(),
+              std::string(app::toString(s.params.kc.interp)).c_str());
   std::printf("%-38s %14s %14s %14s\n", "property", "samples (W)", "inside cage", "whole image");
   auto row = [](const char* name, double a, double b, double c) { std::printf("%-38s %14.3e %14.3e %14.3e\n", name, a, b, c); };
   row("partition of unity  max|sum w - 1|", d.samples.partitionOfUnity, d.inside.partitionOfUnity, d.image.partitionOfUnity);
@@ -50,6 +50,8 @@ void printText(const app::Session& s, const app::Diagnostics& d, const std::stri
   std::printf("  control points influencing a point (w > 1e-3/m): mean %.2f, max %d\n", d.locality.meanInfluencing,
               d.locality.maxInfluencing);
   for (std::size_t k = 1; k < d.locality.Q.size() && k <= 8; ++k) std::printf("  Q(%zu) = %.3f\n", k, d.locality.Q[k]);
+  std::printf("\n%s\n", s.reports.summary().c_str());
+  for (const std::string& p : s.reports.problems()) std::printf("  warning: %s\n", p.c_str());
   const app::BindTimings& t = s.timings;
   std::printf("\ntimings (s): sampling %.3f  kernel %.3f  factor %.3f  init %.3f  optimize %.3f  solve %.3f  bind total %.3f\n",
               t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
@@ -79,9 +81,9 @@ void addStatsCommand(CLI::App& app) {
               {"samples", s.samples.size()},
               {"sigma", s.sigma},
               {"spacing", s.params.spacing},
-              {"method", std::string(app::toString(s.params.method))},
-              {"init", std::string(app::toString(s.params.init.method))},
-              {"interp", std::string(app::toString(s.params.interp))},
+              {"method", std::string(app::toString(s.params.kc.method))},
+              {"init", std::string(app::toString(s.params.kc.init.method))},
+              {"interp", std::string(app::toString(s.params.kc.interp))},
               {"properties",
                {{"samples", rowJson(d.samples)},
                 {"inside", rowJson(d.inside)},
@@ -94,6 +96,15 @@ void addStatsCommand(CLI::App& app) {
                 {"Q", d.locality.Q},
                 {"mean_influencing", d.locality.meanInfluencing},
                 {"max_influencing", d.locality.maxInfluencing}}},
+              {"solver",
+               {{"samples_optimized", s.reports.optimize.solved},
+                {"outside_control_hull", s.reports.optimize.infeasible},
+                {"not_optimal", s.reports.optimize.failed},
+                {"max_iterations", s.reports.optimize.maxIterations},
+                {"unreachable_targets", s.reports.init.fallbackSamples},
+                {"unscreened_targets", s.reports.init.unscreenedSamples},
+                {"sampling_converged", s.reports.sampling.converged},
+                {"problems", s.reports.problems()}}},
               {"timings",
                {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                 {"optimize", t.optimize}, {"solve", t.solve}, {"total", t.total}, {"evaluate", d.evalSeconds}}}};

@@ -33,7 +33,7 @@ Weights selectRows(const Weights& W, const std::vector<Index>& rows) {
 }  // namespace
 
 Diagnostics diagnose(const Session& s, Index maxPoints) {
-  if (!s.field.ready()) throw std::invalid_argument("the session has no coordinate field (bind it first)");
+  if (!s.hasField()) throw std::invalid_argument("the session has no coordinate field (bind it first)");
   const auto t0 = std::chrono::steady_clock::now();
   Diagnostics d;
   const Points& C = s.cage.C;
@@ -46,7 +46,7 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
   Points P(static_cast<Index>(nx) * ny, 2);
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) P.row(static_cast<Index>(y) * nx + x) << (x * d.pixelStep + 0.5), (y * d.pixelStep + 0.5);
-  const Weights W = s.field.weightsAt(P);
+  const Weights W = s.field->weightsAt(P);
   d.image = measure(W, C, P);
 
   std::vector<Index> inside;
@@ -55,7 +55,7 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
   const Weights Win = selectRows(W, inside);
   d.inside = measure(Win, C, selectRows(P, inside));
 
-  d.lagrange = lagrangeError(s.field.weightsAt(C));
+  d.lagrange = lagrangeError(s.field->weightsAt(C));
 
   // 16 points strictly inside every cage edge.
   std::vector<std::array<int, 2>> ends;
@@ -68,7 +68,7 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
       E.row(k) = (1 - u) * C.row(a) + u * C.row(b);
       ends.push_back({a, b});
     }
-  d.edgeLinearity = edgeLinearityError(s.field.weightsAt(E), C, E, ends);
+  d.edgeLinearity = edgeLinearityError(s.field->weightsAt(E), C, E, ends);
 
   if (!inside.empty()) {
     const Eigen::VectorXd pixelArea = Eigen::VectorXd::Constant(static_cast<Index>(inside.size()), 1.0);

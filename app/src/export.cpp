@@ -9,15 +9,15 @@ namespace kc::app {
 
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, WarpExportReport* report,
                        FieldSampler* sampler, Weights* vertexWeights) {
-  if (!session.field.ready()) throw std::invalid_argument("the session has no coordinate field (bind first)");
+  if (!session.hasField()) throw std::invalid_argument("the session has no coordinate field (bind first)");
   WarpMesh mesh(session.imageWidth, session.imageHeight, session.cage, options);
   const auto t0 = std::chrono::steady_clock::now();
   Weights W;
   if (sampler) {
-    *sampler = FieldSampler(session.field, mesh.restVertices());
-    W = sampler->evaluate(session.field.coefficients);
+    *sampler = FieldSampler(*session.field, mesh.restVertices());
+    W = sampler->evaluate(*session.field);
   } else {
-    W = session.field.weightsAt(mesh.restVertices());
+    W = session.field->weightsAt(mesh.restVertices());
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const CompactWeightsReport cw = mesh.setWeights(W);

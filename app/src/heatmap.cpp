@@ -162,8 +162,8 @@ Image weightHeatmap(const WeightFunction& weightsAt, const Cage& cage, int width
 }
 
 Image weightHeatmap(const Session& session, Index control, const HeatmapOptions& options, HeatmapReport* report) {
-  if (!session.field.ready()) throw std::invalid_argument("heatmap: the session has no coordinate field");
-  return weightHeatmap([&](const Points& P) { return session.field.weightsAt(P); }, session.cage,
+  if (!session.hasField()) throw std::invalid_argument("heatmap: the session has no coordinate field");
+  return weightHeatmap([&](const Points& P) { return session.field->weightsAt(P); }, session.cage,
                        session.imageWidth, session.imageHeight, control, options, report);
 }
 

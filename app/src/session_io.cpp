@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include "json_util.h"
+#include "session_blocks.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
@@ -9,35 +10,8 @@ namespace kc::app {
 namespace {
 
 using detail::json;
-
-json weightsToJson(const Weights& W) {
-  json rows = json::array();
-  for (Index i = 0; i < W.rows(); ++i) {
-    json r = json::array();
-    for (Index k = 0; k < W.cols(); ++k) r.push_back(W(i, k));
-    rows.push_back(std::move(r));
-  }
-  return rows;
-}
-
-Weights parseWeights(const json& rows, Index n, Index m, const std::string& where, const std::string& field) {
-  if (!rows.is_array()) throw InputError(where, field + " must be an array of rows");
-  if (static_cast<Index>(rows.size()) != n)
-    throw InputError(where, field + " has " + std::to_string(rows.size()) + " rows but there are " + std::to_string(n) + " samples");
-  Weights W(n, m);
-  for (Index i = 0; i < n; ++i) {
-    const json& r = rows[static_cast<std::size_t>(i)];
-    if (!r.is_array() || static_cast<Index>(r.size()) != m)
-      throw InputError(where, field + "[" + std::to_string(i) + "] must have " + std::to_string(m) + " weights (one per control point)");
-    for (Index k = 0; k < m; ++k) {
-      const json& v = r[static_cast<std::size_t>(k)];
-      if (!v.is_number() || !std::isfinite(v.get<double>()))
-        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is not a finite number");
-      W(i, k) = v.get<double>();
-    }
-  }
-  return W;
-}
+using detail::parseWeights;
+using detail::weightsToJson;
 
 template <class E>
 E parseEnum(const json& params, const char* key, E fallback, bool (*parse)(std::string_view, E&), const std::string& where) {
@@ -71,12 +45,12 @@ std::string sessionToJson(const Session& s) {
   const BindParams& p = s.params;
   json params = {{"spacing", p.spacing},
                  {"sigma", s.sigma},
-                 {"sigma_auto", !(p.sigma > 0.0)},
-                 {"init", std::string(toString(p.init.method))},
-                 {"heat_iterations", p.init.iterations},
-                 {"locality", p.init.locality},
-                 {"method", std::string(toString(p.method))},
-                 {"interp", std::string(toString(p.interp))},
+                 {"sigma_auto", !(p.kc.sigma > 0.0)},
+                 {"init", std::string(toString(p.kc.init.method))},
+                 {"heat_iterations", p.kc.init.iterations},
+                 {"locality", p.kc.init.locality},
+                 {"method", std::string(toString(p.kc.method))},
+                 {"interp", std::string(toString(p.kc.interp))},
                  {"backend", p.backend},
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
@@ -86,10 +60,13 @@ std::string sessionToJson(const Session& s) {
             {"image_size", {s.imageWidth, s.imageHeight}},
             {"params", params},
             {"samples", samplesToJson(s.samples)},
-            {"weights", {{"initial", weightsToJson(s.W0)}, {"optimized", weightsToJson(s.W)}}},
+            {"weights", {{"optimized", weightsToJson(s.W)}}},
             {"lines", json::array()},
             {"rigid", json::array()},
             {"image", s.image}};
+  if (s.W0.rows() > 0) j["weights"]["initial"] = weightsToJson(s.W0);  // a backend without targets has none
+  if (const json field = detail::fieldToJson(s); !field.is_null()) j["field"] = field;
+  j["reports"] = detail::reportsToJson(s.reports);
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
   const BindTimings& t = s.timings;
   j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
@@ -121,24 +98,29 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   s.sigma = detail::finiteNumber(detail::require(params, "sigma", where), where, "params.sigma");
   if (!(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
   const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
-  p.sigma = sigmaAuto ? 0.0 : s.sigma;
-  p.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
+  p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
+  p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
   if (params.contains("heat_iterations")) {
     if (!params["heat_iterations"].is_number_integer() || params["heat_iterations"].get<long>() < 0)
       throw InputError(where, "params.heat_iterations must be a whole number ≥ 0");
-    p.init.iterations = params["heat_iterations"].get<int>();
+    p.kc.init.iterations = params["heat_iterations"].get<int>();
   }
   if (params.contains("locality")) {
-    p.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // 0 off, < 0 automatic
+    p.kc.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // 0 off, < 0 automatic
   } else {
-    p.init.locality = 0.0;  // sessions written before the option existed
+    p.kc.init.locality = 0.0;  // sessions written before the option existed
   }
-  p.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
-  p.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);
+  p.kc.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
+  p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, &parseSamplerKind, where);
   if (params.contains("backend")) {
-    if (!params["backend"].is_string() || params["backend"].get<std::string>() != "kc")
-      throw InputError(where, "params.backend " + params["backend"].dump() + " is not supported (only \"kc\")");
+    if (!params["backend"].is_string()) throw InputError(where, "params.backend must be a name");
+    p.backend = params["backend"].get<std::string>();
+    try {
+      backendFor(p.backend);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, std::string("params.") + e.what());
+    }
   }
   if (params.contains("margin")) p.margin = detail::finiteNumber(params["margin"], where, "params.margin");
   if (params.contains("seed")) {
@@ -182,7 +164,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
                                   " (the first samples must be the control points)");
 
   const json& weights = detail::require(j, "weights", where);
-  s.W0 = parseWeights(detail::require(weights, "initial", where), n, m, where, "weights.initial");
+  if (weights.contains("initial")) s.W0 = parseWeights(weights["initial"], n, m, where, "weights.initial");
   s.W = parseWeights(detail::require(weights, "optimized", where), n, m, where, "weights.optimized");
   if (j.contains("pose") && !j["pose"].is_null()) s.pose = detail::parsePose(j["pose"], s.cage.C, where, "pose");
   if (j.contains("image")) {
@@ -194,8 +176,16 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     auto get = [&](const char* k) { return t.contains(k) && t[k].is_number() ? t[k].get<double>() : 0.0; };
     s.timings = {get("sampling"), get("assemble"), get("factor"), get("init"), get("optimize"), get("solve"), get("total")};
   }
-  const InterpolatorReport report = refreshField(s);
-  if (report.status != FactorStatus::Ok) throw InputError(where, "the kernel matrix of these samples cannot be factorized: " + report.advice);
+  if (j.contains("reports")) s.reports = detail::reportsFromJson(j["reports"]);
+  // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
+  const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
+  if (!built) {
+    try {
+      refreshField(s);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, e.what());
+    }
+  }
   return s;
 }
 

@@ -8,6 +8,8 @@
 #include "kc/app/field_sampler.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/field/kernel_field.h"
+#include "kc/core/field/mesh_field.h"
 
 namespace kc::app {
 namespace {
@@ -44,7 +46,9 @@ TEST(Session, SaveLoadRoundTripIsBitExact) {
   EXPECT_EQ(t.pose[2].rotate, 0.25);
   Points P(3, 2);
   P << 20, 30, 40.5, 17.25, 1, 63;
-  EXPECT_EQ(t.field.weightsAt(P), s.field.weightsAt(P));
+  EXPECT_EQ(t.field->weightsAt(P), s.field->weightsAt(P));
+  const auto j = nlohmann::json::parse(sessionToJson(s));
+  EXPECT_EQ(j["field"]["kind"], "kernel");
 }
 
 TEST(Session, CorruptFieldsAreNamed) {
@@ -104,9 +108,10 @@ TEST(Session, ReoptimizeSubsetTouchesOnlyThoseRows) {
   reoptimize(s, Method::QP, painted, &columns);
   EXPECT_FALSE(columns.empty());
   // Only the changed columns were re-solved, yet the field equals a full solve.
-  const KernelCoefficients full = s.field.interpolator.solve(s.W);
-  EXPECT_LT((full.U - s.field.coefficients.U).cwiseAbs().maxCoeff(), 1e-9 * full.U.cwiseAbs().maxCoeff());
-  EXPECT_LT((full.B - s.field.coefficients.B).cwiseAbs().maxCoeff(), 1e-9);
+  const auto& field = dynamic_cast<const KernelField&>(*s.field);
+  const KernelCoefficients full = field.interpolator().solve(s.W);
+  EXPECT_LT((full.U - field.kernelCoefficients().U).cwiseAbs().maxCoeff(), 1e-9 * full.U.cwiseAbs().maxCoeff());
+  EXPECT_LT((full.B - field.kernelCoefficients().B).cwiseAbs().maxCoeff(), 1e-9);
   for (Index c = 0; c < s.W.cols(); ++c) {
     const bool listed = std::find(columns.begin(), columns.end(), c) != columns.end();
     bool differs = false;
@@ -129,21 +134,128 @@ TEST(FieldSampler, MatchesTheFieldAndUpdatesOnlyGivenColumns) {
   Session s = smallSession();
   Points P(200, 2);
   for (Index i = 0; i < P.rows(); ++i) P.row(i) << 0.3 * static_cast<double>(i % 20) * 10.0 + 1.5, 0.31 * static_cast<double>(i / 10) * 10.0;
-  const FieldSampler sampler(s.field, P);
-  const Weights direct = s.field.weightsAt(P);
-  Weights W = sampler.evaluate(s.field.coefficients);
+  const FieldSampler sampler(*s.field, P);
+  const Weights direct = s.field->weightsAt(P);
+  Weights W = sampler.evaluate(*s.field);
   EXPECT_LT((W - direct).cwiseAbs().maxCoeff(), 1e-12);
-  // Change the coefficients of column 2 only: updating column 2 alone gives the full result.
-  KernelCoefficients coef = s.field.coefficients;
-  coef.U.col(2) *= 0.5;
-  coef.B.col(2) *= 0.5;
-  const Weights expected = sampler.evaluate(coef);
-  const Weights old = W;
+  // Change the sample weights of column 2 only and update that column of the field: updating
+  // column 2 alone at the cached points gives the full result.
+  Weights Ws = s.W;
+  Ws.col(2) *= 0.5;
   const Index cols[] = {2};
-  sampler.updateColumns(coef, cols, W);
+  s.field->update(Ws, cols);
+  const Weights expected = sampler.evaluate(*s.field);
+  const Weights old = W;
+  sampler.updateColumns(*s.field, cols, W);
   EXPECT_LT((W - expected).cwiseAbs().maxCoeff(), 1e-14);
   for (Index c : {0, 1, 3}) EXPECT_EQ(W.col(c), old.col(c));
   EXPECT_NE(W.col(2), old.col(2));
+}
+
+
+/// A session whose field is a hand-built mesh (what a mesh backend such as LBC stores): the square
+/// cage's corners plus its centre, four triangles, per-vertex weights, no targets.
+Session meshSession() {
+  Session s;
+  s.cage = squareCage();
+  s.imageWidth = s.imageHeight = 64;
+  s.sigma = 1.0;  // unused by a mesh field; params.sigma must stay valid
+  Points V(5, 2);
+  V << s.cage.C, 32, 32;
+  Weights W = Weights::Zero(5, 4);
+  for (Index i = 0; i < 4; ++i) W(i, i) = 1.0;
+  W.row(4).setConstant(0.25);
+  s.samples.X = V;
+  s.samples.kind = {SampleKind::Control, SampleKind::Control, SampleKind::Control, SampleKind::Control, SampleKind::Interior};
+  s.samples.edge.setConstant(5, 2, -1);
+  s.W = W;
+  s.field = std::make_unique<MeshField>(V, Triangles{{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}, W);
+  return s;
+}
+
+TEST(Session, MeshFieldRoundTrip) {
+  const auto dir = test::scratchDir("session_mesh");
+  const Session s = meshSession();
+  const std::string path = (dir / "mesh.kcw.json").string();
+  saveSession(path, s);
+  const auto j = nlohmann::json::parse(readTextFile(path));
+  EXPECT_EQ(j["field"]["kind"], "mesh");
+  EXPECT_EQ(j["field"]["triangles"].size(), 4u);
+  EXPECT_FALSE(j["weights"].contains("initial"));  // no targets
+  const Session t = loadSession(path);
+  const auto* mesh = dynamic_cast<const MeshField*>(t.field.get());
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_EQ(mesh->vertices(), dynamic_cast<const MeshField&>(*s.field).vertices());
+  EXPECT_EQ(mesh->triangles(), dynamic_cast<const MeshField&>(*s.field).triangles());
+  Points P(3, 2);
+  P << 20, 30, 40.5, 17.25, 1, 1;  // the last point is outside the mesh
+  EXPECT_EQ(t.field->weightsAt(P), s.field->weightsAt(P));
+  EXPECT_NEAR(t.field->weightsAt(P).row(0).sum(), 1.0, 1e-12);
+  EXPECT_FALSE(t.field->contains(Vec2(1, 1)));
+  // What the GUI greys out: no targets to paint or re-optimize, no weights outside the mesh.
+  const BackendCapabilities caps = sessionCapabilities(t);
+  EXPECT_FALSE(caps.painting);
+  EXPECT_FALSE(caps.methods);
+  EXPECT_FALSE(caps.outsideCage);
+  EXPECT_FALSE(caps.why.empty());
+  Session u = loadSession(path);
+  EXPECT_THROW(reoptimize(u, Method::QP), std::invalid_argument);
+}
+
+TEST(Session, MalformedMeshFieldIsNamed) {
+  const auto dir = test::scratchDir("session_mesh_bad");
+  nlohmann::json j = nlohmann::json::parse(sessionToJson(meshSession()));
+  j["field"]["triangles"][2] = {2, 3, 9};
+  const std::string path = (dir / "bad.kcw.json").string();
+  test::writeText(path, j.dump());
+  try {
+    loadSession(path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field.triangles[2] refers to vertex 9"), std::string::npos) << e.what();
+  }
+  j["field"]["kind"] = "voxels";
+  test::writeText(path, j.dump());
+  EXPECT_THROW(loadSession(path), InputError);
+}
+
+TEST(Session, SolverReportsAreSavedAndRead) {
+  const auto dir = test::scratchDir("session_reports");
+  Session s = smallSession();
+  EXPECT_GT(s.reports.optimize.solved, 0);
+  s.reports.optimize.failed = 3;
+  s.reports.init.fallbackSamples = 2;
+  const std::string path = (dir / "r.kcw.json").string();
+  saveSession(path, s);
+  const auto j = nlohmann::json::parse(readTextFile(path));
+  EXPECT_EQ(j["reports"]["optimize"]["failed"], 3);
+  EXPECT_EQ(j["reports"]["problems"].size(), 2u);
+  const Session t = loadSession(path);
+  EXPECT_EQ(t.reports.optimize.failed, 3);
+  EXPECT_EQ(t.reports.optimize.solved, s.reports.optimize.solved);
+  EXPECT_EQ(t.reports.init.fallbackSamples, 2);
+  EXPECT_TRUE(t.reports.anyProblem());
+  EXPECT_NE(t.reports.summary().find("WARNING"), std::string::npos);
+}
+
+TEST(Session, OldFormatSessionStillLoads) {
+  // Written by kcwarp-cli bind before the field and reports blocks existed (checked in).
+  const std::string path = std::string(KC_SOURCE_DIR) + "/tests/data/old_format.kcw.json";
+  const auto j = nlohmann::json::parse(readTextFile(path));
+  ASSERT_FALSE(j.contains("field"));
+  ASSERT_FALSE(j.contains("reports"));
+  const Session s = loadSession(path);
+  ASSERT_TRUE(s.hasField());
+  EXPECT_NE(dynamic_cast<const KernelField*>(s.field.get()), nullptr);
+  EXPECT_EQ(s.W0.rows(), s.samples.size());
+  EXPECT_FALSE(s.reports.anyProblem());
+  // The rebuilt field interpolates the stored weights (Lagrange at the samples) and is a partition of unity.
+  const Weights W = s.field->weightsAt(s.samples.X);
+  EXPECT_LT((W - s.W).cwiseAbs().maxCoeff(), 1e-9);
+  Points P(1, 2);
+  P << 30.5, 29.25;
+  EXPECT_NEAR(s.field->weightsAt(P).row(0).sum(), 1.0, 1e-9);
+  EXPECT_TRUE(sessionCapabilities(s).painting);
 }
 
 }  // namespace

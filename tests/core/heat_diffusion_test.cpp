@@ -57,6 +57,14 @@ SampleSet sampleCage(const Cage& cage, double h, double margin) {
   return S;
 }
 
+/// A side×side square with controls at its corners and edge midpoints (counter-clockwise from 0, 0).
+Cage squareWithMidpoints(double side) {
+  const double a = side / 2;
+  Points C(8, 2);
+  C << 0, 0, a, 0, side, 0, side, a, side, side, a, side, 0, side, 0, a;
+  return Cage::polygon(C);
+}
+
 GaussianKernel kernelFor(double h) { return GaussianKernel::forSpacing(3.0 * h / std::numbers::pi, h); }
 
 /// U-shaped cage: two arms separated by a notch 3 units wide (narrower than the kernel's reach).
@@ -160,9 +168,8 @@ TEST(HeatDiffusion, IterationsConvergeToTheSteadyState) {
 TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
   // A square with controls at its corners and edge midpoints: unscreened (harmonic-like) targets
   // near one corner still take a share from the far controls; screened ones (almost) none.
-  Points C(8, 2);
-  C << 0, 0, 20, 0, 40, 0, 40, 20, 40, 40, 20, 40, 0, 40, 0, 20;
-  const Cage cage = Cage::polygon(C);
+  const Cage cage = squareWithMidpoints(40.0);
+  const Points& C = cage.C;
   const SampleSet S = sampleCage(cage, 1.0, 0.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
   InitOptions global, local;
@@ -188,6 +195,34 @@ TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
   }
   EXPECT_GT(farGlobal, 1e-3);
   EXPECT_LT(farLocal, 0.05 * farGlobal) << "global " << farGlobal << ", screened " << farLocal;
+}
+
+TEST(HeatDiffusion, ScreeningUnderflowFallsBackPerSample) {
+  // A locality so short that heat underflows (row sums < 1e-200) a few samples into the square:
+  // only those rows take the unscreened steady state; rows near the cage stay screened (local).
+  const Cage cage = squareWithMidpoints(60.0);
+  const SampleSet S = sampleCage(cage, 1.0, 0.0);
+  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
+  InitOptions global, local;
+  global.locality = 0.0;
+  local.locality = 1e-16;  // ~1e-31 per kernel hop: underflow ~7 hops (30 px) from the cage
+  InitReport report;
+  const Weights Wg = initialWeights(S, cage, K, global), Wl = initialWeights(S, cage, K, local, &report);
+  Index interior = 0;
+  for (Index i = 0; i < S.size(); ++i) interior += S.kind[static_cast<std::size_t>(i)] == SampleKind::Interior;
+  EXPECT_GT(report.unscreenedSamples, 0);
+  EXPECT_LT(report.unscreenedSamples, interior / 2);
+  ASSERT_TRUE(Wl.allFinite());
+  double farGlobal = 0.0, farLocal = 0.0;
+  for (Index i = 0; i < S.size(); ++i) {
+    EXPECT_NEAR(Wl.row(i).sum(), 1.0, 1e-9) << "row " << i;  // the positional projection's tolerance
+    EXPECT_GE(Wl.row(i).minCoeff(), 0.0);
+    if (S.kind[static_cast<std::size_t>(i)] != SampleKind::Interior || S.X.row(i).norm() > 3.0) continue;
+    farGlobal = std::max(farGlobal, Wg(i, 3) + Wg(i, 4) + Wg(i, 5));  // controls ≥ 50 away
+    farLocal = std::max(farLocal, Wl(i, 3) + Wl(i, 4) + Wl(i, 5));
+  }
+  EXPECT_GT(farGlobal, 1e-4);
+  EXPECT_LT(farLocal, 1e-3 * farGlobal) << "the corner's rows lost their screening";
 }
 
 TEST(HeatDiffusion, OneIterationIsTheRowNormalizedKernelUpdate) {

@@ -9,37 +9,15 @@
 #include <stdexcept>
 
 #include "kc/core/parallel.h"
+#include "point_problems.h"
 
 namespace kc {
 namespace {
 
-/// n×n grid of spacing h with every point jittered by up to ±jitter·h (not a grid any more).
-Points jitteredGrid(int n, double h, double jitter, unsigned seed, Vec2 origin = Vec2::Zero()) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-jitter * h, jitter * h);
-  Points X(n * n, 2);
-  for (int r = 0; r < n; ++r)
-    for (int c = 0; c < n; ++c) X.row(r * n + c) << origin.x() + c * h + u(rng), origin.y() + r * h + u(rng);
-  return X;
-}
-
-Points randomPointsIn(int count, double lo, double hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(lo, hi);
-  Points P(count, 2);
-  for (int i = 0; i < count; ++i) P.row(i) << u(rng), u(rng);
-  return P;
-}
-
-Weights randomWeights(Index rows, Index cols, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Weights W(rows, cols);
-  for (Index i = 0; i < W.size(); ++i) W.data()[i] = u(rng);
-  return W;
-}
-
-GaussianKernel kernelFor(double h) { return GaussianKernel::forSpacing(3.0 * h / std::numbers::pi, h); }
+using test::jitteredGrid;
+using test::kernelFor;
+using test::randomPointsIn;
+using test::randomWeights;
 
 class InterpolatorModes : public ::testing::TestWithParam<InterpMode> {};
 

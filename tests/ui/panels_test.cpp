@@ -41,7 +41,7 @@ TEST(BindPanel, InvalidCageDisablesBindAndShowsTheReason) {
   gui.click(s.widgets["bind"], [&] { drawSide(s); });
   pollWorker(s);
   EXPECT_TRUE(s.bound) << (s.messages.empty() ? "" : s.messages.back().text);
-  EXPECT_TRUE(s.session && s.session->field.ready());
+  EXPECT_TRUE(s.session && s.session->hasField());
   EXPECT_TRUE(s.mesh.hasWeights());
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <numbers>
 
+#include "kc/ui/heat_field.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "ui_fixture.h"
 
@@ -99,7 +100,7 @@ TEST(BrushTool, UndoRestoresWeightsBitForBit) {
   auto s = test::boundState();
   s->activeControl = 1;
   const Weights W0 = s->session->W0, W = s->session->W;
-  const auto U = s->session->field.coefficients.U;
+  const RowMatrix coef = s->session->field->coefficients();
   stroke(*s, Vec2(100, 60), Vec2(180, 90));
   ASSERT_FALSE(s->session->W == W);
   ASSERT_TRUE(undo(*s));
@@ -107,7 +108,7 @@ TEST(BrushTool, UndoRestoresWeightsBitForBit) {
   ASSERT_TRUE(s->session);
   EXPECT_TRUE(s->session->W == W);
   EXPECT_TRUE(s->session->W0 == W0);
-  EXPECT_TRUE(s->session->field.coefficients.U.isApprox(U, 1e-12));
+  EXPECT_TRUE(s->session->field->coefficients().isApprox(coef, 1e-12));
   ASSERT_TRUE(redo(*s));
   pollWorker(*s);
   EXPECT_FALSE(s->session->W == W);
@@ -131,13 +132,27 @@ TEST(MethodSwitch, KeepsPaintedTargets) {
   pollWorker(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->method, Method::L1);
-  EXPECT_EQ(s->session->params.method, Method::L1);
+  EXPECT_EQ(s->session->params.kc.method, Method::L1);
   EXPECT_TRUE(s->session->W0 == painted);
   EXPECT_FALSE(s->session->W == Wqp);
+  // The undo entry holds the two methods, not four weight matrices.
+  ASSERT_EQ(s->undo.undoCount(), 2u);
+  const auto* edit = std::get_if<MethodEdit>(&s->undo.nextUndo()->edit);
+  ASSERT_NE(edit, nullptr);
+  EXPECT_EQ(edit->before, Method::QP);
+  EXPECT_EQ(edit->after, Method::L1);
+  const Weights Wl1 = s->session->W;
   ASSERT_TRUE(undo(*s));  // back to QP, bit for bit
   pollWorker(*s);
+  ASSERT_TRUE(s->session);
   EXPECT_EQ(s->method, Method::QP);
   EXPECT_TRUE(s->session->W == Wqp);
+  EXPECT_TRUE(s->session->W0 == painted);
+  ASSERT_TRUE(redo(*s));  // and forward again
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->method, Method::L1);
+  EXPECT_TRUE(s->session->W == Wl1);
 }
 
 TEST(CageTool, ClicksBuildAndCloseAPolygon) {
@@ -172,6 +187,25 @@ TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {
   s.source = Image(128, 128, Rgba{1, 2, 3, 255});
   EXPECT_FALSE(startBind(s));
   EXPECT_FALSE(s.worker.busy());
+}
+
+TEST(Jobs, ReoptimizationBorrowsTheMeshWeightsLikeTheSession) {
+  auto s = test::boundState();
+  ASSERT_TRUE(s->meshSource);
+  const AppState::MeshSource* source = s->meshSource.get();
+  ASSERT_TRUE(switchMethod(*s, Method::QEC));
+  // While the job holds them, the main thread has neither the session nor the mesh's weights.
+  EXPECT_EQ(s->session, nullptr);
+  EXPECT_EQ(s->meshSource, nullptr);
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  ASSERT_EQ(s->meshSource.get(), source);
+  // The heatmap's numbers are the field's own at the mesh vertices.
+  const Weights direct = s->session->field->weightsAt(s->mesh.restVertices());
+  EXPECT_LT((s->meshSource->W - direct).cwiseAbs().maxCoeff(), 1e-12);
+  const std::vector<double> w = controlWeights(s->meshSource->W, 2);
+  ASSERT_EQ(static_cast<Index>(w.size()), direct.rows());
+  for (Index v = 0; v < direct.rows(); v += 97) EXPECT_EQ(w[static_cast<std::size_t>(v)], s->meshSource->W(v, 2));
 }
 
 }  // namespace

@@ -76,6 +76,9 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
           setPose(state, p);
         } else if constexpr (std::is_same_v<T, CageEdit>) {
           setDraftCage(state, forward ? edit.after : edit.before);
+        } else if constexpr (std::is_same_v<T, MethodEdit>) {
+          if (!state.session) return false;
+          return startMethod(state, forward ? edit.after : edit.before, false);
         } else {
           if (!state.session) return false;
           return startRestoreWeights(state, edit.rows, forward ? edit.W0After : edit.W0Before,
@@ -85,6 +88,9 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
       },
       entry.edit);
 }
+
+/// Weight edits and method switches run on the worker with the session.
+bool needsSession(const Edit& e) { return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e); }
 
 bool endInteractions(AppState& state) {
   state.poseTool.cancel(state);
@@ -98,7 +104,7 @@ bool endInteractions(AppState& state) {
 bool undo(AppState& state) {
   if (!state.undo.canUndo()) return false;
   endInteractions(state);
-  if (std::holds_alternative<WeightEdit>(state.undo.nextUndo()->edit) && !state.session) {
+  if (needsSession(state.undo.nextUndo()->edit) && !state.session) {
     postMessage(state, "Busy: undo after the current job has finished.", false);
     return false;
   }
@@ -116,7 +122,7 @@ bool undo(AppState& state) {
 bool redo(AppState& state) {
   if (!state.undo.canRedo()) return false;
   endInteractions(state);
-  if (std::holds_alternative<WeightEdit>(state.undo.nextRedo()->edit) && !state.session) {
+  if (needsSession(state.undo.nextRedo()->edit) && !state.session) {
     postMessage(state, "Busy: redo after the current job has finished.", false);
     return false;
   }

@@ -7,13 +7,10 @@
 
 namespace kc::ui {
 
-std::vector<double> vertexWeights(const WarpMesh& mesh, Index control) {
-  const auto& W = mesh.weights();
+std::vector<double> controlWeights(const Weights& W, Index control) {
   std::vector<double> w(static_cast<std::size_t>(W.rows()), 0.0);
   if (control < 0 || control >= W.cols()) return w;
-  for (Index v = 0; v < W.outerSize(); ++v)
-    for (WarpMesh::SparseWeights::InnerIterator it(W, v); it; ++it)
-      if (it.col() == control) w[static_cast<std::size_t>(v)] = it.value();
+  for (Index v = 0; v < W.rows(); ++v) w[static_cast<std::size_t>(v)] = W(v, control);
   return w;
 }
 

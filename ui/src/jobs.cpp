@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "kc/app/diagnostics.h"
 #include "kc/app/export.h"
@@ -20,10 +21,12 @@ using SessionPtr = std::shared_ptr<app::Session>;
 using MeshPtr = std::shared_ptr<WarpMesh>;
 using SourcePtr = std::shared_ptr<AppState::MeshSource>;
 
-/// Installs a new display mesh (after a weight change) and hands the session back.
+/// Installs a new display mesh (after a weight change) and hands the session and the mesh's
+/// weight source back.
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
-  state.method = state.session->params.method;
+  state.method = state.session->params.kc.method;
+  state.reports = state.session->reports;
   if (mesh) {
     state.mesh = std::move(*mesh);
     ++state.meshRevision;
@@ -32,12 +35,32 @@ void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePt
   state.diagnostics.reset();
 }
 
-/// A closure that hands the session back and reports `text` as an error.
-Worker::Apply failure(SessionPtr session, std::string text) {
-  return [session, text](AppState& st) {
+/// A closure that hands the session (and the borrowed mesh source) back and reports `text` as an error.
+Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source = nullptr) {
+  return [session, text, source](AppState& st) {
     if (session) st.session = session;
+    if (source) st.meshSource = source;
     postMessage(st, text, true);
   };
+}
+
+/// Restores the session's field and the vertex weights from W after a failed job (they may be half updated).
+void rebuildFromW(app::Session& s, AppState::MeshSource& source) {
+  try {
+    if (s.field) {
+      s.field->update(s.W);
+      source.W = source.sampler.evaluate(*s.field);
+    }
+  } catch (const std::exception&) {
+  }
+}
+
+/// Posts the solver problems of a bind or re-optimization (warning colour) or nothing.
+void postSolverProblems(AppState& st, const OptimizeReport& r, const char* what) {
+  if (r.failed == 0) return;
+  char text[200];
+  std::snprintf(text, sizeof text, "%s: %ld samples not solved to optimality (fallback weights used).", what, long(r.failed));
+  postMessage(st, text, true);
 }
 
 bool canStart(AppState& state, const char* what) {
@@ -70,7 +93,9 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.bound = true;
   state.boundCage = s.cage;
   state.samples = s.samples;
-  state.method = s.params.method;
+  state.method = s.params.kc.method;
+  state.capabilities = app::sessionCapabilities(s);
+  state.reports = s.reports;
   state.bindParams = s.params;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
@@ -116,6 +141,7 @@ bool startBind(AppState& state) {
         std::snprintf(text, sizeof text, "Bound %ld control points, %ld samples in %.2f s.", long(s->cage.size()),
                       long(s->samples.size()), s->timings.total);
         postMessage(st, text, false);
+        for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
       };
     } catch (const app::BindCancelled&) {
       return [previous](AppState& st) {
@@ -129,80 +155,109 @@ bool startBind(AppState& state) {
   return true;
 }
 
-bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
-  if (!state.session || !canStart(state, "re-optimize")) return false;
+namespace {
+
+/// Re-optimizes rows `rows` (all when empty) with `method` on the worker and re-weights the display
+/// mesh (only the controls whose weights changed). The session and the mesh's weight source are
+/// borrowed by the job (null in the AppState meanwhile) and handed back when it ends. `done` runs
+/// on the main thread after success, `undoFailure` on the worker when the optimization threw.
+bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, const char* title,
+                      std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure) {
   SessionPtr s = std::move(state.session);
-  SourcePtr source = state.meshSource;
+  SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
-  auto e = std::make_shared<WeightEdit>(std::move(edit));
   const auto t0 = std::chrono::steady_clock::now();
-  state.worker.submit("Re-optimizing", [s, e, label, source, mesh, t0](JobContext& ctx) -> Worker::Apply {
+  state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("optimization", 0.1);
       const auto t1 = std::chrono::steady_clock::now();
       std::vector<Index> columns;
-      const OptimizeReport r = app::reoptimize(*s, e->methodAfter, e->rows, &columns);
+      const OptimizeReport r = app::reoptimize(*s, method, rows, &columns);
       const double reoptimizeMs = msSince(t1);
       ctx.progress("warp mesh", 0.6);
       const auto t2 = std::chrono::steady_clock::now();
       // Only the controls whose weights changed are re-evaluated at the mesh vertices.
-      source->sampler.updateColumns(s->field.coefficients, columns, source->W);
+      source->sampler.updateColumns(*s->field, columns, source->W);
       mesh->setWeights(source->W);
       const double meshMs = msSince(t2);
-      e->WAfter = gatherRows(s->W, e->rows);
-      return [s, e, label, mesh, source, reoptimizeMs, meshMs, t0, solved = r.solved](AppState& st) {
+      return [s, mesh, source, done, r, reoptimizeMs, meshMs, t0](AppState& st) {
         takeBack(st, s, mesh, source);
-        st.undo.push({label, std::move(*e)});
+        if (done) done(st);
         st.unsaved = true;
         st.timings.reoptimizeMs = reoptimizeMs;
-        st.timings.reoptimizeSamples = solved;
+        st.timings.reoptimizeSamples = r.solved;
         st.timings.meshWeightsMs = meshMs;
         st.timings.releaseToPictureMs = msSince(t0);  // + this frame's deform and upload
+        postSolverProblems(st, r, "Re-optimization");
       };
     } catch (const std::exception& ex) {
-      scatterRows(s->W0, e->rows, e->W0Before);
-      if (e->WBefore.rows() > 0) scatterRows(s->W, e->rows, e->WBefore);
-      s->params.method = e->methodBefore;
-      // The field and the vertex weights may be half updated: rebuild both from W.
-      try {
-        s->field.coefficients = s->field.interpolator.solve(s->W);
-        source->W = source->sampler.evaluate(s->field.coefficients);
-      } catch (const std::exception&) {
-      }
-      return failure(s, std::string("Re-optimization failed: ") + ex.what());
+      if (undoFailure) undoFailure(*s);
+      rebuildFromW(*s, *source);
+      return failure(s, std::string("Re-optimization failed: ") + ex.what(), source);
     }
   });
   return true;
 }
 
+}  // namespace
+
+bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
+  if (!state.session || !state.meshSource || !canStart(state, "re-optimize")) return false;
+  auto e = std::make_shared<WeightEdit>(std::move(edit));
+  return submitReoptimize(
+      state, e->rows, e->methodAfter, "Re-optimizing",
+      [e, label](AppState& st) {
+        e->WAfter = gatherRows(st.session->W, e->rows);
+        st.undo.push({label, std::move(*e)});
+      },
+      [e](app::Session& s) {
+        scatterRows(s.W0, e->rows, e->W0Before);
+        if (e->WBefore.rows() > 0) scatterRows(s.W, e->rows, e->WBefore);
+        s.params.kc.method = e->methodBefore;
+      });
+}
+
+bool startMethod(AppState& state, Method method, bool record) {
+  if (!state.session || !state.meshSource || !canStart(state, "switch method")) return false;
+  const Method before = state.method;
+  std::function<void(AppState&)> done;
+  // W is a function of (W0, method) row by row (the optimizer reads only W0), so the undo entry
+  // holds the two methods and undo re-optimizes, instead of storing W before and after.
+  if (record)
+    done = [before, method](AppState& st) {
+      st.undo.push({std::string("method ") + std::string(app::toString(method)), MethodEdit{before, method}});
+    };
+  return submitReoptimize(state, {}, method, "Re-optimizing", done, [before](app::Session& s) {
+    try {
+      app::reoptimize(s, before);  // W may be half overwritten: back to the method it came from
+    } catch (const std::exception&) {
+    }
+  });
+}
+
 bool switchMethod(AppState& state, Method method) {
   if (!state.session || !canStart(state, "switch method")) return false;
   if (method == state.method) return true;
-  WeightEdit edit;
-  edit.W0Before = edit.W0After = state.session->W0;
-  edit.WBefore = state.session->W;
-  edit.methodBefore = state.method;
-  edit.methodAfter = method;
-  return startReoptimize(state, std::move(edit), std::string("method ") + std::string(app::toString(method)));
+  return startMethod(state, method, true);
 }
 
 bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const Weights& W,
                          Method method) {
-  if (!state.session || !canStart(state, "undo")) return false;
+  if (!state.session || !state.meshSource || !canStart(state, "undo")) return false;
   SessionPtr s = std::move(state.session);
-  SourcePtr source = state.meshSource;
+  SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);
   state.worker.submit("Restoring weights", [s, rows, W0, W, method, source, mesh](JobContext&) -> Worker::Apply {
     try {
       scatterRows(s->W0, rows, W0);
       scatterRows(s->W, rows, W);
-      s->params.method = method;
-      s->field.coefficients = s->field.interpolator.solve(s->W);
-      source->W = source->sampler.evaluate(s->field.coefficients);
+      s->params.kc.method = method;
+      s->field->update(s->W);
+      source->W = source->sampler.evaluate(*s->field);
       mesh->setWeights(source->W);
       return [s, mesh, source](AppState& st) { takeBack(st, s, mesh, source); };
     } catch (const std::exception& ex) {
-      return failure(s, std::string("Restoring weights failed: ") + ex.what());
+      return failure(s, std::string("Restoring weights failed: ") + ex.what(), source);
     }
   });
   return true;
@@ -219,7 +274,7 @@ void pollWorker(AppState& state) {
 }
 
 void refreshDiagnostics(AppState& state) {
-  if (!state.session || !state.session->field.ready()) return;
+  if (!state.session || !state.session->hasField()) return;
   try {
     state.diagnostics = app::diagnose(*state.session, 40000);
   } catch (const std::exception& e) {

@@ -159,15 +159,18 @@ void Renderer::uploadMesh(const AppState& state, bool warped) {
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(none.size() * 4), none.data(), GL_DYNAMIC_DRAW);
 }
 
-void Renderer::uploadHeat(AppState& state, bool warped) {
-  if (!warped) return;
+bool Renderer::uploadHeat(AppState& state, bool warped) {
+  if (!warped) return true;
+  // The field's weights at the mesh vertices; a job may be holding them (try again next frame).
+  if (!state.meshSource || state.meshSource->W.rows() != state.mesh.restVertices().rows()) return false;
   HeatRange range;
   const std::vector<Rgba> colors =
-      heatColors(vertexWeights(state.mesh, state.activeControl), state.heat.log, state.heat.logFloor, range);
+      heatColors(controlWeights(state.meshSource->W, state.activeControl), state.heat.log, state.heat.logFloor, range);
   state.heatLow = range.low;
   state.heatHigh = range.high;
   glBindBuffer(GL_ARRAY_BUFFER, m_heatBuffer);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(colors.size() * 4), colors.data(), GL_DYNAMIC_DRAW);
+  return true;
 }
 
 void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWidth, double displayHeight) {
@@ -198,10 +201,7 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
     m_deformKey = state.deformCount;
   }
   const std::uint64_t heatKey = (static_cast<std::uint64_t>(state.activeControl + 1) << 1) | (state.heat.log ? 1u : 0u);
-  if (warped && m_heatKey != heatKey) {
-    uploadHeat(state, warped);
-    m_heatKey = heatKey;
-  }
+  if (warped && m_heatKey != heatKey && uploadHeat(state, warped)) m_heatKey = heatKey;
   state.timings.uploadMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
   const View& v = state.view;

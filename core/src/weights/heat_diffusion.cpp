@@ -182,7 +182,7 @@ std::vector<char> reachableFromKnown(const SparseRowMatrix& R, const std::vector
 /// (screened diffusion), so heat from an edge decays exponentially with the distance travelled
 /// inside the shape. The rows are then normalized to sum 1.
 bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const std::vector<Index>& unknown, double mu,
-                      Weights& W) {
+                      Weights& W, std::vector<Index>* vanished = nullptr) {
   const Index nu = static_cast<Index>(unknown.size());
   if (nu == 0) return true;
   std::vector<Index> slot(static_cast<std::size_t>(R.rows()), -1);
@@ -209,8 +209,13 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
   if (solver.info() != Eigen::Success || !WU.allFinite()) return false;
   for (Index f = 0; f < nu; ++f) {
     const double sum = WU.row(f).sum();
-    if (!(sum > 1e-200)) return false;  // screened away entirely: the caller falls back
-    W.row(unknown[static_cast<std::size_t>(f)]) = WU.row(f) / sum;
+    const Index i = unknown[static_cast<std::size_t>(f)];
+    if (!(sum > 1e-200)) {  // screened away entirely: the caller solves this row unscreened
+      if (!vanished) return false;
+      vanished->push_back(i);
+      continue;
+    }
+    W.row(i) = WU.row(f) / sum;
   }
   return true;
 }
@@ -360,10 +365,19 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
         fallback(i);
     }
     if (options.iterations == 0) {
-      if (!solveSteadyState(R, D, solvable, mu, W)) {  // screened to nothing: retry unscreened
-        rep.screeningDropped = mu > 0.0;
-        if (!solveSteadyState(R, D, solvable, 0.0, W))  // cannot happen for a diagonally dominant system
-          for (Index i : solvable) fallback(i);
+      // Rows the screening drove to nothing (heat underflowed on the way) take the unscreened
+      // steady state; every other row keeps its screened one.
+      std::vector<Index> vanished;
+      const bool solved = solveSteadyState(R, D, solvable, mu, W, &vanished);
+      if (!solved || !vanished.empty()) {
+        Weights unscreened = W;
+        const std::vector<Index>& retry = solved ? vanished : solvable;
+        if (solveSteadyState(R, D, solvable, 0.0, unscreened)) {  // diagonally dominant: does not fail
+          for (Index i : retry) W.row(i) = unscreened.row(i);
+        } else {
+          for (Index i : retry) fallback(i);
+        }
+        if (mu > 0.0) rep.unscreenedSamples += static_cast<Index>(retry.size());
       }
     } else {
       active.insert(active.end(), solvable.begin(), solvable.end());

@@ -34,37 +34,37 @@ void drawBindPanel(AppState& state) {
   ImGui::PushItemWidth(150);
   float spacing = static_cast<float>(p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
-  bool autoSigma = p.sigma <= 0.0;
-  if (ImGui::Checkbox("Auto sigma", &autoSigma)) p.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
+  bool autoSigma = p.kc.sigma <= 0.0;
+  if (ImGui::Checkbox("Auto sigma", &autoSigma)) p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   if (autoSigma) {
     ImGui::TextDisabled("~ %.2f px (3T/pi, T measured)", app::automaticSigma(p.spacing));
   } else {
-    float sigma = static_cast<float>(p.sigma);
+    float sigma = static_cast<float>(p.kc.sigma);
     ImGui::SetNextItemWidth(100);
-    if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.sigma = std::max(0.2f, sigma);
+    if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.kc.sigma = std::max(0.2f, sigma);
   }
   static constexpr InitMethod inits[] = {InitMethod::HeatLinear, InitMethod::HeatImpulse, InitMethod::InverseDistance};
   static constexpr Method methods[] = {Method::QP, Method::QEC, Method::L1};
   static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
-  enumCombo("Initialization", p.init.method, inits);
-  if (p.init.method == InitMethod::HeatLinear) {
+  enumCombo("Initialization", p.kc.init.method, inits);
+  if (p.kc.init.method == InitMethod::HeatLinear) {
     // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
-    bool screened = p.init.locality != 0.0;
-    if (ImGui::Checkbox("Local targets", &screened)) p.init.locality = screened ? -1.0 : 0.0;
+    bool screened = p.kc.init.locality != 0.0;
+    if (ImGui::Checkbox("Local targets", &screened)) p.kc.init.locality = screened ? -1.0 : 0.0;
     if (ImGui::IsItemHovered())
       ImGui::SetTooltip("Screened heat diffusion: targets decay with the distance inside the shape.\n"
                         "More local, but the QP may then give far controls small weights.\n"
                         "Off: smooth, global (harmonic-like) targets. Takes effect at the next Bind.");
     if (screened) {
       ImGui::SameLine();
-      float locality = static_cast<float>(p.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.init.locality);
+      float locality = static_cast<float>(p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.kc.init.locality);
       ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.init.locality = std::max(1.0f, locality);
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.kc.init.locality = std::max(1.0f, locality);
     }
   }
-  enumCombo("Method", p.method, methods);
-  enumCombo("Interpolation", p.interp, interps);
+  enumCombo("Method", p.kc.method, methods);
+  enumCombo("Interpolation", p.kc.interp, interps);
   ImGui::PopItemWidth();
 
   if (!state.cageStatus.empty()) {

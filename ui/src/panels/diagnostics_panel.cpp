@@ -1,5 +1,8 @@
 #include <imgui.h>
 
+#include <string>
+#include <vector>
+
 #include "kc/app/pipeline.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
@@ -48,6 +51,16 @@ void drawDiagnosticsPanel(AppState& state) {
     }
     ImGui::Text("Lagrange %.1e   edge linearity %.1e", d.lagrange, d.edgeLinearity);
     ImGui::TextDisabled("grid step %d px, %.0f ms", d.pixelStep, d.evalSeconds * 1e3);
+  }
+  ImGui::Separator();
+  // Solver outcomes of the bind (and of the last method switch): warning colour when something fell back.
+  const std::vector<std::string> problems = state.reports.problems();
+  if (problems.empty()) ImGui::TextWrapped("%s", state.reports.summary().c_str());
+  else ImGui::TextUnformatted("Solver warnings:");
+  for (const std::string& p : problems) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.2f, 1.0f));
+    ImGui::TextWrapped("%s", p.c_str());
+    ImGui::PopStyleColor();
   }
   ImGui::Separator();
   const DeformReport& r = state.deformReport;

@@ -58,6 +58,18 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
     if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", m.text.c_str());
     else ImGui::TextUnformatted(m.text.c_str());
   }
+  if (state.bound && state.reports.anyProblem()) {
+    // Solver outcomes that fell back stay visible while the session is open (details: diagnostics panel).
+    const std::vector<std::string> problems = state.reports.problems();
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1.0f), "solver: %zu warning%s", problems.size(), problems.size() == 1 ? "" : "s");
+    if (ImGui::IsItemHovered()) {
+      std::string all;
+      for (const std::string& p : problems) all += (all.empty() ? "" : "\n") + p;
+      ImGui::SetTooltip("%s", all.c_str());
+    }
+    markWidget(state, "solver_warnings");
+  }
   char right[160];
   std::snprintf(right, sizeof right, "%.0f%%   x %.0f  y %.0f   %.1f ms/frame", state.view.zoom * 100.0, state.mouseImage.x(),
                 state.mouseImage.y(), state.timings.frameMs);

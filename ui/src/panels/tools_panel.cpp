@@ -19,7 +19,12 @@ void toolButton(AppState& state, const char* label, Tool tool, const char* id) {
 void drawToolsPanel(AppState& state) {
   toolButton(state, "Pose (P)", Tool::Pose, "tool_pose");
   ImGui::SameLine();
+  const bool canPaint = !state.bound || state.capabilities.painting;
+  if (!canPaint) ImGui::BeginDisabled();
   toolButton(state, "Brush (B)", Tool::Brush, "tool_brush");
+  if (!canPaint) ImGui::EndDisabled();
+  if (!canPaint && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+    ImGui::SetTooltip("%s", state.capabilities.why.c_str());
   ImGui::SameLine();
   toolButton(state, "Cage (C)", Tool::Cage, "tool_cage");
   ImGui::Spacing();

@@ -47,7 +47,7 @@ void drawWeightsPanel(AppState& state) {
   }
   ImGui::TextUnformatted("Method");
   ImGui::SameLine();
-  const bool canSwitch = state.session != nullptr && !state.worker.busy();
+  const bool canSwitch = state.session != nullptr && !state.worker.busy() && state.capabilities.methods;
   const struct {
     const char* label;
     Method method;
@@ -57,6 +57,8 @@ void drawWeightsPanel(AppState& state) {
     if (!canSwitch) ImGui::BeginDisabled();
     if (ImGui::RadioButton(m.label, state.method == m.method)) switchMethod(state, m.method);
     if (!canSwitch) ImGui::EndDisabled();
+    if (!state.capabilities.methods && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+      ImGui::SetTooltip("%s", state.capabilities.why.c_str());
     markWidget(state, m.id);
     ImGui::SameLine();
   }

@@ -47,6 +47,10 @@ void BrushTool::press(AppState& state, const PointerEvent& e) {
     postMessage(state, state.bound ? "Busy: wait for the current job to finish before painting." : "Bind a cage before painting.", false);
     return;
   }
+  if (!state.capabilities.painting) {
+    postMessage(state, "This session cannot be painted: " + state.capabilities.why, false);
+    return;
+  }
   if (state.activeControl < 0 || state.activeControl >= state.session->cage.size()) {
     postMessage(state, "Select a control point to paint its weights (click it with the pose tool).", false);
     return;

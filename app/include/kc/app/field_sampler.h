@@ -1,30 +1,28 @@
 #pragma once
-/// The coordinate field sampled at a fixed set of points (e.g. warp-mesh vertices), with the kernel
-/// rows k(p) cached: after an edit that changed a few controls' coefficients, only those columns
-/// are re-evaluated (a sparse product per column instead of the kernel sums for every column).
+/// A coordinate field evaluated at a fixed set of points (e.g. warp-mesh vertices), backend-neutral:
+/// the evaluation operator E(P) is cached, so after an edit that changed a few controls' columns
+/// only those columns are re-evaluated (one sparse row product per point and column).
 
 #include <span>
 
-#include "kc/app/session.h"
-#include "kc/core/kernel/kernel_matrix.h"
+#include "kc/core/field/field.h"
 
 namespace kc::app {
 
 class FieldSampler {
  public:
   FieldSampler() = default;
-  /// Caches k(p)ᵀ (#P×#S, sparse, thesis 3.32) for the rows of P. field.interpolator must be ok().
+  /// Caches E(P) (#P×nodes, sparse) of `field` for the rows of P. The field must be ready().
   FieldSampler(const CoordinateField& field, const Points& P);
 
-  Index size() const { return m_P.rows(); }
-  /// w(p) = k(p)ᵀU + [1 x y]B for every cached point: #P×m (6.3).
-  Weights evaluate(const KernelCoefficients& coef) const;
-  /// Recomputes only `columns` of W (#P×m) from coef.
-  void updateColumns(const KernelCoefficients& coef, std::span<const Index> columns, Weights& W) const;
+  Index size() const { return m_E.rows(); }
+  /// w(P) = E(P)·Coef of `field` (the field the sampler was built for, possibly updated since): #P×m.
+  Weights evaluate(const CoordinateField& field) const;
+  /// Recomputes only `columns` of W (#P×m) from the field's current coefficients.
+  void updateColumns(const CoordinateField& field, std::span<const Index> columns, Weights& W) const;
 
  private:
-  SparseRowMatrix m_K;  // #P×#S
-  Points m_P;
+  SparseRowMatrix m_E;  // #P×nodes
 };
 
 }  // namespace kc::app

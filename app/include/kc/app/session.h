@@ -2,11 +2,14 @@
 /// The session: everything needed to reproduce a warp (ARCHITECTURE.md, Session file).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
+#include "kc/core/field/field.h"
 #include "kc/core/kernel/interpolator.h"
 #include "kc/core/types.h"
 #include "kc/core/weights/heat_diffusion.h"
@@ -15,17 +18,23 @@
 
 namespace kc::app {
 
-/// Parameters of one bind. Defaults are what `kcwarp-cli bind` uses.
-struct BindParams {
-  double spacing = 6.0;    ///< h, pixels.
+/// Bind parameters of the kernel-coordinate backend ("kc").
+struct KcParams {
   double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28, T measured).
-  InitOptions init;        ///< W0: method and diffusion iterations.
+  InitOptions init;        ///< W0: method, diffusion iterations, locality.
   Method method = Method::QP;
   InterpMode interp = InterpMode::Exact;
+};
+
+/// Parameters of one bind: the ones every backend shares, then each backend's own. Defaults are
+/// what `kcwarp-cli bind` uses.
+struct BindParams {
   std::string backend = "kc";
+  double spacing = 6.0;    ///< h, pixels (sample spacing; a mesh backend's edge length).
   sampling::SamplerKind sampler = sampling::SamplerKind::BlueNoise;
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
   std::uint64_t seed = 1;
+  KcParams kc;             ///< Used when backend == "kc".
 };
 
 std::string_view toString(InitMethod m);
@@ -38,33 +47,43 @@ bool parseMethod(std::string_view s, Method& m);
 bool parseInterpMode(std::string_view s, InterpMode& m);
 bool parseSamplerKind(std::string_view s, sampling::SamplerKind& k);
 
-/// The kernel-coordinate field of a bound session: w(x) for any points.
-struct CoordinateField {
-  KernelInterpolator interpolator;
-  KernelCoefficients coefficients;
-
-  bool ready() const { return interpolator.ok() && coefficients.U.size() > 0; }
-  /// w(p) for every row of P: #P×m.
-  Weights weightsAt(const Points& P) const { return interpolator.evaluate(coefficients, P); }
-};
-
 /// Seconds spent in each stage of the bind that produced a session (saved with it).
 struct BindTimings {
   double sampling = 0.0, assemble = 0.0, factor = 0.0, init = 0.0, optimize = 0.0, solve = 0.0, total = 0.0;
 };
 
+/// The solver outcomes of the bind (and of the last whole re-optimization) that a user must see:
+/// saved as the session's `reports` block, shown by bind, stats, demo and the GUI.
+struct SolverReports {
+  sampling::SamplingReport sampling;
+  InitReport init;
+  OptimizeReport optimize;
+  /// True when some stage failed or fell back (the GUI's warning colour).
+  bool anyProblem() const;
+  /// One line per problem, e.g. "QP: 3 samples did not converge (QEC fallback)"; empty when none.
+  std::vector<std::string> problems() const;
+  /// One line for the summary: "solver: all N samples solved" or the problems joined by "; ".
+  std::string summary() const;
+};
+
 struct Session {
   Cage cage;
   BindParams params;
-  double sigma = 0.0;          ///< σ actually used.
+  double sigma = 0.0;          ///< σ actually used (kc).
   int imageWidth = 0, imageHeight = 0;
   SampleSet samples;
-  Weights W0;                  ///< Initial (target) weights, #S×m.
+  Weights W0;                  ///< Initial (target) weights, #S×m; empty when the backend has no targets.
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).
   std::string image;           ///< Image path as written in the file (may be empty).
   BindTimings timings;         ///< How long the bind took.
-  CoordinateField field;       ///< Derived from samples, σ and W; not saved.
+  SolverReports reports;       ///< What the solvers reported.
+  /// The coordinate field: the only way to weights at points. Built by the backend (bind) or
+  /// from the session file's field block; null before.
+  std::unique_ptr<CoordinateField> field;
+
+  /// True when the field can be evaluated.
+  bool hasField() const { return field && field->ready(); }
 };
 
 }  // namespace kc::app

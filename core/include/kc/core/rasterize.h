@@ -44,9 +44,6 @@ struct Image {
   void validate() const;
 };
 
-/// Triangles of a mesh: three vertex indices per triangle.
-using Triangles = std::vector<std::array<int, 3>>;
-
 struct RasterOptions {
   int supersample = 1;   ///< 1 = one sample per pixel; 2 = 2×2 samples per pixel, averaged.
   Rgba background{};     ///< Colour of uncovered pixels (default transparent black).

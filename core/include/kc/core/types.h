@@ -2,6 +2,7 @@
 /// Shared value types of kcwarp's numerics. Matrices hold one row per element.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -13,6 +14,9 @@ using Vec2 = Eigen::Vector2d;
 
 /// #P×2 points, one (x, y) row per point, pixel coordinates (x right, y down).
 using Points = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+/// Triangles of a mesh: three vertex indices per triangle.
+using Triangles = std::vector<std::array<int, 3>>;
 
 /// Dense row-major matrix: one row per sample / point. Weights W are #S×m.
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "kc/app/backend.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/field_sampler.h"
 #include "kc/app/session.h"
@@ -80,6 +81,9 @@ struct AppState {
   Cage boundCage;                          ///< Display copy of the session's cage.
   SampleSet samples;                       ///< Display copy of the session's samples.
   Method method = Method::QP;              ///< The session's current optimization method.
+  /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
+  app::BackendCapabilities capabilities;
+  app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
   app::BindParams bindParams;              ///< Bind panel values (next bind).
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;

@@ -1,11 +1,13 @@
 #pragma once
 /// Colours of one control's weights at the warp mesh vertices (the heatmap overlay drawn by the
-/// renderer over the deformed picture), with app::heatColor's colour map.
+/// renderer over the deformed picture), with app::heatColor's colour map. The weights are the
+/// coordinate field's own (E(P)·Coef at the vertices, the numbers `kcwarp-cli warp --heatmap`
+/// shows), not the mesh's thresholded copy used for deforming.
 
 #include <vector>
 
 #include "kc/core/rasterize.h"
-#include "kc/core/warp_mesh.h"
+#include "kc/core/types.h"
 
 namespace kc::ui {
 
@@ -14,8 +16,8 @@ struct HeatRange {
   bool log = false;
 };
 
-/// w_control at every vertex of `mesh` (from its compact weights): #V values.
-std::vector<double> vertexWeights(const WarpMesh& mesh, Index control);
+/// Column `control` of the field's vertex weights W (#V×m): #V values (zeros for a bad control).
+std::vector<double> controlWeights(const Weights& W, Index control);
 
 /// Colour per value: linear over [min(0, w_min), max(w_max, 1e-12)], or log10 over
 /// [floor, max(w_max, floor·10)] (values ≤ floor get the bottom colour). Alpha grows from 30 %

@@ -25,8 +25,12 @@ bool startBind(AppState& state);
 /// the undo stack as `label`. W0 must already hold edit.W0After.
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label);
 
-/// Re-optimizes all samples from the current targets with `method` (painted targets survive).
+/// Re-optimizes all samples from the current targets with `method` (painted targets survive);
+/// pushes a MethodEdit when done.
 bool switchMethod(AppState& state, Method method);
+/// Re-optimizes all samples with `method` on the worker; `record` pushes a MethodEdit when done
+/// (undo and redo of a method switch pass false).
+bool startMethod(AppState& state, Method method, bool record);
 
 /// Writes W0/W rows (after undo/redo) and refreshes field + display mesh on the worker.
 bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const Weights& W,

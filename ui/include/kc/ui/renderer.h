@@ -30,7 +30,8 @@ class Renderer {
  private:
   void uploadTexture(const Image& image);
   void uploadMesh(const AppState& state, bool warped);
-  void uploadHeat(AppState& state, bool warped);
+  /// Uploads the active control's field weights as vertex colours; false while a job holds them.
+  bool uploadHeat(AppState& state, bool warped);
 
   std::string m_error;
   unsigned m_program = 0, m_vao = 0, m_posBuffer = 0, m_uvBuffer = 0, m_heatBuffer = 0, m_indexBuffer = 0;

@@ -1,6 +1,7 @@
 #pragma once
 /// Undo/redo history of the document: cage edits, pose changes, and weight edits (paint strokes,
-/// method switches). Entries store exact before/after values, so undo restores bit for bit.
+/// method switches). Entries store what restores the state bit for bit: exact before/after
+/// values, or for a method switch the two methods.
 
 #include <string>
 #include <variant>
@@ -23,7 +24,7 @@ struct CageEdit {
   Cage before, after;
 };
 
-/// Rows of W0 (targets) and W (optimized) before and after a stroke or method switch.
+/// Rows of W0 (targets) and W (optimized) before and after a paint stroke.
 /// `rows` lists the sample indices (#R); the matrices are #R×m. Empty `rows` = all samples.
 struct WeightEdit {
   std::vector<Index> rows;
@@ -31,7 +32,13 @@ struct WeightEdit {
   Method methodBefore = Method::QP, methodAfter = Method::QP;
 };
 
-using Edit = std::variant<PoseEdit, CageEdit, WeightEdit>;
+/// A method switch: W is re-optimized from the unchanged W0, so the two methods are all that undo
+/// and redo need (the optimizer is deterministic and reads only W0: the same bits come back).
+struct MethodEdit {
+  Method before = Method::QP, after = Method::QP;
+};
+
+using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit>;
 
 struct UndoEntry {
   std::string label;  ///< Shown in the Edit menu, e.g. "paint w3".

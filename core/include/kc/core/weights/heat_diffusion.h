@@ -49,8 +49,9 @@ struct InitReport {
   /// Free samples with no path (inside the shape) to a fixed sample: they get (4.10) weights
   /// normalized to sum 1 instead of diffused ones.
   Index fallbackSamples = 0;
-  /// The screening was so strong that some rows vanished; those were solved unscreened.
-  bool screeningDropped = false;
+  /// Samples whose screened heat underflowed to nothing (the screening was too strong for them):
+  /// each of those rows is the unscreened steady state instead; the other rows stay screened.
+  Index unscreenedSamples = 0;
   double seconds = 0.0;
 };
 

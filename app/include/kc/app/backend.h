@@ -1,0 +1,74 @@
+#pragma once
+/// Weight backends: how a bind turns (cage, image size, parameters) into a coordinate field, and
+/// what the result can do afterwards. The pipeline, the session loader and the GUI ask the
+/// backend's capabilities instead of its name (ARCHITECTURE.md, "one door to weights").
+
+#include <exception>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "kc/app/session.h"
+
+namespace kc::app {
+
+/// What one bind did, stage by stage (the solver outcomes are also kept in Session::reports).
+struct BindReport {
+  sampling::SamplingReport sampling;
+  InterpolatorReport factor;
+  InitReport init;
+  OptimizeReport optimize;
+  double solveSeconds = 0.0;   ///< Coefficients of the field from W.
+  double totalSeconds = 0.0;
+};
+
+/// Thrown by bind() when its progress callback asked to cancel.
+class BindCancelled : public std::exception {
+ public:
+  const char* what() const noexcept override { return "bind cancelled"; }
+};
+
+/// Announces a bind stage (name, fraction in [0, 1]); throws BindCancelled when asked to stop.
+using BindStep = std::function<void(const char* stage, double fraction)>;
+
+/// What a backend's sessions can do. A missing capability comes with the reason the GUI shows.
+struct BackendCapabilities {
+  bool targets = false;      ///< Per-sample target weights W0 exist (weights.initial).
+  bool methods = false;      ///< The per-sample optimization method can be switched after a bind.
+  bool painting = false;     ///< The brush paints targets and re-optimizes the painted samples.
+  bool outsideCage = false;  ///< The field has weights outside the cage (`--outside deform`).
+  std::string why;           ///< Why the missing capabilities are missing (tooltip text).
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  /// The name in params.backend and `--backend`.
+  virtual std::string_view name() const = 0;
+  virtual BackendCapabilities capabilities() const = 0;
+  /// Fills everything of `s` a bind computes: samples, σ, W0 (when the backend has targets), W, the
+  /// field and s.reports. s.cage, s.params and the image size are set; `step` reports progress
+  /// (and throws BindCancelled). Throws std::invalid_argument for parameters the backend rejects.
+  virtual void bind(Session& s, BindReport& report, const BindStep& step) const = 0;
+  /// Rebuilds s.field from what a session file holds (samples, W, params, the field block already
+  /// parsed into s.field when it was self-contained). Throws InputError-worthy
+  /// std::invalid_argument with the reason when the field cannot be rebuilt.
+  virtual void rebuildField(Session& s) const = 0;
+  /// Re-optimizes rows `subset` of s.W (all when empty) from s.W0 with `method` and updates the
+  /// field's changed columns (returned in changedColumns). Only for backends with `methods`.
+  virtual OptimizeReport reoptimize(Session& s, Method method, std::span<const Index> subset,
+                                    std::vector<Index>* changedColumns) const = 0;
+};
+
+/// The backend called `name`; throws std::invalid_argument naming the available ones.
+const Backend& backendFor(std::string_view name);
+/// Names of every available backend ("kc").
+std::vector<std::string_view> backendNames();
+/// Capabilities of a bound session: its backend's, less what the session lacks (no
+/// weights.initial → no targets, painting or method switches).
+BackendCapabilities sessionCapabilities(const Session& s);
+
+}  // namespace kc::app

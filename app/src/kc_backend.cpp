@@ -1,0 +1,147 @@
+// The kernel-coordinate backend ("kc"): samples → K → W0 → W → KernelField (thesis ch. 3–6).
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+#include "kc/app/backend.h"
+#include "kc/core/field/kernel_field.h"
+#include "kc/sampling/sigma.h"
+
+namespace kc::app {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Automatic sampling margin in `thesis` interpolation mode, in sample spacings (the exact mode
+/// uses the sampler's default of about 3h). Measured on the checker cage, which spans its whole
+/// image, at h = 8: partition-of-unity error 1.2e-2 with ~3h, 3.0e-3 with 5h, 1.3e-3 with 10h.
+constexpr double kThesisMarginSpacings = 10.0;
+
+GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
+
+class KcBackend final : public Backend {
+ public:
+  std::string_view name() const override { return "kc"; }
+
+  BackendCapabilities capabilities() const override {
+    BackendCapabilities c;
+    c.targets = c.methods = c.painting = c.outsideCage = true;
+    return c;
+  }
+
+  void bind(Session& s, BindReport& r, const BindStep& step) const override {
+    const BindParams& params = s.params;
+    const KcParams& kc = params.kc;
+    if (!std::isfinite(kc.sigma) || kc.sigma < 0.0) throw std::invalid_argument("sigma must be positive (or 0 for automatic)");
+    if (kc.init.iterations < 0) throw std::invalid_argument("heat iterations must be ≥ 0 (0 = steady state)");
+
+    step("sampling", 0.0);
+    sampling::SamplingOptions so;
+    so.spacing = params.spacing;
+    so.width = s.imageWidth;
+    so.height = s.imageHeight;
+    // The plain (thesis) interpolation is accurate only a few kernel widths inside the sampled
+    // domain (thesis Fig 3.1), so it gets a wider automatic margin than the exact one.
+    so.margin = params.margin >= 0.0 || kc.interp == InterpMode::Exact ? params.margin : kThesisMarginSpacings * params.spacing;
+    so.kind = params.sampler;
+    so.seed = params.seed;
+    s.samples = sampling::sample(s.cage, so, &r.sampling);
+
+    step("kernel", 0.25);
+    s.sigma = kc.sigma > 0.0 ? kc.sigma : sampling::suggestSigma(s.samples);
+    auto field = std::make_unique<KernelField>();
+    r.factor = field->compute(s.samples.X, kernelFor(s.sigma, params.spacing), kc.interp);
+    if (r.factor.status != FactorStatus::Ok)
+      throw std::invalid_argument("the kernel matrix cannot be factorized (sigma " + std::to_string(s.sigma) + ", spacing " +
+                                  std::to_string(params.spacing) + "): " + r.factor.advice);
+
+    step("initial weights", 0.5);
+    s.W0 = initialWeights(s.samples, s.cage, field->interpolator().K(), kc.init, &r.init);
+
+    step("optimization", 0.7);
+    s.W.resize(s.W0.rows(), s.W0.cols());
+    const WeightOptimizer optimizer(s.cage.C);
+    OptimizeOptions oo;
+    oo.method = kc.method;
+    r.optimize = optimizer.optimize(s.samples, s.W0, s.W, oo);
+
+    step("interpolation", 0.9);
+    const auto ts = std::chrono::steady_clock::now();
+    field->update(s.W);
+    r.solveSeconds = secondsSince(ts);
+    s.field = std::move(field);
+    s.reports = {r.sampling, r.init, r.optimize};
+  }
+
+  void rebuildField(Session& s) const override {
+    auto field = std::make_unique<KernelField>();
+    const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing), s.params.kc.interp);
+    if (r.status != FactorStatus::Ok)
+      throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
+    field->update(s.W);
+    s.field = std::move(field);
+  }
+
+  OptimizeReport reoptimize(Session& s, Method method, std::span<const Index> subset,
+                            std::vector<Index>* changedColumns) const override {
+    if (s.W0.rows() != s.samples.size() || s.W0.cols() != s.cage.size())
+      throw std::invalid_argument("this session has no target weights (weights.initial) to optimize from");
+    const WeightOptimizer optimizer(s.cage.C);
+    const bool whole = subset.empty() || s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols();
+    if (s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols()) s.W = s.W0;
+    const Index m = s.W0.cols();
+    RowMatrix before(static_cast<Index>(subset.size()), m);
+    if (!whole)
+      for (std::size_t k = 0; k < subset.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(subset[k]);
+    OptimizeOptions oo;
+    oo.method = method;
+    const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, whole ? std::span<const Index>{} : subset);
+    s.params.kc.method = method;
+    if (whole) s.reports.optimize = r;
+
+    std::vector<Index> columns;
+    for (Index c = 0; c < m; ++c) {
+      bool changed = whole;
+      for (std::size_t k = 0; k < subset.size() && !changed; ++k) changed = s.W(subset[k], c) != before(static_cast<Index>(k), c);
+      if (changed) columns.push_back(c);
+    }
+    if (s.field) {
+      if (whole)
+        s.field->update(s.W);
+      else if (!columns.empty())
+        s.field->update(s.W, columns);
+    }
+    if (changedColumns) *changedColumns = std::move(columns);
+    return r;
+  }
+};
+
+}  // namespace
+
+const Backend& backendFor(std::string_view name) {
+  static const KcBackend kc;
+  if (name == kc.name()) return kc;
+  std::string names;
+  for (const std::string_view n : backendNames()) names += (names.empty() ? "" : ", ") + std::string(n);
+  throw std::invalid_argument("backend '" + std::string(name) + "' is not available (available: " + names + ")");
+}
+
+std::vector<std::string_view> backendNames() { return {"kc"}; }
+
+BackendCapabilities sessionCapabilities(const Session& s) {
+  BackendCapabilities c = backendFor(s.params.backend).capabilities();
+  if (s.W0.rows() == 0 && c.targets) {
+    c.targets = c.methods = c.painting = false;
+    c.why = "this session has no target weights (weights.initial), so it cannot be re-optimized or painted";
+  }
+  if (s.field && s.field->domain() != FieldDomain::Plane && c.outsideCage) {
+    c.outsideCage = false;
+    c.why += std::string(c.why.empty() ? "" : "; ") + "this session's field has no weights outside its mesh";
+  }
+  return c;
+}
+
+}  // namespace kc::app

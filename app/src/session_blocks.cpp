@@ -1,0 +1,152 @@
+#include "session_blocks.h"
+
+#include <cmath>
+
+#include "kc/app/errors.h"
+#include "kc/core/field/kernel_field.h"
+#include "kc/core/field/mesh_field.h"
+
+namespace kc::app::detail {
+
+json weightsToJson(const Weights& W) {
+  json rows = json::array();
+  for (Index i = 0; i < W.rows(); ++i) {
+    json r = json::array();
+    for (Index k = 0; k < W.cols(); ++k) r.push_back(W(i, k));
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+Weights parseWeights(const json& rows, Index n, Index m, const std::string& where, const std::string& field) {
+  if (!rows.is_array()) throw InputError(where, field + " must be an array of rows");
+  if (static_cast<Index>(rows.size()) != n)
+    throw InputError(where, field + " has " + std::to_string(rows.size()) + " rows but there are " + std::to_string(n) + " samples");
+  Weights W(n, m);
+  for (Index i = 0; i < n; ++i) {
+    const json& r = rows[static_cast<std::size_t>(i)];
+    if (!r.is_array() || static_cast<Index>(r.size()) != m)
+      throw InputError(where, field + "[" + std::to_string(i) + "] must have " + std::to_string(m) + " weights (one per control point)");
+    for (Index k = 0; k < m; ++k) {
+      const json& v = r[static_cast<std::size_t>(k)];
+      if (!v.is_number() || !std::isfinite(v.get<double>()))
+        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is not a finite number");
+      W(i, k) = v.get<double>();
+    }
+  }
+  return W;
+}
+
+json fieldToJson(const Session& s) {
+  if (!s.field) return nullptr;
+  if (const auto* mesh = dynamic_cast<const MeshField*>(s.field.get())) {
+    json tris = json::array();
+    for (const auto& t : mesh->triangles()) tris.push_back({t[0], t[1], t[2]});
+    return {{"kind", "mesh"},
+            {"vertices", pointsToJson(mesh->vertices())},
+            {"triangles", tris},
+            {"weights", weightsToJson(mesh->vertexWeights())}};
+  }
+  if (const auto* kernel = dynamic_cast<const KernelField*>(s.field.get())) {
+    const KernelInterpolator& k = kernel->interpolator();
+    return {{"kind", "kernel"},
+            {"nodes", "samples"},
+            {"sigma", k.kernel().sigma},
+            {"spacing", s.params.spacing},
+            {"interp", std::string(toString(k.mode()))}};
+  }
+  return nullptr;
+}
+
+bool fieldFromJson(const json& block, Session& s, const std::string& where) {
+  if (!block.is_object()) throw InputError(where, "field must be an object");
+  const json& kind = require(block, "kind", where);
+  if (kind == "mesh") {
+    const Points V = parsePoints(require(block, "vertices", where), where, "field.vertices");
+    const Index m = s.cage.size();
+    if (V.rows() < m) throw InputError(where, "field.vertices must start with the " + std::to_string(m) + " control points");
+    for (Index i = 0; i < m; ++i)
+      if ((V.row(i) - s.cage.C.row(i)).norm() > 1e-9 * (1.0 + s.cage.C.row(i).norm()))
+        throw InputError(where, "field.vertices[" + std::to_string(i) + "] differs from cage point " + std::to_string(i));
+    const json& tris = require(block, "triangles", where);
+    if (!tris.is_array() || tris.empty()) throw InputError(where, "field.triangles must be a non-empty array of [i, j, k]");
+    Triangles T;
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      const json& r = tris[t];
+      const std::string name = "field.triangles[" + std::to_string(t) + "]";
+      if (!r.is_array() || r.size() != 3) throw InputError(where, name + " must be [i, j, k]");
+      std::array<int, 3> tri{};
+      for (int k = 0; k < 3; ++k) {
+        if (!r[static_cast<std::size_t>(k)].is_number_integer()) throw InputError(where, name + " must hold vertex indices");
+        const long v = r[static_cast<std::size_t>(k)].get<long>();
+        if (v < 0 || v >= V.rows()) throw InputError(where, name + " refers to vertex " + std::to_string(v) + " (there are " + std::to_string(V.rows()) + ")");
+        tri[static_cast<std::size_t>(k)] = static_cast<int>(v);
+      }
+      T.push_back(tri);
+    }
+    Weights W = parseWeights(require(block, "weights", where), V.rows(), m, where, "field.weights");
+    try {
+      s.field = std::make_unique<MeshField>(V, std::move(T), std::move(W));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, std::string("field: ") + e.what());
+    }
+    return true;
+  }
+  if (kind == "kernel") {
+    if (block.contains("sigma") && std::abs(finiteNumber(block["sigma"], where, "field.sigma") - s.sigma) > 1e-12 * s.sigma)
+      throw InputError(where, "field.sigma disagrees with params.sigma");
+    if (block.contains("interp") && block["interp"] != std::string(toString(s.params.kc.interp)))
+      throw InputError(where, "field.interp disagrees with params.interp");
+    return false;
+  }
+  throw InputError(where, "field.kind " + kind.dump() + " is not one of \"kernel\", \"mesh\"");
+}
+
+json reportsToJson(const SolverReports& r) {
+  json problems = json::array();
+  for (const std::string& p : r.problems()) problems.push_back(p);
+  return {{"sampling",
+           {{"converged", r.sampling.converged},
+            {"iterations", r.sampling.iterations},
+            {"last_move", r.sampling.lastMove},
+            {"rejected_moves", r.sampling.rejectedMoves}}},
+          {"init",
+           {{"unreachable_samples", r.init.fallbackSamples},
+            {"unscreened_samples", r.init.unscreenedSamples},
+            {"iterations", r.init.iterations},
+            {"steady_state", r.init.steadyState}}},
+          {"optimize",
+           {{"solved", r.optimize.solved},
+            {"infeasible", r.optimize.infeasible},
+            {"failed", r.optimize.failed},
+            {"max_iterations", r.optimize.maxIterations}}},
+          {"problems", problems}};
+}
+
+SolverReports reportsFromJson(const json& block) {
+  SolverReports r;
+  if (!block.is_object()) return r;
+  auto get = [&](const char* section, const char* key, auto fallback) {
+    if (!block.contains(section) || !block[section].is_object() || !block[section].contains(key)) return fallback;
+    const json& v = block[section][key];
+    if constexpr (std::is_same_v<decltype(fallback), bool>)
+      return v.is_boolean() ? v.get<bool>() : fallback;
+    else
+      return v.is_number() ? v.get<decltype(fallback)>() : fallback;
+  };
+  r.sampling.converged = get("sampling", "converged", true);
+  r.sampling.iterations = get("sampling", "iterations", 0);
+  r.sampling.lastMove = get("sampling", "last_move", 0.0);
+  r.sampling.rejectedMoves = get("sampling", "rejected_moves", Index{0});
+  r.init.fallbackSamples = get("init", "unreachable_samples", Index{0});
+  r.init.unscreenedSamples = get("init", "unscreened_samples", Index{0});
+  r.init.iterations = get("init", "iterations", 0);
+  r.init.steadyState = get("init", "steady_state", false);
+  r.optimize.solved = get("optimize", "solved", Index{0});
+  r.optimize.infeasible = get("optimize", "infeasible", Index{0});
+  r.optimize.failed = get("optimize", "failed", Index{0});
+  r.optimize.maxIterations = get("optimize", "max_iterations", 0);
+  return r;
+}
+
+}  // namespace kc::app::detail

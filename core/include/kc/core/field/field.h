@@ -1,0 +1,66 @@
+#pragma once
+/// The coordinate field: weights w(P) at any points, linear in per-node coefficients,
+///   w(P) = E(P) · Coef      (E(P) #P×nodes sparse, Coef nodes×m, w #P×m).
+/// The one door to weights for every consumer (eval, warp, heatmaps, stats, the GUI, the
+/// conformance suite). Implementations: KernelField (kernel coordinates, thesis 1.9 / 6.2–6.3)
+/// and MeshField (a triangle mesh with per-vertex weights, barycentric interpolation).
+
+#include <span>
+#include <vector>
+
+#include "kc/core/kernel/kernel_matrix.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+/// Where a field is defined: everywhere (kernel coordinates) or only on its mesh.
+enum class FieldDomain { Plane, Mesh };
+
+class CoordinateField {
+ public:
+  virtual ~CoordinateField() = default;
+
+  /// m: the number of controls (columns of w).
+  virtual Index controls() const = 0;
+  /// The number of nodes (rows of Coef).
+  virtual Index nodes() const = 0;
+  /// True when the field can be evaluated (computed and holding coefficients).
+  virtual bool ready() const = 0;
+
+  /// E(P): #P×nodes sparse evaluation operator, w(P) = E(P)·Coef. A point outside the domain
+  /// has an empty row (its weights are 0). Throws std::invalid_argument for non-finite P.
+  virtual SparseRowMatrix evaluationOperator(const Points& P) const = 0;
+  /// ∂E/∂x and ∂E/∂y at P (#P×nodes each): ∇w(P) = (∂E/∂x·Coef, ∂E/∂y·Coef).
+  virtual void gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const = 0;
+  /// Columns `columns` of Coef (all when empty): nodes×#columns (a copy).
+  virtual RowMatrix coefficientColumns(std::span<const Index> columns = {}) const = 0;
+
+  /// Which kind of domain the field has.
+  virtual FieldDomain domain() const = 0;
+  /// True when p lies in the domain (always for FieldDomain::Plane).
+  virtual bool contains(const Vec2& p) const = 0;
+
+  /// Updates the coefficients after the data weights W changed in `columns` (all when empty).
+  /// W holds one row per data point of the field (kernel: the samples, #S×m; mesh: the
+  /// vertices, #V×m). The other columns are kept.
+  virtual void update(const Weights& W, std::span<const Index> columns = {}) = 0;
+
+  /// w(P) = E(P)·Coef: #P×m.
+  virtual Weights weightsAt(const Points& P) const;
+  /// ∇w at P: two #P×m matrices, ∂w/∂x = ∂E/∂x·Coef and ∂w/∂y = ∂E/∂y·Coef.
+  virtual void gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const;
+
+  /// Coef: nodes×m.
+  RowMatrix coefficients() const { return coefficientColumns({}); }
+  /// Writes columns `columns` (all when empty) of E·Coef into W (#P×m; E #P×nodes). Other
+  /// columns of W are left as they are. Each row is summed in E's storage order on its own, so
+  /// any thread count gives the same bits.
+  void apply(const SparseRowMatrix& E, std::span<const Index> columns, Weights& W) const;
+};
+
+namespace detail {
+/// `columns` checked against m (std::invalid_argument when one is out of range), or 0..m−1 when empty.
+std::vector<Index> fieldColumns(std::span<const Index> columns, Index m);
+}  // namespace detail
+
+}  // namespace kc

@@ -1,0 +1,51 @@
+#pragma once
+/// The kernel-coordinate field (thesis 1.9, 6.2–6.3): w(x)ᵀ = k(x)ᵀU + [1 x y]B, with U, B solved
+/// from the per-sample weights W by the KernelInterpolator. As a CoordinateField its nodes are
+/// the three polynomial terms [1 x y] (nodes 0..2; zero coefficients in Thesis mode) followed by
+/// the #S samples (nodes 3..3+#S−1), and Coef = [B; U] ((3+#S)×m).
+
+#include "kc/core/field/field.h"
+#include "kc/core/kernel/interpolator.h"
+
+namespace kc {
+
+class KernelField final : public CoordinateField {
+ public:
+  /// Number of polynomial nodes before the samples.
+  static constexpr Index kPolynomialNodes = 3;
+
+  /// Assembles K for samples X and factorizes it (KernelInterpolator::compute, thesis 6.1).
+  /// The field is ready() after a successful compute() and an update() with all columns.
+  InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
+
+  Index controls() const override { return m_coef.U.cols(); }
+  Index nodes() const override { return kPolynomialNodes + m_interp.samples().rows(); }
+  bool ready() const override { return m_interp.ok() && m_coef.U.size() > 0; }
+
+  /// Row p = [1 x y | k(p, x_j) for |p − x_j| ≤ θ] (3.32), sample columns in increasing j.
+  SparseRowMatrix evaluationOperator(const Points& P) const override;
+  /// Row p of ∂E/∂x = [0 1 0 | −k(p, x_j)(p_x − x_j,x)/σ²] (3.41–3.43); ∂E/∂y likewise.
+  void gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const override;
+  RowMatrix coefficientColumns(std::span<const Index> columns = {}) const override;
+  FieldDomain domain() const override { return FieldDomain::Plane; }
+  bool contains(const Vec2&) const override { return true; }
+
+  /// U, B for the sample weights W (#S×m): all columns (solve, 6.2) when `columns` is empty or the
+  /// field has no coefficients of W's shape yet, otherwise only `columns` (solveColumns).
+  /// Throws std::logic_error when the factorization failed.
+  void update(const Weights& W, std::span<const Index> columns = {}) override;
+
+  /// KernelInterpolator::evaluate (6.3) — the same bits as the interpolator path.
+  Weights weightsAt(const Points& P) const override;
+  /// KernelInterpolator::evaluateGradient (3.41–3.43).
+  void gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const override;
+
+  const KernelInterpolator& interpolator() const { return m_interp; }
+  const KernelCoefficients& kernelCoefficients() const { return m_coef; }
+
+ private:
+  KernelInterpolator m_interp;
+  KernelCoefficients m_coef;
+};
+
+}  // namespace kc

@@ -1,0 +1,97 @@
+#include "kc/core/field/kernel_field.h"
+
+#include <stdexcept>
+
+
+namespace kc {
+
+InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
+  m_coef = {};
+  return m_interp.compute(X, kernel, mode);
+}
+
+void KernelField::update(const Weights& W, std::span<const Index> columns) {
+  if (!m_interp.ok()) throw std::logic_error("kernel field: update() without a successful compute()");
+  if (columns.empty() || m_coef.U.rows() != W.rows() || m_coef.U.cols() != W.cols())
+    m_coef = m_interp.solve(W);
+  else
+    m_interp.solveColumns(W, columns, m_coef);
+}
+
+Weights KernelField::weightsAt(const Points& P) const { return m_interp.evaluate(m_coef, P); }
+
+void KernelField::gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const {
+  m_interp.evaluateGradient(m_coef, P, dWdx, dWdy);
+}
+
+RowMatrix KernelField::coefficientColumns(std::span<const Index> columns) const {
+  const std::vector<Index> cols = detail::fieldColumns(columns, controls());
+  RowMatrix C(nodes(), static_cast<Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    const Index c = cols[k], j = static_cast<Index>(k);
+    C.col(j).head(kPolynomialNodes) = m_coef.B.col(c);
+    C.col(j).tail(m_coef.U.rows()) = m_coef.U.col(c);
+  }
+  return C;
+}
+
+namespace {
+
+/// E (#P×(3+#S)) from kernel rows R (#P×#S): row p holds the polynomial entries poly(p) (pairs of
+/// node, value with node < 3) followed by R's entries shifted by three nodes, each value v of
+/// sample j replaced by value(p, j, v).
+template <class Poly, class Value>
+SparseRowMatrix withPolynomial(const SparseRowMatrix& R, Poly&& poly, Value&& value) {
+  constexpr Index kP = KernelField::kPolynomialNodes;
+  std::vector<std::vector<std::pair<Index, double>>> head(static_cast<std::size_t>(R.rows()));
+  Index extra = 0;
+  for (Index p = 0; p < R.rows(); ++p) {
+    head[static_cast<std::size_t>(p)] = poly(p);
+    extra += static_cast<Index>(head[static_cast<std::size_t>(p)].size());
+  }
+  SparseRowMatrix E(R.rows(), R.cols() + kP);
+  E.resizeNonZeros(R.nonZeros() + extra);
+  auto* outer = E.outerIndexPtr();
+  auto* inner = E.innerIndexPtr();
+  double* val = E.valuePtr();
+  Index k = 0;
+  outer[0] = 0;
+  for (Index p = 0; p < R.rows(); ++p) {
+    for (const auto& [node, v] : head[static_cast<std::size_t>(p)]) {
+      inner[k] = static_cast<SparseRowMatrix::StorageIndex>(node);
+      val[k++] = v;
+    }
+    for (SparseRowMatrix::InnerIterator it(R, p); it; ++it) {
+      inner[k] = static_cast<SparseRowMatrix::StorageIndex>(it.col() + kP);
+      val[k++] = value(p, it.col(), it.value());
+    }
+    outer[p + 1] = static_cast<SparseRowMatrix::StorageIndex>(k);
+  }
+  return E;
+}
+
+}  // namespace
+
+SparseRowMatrix KernelField::evaluationOperator(const Points& P) const {
+  if (!m_interp.ok()) throw std::logic_error("kernel field: evaluationOperator() without a successful compute()");
+  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
+  return withPolynomial(
+      R, [&](Index p) { return std::vector<std::pair<Index, double>>{{0, 1.0}, {1, P(p, 0)}, {2, P(p, 1)}}; },
+      [](Index, Index, double v) { return v; });
+}
+
+void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
+  if (!m_interp.ok()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
+  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
+  const Points& X = m_interp.samples();
+  const double inv2 = 1.0 / (m_interp.kernel().sigma * m_interp.kernel().sigma);
+  // ∇k(p, x_j) = −k(p, x_j)(p − x_j)/σ² (3.42); ∇[1 x y] = (0, 1, 0), (0, 0, 1).
+  Ex = withPolynomial(
+      R, [](Index) { return std::vector<std::pair<Index, double>>{{1, 1.0}}; },
+      [&](Index p, Index j, double v) { return -v * inv2 * (P(p, 0) - X(j, 0)); });
+  Ey = withPolynomial(
+      R, [](Index) { return std::vector<std::pair<Index, double>>{{2, 1.0}}; },
+      [&](Index p, Index j, double v) { return -v * inv2 * (P(p, 1) - X(j, 1)); });
+}
+
+}  // namespace kc
