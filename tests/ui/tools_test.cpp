@@ -141,6 +141,7 @@ TEST(MethodSwitch, KeepsPaintedTargets) {
   ASSERT_NE(edit, nullptr);
   EXPECT_EQ(edit->before, Method::QP);
   EXPECT_EQ(edit->after, Method::L1);
+  EXPECT_EQ(edit->WBefore.size(), 0);  // the weights came from the optimizer: nothing stored
   const Weights Wl1 = s->session->W;
   ASSERT_TRUE(undo(*s));  // back to QP, bit for bit
   pollWorker(*s);
@@ -187,6 +188,25 @@ TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {
   s.source = Image(128, 128, Rgba{1, 2, 3, 255});
   EXPECT_FALSE(startBind(s));
   EXPECT_FALSE(s.worker.busy());
+}
+
+TEST(MethodSwitch, KeepsWeightsThatDidNotComeFromTheOptimizer) {
+  auto s = test::boundState();
+  // As after opening a session file written by another version: W is not optimize(W0, QP).
+  s->weightsReproducible = false;
+  s->session->W.row(40) = s->session->W.row(41);
+  const Weights fromFile = s->session->W;
+  ASSERT_TRUE(switchMethod(*s, Method::QEC));
+  pollWorker(*s);
+  const auto* edit = std::get_if<MethodEdit>(&s->undo.nextUndo()->edit);
+  ASSERT_NE(edit, nullptr);
+  EXPECT_EQ(edit->WBefore.rows(), fromFile.rows());
+  EXPECT_TRUE(s->weightsReproducible);
+  ASSERT_TRUE(undo(*s));
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_TRUE(s->session->W == fromFile);
+  EXPECT_EQ(s->method, Method::QP);
 }
 
 TEST(Jobs, ReoptimizationBorrowsTheMeshWeightsLikeTheSession) {

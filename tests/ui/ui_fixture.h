@@ -28,7 +28,8 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   p.spacing = spacing;
   auto s = std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), state->source.width,
                                                     state->source.height, p));
-  ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(s->imageWidth, s->imageHeight)));
+  ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(s->imageWidth, s->imageHeight)),
+                     /*fromOptimizer=*/true);
   return state;
 }
 

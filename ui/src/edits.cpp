@@ -78,7 +78,10 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
           setDraftCage(state, forward ? edit.after : edit.before);
         } else if constexpr (std::is_same_v<T, MethodEdit>) {
           if (!state.session) return false;
-          return startMethod(state, forward ? edit.after : edit.before, false);
+          if (forward || edit.WBefore.rows() == 0) return startMethod(state, forward ? edit.after : edit.before, false);
+          // Weights from a session file: put them back as they were.
+          state.weightsReproducible = false;
+          return startRestoreWeights(state, {}, state.session->W0, edit.WBefore, edit.before);
         } else {
           if (!state.session) return false;
           return startRestoreWeights(state, edit.rows, forward ? edit.W0After : edit.W0Before,

@@ -87,7 +87,7 @@ DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions&
   return d;
 }
 
-void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display) {
+void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display, bool fromOptimizer) {
   const app::Session& s = *session;
   state.session = std::move(session);
   state.bound = true;
@@ -107,6 +107,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.undo.clear();
   state.diagnostics.reset();
   state.timings.bindSeconds = s.timings.total;
+  state.weightsReproducible = fromOptimizer;
 }
 
 bool startBind(AppState& state) {
@@ -134,7 +135,7 @@ bool startBind(AppState& state) {
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
       return [s, display](AppState& st) {
-        installSession(st, s, display);
+        installSession(st, s, display, true);
         st.unsaved = true;
         st.tool = Tool::Pose;
         char text[160];
@@ -220,13 +221,15 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
 bool startMethod(AppState& state, Method method, bool record) {
   if (!state.session || !state.meshSource || !canStart(state, "switch method")) return false;
   const Method before = state.method;
-  std::function<void(AppState&)> done;
   // W is a function of (W0, method) row by row (the optimizer reads only W0), so the undo entry
-  // holds the two methods and undo re-optimizes, instead of storing W before and after.
-  if (record)
-    done = [before, method](AppState& st) {
-      st.undo.push({std::string("method ") + std::string(app::toString(method)), MethodEdit{before, method}});
-    };
+  // holds the two methods and undo re-optimizes, instead of storing W before and after; W itself
+  // is kept only when it did not come from this optimizer.
+  auto entry = std::make_shared<MethodEdit>(MethodEdit{before, method, {}});
+  if (record && !state.weightsReproducible) entry->WBefore = state.session->W;
+  std::function<void(AppState&)> done = [record, entry, method](AppState& st) {
+    st.weightsReproducible = true;
+    if (record) st.undo.push({std::string("method ") + std::string(app::toString(method)), std::move(*entry)});
+  };
   return submitReoptimize(state, {}, method, "Re-optimizing", done, [before](app::Session& s) {
     try {
       app::reoptimize(s, before);  // W may be half overwritten: back to the method it came from

@@ -84,6 +84,9 @@ struct AppState {
   /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
   app::BackendCapabilities capabilities;
   app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
+  /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
+  /// re-optimization; not for a session file, which may come from another version).
+  bool weightsReproducible = false;
   app::BindParams bindParams;              ///< Bind panel values (next bind).
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;

@@ -52,7 +52,9 @@ struct DisplayMesh {
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options);
 
 /// Makes `session` (bound for `source`) the document: display copies, mesh, pose, undo cleared.
-void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display);
+/// fromOptimizer: the session's W came from this optimizer (a bind), not from a file.
+void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display,
+                    bool fromOptimizer = false);
 
 /// Applies a finished job's result, if any. Call once per frame on the main thread.
 void pollWorker(AppState& state);

@@ -34,8 +34,11 @@ struct WeightEdit {
 
 /// A method switch: W is re-optimized from the unchanged W0, so the two methods are all that undo
 /// and redo need (the optimizer is deterministic and reads only W0: the same bits come back).
+/// Only when the weights before the switch did not come from this optimizer (a session file
+/// written by another version) are they kept, in WBefore (#S×m; empty otherwise).
 struct MethodEdit {
   Method before = Method::QP, after = Method::QP;
+  Weights WBefore;
 };
 
 using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit>;
