@@ -70,8 +70,14 @@ void writePositions(const fs::path& path, const std::vector<Eigen::Vector2d>& P)
   std::ofstream(path) << json{{"version", 1}, {"positions", pts}}.dump();
 }
 
-/// Binds example `name` once per test binary run (sessions are cached in the scratch folder).
+/// The session of example `name`: under ctest the fixture bound it once for the whole suite
+/// (KC_BOUND_EXAMPLES, see tests/CMakeLists.txt); run by hand, it is bound once per process.
 fs::path boundSession(const std::string& name) {
+  if (const char* shared = std::getenv("KC_BOUND_EXAMPLES")) {
+    const fs::path s = fs::path(shared) / (name + ".kcw.json");
+    EXPECT_TRUE(fs::exists(s)) << s << " is missing: the bind_example_" << name << " fixture failed";
+    return s;
+  }
   static const fs::path dir = scratch("sessions_" + std::to_string(::getpid()));  // one per process
   const fs::path s = dir / (name + ".kcw.json");
   if (!fs::exists(s)) {

@@ -182,14 +182,13 @@ TEST(WeightOptimizer, RejectsBadInput) {
   EXPECT_THROW(WeightOptimizer{}.optimize(s.S, s.W0, W, {}), std::invalid_argument);
 }
 
-TEST(WeightOptimizer, ReportsIterationsAndTime) {
+TEST(WeightOptimizer, ReportsIterations) {
   const Scene s = makeScene();
   const WeightOptimizer opt(s.C);
   Weights W;
   const OptimizeReport qp = opt.optimize(s.S, s.W0, W, OptimizeOptions{Method::QP});
   EXPECT_GT(qp.maxIterations, 0);
   EXPECT_LT(qp.maxIterations, 30);
-  EXPECT_GE(qp.seconds, 0.0);
   const OptimizeReport qec = opt.optimize(s.S, s.W0, W, OptimizeOptions{Method::QEC});
   EXPECT_EQ(qec.maxIterations, 0);
 }

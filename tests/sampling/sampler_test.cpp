@@ -58,7 +58,6 @@ TEST(Sampler, ReportCountsAndProgress) {
   EXPECT_EQ(r.controls + r.edge + r.interior + r.exterior, S.size());
   EXPECT_GT(r.iterations, 10);
   EXPECT_TRUE(r.converged);
-  EXPECT_GT(r.seconds, 0.0);
   ASSERT_FALSE(progress.empty());
   EXPECT_EQ(progress.back(), 1.0);
   for (std::size_t k = 1; k < progress.size(); ++k) EXPECT_GE(progress[k], progress[k - 1]);
