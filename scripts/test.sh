@@ -1,8 +1,6 @@
 #!/usr/bin/env bash
-# Sets up a fresh Debian 12 machine (as root), builds kcwarp and runs the whole test suite (the
-# tests labelled slow included), then the sanitizer build's tests (scripts/test_asan.sh).
+# Sets up a fresh Debian 12 machine (as root), builds kcwarp and runs the whole test suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc 2>/dev/null || echo 2)" --timeout 600
-bash scripts/test_asan.sh
