@@ -8,6 +8,7 @@
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
 #include "kc/app/file_io.h"
+#include "kc/app/limits.h"
 #include "kc/app/pipeline.h"
 
 namespace kc::cli {
@@ -31,6 +32,11 @@ E parseOrThrow(const std::string& text, bool (*parse)(std::string_view, E&), con
 
 void runBind(const BindArgs& a) {
   const Cage cage = app::loadCage(a.cage);
+  app::checkOutputFile(a.output);
+  requireFinite(a.spacing, "--spacing");
+  requireFinite(a.sigma, "--sigma");
+  requireFinite(a.locality, "--locality");
+  requireFinite(a.margin, "--margin");
   const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageSize(a.image);
   app::BindParams p;
   p.spacing = a.spacing;
@@ -84,7 +90,9 @@ void addBindCommand(CLI::App& app) {
   sub->add_option("--spacing", a->spacing, "Sample spacing h in pixels")->capture_default_str();
   sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
   sub->add_option("--init", a->init, "Initial weights: heat-linear | heat-impulse | inverse-distance")->capture_default_str();
-  sub->add_option("--heat-iterations", a->heatIterations, "Heat diffusion iterations (0 = converged steady state)")
+  sub->add_option("--heat-iterations", a->heatIterations,
+                  "Heat diffusion iterations, 0.." + std::to_string(app::kMaxHeatIterations) + " (0 = converged steady state)")
+      ->check(CLI::Range(0, app::kMaxHeatIterations))
       ->capture_default_str();
   sub->add_option("--locality", a->locality,
                   "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");

@@ -2,8 +2,12 @@
 
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdio>
+
 #include "kc/app/errors.h"
 #include "kc/app/image_io.h"
+#include "kc/app/limits.h"
 
 namespace kc::cli {
 
@@ -15,7 +19,10 @@ std::pair<int, int> parseSize(const std::string& text, const std::string& option
     const int w = std::stoi(text.substr(0, comma), &a);
     const int h = std::stoi(text.substr(comma + 1), &b);
     if (a != comma || b != text.size() - comma - 1 || w <= 0 || h <= 0) throw std::invalid_argument("");
+    app::checkImageSize(w, h, option, "image");
     return {w, h};
+  } catch (const app::InputError&) {
+    throw;
   } catch (const std::exception&) {
     throw app::InputError(option, "expected a size W,H in positive whole pixels, got '" + text + "'");
   }
@@ -24,6 +31,31 @@ std::pair<int, int> parseSize(const std::string& text, const std::string& option
 std::pair<int, int> imageSize(const std::string& path) {
   const Image img = app::loadImage(path);  // InputError naming the file when missing or unreadable
   return {img.width, img.height};
+}
+
+void requireFinite(double value, const std::string& option) {
+  if (!std::isfinite(value)) throw app::InputError(option, "must be a finite number of pixels");
+}
+
+std::string limitsText() {
+  using namespace app;
+  auto n = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.0f", v);
+    return std::string(buf);
+  };
+  return "Limits (beyond them the input is refused with exit 2 before any work):\n"
+         "  files: cage/pose " + byteText(double(kMaxJsonFileBytes)) + ", session " + byteText(double(kMaxSessionFileBytes)) +
+         ", points CSV " + byteText(double(kMaxPointsFileBytes)) + ", image " + byteText(double(kMaxImageFileBytes)) +
+         "; regular files only\n"
+         "  images: side <= " + std::to_string(kMaxImageSide) + " px, <= " + n(double(kMaxImagePixels)) +
+         " pixels (64 megapixels), checked from the header\n"
+         "  cage: <= " + std::to_string(kMaxCagePoints) + " points; coordinates |x| <= 1e7 px; session weights |w| <= 1e6\n"
+         "  bind: <= " + n(double(kMaxBindSamples)) + " samples, <= " + n(double(kMaxKernelNonZeros)) +
+         " kernel non-zeros, <= " + byteText(kMaxBindBytes) + " estimated memory; --spacing >= " + n(kMinSpacing * 100) +
+         "/100 px; --heat-iterations <= " + std::to_string(kMaxHeatIterations) + "\n"
+         "Outputs are written atomically (a temporary file in the target's folder, then renamed); a symbolic link is\n"
+         "written through to its target; devices, FIFOs and folders are refused; a failing command writes nothing.";
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }

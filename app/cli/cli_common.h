@@ -26,6 +26,10 @@ void addBenchCommand(CLI::App& app);
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
 /// Width and height of an image file; InputError naming the file when it cannot be read.
 std::pair<int, int> imageSize(const std::string& path);
+/// InputError naming `option` when `value` is NaN or infinite.
+void requireFinite(double value, const std::string& option);
+/// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.
+std::string limitsText();
 /// True when stderr is a terminal (progress output is shown only then).
 bool stderrIsTerminal();
 

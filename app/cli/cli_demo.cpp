@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "kc/app/diagnostics.h"
@@ -49,6 +50,8 @@ std::string findExamples(const std::string& given) {
   throw app::InputError("--images", "cannot find the bundled examples (images/checker.cage.json); give --images DIR");
 }
 
+std::string png(const Image& image) { return app::encodeImage(image, ".png"); }
+
 /// The control point the pose moves most: the heatmap shows its weights.
 Index mostMoved(const Pose& pose) {
   Index best = 0;
@@ -60,18 +63,38 @@ Index mostMoved(const Pose& pose) {
   return best;
 }
 
-void runExample(const std::string& dir, const std::string& name, const std::string& out, std::string& report) {
-  const std::string base = (fs::path(dir) / name).string();
-  const Cage cage = app::loadCage(base + ".cage.json");
-  const Pose pose = app::loadPose(base + ".pose.json", cage.C);
-  const Image source = app::loadImage(base + ".png");
+/// The inputs of one bundled example, all read and checked before any work starts.
+struct Example {
+  std::string name, base;
+  Cage cage;
+  Pose pose;
+  Image source;
+};
+
+Example loadExample(const std::string& dir, const std::string& name) {
+  Example e;
+  e.name = name;
+  e.base = (fs::path(dir) / name).string();
+  e.cage = app::loadCage(e.base + ".cage.json");
+  e.pose = app::loadPose(e.base + ".pose.json", e.cage.C);
+  e.source = app::loadImage(e.base + ".png");
+  return e;
+}
+
+/// Binds and warps one example; its output files go into `files` (written at the end).
+void runExample(const Example& e, const std::string& out, app::OutputBatch& files, std::string& report) {
+  const std::string& name = e.name;
+  const std::string& base = e.base;
+  const Cage& cage = e.cage;
+  const Pose& pose = e.pose;
+  const Image& source = e.source;
 
   app::BindReport br;
   app::Session s = app::bind(cage, source.width, source.height, app::BindParams{}, &br);
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
   s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;
-  app::saveSession(sessionPath, s);
+  files.set(sessionPath, app::sessionToJson(s));
 
   app::WarpExportReport er;
   WarpMesh mesh = app::buildWarpMesh(s, {}, &er);
@@ -80,20 +103,20 @@ void runExample(const std::string& dir, const std::string& name, const std::stri
   const DeformReport dr = mesh.deform(pose);
   RasterReport rr;
   Image warped = mesh.render(source, {}, &rr);
-  app::saveImage((fs::path(out) / (name + ".warped.png")).string(), warped);
+  files.set((fs::path(out) / (name + ".warped.png")).string(), png(warped));
   app::drawCage(warped, cage, app::OverlayStyle{}.restCage);
   app::drawDeformedCage(warped, cage, posedControls(cage.C, pose));
-  app::saveImage((fs::path(out) / (name + ".overlay.png")).string(), warped);
+  files.set((fs::path(out) / (name + ".overlay.png")).string(), png(warped));
 
   const Index control = mostMoved(pose);
   app::HeatmapOptions ho;
-  app::saveImage((fs::path(out) / (name + ".heatmap.png")).string(), app::weightHeatmap(s, control, ho));
+  files.set((fs::path(out) / (name + ".heatmap.png")).string(), png(app::weightHeatmap(s, control, ho)));
   ho.scale = app::HeatScale::Log;
-  app::saveImage((fs::path(out) / (name + ".heatmap-log.png")).string(), app::weightHeatmap(s, control, ho));
+  files.set((fs::path(out) / (name + ".heatmap-log.png")).string(), png(app::weightHeatmap(s, control, ho)));
   Image samples = source;
   app::drawSamples(samples, s.samples);
   app::drawCage(samples, cage, app::OverlayStyle{}.restCage);
-  app::saveImage((fs::path(out) / (name + ".samples.png")).string(), samples);
+  files.set((fs::path(out) / (name + ".samples.png")).string(), png(samples));
 
   const app::Diagnostics d = app::diagnose(s);
   const app::BindTimings& t = s.timings;
@@ -134,13 +157,25 @@ void addDemoCommand(CLI::App& app) {
   sub->callback([a] {
     const std::string dir = findExamples(a->images);
     std::error_code ec;
-    fs::create_directories(a->out, ec);
-    if (!fs::is_directory(a->out)) throw app::InputError(a->out, "cannot create the output folder");
+    if (fs::exists(a->out, ec) && !fs::is_directory(a->out, ec)) throw app::InputError(a->out, "exists and is not a folder");
+    std::vector<Example> examples;
+    for (const char* name : {"checker", "star", "figure"}) examples.push_back(loadExample(dir, name));
     std::string report = "kcwarp demo: bundled examples from " + dir + "\n";
     std::fputs(report.c_str(), stdout);
-    for (const char* name : {"checker", "star", "figure"}) runExample(dir, name, a->out, report);
+    // Outputs are checked as they are produced and written together once every example worked.
+    const bool created = fs::create_directories(a->out, ec);
+    if (!fs::is_directory(a->out, ec)) throw app::InputError(a->out, "cannot create the output folder: " + ec.message());
     const std::string path = (fs::path(a->out) / "report.txt").string();
-    app::writeFileAtomic(path, report);
+    try {
+      app::OutputBatch files;
+      files.reserve(path);
+      for (const Example& e : examples) runExample(e, a->out, files, report);
+      files.set(path, report);
+      files.commit();
+    } catch (...) {
+      if (created) fs::remove(a->out, ec);  // only when still empty
+      throw;
+    }
     std::printf("\nwrote %s and the PNGs next to it\n", path.c_str());
   });
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <utility>
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
@@ -11,6 +13,7 @@
 #include "kc/app/file_io.h"
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
+#include "kc/app/limits.h"
 #include "kc/app/session.h"
 #include "kc/sampling/point_metrics.h"
 #include "kc/sampling/sampler.h"
@@ -25,12 +28,13 @@ struct SampleArgs {
   std::uint64_t seed = 1;
 };
 
-/// The samples over the image (or a blank canvas), the picture padded by the sampling margin.
-void writePlot(const SampleArgs& a, const Cage& cage, const SampleSet& S, int w, int h, double margin) {
+/// The samples over the image (or a blank canvas), the picture padded by the sampling margin,
+/// encoded as PNG.
+std::string plotPng(const std::string& png, const Image* image, const Cage& cage, const SampleSet& S, int w, int h, double margin) {
   const int pad = static_cast<int>(std::ceil(std::max(0.0, margin)));
   Image canvas(w + 2 * pad, h + 2 * pad, Rgba{235, 235, 235, 255});
-  if (!a.image.empty()) {
-    const Image img = app::loadImage(a.image);
+  if (image) {
+    const Image& img = *image;
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x)
         for (int c = 0; c < 4; ++c)
@@ -47,12 +51,23 @@ void writePlot(const SampleArgs& a, const Cage& cage, const SampleSet& S, int w,
   shiftedCage.C.rowwise() += Eigen::RowVector2d(pad, pad);
   app::drawCage(canvas, shiftedCage, Rgba{60, 60, 60, 255});
   app::drawSamples(canvas, shifted);
-  app::saveImage(a.png, canvas);
+  return app::encodeImage(canvas, app::imageExtension(png));
 }
 
 void runSample(const SampleArgs& a) {
   const Cage cage = app::loadCage(a.cage);
-  const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageSize(a.image);
+  std::optional<Image> image;
+  if (!a.image.empty()) image = app::loadImage(a.image);
+  const auto [w, h] = image ? std::pair{image->width, image->height} : parseSize(a.size, "--size");
+  requireFinite(a.spacing, "--spacing");
+  requireFinite(a.margin, "--margin");
+  app::OutputBatch outputs;
+  outputs.reserve(a.output);
+  if (!a.png.empty()) {
+    app::imageExtension(a.png);  // InputError on an extension kcwarp cannot write
+    outputs.reserve(a.png);
+  }
+
   sampling::SamplingOptions o;
   o.spacing = a.spacing;
   o.width = w;
@@ -66,6 +81,10 @@ void runSample(const SampleArgs& a) {
       std::fprintf(stderr, "\rrelaxing samples %3.0f%%", 100.0 * f);
       if (f >= 1.0) std::fprintf(stderr, "\n");
     };
+  if (!a.png.empty()) {
+    const std::int64_t pad = 2 * static_cast<std::int64_t>(std::ceil(std::max(0.0, std::min(sampling::resolvedMargin(o), 1e9))));
+    app::checkImageSize(w + pad, h + pad, a.png, "sample plot");
+  }
   sampling::SamplingReport rep;
   const SampleSet S = sampling::sample(cage, o, &rep);
   const Index fixed = rep.controls + rep.edge + rep.frame;
@@ -79,8 +98,9 @@ void runSample(const SampleArgs& a) {
        {{"control", rep.controls}, {"edge", rep.edge}, {"frame", rep.frame}, {"interior", rep.interior}, {"exterior", rep.exterior}}},
       {"metrics", {{"separation", q.separation}, {"fill", q.fill}, {"nn_mean", q.nnMean}, {"nn_cv", q.nnCv}}},
       {"iterations", rep.iterations}};
-  app::saveSamples(a.output, S, extra.dump());
-  if (!a.png.empty()) writePlot(a, cage, S, w, h, sampling::resolvedMargin(o));
+  outputs.set(a.output, app::samplesText(S, extra.dump()));
+  if (!a.png.empty()) outputs.set(a.png, plotPng(a.png, image ? &*image : nullptr, cage, S, w, h, sampling::resolvedMargin(o)));
+  outputs.commit();
   std::printf("%ld samples: %ld control, %ld edge, %ld frame, %ld interior, %ld exterior (%d relaxation iterations, %.3f s)\n",
               static_cast<long>(S.size()), static_cast<long>(rep.controls), static_cast<long>(rep.edge),
               static_cast<long>(rep.frame), static_cast<long>(rep.interior), static_cast<long>(rep.exterior), rep.iterations,

@@ -12,6 +12,7 @@
 #include "kc/app/file_io.h"
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
+#include "kc/app/limits.h"
 #include "kc/core/warp_mesh.h"
 
 namespace kc::cli {
@@ -56,32 +57,55 @@ void runWarp(const WarpArgs& a) {
   raster.supersample = a.supersample ? 2 : 1;
   if (!a.background.empty()) raster.background = parseColor(a.background);
 
+  // Everything is read and checked before anything is computed or written.
   const app::Session s = app::loadSession(a.session);
   const Index m = s.cage.size();
   if (a.heatmap >= m) throw app::InputError("--heatmap", "control point " + std::to_string(a.heatmap) +
                                                              " does not exist (the cage has " + std::to_string(m) + ")");
+  const double vertices = (s.imageWidth / a.meshSpacing + 2.0) * (s.imageHeight / a.meshSpacing + 2.0);
+  if (!a.output.empty() && vertices > double(app::kMaxMeshVertices))
+    throw app::InputError("--mesh-spacing", "a warp mesh of spacing " + std::to_string(a.meshSpacing).substr(0, 5) + " px over " +
+                                                std::to_string(s.imageWidth) + "x" + std::to_string(s.imageHeight) +
+                                                " would have about " + std::to_string(static_cast<long long>(vertices)) +
+                                                " vertices, above kcwarp's limit of " + std::to_string(app::kMaxMeshVertices) +
+                                                "; use a larger --mesh-spacing");
+  app::OutputBatch outputs;
+  if (a.heatmap >= 0) {
+    app::imageExtension(a.heatmapOut);
+    outputs.reserve(a.heatmapOut);
+  }
+  Image source;
+  Pose pose;
+  std::string imagePath;
+  if (!a.output.empty()) {
+    app::imageExtension(a.output);
+    outputs.reserve(a.output);
+    imagePath = a.image.empty() ? app::resolveSessionImage(s.image, a.session) : a.image;
+    if (imagePath.empty()) throw app::InputError("--image", "the session names no image; give --image I.png");
+    pose = a.pose.empty() ? s.pose : app::loadPose(a.pose, s.cage.C);
+    try {
+      validatePose(pose, m);
+    } catch (const std::invalid_argument& e) {
+      throw app::InputError(a.pose.empty() ? a.session : a.pose, e.what());
+    }
+    source = app::loadImage(imagePath);
+    if (source.width != s.imageWidth || source.height != s.imageHeight)
+      throw app::InputError(imagePath, "image is " + std::to_string(source.width) + "x" + std::to_string(source.height) +
+                                           " but the session was bound for " + std::to_string(s.imageWidth) + "x" +
+                                           std::to_string(s.imageHeight));
+  }
+
   if (a.heatmap >= 0) {
     const auto t0 = std::chrono::steady_clock::now();
     app::HeatmapReport hr;
     const Image heat = app::weightHeatmap(s, a.heatmap, heatOptions, &hr);
-    app::saveImage(a.heatmapOut, heat);
-    std::printf("heatmap of w%d: range [%.3g, %.3g], %s scale, %.1f ms, wrote %s\n", a.heatmap, hr.minValue, hr.maxValue,
+    outputs.set(a.heatmapOut, app::encodeImage(heat, app::imageExtension(a.heatmapOut)));
+    std::printf("heatmap of w%d: range [%.3g, %.3g], %s scale, %.1f ms, %s\n", a.heatmap, hr.minValue, hr.maxValue,
                 a.scale.c_str(), msSince(t0), a.heatmapOut.c_str());
   }
-  if (a.output.empty()) return;
-
-  const std::string imagePath = a.image.empty() ? app::resolveSessionImage(s.image, a.session) : a.image;
-  if (imagePath.empty()) throw app::InputError("--image", "the session names no image; give --image I.png");
-  const Image source = app::loadImage(imagePath);
-  if (source.width != s.imageWidth || source.height != s.imageHeight)
-    throw app::InputError(imagePath, "image is " + std::to_string(source.width) + "x" + std::to_string(source.height) +
-                                         " but the session was bound for " + std::to_string(s.imageWidth) + "x" +
-                                         std::to_string(s.imageHeight));
-  const Pose pose = a.pose.empty() ? s.pose : app::loadPose(a.pose, s.cage.C);
-  try {
-    validatePose(pose, m);
-  } catch (const std::invalid_argument& e) {
-    throw app::InputError(a.pose.empty() ? a.session : a.pose, e.what());
+  if (a.output.empty()) {
+    outputs.commit();
+    return;
   }
 
   app::WarpExportReport er;
@@ -95,7 +119,8 @@ void runWarp(const WarpArgs& a) {
     app::drawCage(out, s.cage, app::OverlayStyle{}.restCage);
     app::drawDeformedCage(out, s.cage, posedControls(s.cage.C, pose));
   }
-  app::saveImage(a.output, out);
+  outputs.set(a.output, app::encodeImage(out, app::imageExtension(a.output)));
+  outputs.commit();
 
   std::printf("mesh: %ld vertices, %ld triangles (spacing %.3g px, outside %s); weights at vertices %.1f ms\n",
               long(mesh.restVertices().rows()), long(mesh.triangles().size()), meshOptions.spacing,

@@ -1,6 +1,7 @@
 // kcwarp-cli: the headless face of kcwarp (ARCHITECTURE.md, "Command line").
 
 #include <iostream>
+#include <new>
 
 #include "cli_common.h"
 #include "kc/app/errors.h"
@@ -10,6 +11,7 @@ int main(int argc, char** argv) {
   kc::app::preferPassiveOpenMpWaiting(argv);
   CLI::App app{"kcwarp-cli: warp images with a cage and kernel coordinates"};
   app.require_subcommand(1);
+  app.footer(kc::cli::limitsText());
   kc::cli::addSampleCommand(app);
   kc::cli::addBindCommand(app);
   kc::cli::addEvalCommand(app);
@@ -29,6 +31,10 @@ int main(int argc, char** argv) {
     return kc::cli::kExitBadInput;
   } catch (const std::invalid_argument& e) {
     std::cerr << "kcwarp-cli: " << e.what() << "\n";
+    return kc::cli::kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "kcwarp-cli: out of memory: this input needs more memory than the machine has; use a larger --spacing, "
+                 "a smaller image or a cage with fewer points\n";
     return kc::cli::kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "kcwarp-cli: internal error: " << e.what() << "\n";

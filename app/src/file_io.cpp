@@ -1,11 +1,15 @@
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <random>
+#include <utility>
 
 #include "json_util.h"
 #include "kc/app/errors.h"
@@ -13,48 +17,205 @@
 
 namespace kc::app {
 
-void writeFileAtomic(const std::string& path, const std::string& content) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError(path, "folder '" + dir.string() + "' does not exist");
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-  {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
-    const bool ok = std::fwrite(content.data(), 1, content.size(), f) == content.size() && std::fflush(f) == 0 &&
-                    ::fsync(::fileno(f)) == 0;
-    const int err = errno;
-    std::fclose(f);
-    if (!ok) {
-      fs::remove(tmp, ec);
-      throw InputError(path, std::string("cannot write: ") + std::strerror(err));
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Closes a descriptor on scope exit.
+struct FileDescriptor {
+  int fd = -1;
+  explicit FileDescriptor(int f) : fd(f) {}
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+  int release() { return std::exchange(fd, -1); }
+};
+
+std::string systemError(int err) { return std::strerror(err); }
+
+/// The file a write to `path` replaces: `path`, or for a symbolic link (a chain of them) the
+/// file the link names, which need not exist yet.
+fs::path resolveOutput(const std::string& path) {
+  fs::path p(path);
+  for (int hops = 0; hops < 40; ++hops) {
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+    std::error_code ec;
+    const fs::path link = fs::read_symlink(p, ec);
+    if (ec) throw InputError(path, "cannot read the symbolic link: " + ec.message());
+    p = link.is_absolute() ? link : p.parent_path() / link;
+  }
+  throw InputError(path, "too many levels of symbolic links");
+}
+
+/// Writes all of `content` to fd; 0 or the errno of the failure.
+int writeAll(int fd, const std::string& content) {
+  const char* p = content.data();
+  std::size_t left = content.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, std::min<std::size_t>(left, std::size_t(1) << 30));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  return 0;
+}
+
+std::string randomSuffix() {
+  static std::atomic<unsigned> counter{0};
+  std::random_device rd;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%08x%04x", rd(), (counter++ & 0xffffu));
+  return buf;
+}
+
+/// Content, mode (and, where allowed, owner) written to fd and fsynced; 0 or an errno.
+int fillTemp(int fd, const std::string& content, const struct stat* existing) {
+  if (const int err = writeAll(fd, content)) return err;
+  if (existing) {
+    if (::fchmod(fd, existing->st_mode & 07777) != 0) return errno;
+    if (::fchown(fd, existing->st_uid, existing->st_gid) != 0) {
+      // Only root may give a file away: a save by another user owns its copy, as any editor's does.
     }
   }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path, "cannot replace the file: " + ec.message());
+  if (::fsync(fd) != 0) return errno;
+  return 0;
+}
+
+}  // namespace
+
+std::string checkOutputFile(const std::string& path) {
+  if (path.empty()) throw InputError("(output)", "empty file name");
+  const fs::path target = resolveOutput(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
+    throw InputError(path, "folder '" + dir.string() + "' does not exist");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw InputError(path, "cannot write in folder '" + dir.string() + "': " + systemError(errno));
+  if (::stat(target.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) throw InputError(path, "is a folder, not a file");
+    if (!S_ISREG(st.st_mode))
+      throw InputError(path, "is not a regular file (a device, FIFO or socket): kcwarp only writes regular files");
   }
+  return target.string();
 }
 
-std::string readTextFile(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a folder, not a file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+void writeFileAtomic(const std::string& path, const std::string& content) {
+  const fs::path target(checkOutputFile(path));
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  struct stat existing {};
+  const bool exists = ::stat(target.c_str(), &existing) == 0;
+  const std::string base = "." + target.filename().string() + ".";
+
+  // 1. An unnamed temporary file: if kcwarp dies while writing, nothing is left behind.
+  fs::path tmp;
+  int err = 0;
+  {
+    FileDescriptor fd(::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666));
+    if (fd.fd >= 0) {
+      err = fillTemp(fd.fd, content, exists ? &existing : nullptr);
+      if (err) throw InputError(path, "cannot write: " + systemError(err));
+      const std::string procPath = "/proc/self/fd/" + std::to_string(fd.fd);
+      for (int attempt = 0; attempt < 100 && tmp.empty(); ++attempt) {
+        const fs::path name = dir / (base + randomSuffix() + ".tmp");
+        if (::linkat(AT_FDCWD, procPath.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) tmp = name;
+        else if (errno != EEXIST) break;  // e.g. no /proc: fall back to a named temporary file
+      }
+    }
+  }
+  // 2. A temporary file created exclusively (O_EXCL never follows or reuses an existing name).
+  if (tmp.empty()) {
+    for (int attempt = 0; attempt < 100 && tmp.empty(); ++attempt) {
+      const fs::path name = dir / (base + randomSuffix() + ".tmp");
+      FileDescriptor fd(::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
+      if (fd.fd < 0) {
+        if (errno == EEXIST) continue;
+        throw InputError(path, "cannot write: " + systemError(errno));
+      }
+      err = fillTemp(fd.fd, content, exists ? &existing : nullptr);
+      if (!err && ::close(fd.release()) != 0) err = errno;
+      if (err) {
+        ::unlink(name.c_str());
+        throw InputError(path, "cannot write: " + systemError(err));
+      }
+      tmp = name;
+    }
+    if (tmp.empty()) throw InputError(path, "cannot create a temporary file in '" + dir.string() + "'");
+  }
+  if (::rename(tmp.c_str(), target.c_str()) != 0) {
+    err = errno;
+    ::unlink(tmp.c_str());
+    throw InputError(path, "cannot replace the file: " + systemError(err));
+  }
+  FileDescriptor dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+  if (dirFd.fd >= 0) ::fsync(dirFd.fd);  // the rename itself reaches the disk
 }
 
-Cage loadCage(const std::string& path) {
-  const detail::json j = detail::parseJson(readTextFile(path), path);
-  detail::checkVersion(j, path);
-  return detail::parseCage(j, path, "");
+std::string readTextFile(const std::string& path, std::uint64_t maxBytes) {
+  FileDescriptor fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC));
+  if (fd.fd < 0) {
+    const int err = errno;
+    if (err == ENOENT) throw InputError(path, "no such file");
+    throw InputError(path, "cannot open: " + systemError(err));
+  }
+  struct stat st {};
+  if (::fstat(fd.fd, &st) != 0) throw InputError(path, "cannot read: " + systemError(errno));
+  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a folder, not a file");
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "is not a regular file (a device, FIFO or socket): kcwarp reads only regular files");
+  const auto tooLarge = [&](double bytes) {
+    return InputError(path, "is " + byteText(bytes) + ", more than the " + byteText(double(maxBytes)) +
+                                " kcwarp reads for this kind of file");
+  };
+  if (static_cast<std::uint64_t>(st.st_size) > maxBytes) throw tooLarge(double(st.st_size));
+  std::string text(static_cast<std::size_t>(st.st_size), '\0');
+  std::size_t got = 0;
+  for (;;) {
+    if (got == text.size()) {
+      if (text.size() >= maxBytes + 1) throw tooLarge(double(text.size()));  // grew while being read
+      text.resize(std::min<std::uint64_t>(maxBytes + 1, text.size() + 65536));
+    }
+    const ssize_t n = ::read(fd.fd, text.data() + got, text.size() - got);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      throw InputError(path, "cannot read: " + systemError(errno));
+    }
+    if (n == 0) break;
+    got += static_cast<std::size_t>(n);
+  }
+  text.resize(got);
+  return text;
 }
+
+void OutputBatch::reserve(const std::string& path) {
+  for (const auto& f : m_files)
+    if (f.first == path) return;
+  checkOutputFile(path);
+  m_files.emplace_back(path, std::string());
+}
+
+void OutputBatch::set(const std::string& path, std::string content) {
+  reserve(path);
+  for (auto& f : m_files)
+    if (f.first == path) f.second = std::move(content);
+}
+
+void OutputBatch::commit() {
+  for (const auto& [path, content] : m_files) writeFileAtomic(path, content);
+}
+
+Cage cageFromJson(const std::string& text, const std::string& where) {
+  const detail::json j = detail::parseJson(text, where);
+  detail::checkVersion(j, where);
+  return detail::parseCage(j, where, "");
+}
+
+Cage loadCage(const std::string& path) { return cageFromJson(readTextFile(path), path); }
 
 void saveCage(const std::string& path, const Cage& cage) {
   detail::json j = {{"version", 1}};
@@ -62,11 +223,13 @@ void saveCage(const std::string& path, const Cage& cage) {
   writeFileAtomic(path, j.dump(1) + "\n");
 }
 
-Pose loadPose(const std::string& path, const Points& C) {
-  const detail::json j = detail::parseJson(readTextFile(path), path);
-  detail::checkVersion(j, path);
-  return detail::parsePose(j, C, path, "");
+Pose poseFromJson(const std::string& text, const Points& C, const std::string& where) {
+  const detail::json j = detail::parseJson(text, where);
+  detail::checkVersion(j, where);
+  return detail::parsePose(j, C, where, "");
 }
+
+Pose loadPose(const std::string& path, const Points& C) { return poseFromJson(readTextFile(path), C, path); }
 
 void savePose(const std::string& path, const Pose& pose) {
   detail::json j = {{"version", 1}};

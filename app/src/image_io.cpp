@@ -8,6 +8,8 @@
 
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_header.h"
+#include "kc/app/limits.h"
 
 namespace kc::app {
 namespace {
@@ -20,12 +22,32 @@ std::string lowerExtension(const std::string& path) {
 
 }  // namespace
 
+ImageHeader checkImageFile(const std::string& bytes, const std::string& path) {
+  ImageHeader header;
+  std::string problem;
+  if (!readImageHeader(bytes, header, problem)) throw InputError(path, problem);
+  checkImageSize(header.width, header.height, path, header.format + " image");
+  return header;
+}
+
+ImageHeader readImageFileHeader(const std::string& path) {
+  return checkImageFile(readTextFile(path, kMaxImageFileBytes), path);
+}
+
 Image loadImage(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such image file");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a folder, not an image");
-  cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (m.empty()) throw InputError(path, "cannot decode the image (not a PNG/JPEG or corrupt)");
+  const std::string bytes = readTextFile(path, kMaxImageFileBytes);
+  const ImageHeader header = checkImageFile(bytes, path);
+  cv::Mat m;
+  try {
+    m = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    throw InputError(path, "cannot decode the " + header.format + " image: " + e.msg);
+  }
+  if (m.empty()) throw InputError(path, "cannot decode the " + header.format + " image (corrupt or truncated)");
+  if (m.cols != header.width || m.rows != header.height)
+    throw InputError(path, "the " + header.format + " header says " + std::to_string(header.width) + "x" +
+                               std::to_string(header.height) + " but the pixels are " + std::to_string(m.cols) + "x" +
+                               std::to_string(m.rows));
   if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
   else if (m.depth() != CV_8U) throw InputError(path, "unsupported pixel depth (need 8 or 16 bit)");
   cv::Mat rgba;
@@ -60,8 +82,15 @@ std::string encodeImage(const Image& image, const std::string& ext) {
   return std::string(buf.begin(), buf.end());
 }
 
-void saveImage(const std::string& path, const Image& image) {
+std::string imageExtension(const std::string& path) {
   const std::string ext = lowerExtension(path);
+  if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+    throw InputError(path, "unknown image format '" + ext + "' (use .png or .jpg)");
+  return ext;
+}
+
+void saveImage(const std::string& path, const Image& image) {
+  const std::string ext = imageExtension(path);
   std::string bytes;
   try {
     bytes = encodeImage(image, ext);

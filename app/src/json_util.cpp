@@ -1,8 +1,11 @@
 #include "json_util.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "kc/app/errors.h"
+#include "kc/app/limits.h"
 
 namespace kc::app::detail {
 
@@ -44,6 +47,23 @@ double finiteNumber(const json& v, const std::string& where, const std::string& 
   return d;
 }
 
+double boundedNumber(const json& v, double maxAbs, const std::string& where, const std::string& field) {
+  const double d = finiteNumber(v, where, field);
+  if (!(std::abs(d) <= maxAbs))
+    throw InputError(where, field + " = " + v.dump() + " is out of range (|value| ≤ " + json(maxAbs).dump() + ")");
+  return d;
+}
+
+long long integerInRange(const json& v, long long lo, long long hi, const std::string& where, const std::string& field) {
+  const std::string range = " (" + std::to_string(lo) + ".." + std::to_string(hi) + ")";
+  if (!v.is_number_integer()) throw InputError(where, field + " must be a whole number" + range);
+  const bool ok = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::max(hi, 0LL)) &&
+                                               static_cast<long long>(v.get<std::uint64_t>()) >= lo
+                                         : v.get<std::int64_t>() >= lo && v.get<std::int64_t>() <= hi;
+  if (!ok) throw InputError(where, field + " = " + v.dump() + " is out of range" + range);
+  return v.is_number_unsigned() ? static_cast<long long>(v.get<std::uint64_t>()) : static_cast<long long>(v.get<std::int64_t>());
+}
+
 Points parsePoints(const json& arr, const std::string& where, const std::string& field) {
   if (!arr.is_array()) throw InputError(where, field + " must be an array of [x, y] pairs");
   Points P(static_cast<Index>(arr.size()), 2);
@@ -51,8 +71,8 @@ Points parsePoints(const json& arr, const std::string& where, const std::string&
     const json& p = arr[i];
     const std::string f = field + "[" + std::to_string(i) + "]";
     if (!p.is_array() || p.size() != 2) throw InputError(where, f + " must be a pair [x, y]");
-    P(static_cast<Index>(i), 0) = finiteNumber(p[0], where, f + "[0]");
-    P(static_cast<Index>(i), 1) = finiteNumber(p[1], where, f + "[1]");
+    P(static_cast<Index>(i), 0) = boundedNumber(p[0], kMaxCoordinate, where, f + "[0]");
+    P(static_cast<Index>(i), 1) = boundedNumber(p[1], kMaxCoordinate, where, f + "[1]");
   }
   return P;
 }
@@ -66,7 +86,11 @@ json pointsToJson(const Points& P) {
 Cage parseCage(const json& obj, const std::string& where, const std::string& field) {
   const std::string pre = field.empty() ? "" : field + ".";
   Cage cage;
-  cage.C = parsePoints(require(obj, "points", where), where, pre + "points");
+  const json& points = require(obj, "points", where);
+  if (points.is_array() && points.size() > static_cast<std::size_t>(kMaxCagePoints))
+    throw InputError(where, pre + "points has " + std::to_string(points.size()) + " points, more than kcwarp's limit of " +
+                                std::to_string(kMaxCagePoints));
+  cage.C = parsePoints(points, where, pre + "points");
   cage.closed = true;
   if (obj.contains("closed")) {
     if (!obj["closed"].is_boolean()) throw InputError(where, pre + "closed must be true or false");
@@ -75,11 +99,16 @@ Cage parseCage(const json& obj, const std::string& where, const std::string& fie
   if (obj.contains("edges") && !obj["edges"].is_null()) {
     const json& e = obj["edges"];
     if (!e.is_array()) throw InputError(where, pre + "edges must be an array of [i, j] pairs");
+    if (e.size() > 4 * static_cast<std::size_t>(kMaxCagePoints))
+      throw InputError(where, pre + "edges has " + std::to_string(e.size()) + " edges, more than kcwarp's limit of " +
+                                  std::to_string(4 * kMaxCagePoints));
+    const long long last = static_cast<long long>(cage.C.rows()) - 1;
     for (std::size_t k = 0; k < e.size(); ++k) {
       const std::string f = pre + "edges[" + std::to_string(k) + "]";
-      if (!e[k].is_array() || e[k].size() != 2 || !e[k][0].is_number_integer() || !e[k][1].is_number_integer())
-        throw InputError(where, f + " must be a pair of point indices");
-      cage.edges.push_back({e[k][0].get<int>(), e[k][1].get<int>()});
+      if (!e[k].is_array() || e[k].size() != 2) throw InputError(where, f + " must be a pair of point indices");
+      const auto a = static_cast<int>(integerInRange(e[k][0], 0, last, where, f + "[0]"));
+      const auto b = static_cast<int>(integerInRange(e[k][1], 0, last, where, f + "[1]"));
+      cage.edges.push_back({a, b});
     }
   } else if (cage.closed) {
     cage = Cage::polygon(cage.C);
@@ -130,9 +159,10 @@ Pose parsePose(const json& obj, const Points& C, const std::string& where, const
     if (h[i].contains("translate")) {
       const json& t = h[i]["translate"];
       if (!t.is_array() || t.size() != 2) throw InputError(where, f + ".translate must be a pair [dx, dy]");
-      p.translate = Vec2(finiteNumber(t[0], where, f + ".translate[0]"), finiteNumber(t[1], where, f + ".translate[1]"));
+      p.translate = Vec2(boundedNumber(t[0], kMaxCoordinate, where, f + ".translate[0]"),
+                         boundedNumber(t[1], kMaxCoordinate, where, f + ".translate[1]"));
     }
-    if (h[i].contains("rotate")) p.rotate = finiteNumber(h[i]["rotate"], where, f + ".rotate");
+    if (h[i].contains("rotate")) p.rotate = boundedNumber(h[i]["rotate"], kMaxRotation, where, f + ".rotate");
   }
   return pose;
 }

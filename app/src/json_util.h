@@ -20,7 +20,12 @@ void checkVersion(const json& j, const std::string& where);
 const json& require(const json& obj, const char* key, const std::string& where);
 /// A finite number; InputError naming `field` otherwise.
 double finiteNumber(const json& v, const std::string& where, const std::string& field);
-/// [[x, y], ...] → #P×2; every coordinate finite.
+/// A finite number with |v| ≤ maxAbs; InputError naming `field` otherwise.
+double boundedNumber(const json& v, double maxAbs, const std::string& where, const std::string& field);
+/// A whole number in [lo, hi], checked before any conversion (no wrap-around); InputError naming
+/// `field` otherwise.
+long long integerInRange(const json& v, long long lo, long long hi, const std::string& where, const std::string& field);
+/// [[x, y], ...] → #P×2; every coordinate finite with |x| ≤ kMaxCoordinate.
 Points parsePoints(const json& arr, const std::string& where, const std::string& field);
 json pointsToJson(const Points& P);
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kc/app/backend.h"
+#include "kc/app/pipeline.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/sampling/sigma.h"
 
@@ -14,11 +15,6 @@ namespace {
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-
-/// Automatic sampling margin in `thesis` interpolation mode, in sample spacings (the exact mode
-/// uses the sampler's default of about 3h). Measured on the checker cage, which spans its whole
-/// image, at h = 8: partition-of-unity error 1.2e-2 with ~3h, 3.0e-3 with 5h, 1.3e-3 with 10h.
-constexpr double kThesisMarginSpacings = 10.0;
 
 GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
 
@@ -35,19 +31,9 @@ class KcBackend final : public Backend {
   void bind(Session& s, BindReport& r, const BindStep& step) const override {
     const BindParams& params = s.params;
     const KcParams& kc = params.kc;
-    if (!std::isfinite(kc.sigma) || kc.sigma < 0.0) throw std::invalid_argument("sigma must be positive (or 0 for automatic)");
-    if (kc.init.iterations < 0) throw std::invalid_argument("heat iterations must be ≥ 0 (0 = steady state)");
 
     step("sampling", 0.0);
-    sampling::SamplingOptions so;
-    so.spacing = params.spacing;
-    so.width = s.imageWidth;
-    so.height = s.imageHeight;
-    // The plain (thesis) interpolation is accurate only a few kernel widths inside the sampled
-    // domain (thesis Fig 3.1), so it gets a wider automatic margin than the exact one.
-    so.margin = params.margin >= 0.0 || kc.interp == InterpMode::Exact ? params.margin : kThesisMarginSpacings * params.spacing;
-    so.kind = params.sampler;
-    so.seed = params.seed;
+    const sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
     s.samples = sampling::sample(s.cage, so, &r.sampling);
 
     step("kernel", 0.25);

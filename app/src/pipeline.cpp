@@ -1,7 +1,10 @@
 #include "kc/app/pipeline.h"
+#include "kc/core/kernel/gaussian_kernel.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -10,15 +13,95 @@ namespace kc::app {
 namespace {
 
 void checkCommonParams(int width, int height, const BindParams& p) {
-  if (width <= 0 || height <= 0 || width > kMaxImageSide || height > kMaxImageSide)
-    throw std::invalid_argument("image size " + std::to_string(width) + "x" + std::to_string(height) +
-                                " is outside 1.." + std::to_string(kMaxImageSide) + " pixels per side");
-  if (!(p.spacing > 0.0) || !std::isfinite(p.spacing)) throw std::invalid_argument("spacing must be a positive number of pixels");
+  checkImageSize(width, height, "bind", "image");
+  if (!(p.spacing >= kMinSpacing) || !std::isfinite(p.spacing))
+    throw std::invalid_argument("spacing must be a number of pixels ≥ " + std::to_string(kMinSpacing).substr(0, 4));
+  if (!std::isfinite(p.kc.sigma) || p.kc.sigma < 0.0) throw std::invalid_argument("sigma must be positive (or 0 for automatic)");
+  if (p.kc.init.iterations < 0 || p.kc.init.iterations > kMaxHeatIterations)
+    throw std::invalid_argument("heat iterations must be in 0.." + std::to_string(kMaxHeatIterations) + " (0 = steady state)");
+  if (!std::isfinite(p.kc.init.locality)) throw std::invalid_argument("locality must be a finite number of pixels (0 = off)");
+  if (!std::isfinite(p.margin) || p.margin > kMaxCoordinate) throw std::invalid_argument("margin must be a finite number of pixels");
 }
+
+/// Refuses a cage with a feature narrower than the sampling can resolve: an edge shorter than
+/// kMinFeatureSpacings·h, or two edges sharing no end point closer than that (a thin sliver, the
+/// turns of a tight spiral). Such cages bind with wrong weights (see kMinFeatureSpacings).
+void checkCageScale(const Cage& cage, double spacing) {
+  const double below = kMinFeatureSpacings * spacing;
+  const CageGap g = narrowestGap(cage, below);
+  if (!std::isfinite(g.distance)) return;
+  char buf[512];
+  const double fits = g.distance / kMinFeatureSpacings;
+  if (g.pointA >= 0)
+    std::snprintf(buf, sizeof buf,
+                  "cage points %d and %d are %.3g px apart, less than the spacing %.3g px: merge them, or use --spacing %.3g or less",
+                  g.pointA, g.pointB, g.distance, below, fits);
+  else {
+    const auto edges = cageEdges(cage);
+    const auto e = edges[std::size_t(g.edgeA)], f = edges[std::size_t(g.edgeB)];
+    std::snprintf(buf, sizeof buf,
+                  "cage edges %d-%d and %d-%d come within %.3g px of each other, less than the spacing %.3g px: widen the gap, "
+                  "or use --spacing %.3g or less",
+                  e[0], e[1], f[0], f[1], g.distance, below, fits);
+  }
+  throw std::invalid_argument(buf);
+}
+
 
 }  // namespace
 
 double automaticSigma(double spacing) { return 3.0 * spacing / std::numbers::pi; }
+
+sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p) {
+  sampling::SamplingOptions so;
+  so.spacing = p.spacing;
+  so.width = width;
+  so.height = height;
+  // The plain (thesis) interpolation is accurate only a few kernel widths inside the sampled
+  // domain (thesis Fig 3.1), so it gets a wider automatic margin than the exact one.
+  so.margin = p.margin >= 0.0 || p.kc.interp == InterpMode::Exact ? p.margin : kThesisMarginSpacings * p.spacing;
+  so.kind = p.sampler;
+  so.seed = p.seed;
+  return so;
+}
+
+BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params) {
+  const sampling::SamplingOptions so = samplingOptions(width, height, params);
+  BindCost c;
+  c.samples = sampling::estimateSampleCount(cage, so);
+  c.controls = static_cast<double>(cage.size());
+  const sampling::Rect d = sampling::samplingDomain(so);
+  const double area = std::max(d.area(), 1.0);
+  const double cutoff = GaussianKernel::forSpacing(params.kc.sigma > 0.0 ? params.kc.sigma : automaticSigma(params.spacing), params.spacing).cutoff();
+  const double neighbours = std::min(c.samples, 1.0 + c.samples * std::numbers::pi * cutoff * cutoff / area);
+  c.kernelNonZeros = c.samples * neighbours;
+  c.bytes = kDenseBytesPerWeight * c.samples * c.controls + kBytesPerKernelNonZero * c.kernelNonZeros;
+  return c;
+}
+void checkBindCost(const BindCost& c, const BindParams& params) {
+  auto num = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+  };
+  const std::string needs = "this bind would need about " + num(c.samples) + " samples, " + num(c.kernelNonZeros) +
+                            " kernel non-zeros and " + byteText(c.bytes) + " of memory";
+  // Samples and non-zeros grow like 1/h², the dense weights like m/h².
+  double factor = std::max({c.samples / double(kMaxBindSamples), c.kernelNonZeros / double(kMaxKernelNonZeros), c.bytes / double(kMaxBindBytes)});
+  if (factor <= 1.0) return;
+  const double sigmaShare = params.kc.sigma > 0.0 ? c.kernelNonZeros / std::max(c.samples, 1.0) : 0.0;
+  std::string advice = "use --spacing " + num(params.spacing * std::sqrt(factor) * 1.05) + " or more";
+  if (params.kc.sigma > 0.0 && c.samples <= double(kMaxBindSamples) && sigmaShare > 1000.0)
+    advice = "sigma " + num(params.kc.sigma) + " px is very wide for spacing " + num(params.spacing) +
+             " px (each sample would touch " + num(sigmaShare) + " others): use --sigma 0 (automatic, about " +
+             num(automaticSigma(params.spacing)) + " px) or a larger --spacing";
+  if (kDenseBytesPerWeight * c.samples * c.controls > double(kMaxBindBytes))
+    advice += ", or a cage with fewer points (" + num(c.controls) + " now; the weights alone take " +
+              byteText(kDenseBytesPerWeight * c.samples * c.controls) + ")";
+  throw std::invalid_argument(needs + ", above kcwarp's limits (" + num(double(kMaxBindSamples)) + " samples, " +
+                              num(double(kMaxKernelNonZeros)) + " non-zeros, " + byteText(double(kMaxBindBytes)) + "): " + advice);
+}
+
 
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report,
              const BindProgress& progress) {
@@ -26,6 +109,8 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
   validateCage(cage);
   checkCommonParams(width, height, params);
   const Backend& backend = backendFor(params.backend);
+  checkBindCost(estimateBindCost(cage, width, height, params), params);
+  checkCageScale(cage, params.spacing);
   BindReport local;
   BindReport& r = report ? *report : local;
 

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "kc/app/errors.h"
+#include "kc/app/limits.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/core/field/mesh_field.h"
 
@@ -29,9 +30,7 @@ Weights parseWeights(const json& rows, Index n, Index m, const std::string& wher
       throw InputError(where, field + "[" + std::to_string(i) + "] must have " + std::to_string(m) + " weights (one per control point)");
     for (Index k = 0; k < m; ++k) {
       const json& v = r[static_cast<std::size_t>(k)];
-      if (!v.is_number() || !std::isfinite(v.get<double>()))
-        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is not a finite number");
-      W(i, k) = v.get<double>();
+      W(i, k) = boundedNumber(v, kMaxWeight, where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "]");
     }
   }
   return W;
@@ -77,10 +76,8 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
       if (!r.is_array() || r.size() != 3) throw InputError(where, name + " must be [i, j, k]");
       std::array<int, 3> tri{};
       for (int k = 0; k < 3; ++k) {
-        if (!r[static_cast<std::size_t>(k)].is_number_integer()) throw InputError(where, name + " must hold vertex indices");
-        const long v = r[static_cast<std::size_t>(k)].get<long>();
-        if (v < 0 || v >= V.rows()) throw InputError(where, name + " refers to vertex " + std::to_string(v) + " (there are " + std::to_string(V.rows()) + ")");
-        tri[static_cast<std::size_t>(k)] = static_cast<int>(v);
+        tri[static_cast<std::size_t>(k)] =
+            static_cast<int>(integerInRange(r[static_cast<std::size_t>(k)], 0, V.rows() - 1, where, name + "[" + std::to_string(k) + "]"));
       }
       T.push_back(tri);
     }

@@ -1,10 +1,13 @@
+#include <algorithm>
 #include <cmath>
 
 #include "json_util.h"
 #include "session_blocks.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
+#include "kc/app/limits.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/kernel/gaussian_kernel.h"
 
 namespace kc::app {
 namespace {
@@ -32,13 +35,31 @@ json samplesToJson(const SampleSet& S) {
   return {{"points", detail::pointsToJson(S.X)}, {"kinds", kinds}, {"edge_ends", ends}};
 }
 
+/// Refuses a session whose kernel matrix would exceed the bind limits (a σ far wider than the
+/// samples' spacing makes K dense) before it is assembled.
+void checkFieldCost(const Session& s, const std::string& where) {
+  const Points& X = s.samples.X;
+  const double n = static_cast<double>(X.rows());
+  const double area = std::max((X.col(0).maxCoeff() - X.col(0).minCoeff()) * (X.col(1).maxCoeff() - X.col(1).minCoeff()), 1.0);
+  const double cutoff = GaussianKernel::forSpacing(s.sigma, s.params.spacing).cutoff();
+  const double nonZeros = n * std::min(n, 1.0 + n * 3.141592653589793 * cutoff * cutoff / area);
+  if (nonZeros > double(kMaxKernelNonZeros))
+    throw InputError(where, "params.sigma " + json(s.sigma).dump() + " px over these " + std::to_string(X.rows()) +
+                                " samples gives a kernel matrix of about " + json(std::round(nonZeros)).dump() +
+                                " non-zeros, above kcwarp's limit of " + std::to_string(kMaxKernelNonZeros));
+}
+
 }  // namespace
 
-void saveSamples(const std::string& path, const SampleSet& samples, const std::string& extraJsonObject) {
+std::string samplesText(const SampleSet& samples, const std::string& extraJsonObject) {
   json j = {{"version", 1}};
   j.update(detail::parseJson(extraJsonObject, "saveSamples"));
   j["samples"] = samplesToJson(samples);
-  writeFileAtomic(path, j.dump() + "\n");
+  return j.dump() + "\n";
+}
+
+void saveSamples(const std::string& path, const SampleSet& samples, const std::string& extraJsonObject) {
+  writeFileAtomic(path, samplesText(samples, extraJsonObject));
 }
 
 std::string sessionToJson(const Session& s) {
@@ -83,30 +104,28 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
 
   if (j.contains("image_size")) {
     const json& sz = j["image_size"];
-    if (!sz.is_array() || sz.size() != 2 || !sz[0].is_number_integer() || !sz[1].is_number_integer() || sz[0].get<long>() <= 0 ||
-        sz[1].get<long>() <= 0)
-      throw InputError(where, "image_size must be [width, height] in whole pixels");
-    s.imageWidth = sz[0].get<int>();
-    s.imageHeight = sz[1].get<int>();
+    if (!sz.is_array() || sz.size() != 2) throw InputError(where, "image_size must be [width, height] in whole pixels");
+    s.imageWidth = static_cast<int>(detail::integerInRange(sz[0], 1, kMaxImageSide, where, "image_size[0]"));
+    s.imageHeight = static_cast<int>(detail::integerInRange(sz[1], 1, kMaxImageSide, where, "image_size[1]"));
+    checkImageSize(s.imageWidth, s.imageHeight, where, "image_size");
   }
 
   const json& params = detail::require(j, "params", where);
   if (!params.is_object()) throw InputError(where, "params must be an object");
   BindParams& p = s.params;
-  p.spacing = detail::finiteNumber(detail::require(params, "spacing", where), where, "params.spacing");
+  p.spacing = detail::boundedNumber(detail::require(params, "spacing", where), kMaxCoordinate, where, "params.spacing");
   if (!(p.spacing > 0)) throw InputError(where, "params.spacing must be positive");
-  s.sigma = detail::finiteNumber(detail::require(params, "sigma", where), where, "params.sigma");
+  s.sigma = detail::boundedNumber(detail::require(params, "sigma", where), kMaxCoordinate, where, "params.sigma");
   if (!(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
   const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
   p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
   p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
   if (params.contains("heat_iterations")) {
-    if (!params["heat_iterations"].is_number_integer() || params["heat_iterations"].get<long>() < 0)
-      throw InputError(where, "params.heat_iterations must be a whole number ≥ 0");
-    p.kc.init.iterations = params["heat_iterations"].get<int>();
+    p.kc.init.iterations =
+        static_cast<int>(detail::integerInRange(params["heat_iterations"], 0, kMaxHeatIterations, where, "params.heat_iterations"));
   }
   if (params.contains("locality")) {
-    p.kc.init.locality = detail::finiteNumber(params["locality"], where, "params.locality");  // 0 off, < 0 automatic
+    p.kc.init.locality = detail::boundedNumber(params["locality"], kMaxCoordinate, where, "params.locality");  // 0 off, < 0 automatic
   } else {
     p.kc.init.locality = 0.0;  // sessions written before the option existed
   }
@@ -122,13 +141,16 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
       throw InputError(where, std::string("params.") + e.what());
     }
   }
-  if (params.contains("margin")) p.margin = detail::finiteNumber(params["margin"], where, "params.margin");
+  if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
     p.seed = params["seed"].get<std::uint64_t>();
   }
 
   const json& samples = detail::require(j, "samples", where);
+  if (const json& pts = detail::require(samples, "points", where); pts.is_array() && pts.size() > std::size_t(sampling::kMaxSamples))
+    throw InputError(where, "samples.points has " + std::to_string(pts.size()) + " samples, more than kcwarp's limit of " +
+                                std::to_string(sampling::kMaxSamples));
   s.samples.X = detail::parsePoints(detail::require(samples, "points", where), where, "samples.points");
   const Index n = s.samples.X.rows();
   const json& kinds = detail::require(samples, "kinds", where);
@@ -147,10 +169,10 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
       throw InputError(where, "samples.edge_ends must have one [k, l] pair per sample");
     for (Index i = 0; i < n; ++i) {
       const json& r = e[static_cast<std::size_t>(i)];
-      if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer())
-        throw InputError(where, "samples.edge_ends[" + std::to_string(i) + "] must be a pair of integers");
-      s.samples.edge(i, 0) = r[0].get<int>();
-      s.samples.edge(i, 1) = r[1].get<int>();
+      const std::string f = "samples.edge_ends[" + std::to_string(i) + "]";
+      if (!r.is_array() || r.size() != 2) throw InputError(where, f + " must be a pair of integers");
+      s.samples.edge(i, 0) = static_cast<int>(detail::integerInRange(r[0], -1, m - 1, where, f + "[0]"));
+      s.samples.edge(i, 1) = static_cast<int>(detail::integerInRange(r[1], -1, m - 1, where, f + "[1]"));
     }
   }
   try {
@@ -180,6 +202,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
   const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
   if (!built) {
+    checkFieldCost(s, where);
     try {
       refreshField(s);
     } catch (const std::invalid_argument& e) {
@@ -189,7 +212,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   return s;
 }
 
-Session loadSession(const std::string& path) { return sessionFromJson(readTextFile(path), path); }
+Session loadSession(const std::string& path) { return sessionFromJson(readTextFile(path, kMaxSessionFileBytes), path); }
 
 void saveSession(const std::string& path, const Session& session) { writeFileAtomic(path, sessionToJson(session)); }
 

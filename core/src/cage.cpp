@@ -2,7 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <string>
+#include <utility>
+
+#include "kc/core/spatial_grid.h"
 #include <stdexcept>
 
 namespace kc {
@@ -34,14 +40,6 @@ bool segmentsIntersect(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
   return false;
 }
 
-std::vector<std::array<int, 2>> edgesOf(const Cage& cage) {
-  if (!cage.closed || !cage.edges.empty()) return cage.edges;
-  std::vector<std::array<int, 2>> e;
-  const int m = static_cast<int>(cage.size());
-  for (int i = 0; i < m; ++i) e.push_back({i, (i + 1) % m});
-  return e;
-}
-
 std::string pointText(const Points& C, Index i) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "point %ld (%.6g, %.6g)", static_cast<long>(i), C(i, 0), C(i, 1));
@@ -59,6 +57,93 @@ Cage Cage::polygon(const Points& C) {
   return cage;
 }
 
+namespace {
+
+/// Why edges e and f (indices into `edges`) cannot both be in a cage, or "" when they can.
+std::string edgePairProblem(const Points& C, const std::vector<std::array<int, 2>>& edges, std::size_t e, std::size_t f) {
+  const auto [a, b] = edges[e];
+  const auto [c, d] = edges[f];
+  const int shared = (a == c) + (a == d) + (b == c) + (b == d);
+  const Vec2 A = C.row(a), B = C.row(b), Cc = C.row(c), D = C.row(d);
+  if (shared >= 2) return "cage edges " + std::to_string(e) + " and " + std::to_string(f) + " are the same edge";
+  if (shared == 1) {
+    // Adjacent edges may only touch at their shared end: reject folding back onto each other.
+    const int s = (a == c || a == d) ? a : b;
+    const Vec2 S = C.row(s);
+    const Vec2 u = ((a == s) ? B : A) - S, v = ((c == s) ? D : Cc) - S;
+    if (std::abs(cross(u, v)) <= 1e-12 * u.norm() * v.norm() && u.dot(v) > 0)
+      return "cage edges " + std::to_string(e) + " and " + std::to_string(f) + " overlap (the cage folds back on itself at " +
+             pointText(C, s) + ")";
+    return "";
+  }
+  if (segmentsIntersect(A, B, Cc, D))
+    return "cage is self-intersecting: edge " + std::to_string(e) + " (points " + std::to_string(a) + "-" + std::to_string(b) +
+           ") crosses edge " + std::to_string(f) + " (points " + std::to_string(c) + "-" + std::to_string(d) + ")";
+  return "";
+}
+
+/// Pairs (e < f) of edges that may come within distance r of each other (every such pair is
+/// listed; some listed pairs are farther apart), sorted. O(n log n) for cages whose edges are not
+/// piled into one spot: every edge is registered in the grid cells within r of it (cells of about
+/// the median edge length, kept in a sorted list, not a dense array), and only edges that share a
+/// cell are paired. Two edges within r of each other share the cell of a point of one of them.
+std::vector<std::pair<int, int>> nearEdgePairs(const Points& C, const std::vector<std::array<int, 2>>& edges, double r) {
+  const std::size_t ne = edges.size();
+  if (ne < 2) return {};
+  std::vector<double> lengths(ne);
+  double perimeter = 0.0;
+  for (std::size_t e = 0; e < ne; ++e) perimeter += lengths[e] = (C.row(edges[e][0]) - C.row(edges[e][1])).norm();
+  std::nth_element(lengths.begin(), lengths.begin() + std::ptrdiff_t(ne / 2), lengths.end());
+  const double lo0 = C.col(0).minCoeff() - r, lo1 = C.col(1).minCoeff() - r;
+  const double extent = std::max(C.col(0).maxCoeff() - lo0, C.col(1).maxCoeff() - lo1) + r;
+  // About a dozen registrations per edge; cell indices stay far below 2^31 per axis.
+  const double cell = std::max({lengths[ne / 2], perimeter / (4.0 * double(ne)), 2.0 * r, extent / 1e6, 1e-300});
+  const double step = 0.5 * cell, pad = 0.25 * cell + r;
+  std::vector<std::pair<std::int64_t, int>> entries;  // (cell, edge)
+  entries.reserve(12 * ne);
+  auto cellOf = [&](double x, double y) {
+    const auto cx = static_cast<std::int64_t>(std::floor((x - lo0) / cell)) + 1;
+    const auto cy = static_cast<std::int64_t>(std::floor((y - lo1) / cell)) + 1;
+    return cy * (std::int64_t(1) << 31) + cx;
+  };
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Vec2 A = C.row(edges[e][0]), B = C.row(edges[e][1]);
+    const auto steps = static_cast<std::int64_t>(std::ceil((B - A).norm() / step));
+    for (std::int64_t k = 0; k <= steps; ++k) {
+      const Vec2 p = steps ? Vec2(A + (B - A) * (double(k) / double(steps))) : A;
+      // Every point within r of the edge near p lies within step/2 + r ≤ pad of p; the box of
+      // half-side pad (at most 2 cells across) meets the cells of its corners and, when r is
+      // large, the cells between them.
+      const std::int64_t c0 = cellOf(p.x() - pad, p.y() - pad), c1 = cellOf(p.x() + pad, p.y() + pad);
+      const std::int64_t row = std::int64_t(1) << 31;
+      for (std::int64_t cy = c0 / row; cy <= c1 / row; ++cy)
+        for (std::int64_t cx = c0 % row; cx <= c1 % row; ++cx) entries.emplace_back(cy * row + cx, static_cast<int>(e));
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+  entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  std::vector<std::pair<int, int>> pairs;
+  for (std::size_t i = 0; i < entries.size();) {
+    std::size_t j = i;
+    while (j < entries.size() && entries[j].first == entries[i].first) ++j;
+    for (std::size_t p = i; p < j; ++p)
+      for (std::size_t q = p + 1; q < j; ++q) pairs.emplace_back(entries[p].second, entries[q].second);
+    i = j;
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+/// The first problem among all pairs of edges (the lowest pair of indices), or "".
+std::string firstEdgeProblem(const Points& C, const std::vector<std::array<int, 2>>& edges) {
+  for (const auto& [e, f] : nearEdgePairs(C, edges, 0.0))
+    if (std::string problem = edgePairProblem(C, edges, std::size_t(e), std::size_t(f)); !problem.empty()) return problem;
+  return "";
+}
+
+}  // namespace
+
 void validateCage(const Cage& cage) {
   const Index m = cage.size();
   const Points& C = cage.C;
@@ -70,16 +155,23 @@ void validateCage(const Cage& cage) {
       throw std::invalid_argument("cage point " + std::to_string(i) + " has a non-finite coordinate");
   const double extent = std::max(C.col(0).maxCoeff() - C.col(0).minCoeff(), C.col(1).maxCoeff() - C.col(1).minCoeff());
   if (!(extent > 0.0)) throw std::invalid_argument("cage points all coincide");
-  for (Index i = 0; i < m; ++i)
-    for (Index j = i + 1; j < m; ++j)
-      if ((C.row(i) - C.row(j)).norm() <= 1e-9 * extent)
-        throw std::invalid_argument("cage " + pointText(C, i) + " is repeated as point " + std::to_string(j));
+  {
+    // Repeated points: neighbours within the tolerance, through a grid (O(m)).
+    const double tol = 1e-9 * extent;
+    const SpatialGrid grid(C, std::max(tol, 1e-300));
+    Index first = -1, second = -1;
+    for (Index i = 0; i < m && first < 0; ++i)
+      grid.forEachWithin(C.row(i), tol, [&](Index j, double) {
+        if (j > i && (first < 0 || j < second)) first = i, second = j;
+      });
+    if (first >= 0) throw std::invalid_argument("cage " + pointText(C, first) + " is repeated as point " + std::to_string(second));
+  }
   bool collinear = true;
   for (Index i = 2; i < m && collinear; ++i)
     if (orient(C.row(0), C.row(1), C.row(i)) != 0) collinear = false;
   if (collinear && cage.closed) throw std::invalid_argument("cage points are all collinear (the cage has no area)");
 
-  const auto edges = edgesOf(cage);
+  const auto edges = cageEdges(cage);
   if (!cage.closed && edges.empty()) throw std::invalid_argument("open cage has no edges");
   for (std::size_t e = 0; e < edges.size(); ++e) {
     const auto [a, b] = edges[e];
@@ -87,29 +179,32 @@ void validateCage(const Cage& cage) {
       throw std::invalid_argument("cage edge " + std::to_string(e) + " names a point that does not exist");
     if (a == b) throw std::invalid_argument("cage edge " + std::to_string(e) + " joins point " + std::to_string(a) + " to itself");
   }
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    for (std::size_t f = e + 1; f < edges.size(); ++f) {
-      const auto [a, b] = edges[e];
-      const auto [c, d] = edges[f];
-      const int shared = (a == c) + (a == d) + (b == c) + (b == d);
-      const Vec2 A = C.row(a), B = C.row(b), Cc = C.row(c), D = C.row(d);
-      if (shared >= 2) throw std::invalid_argument("cage edges " + std::to_string(e) + " and " + std::to_string(f) + " are the same edge");
-      if (shared == 1) {
-        // Adjacent edges may only touch at their shared end: reject folding back onto each other.
-        const int s = (a == c || a == d) ? a : b;
-        const Vec2 S = C.row(s);
-        const Vec2 u = ((a == s) ? B : A) - S, v = ((c == s) ? D : Cc) - S;
-        if (std::abs(cross(u, v)) <= 1e-12 * u.norm() * v.norm() && u.dot(v) > 0)
-          throw std::invalid_argument("cage edges " + std::to_string(e) + " and " + std::to_string(f) +
-                                      " overlap (the cage folds back on itself at " + pointText(C, s) + ")");
-        continue;
-      }
-      if (segmentsIntersect(A, B, Cc, D))
-        throw std::invalid_argument("cage is self-intersecting: edge " + std::to_string(e) + " (points " +
-                                    std::to_string(a) + "-" + std::to_string(b) + ") crosses edge " + std::to_string(f) +
-                                    " (points " + std::to_string(c) + "-" + std::to_string(d) + ")");
-    }
+  if (const std::string problem = firstEdgeProblem(C, edges); !problem.empty()) throw std::invalid_argument(problem);
+}
+
+CageGap narrowestGap(const Cage& cage, double below) {
+  CageGap gap;
+  gap.distance = std::numeric_limits<double>::infinity();
+  const Points& C = cage.C;
+  const auto edges = cageEdges(cage);
+  for (const auto& [a, b] : edges)
+    if (const double d = (C.row(a) - C.row(b)).norm(); d < below && d < gap.distance) gap = {d, a, b, -1, -1};
+  for (const auto& [e, f] : nearEdgePairs(C, edges, below)) {
+    const auto [a, b] = edges[std::size_t(e)];
+    const auto [c, d] = edges[std::size_t(f)];
+    if (a == c || a == d || b == c || b == d) continue;  // adjacent edges meet by design
+    const double dist = segmentSegmentDistance(C.row(a), C.row(b), C.row(c), C.row(d));
+    if (dist < below && dist < gap.distance) gap = {dist, -1, -1, e, f};
   }
+  return gap;
+}
+
+std::vector<std::array<int, 2>> cageEdges(const Cage& cage) {
+  if (!cage.closed || !cage.edges.empty()) return cage.edges;
+  std::vector<std::array<int, 2>> e;
+  const int m = static_cast<int>(cage.size());
+  for (int i = 0; i < m; ++i) e.push_back({i, (i + 1) % m});
+  return e;
 }
 
 double signedArea(const Points& C) {
@@ -125,7 +220,7 @@ double signedArea(const Points& C) {
 bool insideCage(const Cage& cage, const Vec2& x) {
   if (!cage.closed) return false;
   bool inside = false;
-  for (const auto& [a, b] : edgesOf(cage)) {
+  for (const auto& [a, b] : cageEdges(cage)) {
     const Vec2 A = cage.C.row(a), B = cage.C.row(b);
     if ((A.y() > x.y()) != (B.y() > x.y())) {
       const double xc = A.x() + (x.y() - A.y()) * (B.x() - A.x()) / (B.y() - A.y());
@@ -143,7 +238,7 @@ bool segmentCrossesCage(const Cage& cage, const Vec2& p, const Vec2& q) {
   // Parameters along p→q where the segment meets the cage; between consecutive ones the segment
   // is either on the cage or wholly inside or outside. It crosses when two such pieces disagree.
   std::vector<double> ts{0.0, 1.0};
-  for (const auto& [a, b] : edgesOf(cage)) {
+  for (const auto& [a, b] : cageEdges(cage)) {
     const Vec2 A = C.row(a), B = C.row(b), e = B - A;
     const double denom = cross(d, e);
     if (std::abs(denom) > 1e-14 * len * e.norm()) {
@@ -186,7 +281,7 @@ double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const
 
 double distanceToCage(const Cage& cage, const Vec2& x) {
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& [a, b] : edgesOf(cage)) best = std::min(best, pointSegmentDistance(x, cage.C.row(a), cage.C.row(b)));
+  for (const auto& [a, b] : cageEdges(cage)) best = std::min(best, pointSegmentDistance(x, cage.C.row(a), cage.C.row(b)));
   return best;
 }
 

@@ -303,14 +303,15 @@ Rgba sampleBilinear(const Image& image, double x, double y) {
   return {q(s[0]), q(s[1]), q(s[2]), q(s[3])};
 }
 
-std::vector<std::uint8_t> polygonMask(const Points& C, int width, int height) {
-  std::vector<std::uint8_t> mask(static_cast<std::size_t>(width) * std::max(0, height), 0);
-  const Index m = C.rows();
+std::vector<std::uint8_t> cageMask(const Cage& cage, int width, int height) {
+  std::vector<std::uint8_t> mask(static_cast<std::size_t>(std::max(0, width)) * std::max(0, height), 0);
+  if (!cage.closed) return mask;
+  const Points& C = cage.C;
+  const auto edges = cageEdges(cage);
   parallelFor(height, [&](Index yy) {
     const double y = static_cast<double>(yy);
     std::vector<double> xs;
-    for (Index i = 0; i < m; ++i) {
-      const Index j = (i + 1) % m;
+    for (const auto& [i, j] : edges) {
       const double ya = C(i, 1), yb = C(j, 1);
       if ((ya > y) != (yb > y)) xs.push_back(C(i, 0) + (y - ya) / (yb - ya) * (C(j, 0) - C(i, 0)));
     }
@@ -324,6 +325,8 @@ std::vector<std::uint8_t> polygonMask(const Points& C, int width, int height) {
   }, 16);
   return mask;
 }
+
+std::vector<std::uint8_t> polygonMask(const Points& C, int width, int height) { return cageMask(Cage::polygon(C), width, height); }
 
 Image applyMask(const Image& image, const std::vector<std::uint8_t>& mask) {
   image.validate();

@@ -246,11 +246,11 @@ Image WarpMesh::render(const Image& source, const RasterOptions& options, Raster
     case OutsideMode::Deform:
       return rasterizeMesh(source, m_rest, m_deformed, m_triangles, m_width, m_height, options, report);
     case OutsideMode::Transparent: {
-      const Image inside = applyMask(source, polygonMask(m_cage.C, m_width, m_height));
+      const Image inside = applyMask(source, cageMask(m_cage, m_width, m_height));
       return rasterizeMesh(inside, m_rest, m_deformed, m_triangles, m_width, m_height, options, report);
     }
     case OutsideMode::Fixed: {
-      const Image inside = applyMask(source, polygonMask(m_cage.C, m_width, m_height));
+      const Image inside = applyMask(source, cageMask(m_cage, m_width, m_height));
       Image out = source;
       rasterizeMeshInto(out, inside, m_rest, m_deformed, m_triangles, options, report);
       return out;

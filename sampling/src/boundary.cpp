@@ -11,15 +11,6 @@ double Rect::insideDistance(const Vec2& p) const {
   return std::min(std::min(p.x() - x0, x1 - p.x()), std::min(p.y() - y0, y1 - p.y()));
 }
 
-std::vector<std::array<int, 2>> cageEdges(const Cage& cage) {
-  if (!cage.edges.empty() || !cage.closed) return cage.edges;
-  std::vector<std::array<int, 2>> e;
-  const int m = static_cast<int>(cage.size());
-  e.reserve(static_cast<std::size_t>(m));
-  for (int i = 0; i < m; ++i) e.push_back({i, (i + 1) % m});
-  return e;
-}
-
 Index edgePieces(double length, double h) {
   return std::max<Index>(1, static_cast<Index>(std::llround(length / h)));
 }

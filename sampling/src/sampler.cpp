@@ -63,6 +63,14 @@ Rect samplingDomain(const SamplingOptions& options) {
   return {-g, -g, options.width + g, options.height + g};
 }
 
+double estimateSampleCount(const Cage& cage, const SamplingOptions& options) {
+  const double h = options.spacing;
+  const Rect domain = samplingDomain(options);
+  return (options.kind == SamplerKind::Grid ? gridPointCount(domain, h)
+                                            : blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea)) +
+         perimeterSamples(cage, h);
+}
+
 SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingReport* report) {
   const auto start = std::chrono::steady_clock::now();
   validate(cage, options);
@@ -71,12 +79,12 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
   SamplingReport r;
   SampleSet S;
   if (options.kind == SamplerKind::Grid) {
-    checkCount(gridPointCount(domain, h) + perimeterSamples(cage, h), h);
+    checkCount(estimateSampleCount(cage, options), h);
     S = gridSample(cage, domain, h);
   } else {
     if (!(options.blueNoise.cellArea > 0.0) || !std::isfinite(options.blueNoise.cellArea))
       throw std::invalid_argument("sampling: blue-noise cell area must be positive");
-    checkCount(blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea) + perimeterSamples(cage, h), h);
+    checkCount(estimateSampleCount(cage, options), h);
     BlueNoiseOptions bo = options.blueNoise;
     if (options.progress) bo.relax.progress = options.progress;
     BlueNoiseResult b = blueNoiseSample(cage, domain, h, options.seed, bo);

@@ -105,7 +105,7 @@ TEST(CliBind, BadInputExitsTwoWithOneLine) {
       {"truncated", "bind --cage trunc.json --size 96,96 -o s.kcw.json", "trunc.json: malformed JSON"},
       {"bad size", "bind --cage cage.json --size 96 -o s.kcw.json", "--size"},
       {"zero spacing", "bind --cage cage.json --size 96,96 --spacing 0 -o s.kcw.json", "spacing"},
-      {"tiny spacing", "bind --cage cage.json --size 30000,30000 --spacing 0.5 -o s.kcw.json", "samples"},
+      {"tiny spacing", "bind --cage cage.json --size 4000,4000 --spacing 0.5 -o s.kcw.json", "samples"},
       {"absurd size", "bind --cage cage.json --size 100000,100 -o s.kcw.json", "image size"},
       {"unknown method", "bind --cage cage.json --size 96,96 --method newton -o s.kcw.json", "--method: unknown value 'newton'"},
       {"corrupt image", "bind --cage cage.json --image notimage.png -o s.kcw.json", "notimage.png"},

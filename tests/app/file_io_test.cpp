@@ -1,12 +1,14 @@
 #include "kc/app/file_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <string>
 
 #include "cli_run.h"
 #include "kc/app/errors.h"
+#include "kc/app/points_csv.h"
 
 namespace kc::app {
 namespace {
@@ -107,6 +109,56 @@ TEST(AtomicSave, ReplacesWholeFileAndLeavesNoTemporaries) {
   const std::string bad = (dir / "no" / "such" / "f.txt").string();
   EXPECT_TRUE(contains(inputError([&] { writeFileAtomic(bad, "x"); }), "does not exist"));
   EXPECT_FALSE(std::filesystem::exists(bad));
+}
+
+TEST(AtomicSave, KeepsModeRefusesSpecialFilesAndWritesThroughSymlinks) {
+  namespace fs = std::filesystem;
+  const auto dir = scratchDir("atomic_special");
+  const fs::path ro = dir / "ro.txt";
+  writeText(ro, "old");
+  fs::permissions(ro, fs::perms::owner_read | fs::perms::group_read);
+  writeFileAtomic(ro.string(), "new");
+  EXPECT_EQ(test::slurp(ro), "new");
+  EXPECT_EQ(fs::status(ro).permissions() & fs::perms::all, fs::perms::owner_read | fs::perms::group_read);
+
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+  EXPECT_TRUE(contains(inputError([&] { writeFileAtomic((dir / "fifo").string(), "x"); }), "not a regular file"));
+  EXPECT_TRUE(fs::is_fifo(dir / "fifo"));
+  EXPECT_TRUE(contains(inputError([&] { writeFileAtomic(dir.string(), "x"); }), "is a folder"));
+
+  fs::create_directory(dir / "sub");
+  writeText(dir / "sub" / "target.txt", "old");
+  fs::create_symlink("sub/target.txt", dir / "link.txt");
+  writeFileAtomic((dir / "link.txt").string(), "through");
+  EXPECT_TRUE(fs::is_symlink(dir / "link.txt"));
+  EXPECT_EQ(test::slurp(dir / "sub" / "target.txt"), "through");
+  // A dangling link creates the file it names.
+  fs::create_symlink("sub/new.txt", dir / "dangling.txt");
+  writeFileAtomic((dir / "dangling.txt").string(), "created");
+  EXPECT_EQ(test::slurp(dir / "sub" / "new.txt"), "created");
+  for (const auto& d : {dir, dir / "sub"})
+    for (const auto& e : fs::directory_iterator(d)) EXPECT_FALSE(contains(e.path().string(), ".tmp")) << e.path();
+}
+
+TEST(BoundedRead, RefusesSpecialAndOversizedFilesWithoutBlocking) {
+  const auto dir = scratchDir("bounded_read");
+  EXPECT_TRUE(contains(inputError([&] { readTextFile("/dev/zero"); }), "not a regular file"));
+  ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
+  EXPECT_TRUE(contains(inputError([&] { readTextFile((dir / "fifo").string()); }), "not a regular file"));
+  EXPECT_TRUE(contains(inputError([&] { readTextFile(dir.string()); }), "is a folder"));
+  EXPECT_TRUE(contains(inputError([&] { readTextFile((dir / "none").string()); }), "no such file"));
+  writeText(dir / "ten.txt", "0123456789");
+  EXPECT_EQ(readTextFile((dir / "ten.txt").string(), 10), "0123456789");
+  EXPECT_TRUE(contains(inputError([&] { readTextFile((dir / "ten.txt").string(), 9); }), "more than the 9 bytes"));
+}
+
+TEST(PointsCsv, HeaderOnlyWhenNoFieldLooksLikeANumber) {
+  EXPECT_EQ(parsePointsCsv("x,y\n1,2\n", "p").rows(), 1);
+  EXPECT_EQ(parsePointsCsv(" 1 , 2 \r\n\n3,4", "p").rows(), 2);
+  EXPECT_TRUE(contains(inputError([] { parsePointsCsv("10,nan\n1,2\n3,4\n", "p.csv"); }), "p.csv: line 1"));
+  EXPECT_TRUE(contains(inputError([] { parsePointsCsv("x,y\n1,2\nx,y\n", "p.csv"); }), "line 3"));
+  EXPECT_TRUE(contains(inputError([] { parsePointsCsv("1,1e300\n", "p.csv"); }), "line 1"));
+  EXPECT_TRUE(contains(inputError([] { parsePointsCsv("x,y\n", "p.csv"); }), "no points"));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -67,6 +68,66 @@ TEST(Cage, ConvexHullOfSquareWithInnerPoint) {
   const auto hull = convexHull(pts({{0, 0}, {10, 0}, {5, 3}, {10, 10}, {0, 10}}));
   EXPECT_EQ(hull.size(), 4u);
   for (int i : hull) EXPECT_NE(i, 2);
+}
+
+/// The O(m²) definition: do any two non-adjacent edges of the closed polygon meet?
+bool selfIntersectsBruteForce(const Points& C) {
+  const Index m = C.rows();
+  for (Index e = 0; e < m; ++e)
+    for (Index f = e + 1; f < m; ++f) {
+      const Index e1 = (e + 1) % m, f1 = (f + 1) % m;
+      if (e1 == f || f1 == e) continue;
+      if (segmentSegmentDistance(C.row(e), C.row(e1), C.row(f), C.row(f1)) < 1e-9) return true;
+    }
+  return false;
+}
+
+// The grid-based validation finds exactly the self-intersections the quadratic definition finds,
+// on random polygons of every density (most random polygons cross themselves, star-shaped ones
+// sorted by angle do not).
+TEST(Cage, GridValidationAgreesWithBruteForce) {
+  std::uint64_t state = 12345;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return double(state >> 11) / double(1ull << 53);
+  };
+  int crossing = 0, simple = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const int m = 3 + trial % 60;
+    Points C(m, 2);
+    const bool star = trial % 2 == 0;
+    for (int i = 0; i < m; ++i) {
+      if (star) {
+        const double t = 2.0 * 3.141592653589793 * (i + 0.8 * uniform()) / m, r = 10.0 + 90.0 * uniform();
+        C.row(i) << r * std::cos(t), r * std::sin(t);
+      } else {
+        C.row(i) << 100.0 * uniform(), 100.0 * uniform();
+      }
+    }
+    const bool expected = selfIntersectsBruteForce(C);
+    const std::string reason = rejectReason(Cage::polygon(C));
+    EXPECT_EQ(!reason.empty(), expected) << "trial " << trial << ": " << reason;
+    (expected ? crossing : simple)++;
+  }
+  EXPECT_GT(crossing, 50);
+  EXPECT_GT(simple, 50);
+}
+
+TEST(Cage, NarrowestGapFindsShortEdgesAndSlivers) {
+  // A pentagon whose edge 3–4 is 0.01 long.
+  const Cage shortEdge = Cage::polygon(pts({{16, 16}, {80, 16}, {80, 80}, {16, 80}, {16, 79.99}}));
+  CageGap g = narrowestGap(shortEdge, 3.0);
+  EXPECT_NEAR(g.distance, 0.01, 1e-9);
+  EXPECT_EQ(g.pointA, 3);
+  EXPECT_EQ(g.pointB, 4);
+  // A notch cut down to 0.5 above the bottom edge: edges 3, 4 and 5 come 0.5 close to edge 0.
+  const Cage notch = Cage::polygon(pts({{0, 0}, {100, 0}, {100, 50}, {60, 50}, {60, 0.5}, {40, 0.5}, {40, 50}, {0, 50}}));
+  g = narrowestGap(notch, 3.0);
+  EXPECT_NEAR(g.distance, 0.5, 1e-9);
+  EXPECT_EQ(g.edgeA, 0);
+  EXPECT_TRUE(g.edgeB >= 3 && g.edgeB <= 5) << g.edgeB;
+  EXPECT_TRUE(std::isinf(narrowestGap(notch, 0.4).distance));
+  EXPECT_TRUE(std::isinf(narrowestGap(Cage::polygon(pts({{0, 0}, {10, 0}, {10, 10}, {0, 10}})), 3.0).distance));
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 
 #include "kc/core/parallel.h"
 #include "kc/core/spatial_grid.h"
@@ -84,7 +85,11 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
   t0 = std::chrono::steady_clock::now();
   impl->llt.compute(impl->K);
   report.status = FactorStatus::Ok;
-  if (impl->llt.info() != Eigen::Success) {
+  if (impl->llt.outOfMemory()) {
+    report.status = FactorStatus::OutOfMemory;
+    report.advice = "the Cholesky factor of the kernel matrix (" + std::to_string(X.rows()) + " samples, " +
+                    std::to_string(report.nonZeros) + " non-zeros) does not fit in memory: use a larger spacing or a smaller sigma";
+  } else if (impl->llt.info() != Eigen::Success) {
     report.status = FactorStatus::NotPositiveDefinite;
     report.advice = kSigmaAdvice;
   } else {

@@ -16,14 +16,6 @@ namespace {
 
 using Edge = std::array<int, 2>;
 
-std::vector<Edge> cageEdges(const Cage& cage) {
-  if (!cage.edges.empty() || !cage.closed) return cage.edges;
-  std::vector<Edge> e;
-  const int m = static_cast<int>(cage.size());
-  for (int i = 0; i < m; ++i) e.push_back({i, (i + 1) % m});
-  return e;
-}
-
 /// Uniform grid over the cage edges: a segment can only cross the cage if it comes within `tol`
 /// of an edge bucketed in the cells its bounding box meets; only those pairs pay for the exact
 /// (and O(#edges)) kc::segmentCrossesCage.

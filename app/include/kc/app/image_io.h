@@ -3,19 +3,32 @@
 
 #include <string>
 
+#include "kc/app/image_header.h"
 #include "kc/core/rasterize.h"
 
 namespace kc::app {
 
-/// Loads a PNG/JPEG/… (anything OpenCV reads) as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
-/// converted; images without alpha get alpha 255. Throws InputError (a std::runtime_error)
-/// naming the file when it is missing or cannot be decoded.
+/// Loads a PNG, JPEG, BMP, TIFF, WebP or PNM file as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
+/// converted; images without alpha get alpha 255. The file is read whole (a regular file of at
+/// most kMaxImageFileBytes), its header checked against kMaxImageSide and kMaxImagePixels before
+/// a pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
+/// the file when it is missing, too large, or cannot be decoded.
 Image loadImage(const std::string& path);
+
+/// The format and size of an image file from its header, checked like loadImage but without
+/// decoding; InputError naming the file otherwise.
+ImageHeader readImageFileHeader(const std::string& path);
+/// The header of the image file content `bytes` (read from `path`), checked against the limits.
+ImageHeader checkImageFile(const std::string& bytes, const std::string& path);
 
 /// Saves an RGBA8 image; the format follows the extension (.png keeps alpha, .jpg/.jpeg drop it).
 /// Atomic: encoded in memory, written to a temporary file in the same folder, then renamed.
 /// Throws InputError naming the file on an unknown extension or a failed write.
 void saveImage(const std::string& path, const Image& image);
+
+/// The lower-case extension of `path` when kcwarp can write it (".png", ".jpg", ".jpeg"); InputError
+/// naming the file otherwise.
+std::string imageExtension(const std::string& path);
 
 /// The image encoded as `ext` (".png", ".jpg") in memory.
 std::string encodeImage(const Image& image, const std::string& ext);

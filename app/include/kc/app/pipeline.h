@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "kc/app/backend.h"
+#include "kc/app/limits.h"
 #include "kc/app/session.h"
 
 namespace kc::app {
@@ -13,8 +14,30 @@ namespace kc::app {
 /// Progress of a bind: stage name and fraction in [0, 1]. Return false to cancel.
 using BindProgress = std::function<bool(const char* stage, double fraction)>;
 
-/// Largest image side bind() accepts, in pixels.
-inline constexpr int kMaxImageSide = 32768;
+/// Automatic sampling margin in `thesis` interpolation mode, in sample spacings (the exact mode
+/// uses the sampler's default of about 3h). Measured on the checker cage, which spans its whole
+/// image, at h = 8: partition-of-unity error 1.2e-2 with ~3h, 3.0e-3 with 5h, 1.3e-3 with 10h.
+inline constexpr double kThesisMarginSpacings = 10.0;
+
+/// The sampler's options for a bind of width×height with `p` (what the kc backend samples and
+/// the cost estimate counts): spacing, sampler, seed, and the margin — the user's, else automatic.
+sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p);
+
+/// What a bind would need, estimated from its inputs before anything is sampled or allocated.
+struct BindCost {
+  double samples = 0.0;         ///< #S: sampler's estimate (domain area / h², plus the cage's perimeter / h).
+  double controls = 0.0;        ///< m.
+  double kernelNonZeros = 0.0;  ///< nnz(K): #S × the samples within the cut-off 5σ of one sample.
+  double bytes = 0.0;           ///< Peak memory: dense #S×m weight matrices plus K and its factor.
+};
+
+/// The estimate for a bind of `cage` over width×height with `params` (σ automatic: 3h/π).
+BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params);
+
+/// Throws std::invalid_argument when `cost` exceeds kcwarp's limits (kMaxBindSamples,
+/// kMaxKernelNonZeros, kMaxBindBytes), saying what the bind would need and the spacing (or σ)
+/// that would fit.
+void checkBindCost(const BindCost& cost, const BindParams& params);
 
 /// Estimate of the automatic σ before sampling: 3T/π (thesis 3.28) with T = h. bind() itself
 /// uses the measured mean nearest-neighbour spacing of the samples (sampling::suggestSigma).

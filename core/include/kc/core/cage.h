@@ -22,8 +22,26 @@ struct Cage {
 /// Throws std::invalid_argument, with a message a user can act on, when the cage is unusable:
 /// fewer than 3 points (closed) or 2 (open), non-finite coordinates, repeated points, an edge
 /// index out of range or degenerate, all points collinear, or edges that intersect other than
-/// at a shared end point. The user's point order is never changed.
+/// at a shared end point. The user's point order is never changed. Expected O(m log m): points
+/// through a grid, edge pairs only where edges share a grid cell of about the median edge length.
 void validateCage(const Cage& cage);
+
+/// The cage's edges, the one list every part of kcwarp uses: cage.edges when given (open
+/// structures, edge graphs), else the closed polygon's i → i+1 (mod m).
+std::vector<std::array<int, 2>> cageEdges(const Cage& cage);
+
+/// The narrowest place of a cage: two control points joined by an edge (pointA, pointB), or two
+/// edges that share no end point (edgeA, edgeB), closer than a distance. Unused indices are −1;
+/// distance is +∞ when nothing is that close.
+struct CageGap {
+  double distance = 0.0;
+  int pointA = -1, pointB = -1;
+  int edgeA = -1, edgeB = -1;
+};
+
+/// The shortest edge or the closest pair of non-adjacent edges among those closer than `below`
+/// (expected O(m log m), like validateCage).
+CageGap narrowestGap(const Cage& cage, double below);
 
 /// Signed area of the closed polygon C (positive = counter-clockwise in x-right/y-up axes).
 double signedArea(const Points& C);

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kc/core/cage.h"
 #include "kc/core/types.h"
 
 namespace kc {
@@ -74,6 +75,9 @@ Rgba sampleBilinear(const Image& image, double x, double y);
 /// Per-pixel inside test of the closed polygon C (m×2) by the even-odd rule at pixel centres:
 /// width·height bytes, 255 inside, 0 outside.
 std::vector<std::uint8_t> polygonMask(const Points& C, int width, int height);
+/// The same for the region bounded by the cage's edges (kc::cageEdges: explicit edge graphs of
+/// closed loops included); an open cage bounds nothing (all 0).
+std::vector<std::uint8_t> cageMask(const Cage& cage, int width, int height);
 
 /// Copy of `image` with alpha multiplied by mask/255 (mask: width·height bytes).
 Image applyMask(const Image& image, const std::vector<std::uint8_t>& mask);

@@ -22,10 +22,6 @@ struct Rect {
   double insideDistance(const Vec2& p) const;
 };
 
-/// The cage's edges as control-index pairs: the explicit list when given, otherwise the closed
-/// polygon i → i+1 (mod m).
-std::vector<std::array<int, 2>> cageEdges(const Cage& cage);
-
 /// Number of equal pieces an edge of length `length` is split into for spacing h:
 /// max(1, round(length / h)), so the period on every edge is within a factor ~1.5 of h.
 Index edgePieces(double length, double h);

@@ -49,6 +49,10 @@ double resolvedMargin(const SamplingOptions& options);
 /// The sampled domain: [0, width] × [0, height] grown by the margin on every side.
 Rect samplingDomain(const SamplingOptions& options);
 
+/// About how many samples `sample` would produce (the estimate it checks against kMaxSamples),
+/// computed from the domain, the margin, h and the cage's perimeter without sampling anything.
+double estimateSampleCount(const Cage& cage, const SamplingOptions& options);
+
 /// Samples: control points first (0..m−1, thesis 3.18), then every cage edge at a common
 /// spacing ≈ h (kind Edge, with its edge's ends), then free samples covering the domain plus
 /// margin, each labelled Interior or Exterior.

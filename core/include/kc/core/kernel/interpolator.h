@@ -17,7 +17,7 @@ enum class InterpMode {
   Thesis,  ///< Plain w(x) = U k(x) with U = W K⁻¹ (thesis 1.9, 6.2–6.3), ~1e-3 accurate.
 };
 
-enum class FactorStatus { Ok, NotComputed, NotPositiveDefinite, Singular };
+enum class FactorStatus { Ok, NotComputed, NotPositiveDefinite, Singular, OutOfMemory };
 
 struct InterpolatorReport {
   FactorStatus status = FactorStatus::NotComputed;

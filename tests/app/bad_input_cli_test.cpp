@@ -1,0 +1,389 @@
+// The hostile and careless inputs of issue 10, one row each, through the real kcwarp-cli: every
+// one must exit 2 with one line on stderr naming the problem, without a crash, a hang, a damaged
+// file or a partial output. The table prints each case's exit code and wall time.
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cli_run.h"
+
+namespace kc::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const char* kSquare = R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})";
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+struct Timed {
+  CliResult r;
+  double seconds = 0.0;
+};
+
+/// kcwarp-cli under `timeout` (a hang fails the case instead of the suite), in `dir`.
+Timed runTimed(const std::string& args, const fs::path& dir) {
+  const auto out = dir / "cli.stdout", err = dir / "cli.stderr";
+  const std::string cmd = "cd '" + dir.string() + "' && timeout -k 5 60 '" + std::string(KC_CLI_PATH) + "' " + args + " > '" +
+                          out.string() + "' 2> '" + err.string() + "' < /dev/null";
+  const auto t0 = std::chrono::steady_clock::now();
+  const int status = std::system(cmd.c_str());
+  Timed t;
+  t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t.r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  t.r.out = slurp(out);
+  t.r.err = slurp(err);
+  return t;
+}
+
+std::uint32_t crc32(const std::string& bytes) {
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : bytes) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xFFFFFFFFu;
+}
+
+std::string be32(std::uint32_t v) {
+  return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+}
+
+/// A small, valid PNG file whose header claims width×height (8-bit RGBA); its pixel data is a
+/// few bytes, so only a decoder that believes the header allocates anything.
+std::string pngClaiming(std::uint32_t width, std::uint32_t height) {
+  auto chunk = [](const std::string& type, const std::string& data) {
+    return be32(std::uint32_t(data.size())) + type + data + be32(crc32(type + data));
+  };
+  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x06\x00\x00\x00", 5);
+  const std::string idat("\x78\x9c\x63\x60\x00\x00\x00\x02\x00\x01", 10);  // zlib stream of a few zero bytes
+  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
+}
+
+/// A closed polygon approximating a circle of n points.
+std::string circleCage(int n, double cx, double cy, double r) {
+  json pts = json::array();
+  for (int i = 0; i < n; ++i) {
+    const double t = 2.0 * 3.141592653589793 * i / n;
+    pts.push_back({cx + r * std::cos(t), cy + r * std::sin(t)});
+  }
+  return json{{"version", 1}, {"points", pts}, {"closed", true}}.dump();
+}
+
+/// A closed spiral strip: `turns` turns whose walls are `gap` pixels apart.
+std::string spiralCage(double cx, double cy, double gap, int turns) {
+  json outer = json::array(), inner = json::array();
+  const int perTurn = 48;
+  for (int k = 0; k <= turns * perTurn; ++k) {
+    const double t = 2.0 * 3.141592653589793 * k / perTurn;
+    const double r = 10.0 + 2.0 * gap * t / (2.0 * 3.141592653589793);
+    outer.push_back({cx + (r + gap) * std::cos(t), cy + (r + gap) * std::sin(t)});
+    inner.push_back({cx + r * std::cos(t), cy + r * std::sin(t)});
+  }
+  json pts = outer;
+  for (auto it = inner.rbegin(); it != inner.rend(); ++it) pts.push_back(*it);
+  return json{{"version", 1}, {"points", pts}, {"closed", true}}.dump();
+}
+
+class BadInput : public ::testing::Test {
+ protected:
+  /// One bound session shared by the cases that corrupt it.
+  static void SetUpTestSuite() {
+    s_dir = scratchDir("bad_input_shared");
+    writeText(s_dir / "cage.json", kSquare);
+    const CliResult r = runCli("bind --cage cage.json --size 96,96 --spacing 8 -o s.kcw.json", s_dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    s_session = json::parse(slurp(s_dir / "s.kcw.json"));
+  }
+  static json session() { return s_session; }
+
+  void SetUp() override {
+    m_dir = scratchDir(std::string("bad_input_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    writeText(m_dir / "cage.json", kSquare);
+    fs::copy_file(s_dir / "s.kcw.json", m_dir / "s.kcw.json");
+  }
+
+  /// Runs the case and checks the contract: exit 2, exactly one line on stderr containing
+  /// `message`; prints the row of the table.
+  void expectRefused(const std::string& args, const std::string& message) {
+    const Timed t = runTimed(args, m_dir);
+    std::printf("[case] %-44s exit %d  %6.2f s  %s", ::testing::UnitTest::GetInstance()->current_test_info()->name(), t.r.code,
+                t.seconds, t.r.err.c_str());
+    EXPECT_EQ(t.r.code, 2) << args << "\nstderr: " << t.r.err << "\nstdout: " << t.r.out;
+    EXPECT_EQ(lineCount(t.r.err), 1) << t.r.err;
+    EXPECT_TRUE(contains(t.r.err, message)) << "expected '" << message << "' in: " << t.r.err;
+  }
+  void writeSession(const json& j) { writeText(m_dir / "bad.kcw.json", j.dump()); }
+
+  fs::path m_dir;
+  static inline fs::path s_dir;
+  static inline json s_session;
+};
+
+// ---- Numbers from files are range-checked before conversion --------------------------------
+
+TEST_F(BadInput, SessionImageSizeBeyondInt) {
+  json j = session();
+  j["image_size"] = {4294967552ull, 256};
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "image_size[0] = 4294967552 is out of range");
+}
+
+TEST_F(BadInput, SessionImageSizeIntMax) {
+  json j = session();
+  j["image_size"] = {2147483647, 256};
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "image_size[0]");
+}
+
+TEST_F(BadInput, SessionImageSizeTooManyPixels) {
+  json j = session();
+  j["image_size"] = {20000, 20000};
+  writeSession(j);
+  expectRefused("warp --session bad.kcw.json --heatmap 0 --out h.png", "megapixels");
+  EXPECT_FALSE(fs::exists(m_dir / "h.png"));
+}
+
+TEST_F(BadInput, SessionImageSideTooLong) {
+  json j = session();
+  j["image_size"] = {40000, 40000};
+  writeSession(j);
+  expectRefused("warp --session bad.kcw.json --heatmap 0 --out h.png", "image_size[0] = 40000 is out of range");
+}
+
+TEST_F(BadInput, SessionHugeWeight) {
+  json j = session();
+  j["weights"]["optimized"][5][1] = 1e308;
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json --json", "weights.optimized[5][1] = 1e+308 is out of range");
+}
+
+TEST_F(BadInput, SessionEdgeEndWraps) {
+  json j = session();
+  const auto& kinds = j["samples"]["kinds"];
+  std::size_t edge = 0;
+  while (kinds[edge] != "edge") ++edge;
+  j["samples"]["edge_ends"][edge] = {4294967298ull, 1};
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "edge_ends[" + std::to_string(edge) + "][0] = 4294967298 is out of range");
+}
+
+TEST_F(BadInput, SessionHeatIterationsHuge) {
+  json j = session();
+  j["params"]["heat_iterations"] = 1000000000000ll;
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "params.heat_iterations");
+}
+
+TEST_F(BadInput, SessionSigmaFarTooWide) {
+  json j = session();
+  j["params"]["sigma"] = 1e6;
+  if (j.contains("field") && j["field"].contains("sigma")) j["field"]["sigma"] = 1e6;
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "sigma");
+}
+
+TEST_F(BadInput, SessionNanLiteral) {
+  std::string text = session().dump();
+  const std::string key = "\"sigma\":";
+  const auto at = text.find(key);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at + key.size(), text.find(',', at) - at - key.size(), "NaN");
+  writeText(m_dir / "bad.kcw.json", text);
+  expectRefused("stats --session bad.kcw.json", "malformed JSON");
+}
+
+TEST_F(BadInput, CageEdgeIndexWraps) {
+  writeText(m_dir / "edges.json",
+            R"({"version":1,"points":[[10,10],[50,10],[50,50],[10,50]],"closed":true,"edges":[[0,1],[1,2],[2,4294967298],[3,0]]})");
+  expectRefused("bind --cage edges.json --size 64,64 -o out.kcw.json", "edges[2][1] = 4294967298 is out of range");
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
+TEST_F(BadInput, CageCoordinateTooLarge) {
+  writeText(m_dir / "far.json", R"({"version":1,"points":[[10,10],[1e300,10],[50,50]],"closed":true})");
+  expectRefused("bind --cage far.json --size 64,64 -o out.kcw.json", "points[1][0] = 1e+300 is out of range");
+}
+
+TEST_F(BadInput, EvalNanFirstRowIsNotAHeader) {
+  writeText(m_dir / "p.csv", "10,nan\n20,20\n30,30\n");
+  expectRefused("eval --session s.kcw.json --points p.csv -o w.csv", "line 1");
+  EXPECT_FALSE(fs::exists(m_dir / "w.csv"));
+}
+
+TEST_F(BadInput, BindLocalityNan) {
+  expectRefused("bind --cage cage.json --size 96,96 --locality nan -o out.kcw.json", "--locality");
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
+TEST_F(BadInput, BindLocalityInf) { expectRefused("bind --cage cage.json --size 96,96 --locality inf -o out.kcw.json", "--locality"); }
+
+TEST_F(BadInput, BindHeatIterationsHuge) {
+  expectRefused("bind --cage cage.json --size 96,96 --heat-iterations 100000000 -o out.kcw.json", "--heat-iterations");
+}
+
+// ---- Bounded work -----------------------------------------------------------------------------
+
+TEST_F(BadInput, CageFromDevZero) { expectRefused("bind --cage /dev/zero --size 96,96 -o out.kcw.json", "not a regular file"); }
+
+TEST_F(BadInput, SessionFromDevZero) { expectRefused("stats --session /dev/zero", "not a regular file"); }
+
+TEST_F(BadInput, PointsFromDevZero) {
+  expectRefused("eval --session s.kcw.json --points /dev/zero -o w.csv", "not a regular file");
+}
+
+TEST_F(BadInput, SessionFromFifoWithoutWriter) {
+  ASSERT_EQ(::mkfifo((m_dir / "fifo").c_str(), 0600), 0);
+  expectRefused("stats --session fifo", "not a regular file");
+}
+
+TEST_F(BadInput, CageFileTooLarge) {
+  writeText(m_dir / "big.json", "{");
+  fs::resize_file(m_dir / "big.json", 17u << 20);  // sparse: costs no disk
+  expectRefused("bind --cage big.json --size 96,96 -o out.kcw.json", "more than the 16 MiB");
+}
+
+TEST_F(BadInput, PngHeaderClaims60000Squared) {
+  const std::string png = pngClaiming(60000, 60000);
+  writeText(m_dir / "huge.png", png);
+  EXPECT_LT(png.size(), 600u);
+  expectRefused("bind --cage cage.json --image huge.png -o out.kcw.json", "above kcwarp's limit");
+}
+
+TEST_F(BadInput, PngHeaderClaims20000Squared) {
+  writeText(m_dir / "big.png", pngClaiming(20000, 20000));
+  expectRefused("sample --cage cage.json --image big.png -o s.json", "is 400 megapixels, above kcwarp's limit of 67108864 pixels");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
+TEST_F(BadInput, ImageThatIsNotAnImage) {
+  writeText(m_dir / "text.png", "just text, not a picture\n");
+  expectRefused("bind --cage cage.json --image text.png -o out.kcw.json", "not an image kcwarp reads");
+}
+
+TEST_F(BadInput, BindSpacingTooFine) {
+  expectRefused("bind --cage cage.json --size 256,256 --spacing 0.5 -o out.kcw.json", "use --spacing");
+}
+
+TEST_F(BadInput, BindSigmaTooWide) {
+  expectRefused("bind --cage cage.json --size 512,512 --spacing 2 --sigma 300 -o out.kcw.json", "--sigma 0");
+}
+
+TEST_F(BadInput, BindSpiralAtHalfPixel) {
+  writeText(m_dir / "spiral.json", spiralCage(128, 128, 4.0, 8));
+  expectRefused("bind --cage spiral.json --size 256,256 --spacing 0.5 -o out.kcw.json", "use --spacing");
+}
+
+TEST_F(BadInput, CageWithFortyThousandPoints) {
+  writeText(m_dir / "circle.json", circleCage(40000, 500, 500, 400));
+  expectRefused("bind --cage circle.json --size 1000,1000 -o out.kcw.json", "fewer points");
+}
+
+TEST_F(BadInput, WarpMeshTooFine) {
+  json j = session();
+  j["image_size"] = {8000, 8000};
+  writeSession(j);
+  expectRefused("warp --session bad.kcw.json --mesh-spacing 0.5 -o W.png --image none.png", "--mesh-spacing");
+  EXPECT_FALSE(fs::exists(m_dir / "W.png"));
+}
+
+// ---- Cages finer than the sampling: refused with the place and what to change ---------------
+
+TEST_F(BadInput, CageWithHundredthPixelEdge) {
+  writeText(m_dir / "pent.json", R"({"version":1,"points":[[16,16],[80,16],[80,80],[16,80],[16,79.99]],"closed":true})");
+  expectRefused("bind --cage pent.json --size 96,96 -o out.kcw.json", "cage points 3 and 4 are 0.01 px apart");
+}
+
+TEST_F(BadInput, ThinQuad) {
+  writeText(m_dir / "thin.json", R"({"version":1,"points":[[10,40],[90,40],[90,40.5],[10,40.5]],"closed":true})");
+  expectRefused("bind --cage thin.json --size 96,96 -o out.kcw.json", "0.5 px apart");
+}
+
+TEST_F(BadInput, SpiralWithGapsNarrowerThanTheSpacing) {
+  writeText(m_dir / "spiral.json", spiralCage(128, 128, 4.0, 3));
+  expectRefused("bind --cage spiral.json --size 256,256 --spacing 6 -o out.kcw.json", "use --spacing");
+}
+
+// ---- Outputs: nothing written by a failing command; special files never replaced ---------------
+
+TEST_F(BadInput, OutputIsAFifo) {
+  ASSERT_EQ(::mkfifo((m_dir / "out.fifo").c_str(), 0600), 0);
+  expectRefused("bind --cage cage.json --size 96,96 --spacing 8 -o out.fifo", "not a regular file");
+  struct stat st {};
+  ASSERT_EQ(::lstat((m_dir / "out.fifo").c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+}
+
+TEST_F(BadInput, OutputFolderMissing) {
+  expectRefused("bind --cage cage.json --size 96,96 --spacing 8 -o missing/out.kcw.json", "does not exist");
+}
+
+TEST_F(BadInput, SampleWithPngInMissingFolder) {
+  writeText(m_dir / "S.json", "previous content");
+  expectRefused("sample --cage cage.json --size 96,96 --spacing 8 -o S.json --png missing-dir/p.png", "does not exist");
+  EXPECT_EQ(slurp(m_dir / "S.json"), "previous content");
+}
+
+TEST_F(BadInput, WarpHeatmapWithBadPose) {
+  writeText(m_dir / "pose.json", R"({"version":1,"positions":[[1,2)");
+  expectRefused("warp --session s.kcw.json --heatmap 0 --out H.png -o W.png --pose pose.json --image none.png",
+                "pose.json: malformed JSON");
+  EXPECT_FALSE(fs::exists(m_dir / "H.png"));
+  EXPECT_FALSE(fs::exists(m_dir / "W.png"));
+}
+
+TEST_F(BadInput, WarpHeatmapWithMissingImage) {
+  expectRefused("warp --session s.kcw.json --heatmap 0 --out H.png -o W.png --image missing.png", "missing.png: no such file");
+  EXPECT_FALSE(fs::exists(m_dir / "H.png"));
+}
+
+TEST_F(BadInput, WarpHeatmapWithPoseOfWrongSize) {
+  writeText(m_dir / "pose.json", R"({"version":1,"positions":[[1,2]]})");
+  writeText(m_dir / "img.png", pngClaiming(96, 96));
+  expectRefused("warp --session s.kcw.json --heatmap 0 --out H.png -o W.png --pose pose.json --image img.png", "pose.json");
+  EXPECT_FALSE(fs::exists(m_dir / "H.png"));
+}
+
+TEST_F(BadInput, DemoWithABrokenExampleWritesNothing) {
+  fs::copy(fs::path(KC_SOURCE_DIR) / "images", m_dir / "examples");
+  writeText(m_dir / "examples" / "figure.pose.json", R"({"version":1,"positions":[]})");
+  expectRefused("demo --images examples --out demo-out", "figure.pose.json");
+  EXPECT_FALSE(fs::exists(m_dir / "demo-out"));
+}
+
+// ---- Saves that succeed: mode kept, symlinks written through, no temporary file left ----------
+
+TEST_F(BadInput, SaveKeepsModeFollowsSymlinkAndLeavesNoTemporary) {
+  writeText(m_dir / "ro.kcw.json", "old");
+  fs::permissions(m_dir / "ro.kcw.json", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  Timed t = runTimed("bind --cage cage.json --size 96,96 --spacing 8 -o ro.kcw.json", m_dir);
+  ASSERT_EQ(t.r.code, 0) << t.r.err;
+  EXPECT_EQ(fs::status(m_dir / "ro.kcw.json").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  EXPECT_NE(slurp(m_dir / "ro.kcw.json"), "old");
+
+  fs::create_directory(m_dir / "real");
+  writeText(m_dir / "real" / "target.kcw.json", "old");
+  fs::create_symlink("real/target.kcw.json", m_dir / "link.kcw.json");
+  t = runTimed("bind --cage cage.json --size 96,96 --spacing 8 -o link.kcw.json", m_dir);
+  ASSERT_EQ(t.r.code, 0) << t.r.err;
+  EXPECT_TRUE(fs::is_symlink(m_dir / "link.kcw.json"));
+  EXPECT_TRUE(contains(slurp(m_dir / "real" / "target.kcw.json"), "\"weights\""));
+
+  for (const auto& d : {m_dir, m_dir / "real"})
+    for (const auto& e : fs::directory_iterator(d))
+      EXPECT_FALSE(contains(e.path().filename().string(), ".tmp")) << "left behind: " << e.path();
+}
+
+}  // namespace
+}  // namespace kc::test
