@@ -1,6 +1,9 @@
 // The kernel-coordinate backend ("kc"): samples → K → W0 → W → KernelField (thesis ch. 3–6).
 
+#include <algorithm>
 #include <chrono>
+#include <numeric>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -11,6 +14,10 @@
 
 namespace kc::app {
 namespace {
+
+/// Where each stage starts on the bind's progress bar (sampling, kernel, initial weights,
+/// optimization, interpolation), roughly proportional to measured stage times.
+constexpr double kStageStart[] = {0.0, 0.55, 0.7, 0.8, 0.95};
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -33,10 +40,11 @@ class KcBackend final : public Backend {
     const KcParams& kc = params.kc;
 
     step("sampling", 0.0);
-    const sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
+    sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
+    so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
     s.samples = sampling::sample(s.cage, so, &r.sampling);
 
-    step("kernel", 0.25);
+    step("kernel", kStageStart[1]);
     s.sigma = kc.sigma > 0.0 ? kc.sigma : sampling::suggestSigma(s.samples);
     auto field = std::make_unique<KernelField>();
     r.factor = field->compute(s.samples.X, kernelFor(s.sigma, params.spacing), kc.interp);
@@ -44,17 +52,32 @@ class KcBackend final : public Backend {
       throw std::invalid_argument("the kernel matrix cannot be factorized (sigma " + std::to_string(s.sigma) + ", spacing " +
                                   std::to_string(params.spacing) + "): " + r.factor.advice);
 
-    step("initial weights", 0.5);
+    step("initial weights", kStageStart[2]);
     s.W0 = initialWeights(s.samples, s.cage, field->interpolator().K(), kc.init, &r.init);
 
-    step("optimization", 0.7);
+    step("optimization", kStageStart[3]);
     s.W.resize(s.W0.rows(), s.W0.cols());
     const WeightOptimizer optimizer(s.cage.C);
     OptimizeOptions oo;
     oo.method = kc.method;
-    r.optimize = optimizer.optimize(s.samples, s.W0, s.W, oo);
+    // In blocks of rows, so progress and Cancel are seen while it runs (rows are independent:
+    // the result is the same as one call over all rows).
+    const Index n = s.W0.rows(), blocks = std::clamp<Index>(n / 2000, 1, 50);
+    std::vector<Index> rows;
+    for (Index b = 0; b < blocks; ++b) {
+      const Index begin = n * b / blocks, end = n * (b + 1) / blocks;
+      rows.resize(static_cast<std::size_t>(end - begin));
+      std::iota(rows.begin(), rows.end(), begin);
+      const OptimizeReport part = optimizer.optimize(s.samples, s.W0, s.W, oo, rows);
+      r.optimize.solved += part.solved;
+      r.optimize.infeasible += part.infeasible;
+      r.optimize.failed += part.failed;
+      r.optimize.maxIterations = std::max(r.optimize.maxIterations, part.maxIterations);
+      r.optimize.seconds += part.seconds;
+      step("optimization", kStageStart[3] + (kStageStart[4] - kStageStart[3]) * static_cast<double>(end) / static_cast<double>(n));
+    }
 
-    step("interpolation", 0.9);
+    step("interpolation", kStageStart[4]);
     const auto ts = std::chrono::steady_clock::now();
     field->update(s.W);
     r.solveSeconds = secondsSince(ts);

@@ -93,6 +93,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   Points velocity = Points::Zero(nFree, 2);  // last move of each free sample (momentum)
   const double beta = std::clamp(options.momentum, 0.0, 0.99);
   SpatialGrid grid;
+  double firstMove = 0.0, shown = 0.0;  // progress reporting
 
   // The domain's side is a plain wall: moves are projected onto it (inset by the clearance).
   // The cage is not convex: a move that would come closer than the clearance is refused.
@@ -155,7 +156,16 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
     report.iterations = it + 1;
     report.lastMove = largest / h;
     report.largestMoves.push_back(report.lastMove);
-    if (options.progress && (it % 10 == 0)) options.progress(static_cast<double>(it) / options.maxIterations);
+    if (options.progress) {
+      // The largest move shrinks roughly geometrically from the first iteration's to the
+      // tolerance: log progress between them, never behind the iteration budget, never backwards.
+      if (it == 0) firstMove = std::max(largest, tolerance);
+      const double towards = firstMove > tolerance && largest > 0.0
+                                 ? std::log(firstMove / std::max(largest, tolerance)) / std::log(firstMove / tolerance)
+                                 : 1.0;
+      shown = std::max({shown, static_cast<double>(it + 1) / options.maxIterations, std::clamp(towards, 0.0, 0.99)});
+      options.progress(shown);  // every iteration: a cancel (a throw) is seen within one iteration
+    }
     if (largest < tolerance) {
       report.converged = true;
       break;

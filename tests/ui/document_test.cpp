@@ -3,17 +3,25 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <chrono>
+#include <fstream>
+#include <thread>
 
+#include "cli_run.h"
 #include "kc/app/file_io.h"
+#include "kc/ui/file_dialog.h"
+#include "kc/ui/recent_files.h"
+#include "scene_image.h"
 #include "ui_fixture.h"
 
 namespace kc::test {
 namespace {
 
+namespace fs = std::filesystem;
+
 TEST(Recovery, AutosaveWritesALoadableCopyAndANormalQuitRemovesIt) {
   auto state = boundState();
-  const auto dir = std::filesystem::temp_directory_path() / "kcwarp_test_recovery";
-  std::filesystem::remove_all(dir);
+  const auto dir = scratchDir("ui_recovery");
   state->recoveryPath = (dir / "recovery.kcw.json").string();
   state->lastAutosave = 0.0;
 
@@ -23,14 +31,100 @@ TEST(Recovery, AutosaveWritesALoadableCopyAndANormalQuitRemovesIt) {
 
   state->unsaved = true;
   EXPECT_FALSE(ui::maybeAutosave(*state, 30.0));    // less than a minute since the last one
-  EXPECT_TRUE(ui::maybeAutosave(*state, 61.0));
+  EXPECT_TRUE(ui::maybeAutosave(*state, 61.0));     // a save job (inline in tests)
+  ui::pollWorker(*state);
+  ASSERT_TRUE(state->session);
   ASSERT_TRUE(ui::hasRecoveryCopy(*state));
+  EXPECT_TRUE(state->unsaved) << "an autosave is not a save";
   const app::Session copy = app::loadSession(state->recoveryPath);
   EXPECT_EQ(copy.W, state->session->W);
   EXPECT_EQ(copy.cage.C, state->session->cage.C);
 
   ui::discardRecoveryCopy(*state);
   EXPECT_FALSE(ui::hasRecoveryCopy(*state));
+}
+
+TEST(Recovery, AnUnboundCageIsAutosavedAndRecovered) {
+  const auto dir = scratchDir("ui_recovery_cage");
+  const std::string image = (dir / "scene.png").string();
+  app::saveImage(image, sceneImage(300, 200));
+  ui::AppState s;
+  s.worker.setSynchronous(true);
+  s.recoveryPath = (dir / "recovery.kcw.json").string();
+  ASSERT_TRUE(ui::openImage(s, image));
+  EXPECT_FALSE(s.unsaved);
+  Points C(3, 2);
+  C << 100, 50, 200, 60, 150, 150;
+  const Cage before = s.cage;
+  ui::setDraftCage(s, Cage::polygon(C));
+  ui::commitCage(s, before, "draw");
+  ASSERT_TRUE(s.unsaved);
+  ASSERT_TRUE(ui::maybeAutosave(s, 100.0));
+  ASSERT_TRUE(ui::hasRecoveryCopy(s));
+  EXPECT_TRUE(fs::exists(ui::recoveryCagePath(s)));
+
+  ui::AppState t;  // a later run
+  t.worker.setSynchronous(true);
+  t.recoveryPath = s.recoveryPath;
+  ASSERT_TRUE(ui::openRecoveryCopy(t));
+  EXPECT_EQ(t.source.width, 300);
+  EXPECT_TRUE(t.cage.closed);
+  EXPECT_EQ(t.cage.C, C);
+  EXPECT_TRUE(t.cageValid);
+  ui::discardRecoveryCopy(t);
+  EXPECT_FALSE(ui::hasRecoveryCopy(t));
+}
+
+TEST(Files, RecentListKeepsNewestFirstWithoutDuplicates) {
+  const auto dir = scratchDir("ui_recent");
+  const std::string list = (dir / "cfg" / "recent.txt").string();
+  std::vector<std::string> recent;
+  for (const char* name : {"a.png", "b.png", "a.png"}) {
+    writeText(dir / name, "x");
+    ui::addRecentFile(recent, (dir / name).string(), list);
+  }
+  ASSERT_EQ(recent.size(), 2u);
+  EXPECT_EQ(fs::path(recent[0]).filename(), "a.png");
+  EXPECT_EQ(ui::loadRecentFiles(list), recent);
+  fs::remove(dir / "b.png");  // files that are gone drop out of the menu
+  EXPECT_EQ(ui::loadRecentFiles(list).size(), 1u);
+}
+
+TEST(Files, BrowserListsFoldersThenMatchingFiles) {
+  const auto dir = scratchDir("ui_browser");
+  fs::create_directories(dir / "pictures");
+  fs::create_directories(dir / ".hidden");
+  for (const char* name : {"b.png", "A.JPG", "s.kcw.json", "notes.txt"}) writeText(dir / name, "x");
+  const auto entries = ui::listFolder(dir.string(), ui::PathPurpose::Open);
+  ASSERT_EQ(entries.size(), 4u);
+  EXPECT_TRUE(entries[0].directory);
+  EXPECT_EQ(entries[0].name, "pictures");
+  EXPECT_EQ(entries[1].name, "A.JPG");
+  EXPECT_EQ(entries[2].name, "b.png");
+  EXPECT_EQ(entries[3].name, "s.kcw.json");
+  EXPECT_EQ(ui::listFolder(dir.string(), ui::PathPurpose::Export).size(), 2u);  // pictures/, b.png
+}
+
+TEST(Files, NativeDialogRunsZenityAndReadsTheChosenPath) {
+  const auto dir = scratchDir("ui_zenity");
+  // A stand-in zenity on PATH that records its arguments and answers with a path.
+  writeText(dir / "zenity", "#!/bin/sh\nprintf '%s\\n' \"$@\" > \"" + (dir / "args.txt").string() +
+                                "\"\necho /tmp/chosen.kcw.json\n");
+  fs::permissions(dir / "zenity", fs::perms::owner_all);
+  const std::string oldPath = std::getenv("PATH") ? std::getenv("PATH") : "";
+  setenv("PATH", (dir.string() + ":" + oldPath).c_str(), 1);
+  EXPECT_EQ(ui::nativeDialogProgram(), "zenity");
+  ui::NativeDialog dialog(ui::nativeDialogCommand("zenity", ui::PathPurpose::SaveSession, "/tmp/untitled.kcw.json"),
+                          ui::PathPurpose::SaveSession, {});
+  for (int k = 0; k < 200 && !dialog.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  setenv("PATH", oldPath.c_str(), 1);
+  ASSERT_TRUE(dialog.done());
+  EXPECT_EQ(dialog.result().value_or(""), "/tmp/chosen.kcw.json");
+  const std::string args = slurp(dir / "args.txt");
+  EXPECT_NE(args.find("--save"), std::string::npos) << args;
+  EXPECT_NE(args.find("--filename=/tmp/untitled.kcw.json"), std::string::npos) << args;
+  // Cancel (exit code 1): no path.
+  EXPECT_FALSE(ui::runForOutput({"sh", "-c", "echo /tmp/x; exit 1"}).has_value());
 }
 
 }  // namespace

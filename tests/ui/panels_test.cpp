@@ -1,60 +1,105 @@
-// Panels driven through Dear ImGui's null backend (no window): clicks land on the widgets the
-// panels report in AppState::widgets.
+// The window's real user interface (menu bar, side panel with its collapsing headers, status bar,
+// canvas, dialogs: ui::drawFrame, the function the window calls) driven through Dear ImGui's null
+// backend. Clicks land on widgets found by their visible label, as a person finds them.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
+#include "kc/ui/document.h"
+#include "kc/ui/frame.h"
 #include "kc/ui/panels/panels.h"
+#include "scene_image.h"
 #include "ui_fixture.h"
 
 namespace kc::ui {
 namespace {
 
-/// The side panel as the window lays it out.
-void drawSide(AppState& s) {
-  ImGui::SetNextWindowPos(ImVec2(1050, 20));
-  ImGui::SetNextWindowSize(ImVec2(350, 860));
-  ImGui::Begin("##side", nullptr, ImGuiWindowFlags_NoDecoration);
-  drawToolsPanel(s);
-  drawWeightsPanel(s);
-  drawBindPanel(s);
-  drawDiagnosticsPanel(s);
-  ImGui::End();
+/// A new document on a generated 400×300 picture with a background, in the cage tool.
+std::unique_ptr<AppState> newPicture() {
+  auto s = std::make_unique<AppState>();
+  s->worker.setSynchronous(true);
+  s->source = test::sceneImage(400, 300);
+  ++s->sourceRevision;
+  Cage empty;
+  empty.closed = false;
+  setDraftCage(*s, empty);
+  s->tool = Tool::Cage;
+  s->bindParams.spacing = 10.0;
+  return s;
+}
+
+TEST(Window, NewcomerDrawsACageClicksBindAndPoses) {
+  test::HeadlessImGui gui;
+  auto s = newPicture();
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);  // lays out the canvas and fits the picture
+  // Click a cage around the character (image pixels), then the first point again to close it.
+  const Vec2 corners[] = {{150, 60}, {250, 60}, {260, 240}, {140, 240}};
+  for (const Vec2& p : corners) gui.click(s->view.toScreen(p), draw);
+  gui.click(s->view.toScreen(corners[0]), draw);
+  ASSERT_TRUE(s->cage.closed);
+  ASSERT_TRUE(s->cageValid) << s->cageStatus;
+  EXPECT_FALSE(s->bound) << "closing a cage does not bind by itself";
+
+  gui.clickLabel(*s, "Bind", draw);
+  pollWorker(*s);
+  ASSERT_TRUE(s->bound) << "the Bind button did not bind" << (s->messages.empty() ? "" : ": " + s->messages.back().text);
+  EXPECT_TRUE(s->session && s->session->hasField());
+  EXPECT_EQ(s->tool, Tool::Pose) << "after a bind the pose tool is active";
+
+  // The next drag on a point deforms.
+  gui.frame(draw);
+  const Vec2 from = s->view.toScreen(corners[1]), to = s->view.toScreen(corners[1] + Vec2(30, -20));
+  gui.drag(from, to, draw);
+  ASSERT_EQ(s->pose.size(), 4u);
+  EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(30, -20), 1.0)) << s->pose[1].translate.transpose();
+  EXPECT_EQ(s->undo.undoCount(), 1u);
+  EXPECT_GT(s->deformReport.seconds, 0.0) << "the picture was not re-deformed";
+}
+
+TEST(Window, EveryPanelControlHasItsVisibleLabel) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  gui.frame([&] { drawFrame(*s); });
+  for (const char* label : {"Pose (P)", "Brush (B)", "Cage (C)", "Reset pose", "QP", "QEC", "L1", "Heatmap", "Bind",
+                            "Load cage...", "Save cage...", "Auto sigma"})
+    EXPECT_TRUE(s->widgets.count(label)) << label;
 }
 
 TEST(BindPanel, InvalidCageDisablesBindAndShowsTheReason) {
   test::HeadlessImGui gui;
-  AppState s;
-  s.worker.setSynchronous(true);
-  s.source = Image(200, 200, Rgba{90, 90, 90, 255});
+  auto s = newPicture();
+  auto draw = [&] { drawFrame(*s); };
   Points C(4, 2);
-  C << 20, 20, 180, 180, 180, 20, 20, 180;  // self-intersecting
-  setDraftCage(s, Cage::polygon(C));
-  gui.frame([&] { drawSide(s); });
-  ASSERT_TRUE(s.widgets.count("bind"));
-  gui.click(s.widgets["bind"], [&] { drawSide(s); });
-  pollWorker(s);
-  EXPECT_FALSE(s.bound) << "Bind must be disabled for an invalid cage";
-  EXPECT_FALSE(s.cageStatus.empty());
+  C << 120, 60, 280, 240, 280, 60, 120, 240;  // self-intersecting
+  setDraftCage(*s, Cage::polygon(C));
+  gui.frame(draw);
+  gui.clickLabel(*s, "Bind", draw);
+  pollWorker(*s);
+  EXPECT_FALSE(s->bound) << "Bind must be disabled for an invalid cage";
+  EXPECT_FALSE(s->cageStatus.empty());
 
-  C << 20, 20, 180, 20, 180, 180, 20, 180;  // now a square
-  setDraftCage(s, Cage::polygon(C));
-  gui.frame([&] { drawSide(s); });  // the layout changed: let the panel report where Bind is now
-  gui.click(s.widgets["bind"], [&] { drawSide(s); });
-  pollWorker(s);
-  EXPECT_TRUE(s.bound) << (s.messages.empty() ? "" : s.messages.back().text);
-  EXPECT_TRUE(s.session && s.session->hasField());
-  EXPECT_TRUE(s.mesh.hasWeights());
+  C << 120, 60, 280, 60, 280, 240, 120, 240;  // now a rectangle
+  setDraftCage(*s, Cage::polygon(C));
+  gui.frame(draw);  // the layout changed: let the panel report where Bind is now
+  gui.clickLabel(*s, "Bind", draw);
+  pollWorker(*s);
+  EXPECT_TRUE(s->bound) << (s->messages.empty() ? "" : s->messages.back().text);
+  EXPECT_TRUE(s->session && s->session->hasField());
+  EXPECT_TRUE(s->mesh.hasWeights());
 }
 
-TEST(WeightsPanel, MethodRadioSwitchesAndKeepsTargets) {
+TEST(WeightsPanel, OneMethodControlSwitchesAndKeepsTargets) {
   test::HeadlessImGui gui;
   auto s = test::boundState();
-  gui.frame([&] { drawSide(*s); });
-  ASSERT_TRUE(s->widgets.count("method_qec"));
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
   const Weights W0 = s->session->W0, W = s->session->W;
-  gui.click(s->widgets["method_qec"], [&] { drawSide(*s); });
+  gui.clickLabel(*s, "QEC", draw);
   pollWorker(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->method, Method::QEC);
+  EXPECT_EQ(s->bindParams.kc.method, Method::QEC) << "the next bind uses the method shown";
   EXPECT_TRUE(s->session->W0 == W0);
   EXPECT_FALSE(s->session->W == W);
   EXPECT_EQ(s->undo.undoCount(), 1u);
@@ -63,10 +108,11 @@ TEST(WeightsPanel, MethodRadioSwitchesAndKeepsTargets) {
 TEST(ToolsPanel, RadioButtonsSelectTools) {
   test::HeadlessImGui gui;
   auto s = test::boundState();
-  gui.frame([&] { drawSide(*s); });
-  gui.click(s->widgets["tool_brush"], [&] { drawSide(*s); });
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  gui.clickLabel(*s, "Brush (B)", draw);
   EXPECT_EQ(s->tool, Tool::Brush);
-  gui.click(s->widgets["tool_cage"], [&] { drawSide(*s); });
+  gui.clickLabel(*s, "Cage (C)", draw);
   EXPECT_EQ(s->tool, Tool::Cage);
 }
 
@@ -76,32 +122,100 @@ TEST(DiagnosticsPanel, MeasuresTheBoundSession) {
   refreshDiagnostics(*s);
   ASSERT_TRUE(s->diagnostics.has_value());
   EXPECT_LT(s->diagnostics->samples.partitionOfUnity, 1e-6);
-  gui.frame([&] { drawSide(*s); });  // draws the table without asserting inside ImGui
+  gui.frame([&] { drawFrame(*s); });  // draws the table without asserting inside ImGui
 }
 
-}  // namespace
-}  // namespace kc::ui
+TEST(FileDialog, ThePathFieldSelectsItsTextSoTypingReplacesIt) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  const auto dir = std::filesystem::temp_directory_path() / "kcwarp_test_ui_pathfield";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string typed = (dir / "mine.png").string();
+  requestPath(*s, PathPurpose::Export, "warped.png");
+  for (int k = 0; k < 3; ++k) gui.frame(draw);  // opens, focuses the field
+  for (char c : typed) ImGui::GetIO().AddInputCharacter(static_cast<unsigned>(c));
+  gui.frame(draw);
+  gui.frame(draw);
+  gui.clickLabel(*s, "Save", draw);
+  pollWorker(*s);
+  EXPECT_EQ(s->exportPath, typed) << "typing must replace the suggested name, not append to it";
+  EXPECT_TRUE(std::filesystem::exists(typed));
+}
 
-namespace kc::ui {
-namespace {
+TEST(UnsavedPrompt, OpenAsksFirstAndCancelKeepsTheWork) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  s->unsaved = true;
+  const std::string other = std::string(KC_SOURCE_DIR) + "/images/figure.png";
+  const int width = s->source.width;
+  openAnyFile(*s, other);
+  for (int k = 0; k < 3; ++k) gui.frame(draw);
+  ASSERT_TRUE(s->unsavedPrompt.has_value()) << "opening over unsaved work must ask";
+  EXPECT_EQ(s->source.width, width);
+  gui.clickLabel(*s, "Cancel", draw);
+  EXPECT_FALSE(s->unsavedPrompt.has_value());
+  EXPECT_TRUE(s->bound);
+  EXPECT_TRUE(s->unsaved);
+
+  openAnyFile(*s, other);
+  for (int k = 0; k < 3; ++k) gui.frame(draw);
+  gui.clickLabel(*s, "Open without saving", draw);
+  EXPECT_FALSE(s->bound);
+  EXPECT_NE(s->imagePath.find("figure.png"), std::string::npos);
+  EXPECT_EQ(s->tool, Tool::Cage);
+}
+
+TEST(UnsavedPrompt, AnUnboundCageCountsAsWork) {
+  test::HeadlessImGui gui;
+  auto s = newPicture();
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  for (const Vec2& p : {Vec2(150, 60), Vec2(250, 60), Vec2(200, 200)}) gui.click(s->view.toScreen(p), draw);
+  ASSERT_TRUE(s->unsaved);
+  unlessUnsaved(*s, "New", newDocument);
+  for (int k = 0; k < 3; ++k) gui.frame(draw);
+  EXPECT_TRUE(s->widgets.count("Save cage and new")) << "an unbound cage can be saved before it is dropped";
+  gui.clickLabel(*s, "New without saving", draw);
+  EXPECT_TRUE(s->source.empty());
+  EXPECT_EQ(s->cage.size(), 0);
+}
+
+TEST(View, RefitsOnResizeUntilTheUserZooms) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  const double zoom = s->view.zoom;
+  ImGui::GetIO().DisplaySize = ImVec2(900, 700);
+  gui.frame(draw);
+  EXPECT_LT(s->view.zoom, zoom) << "a smaller window shows the whole picture again";
+  s->view.zoomTo(1.0);
+  EXPECT_EQ(s->view.zoom, 1.0);
+  ImGui::GetIO().DisplaySize = ImVec2(1400, 900);
+  gui.frame(draw);
+  EXPECT_EQ(s->view.zoom, 1.0) << "a zoom the user chose is kept";
+}
 
 TEST(QuitDialog, AsksBeforeDiscardingUnsavedWork) {
   test::HeadlessImGui gui;
   auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
   // Nothing unsaved: quitting needs no confirmation.
   s->unsaved = false;
   s->quitRequested = true;
-  gui.frame([&] { drawDialogs(*s); });
+  gui.frame(draw);
   EXPECT_TRUE(s->quitConfirmed);
 
   // Unsaved work: the dialog opens and the program keeps running until the user chooses.
   s->quitConfirmed = false;
   s->unsaved = true;
   s->quitRequested = true;
-  for (int i = 0; i < 3; ++i) gui.frame([&] { drawDialogs(*s); });
+  for (int i = 0; i < 3; ++i) gui.frame(draw);
   EXPECT_FALSE(s->quitConfirmed);
-  ASSERT_TRUE(s->widgets.count("quit_discard"));
-  gui.click(s->widgets["quit_discard"], [&] { drawDialogs(*s); });
+  gui.clickLabel(*s, "Quit without saving", draw);
   EXPECT_TRUE(s->quitConfirmed);
 }
 

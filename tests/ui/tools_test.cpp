@@ -70,6 +70,49 @@ TEST(PoseTool, RectangleSelectsAndMovesSeveral) {
   EXPECT_EQ(s->pose[2].translate, Vec2::Zero());
 }
 
+TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
+  auto s = test::boundState();
+  s->poseTool.press(*s, at(-20, -20));
+  s->poseTool.release(*s, at(300, 100));  // controls 0 and 1 (top edge)
+  ASSERT_EQ(s->selection.size(), 2u);
+  const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 centre = 0.5 * (c0 + c1);
+  EXPECT_TRUE(selectionPivot(*s).isApprox(centre));
+  // Half a turn about the centre (via a quarter turn): the two points swap places.
+  const Vec2 quarter = centre + Vec2((c1 - centre).y(), -(c1 - centre).x());
+  s->poseTool.press(*s, at(c1.x(), c1.y(), MouseButton::Right));
+  s->poseTool.drag(*s, at(quarter.x(), quarter.y(), MouseButton::Right));
+  s->poseTool.release(*s, at(c0.x(), c0.y(), MouseButton::Right));
+  const Points P = posedControls(s->boundCage.C, s->pose);
+  EXPECT_LT((P.row(0).transpose() - c1).norm(), 1e-9) << P.row(0);
+  EXPECT_LT((P.row(1).transpose() - c0).norm(), 1e-9) << P.row(1);
+  EXPECT_NEAR(std::abs(s->pose[0].rotate), std::numbers::pi, 1e-9);
+  EXPECT_EQ(s->pose[2].translate, Vec2::Zero());
+  EXPECT_EQ(s->undo.undoCount(), 1u);
+}
+
+TEST(PoseTool, ThePivotCanBeMovedAndTheTurnFollowsIt) {
+  auto s = test::boundState();
+  s->poseTool.press(*s, at(-20, -20));
+  s->poseTool.release(*s, at(300, 100));
+  const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 centre = 0.5 * (c0 + c1), pivot = c0;  // drag the pivot marker onto point 0
+  s->poseTool.press(*s, at(centre.x(), centre.y()));
+  s->poseTool.drag(*s, at(pivot.x(), pivot.y()));
+  s->poseTool.release(*s, at(pivot.x(), pivot.y()));
+  ASSERT_TRUE(s->pivot.has_value());
+  EXPECT_TRUE(s->pivot->isApprox(pivot));
+  EXPECT_TRUE(isRestPose(s->pose)) << "moving the pivot moves no point";
+  // A quarter turn about point 0: point 0 stays, point 1 swings a quarter circle.
+  const Vec2 d = c1 - pivot, turned = pivot + Vec2(d.y(), -d.x());  // counter-clockwise on screen
+  s->poseTool.press(*s, at(c1.x(), c1.y(), MouseButton::Right));
+  s->poseTool.release(*s, at(turned.x(), turned.y(), MouseButton::Right));
+  const Points P = posedControls(s->boundCage.C, s->pose);
+  EXPECT_LT((P.row(0).transpose() - c0).norm(), 1e-9) << P.row(0);
+  EXPECT_LT((P.row(1).transpose() - turned).norm(), 1e-9) << P.row(1);
+  EXPECT_NEAR(s->pose[1].rotate, std::numbers::pi / 2, 1e-9);
+}
+
 TEST(BrushTool, StrokeReoptimizesExactlyThePaintedSamples) {
   auto s = test::boundState();
   s->activeControl = 2;

@@ -2,6 +2,7 @@
 // Test support for kc::ui: an AppState with a small bound session (checker example, coarse
 // spacing) and a headless Dear ImGui context (the null backend of example_null: no window).
 
+#include <gtest/gtest.h>
 #include <imgui.h>
 
 #include <memory>
@@ -56,14 +57,32 @@ class HeadlessImGui {
   }
   /// Clicks at screen point p over three frames (move, press, release), drawing with `draw`.
   template <class F>
-  void click(const Vec2& p, F&& draw) {
+  void click(const Vec2& p, F&& draw, int button = 0) {
+    drag(p, p, draw, button, 0);
+  }
+  /// Presses `button` at a, moves to b in `steps` frames, releases there.
+  template <class F>
+  void drag(const Vec2& a, const Vec2& b, F&& draw, int button = 0, int steps = 6) {
     ImGuiIO& io = ImGui::GetIO();
-    io.MousePos = ImVec2(float(p.x()), float(p.y()));
+    io.MousePos = ImVec2(float(a.x()), float(a.y()));
     frame(draw);
-    io.MouseDown[0] = true;
+    io.MouseDown[button] = true;
     frame(draw);
-    io.MouseDown[0] = false;
+    for (int k = 1; k <= steps; ++k) {
+      const Vec2 p = a + (b - a) * (double(k) / steps);
+      io.MousePos = ImVec2(float(p.x()), float(p.y()));
+      frame(draw);
+    }
+    io.MouseDown[button] = false;
     frame(draw);
+  }
+  /// Clicks the widget whose visible label is `label` (as the panels reported it in the last
+  /// frame, AppState::widgets). Fails the test when no widget has that label.
+  template <class F>
+  void clickLabel(ui::AppState& state, const std::string& label, F&& draw) {
+    const auto it = state.widgets.find(label);
+    ASSERT_NE(it, state.widgets.end()) << "no widget labelled '" << label << "' in the last frame";
+    click(it->second, draw);
   }
 };
 

@@ -48,6 +48,15 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["undo"] = state.undo.undoCount();
   j["redo"] = state.undo.redoCount();
   j["unsaved"] = state.unsaved;
+  j["prompt"] = state.unsavedPrompt ? state.unsavedPrompt->what : std::string();
+  j["file_dialog"] = state.pathDialog != PathPurpose::None;
+  j["image_path"] = state.imagePath;
+  j["image_size"] = {state.source.width, state.source.height};
+  j["session_path"] = state.sessionPath;
+  j["recent_files"] = state.recentFiles;
+  j["show_original"] = state.showOriginal;
+  j["pose_translate"] = nlohmann::json::array();
+  for (const HandlePose& h : state.pose) j["pose_translate"].push_back({h.translate.x(), h.translate.y()});
   j["mesh_revision"] = state.meshRevision;
   j["pose_revision"] = state.poseRevision;
   j["flipped_triangles"] = state.deformReport.flippedTriangles;

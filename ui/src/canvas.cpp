@@ -31,7 +31,7 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
     case Tool::Brush:
       if (phase == 0 && e.button == MouseButton::Right && state.bound) {  // right-click picks the painted control
         const Index hit = pickPoint(posedControls(state.boundCage.C, state.pose), e.position, e.pickRadius);
-        if (hit >= 0) state.activeControl = hit, state.selection = {hit};
+        if (hit >= 0) state.activeControl = hit, state.selection = {hit}, state.pivot.reset();
         return;
       }
       if (phase == 0) state.brushTool.press(state, e);
@@ -49,7 +49,7 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
 }  // namespace
 
 bool showsWarp(const AppState& state) {
-  return state.bound && state.tool != Tool::Cage && state.mesh.hasWeights() && state.mesh.width() == state.source.width &&
+  return state.bound && state.tool != Tool::Cage && !state.showOriginal && state.mesh.hasWeights() && state.mesh.width() == state.source.width &&
          state.mesh.height() == state.source.height;
 }
 
@@ -76,8 +76,11 @@ bool restPositionOf(const WarpMesh& mesh, const Vec2& p, Vec2& rest) {
 }
 
 void layoutCanvas(AppState& state, const Vec2& min, const Vec2& size) {
+  const Vec2 newSize = size.cwiseMax(Vec2(1.0, 1.0));
+  // Refit when the canvas changes size, unless the user has zoomed or panned since the last fit.
+  if (newSize != state.view.canvasSize && state.view.fitted) state.fitPending = true;
   state.view.canvasMin = min;
-  state.view.canvasSize = size.cwiseMax(Vec2(1.0, 1.0));
+  state.view.canvasSize = newSize;
   if (state.fitPending && !state.source.empty()) {
     state.view.fit(state.source.width, state.source.height);
     state.fitPending = false;

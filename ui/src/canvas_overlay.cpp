@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "kc/app/heatmap.h"
 #include "kc/ui/canvas.h"
+#include "kc/ui/tools/pose_tool.h"
 
 namespace kc::ui {
 namespace {
@@ -26,6 +28,24 @@ void drawPolygon(ImDrawList* dl, const View& view, const Cage& cage, const Point
     for (Index i = 0; i + 1 < m; ++i) line(i, i + 1);
     if (cage.closed && m >= 3) line(m - 1, 0);
   }
+}
+
+/// The point's number next to it (a dark box behind light text).
+void drawPointNumber(ImDrawList* dl, const Vec2& s, Index i, ImU32 color) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%ld", long(i));
+  const ImVec2 p(static_cast<float>(s.x()) + 9.0f, static_cast<float>(s.y()) - 20.0f);
+  const ImVec2 size = ImGui::CalcTextSize(text);
+  dl->AddRectFilled({p.x - 3, p.y - 1}, {p.x + size.x + 3, p.y + size.y + 1}, rgba(20, 20, 28, 210), 3.0f);
+  dl->AddText(p, color, text);
+}
+
+/// Numbers of the points of P (#P×2, image pixels) near the mouse, or of all of them.
+void drawPointNumbers(const AppState& state, ImDrawList* dl, const Points& P, bool all, ImU32 color) {
+  if (!all && !state.canvasHovered) return;
+  const double radius = 12.0 / state.view.zoom;
+  for (Index i = 0; i < P.rows(); ++i)
+    if (all || (P.row(i).transpose() - state.mouseImage).norm() <= radius) drawPointNumber(dl, state.view.toScreen(P.row(i).transpose()), i, color);
 }
 
 void drawHandle(ImDrawList* dl, const Vec2& s, bool selected, bool active) {
@@ -69,6 +89,16 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
     if (theta != 0.0)  // a short tick showing the handle's rotation
       dl->AddLine(im(s), im(s + 16.0 * Vec2(std::cos(theta), -std::sin(theta))), rgba(255, 230, 80), 2.0f);
   }
+  drawPointNumbers(state, dl, P, false, rgba(255, 255, 255));
+  if (state.selection.size() >= 2 && state.tool == Tool::Pose) {  // the pivot of the selection's rotation
+    const ImVec2 c = im(view.toScreen(selectionPivot(state)));
+    for (const ImU32 color : {rgba(20, 20, 28), rgba(120, 230, 255)}) {
+      const float w = color == rgba(20, 20, 28) ? 4.0f : 2.0f;
+      dl->AddLine({c.x - 9, c.y}, {c.x + 9, c.y}, color, w);
+      dl->AddLine({c.x, c.y - 9}, {c.x, c.y + 9}, color, w);
+    }
+    dl->AddCircle(c, 6.0f, rgba(120, 230, 255), 16, 1.5f);
+  }
   if (state.poseTool.selectingRect()) {
     const Vec2 a = view.toScreen(state.poseTool.rectStart()), b = view.toScreen(state.poseTool.rectEnd());
     dl->AddRectFilled(im(a.cwiseMin(b)), im(a.cwiseMax(b)), rgba(120, 170, 255, 40));
@@ -109,6 +139,8 @@ void drawCageToolOverlay(AppState& state, ImDrawList* dl) {
     dl->AddCircleFilled(s, first ? 8.0f : 6.0f, rgba(20, 20, 28));
     dl->AddCircleFilled(s, first ? 6.5f : 4.5f, i == state.cageTool.selected() ? rgba(255, 150, 30) : color);
   }
+  // Every point's number while the cage is invalid (the message names points), else near the mouse.
+  drawPointNumbers(state, dl, cage.C, invalid, invalid ? rgba(255, 150, 150) : rgba(255, 255, 255));
   if (!state.cageStatus.empty()) {
     const ImVec2 p = im(view.canvasMin + Vec2(12, 12));
     const ImVec2 size = ImGui::CalcTextSize(state.cageStatus.c_str());
@@ -124,10 +156,17 @@ void drawCanvasOverlay(AppState& state) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   const View& view = state.view;
   dl->PushClipRect(im(view.canvasMin), im(view.canvasMin + view.canvasSize), true);
-  if (!showsWarp(state))  // outline of the picture at rest
-    dl->AddRect(im(view.toScreen(Vec2(-0.5, -0.5))),
-                im(view.toScreen(Vec2(state.source.width - 0.5, state.source.height - 0.5))), rgba(90, 90, 105), 0.0f, 0, 1.0f);
-  if (state.tool == Tool::Cage) {
+  // The image border: what an export covers (a warped picture may reach beyond it).
+  dl->AddRect(im(view.toScreen(Vec2(-0.5, -0.5))), im(view.toScreen(Vec2(state.source.width - 0.5, state.source.height - 0.5))),
+              rgba(150, 150, 170, 200), 0.0f, 0, 1.0f);
+  if (state.showOriginal && state.bound) {  // before/after: the original picture and the rest cage
+    drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 160), 1.5f);
+    const char* text = "Original (release O to see the warp)";
+    const ImVec2 p = im(view.canvasMin + Vec2(12, 12));
+    const ImVec2 size = ImGui::CalcTextSize(text);
+    dl->AddRectFilled({p.x - 6, p.y - 4}, {p.x + size.x + 6, p.y + size.y + 4}, rgba(20, 20, 28, 220), 4.0f);
+    dl->AddText(p, rgba(255, 220, 120), text);
+  } else if (state.tool == Tool::Cage) {
     drawCageToolOverlay(state, dl);
   } else if (state.bound) {
     drawPoseOverlay(state, dl);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
@@ -12,6 +13,8 @@
 #include "kc/app/image_io.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
+#include "kc/ui/panels/panels.h"
+#include "kc/ui/recent_files.h"
 
 namespace kc::ui {
 namespace {
@@ -22,15 +25,46 @@ bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
 
-/// The session to save: the document's session with the current pose.
-std::string sessionJson(const AppState& state, const std::string& path) {
-  app::Session& s = *state.session;
-  s.pose = state.pose;
-  const std::string stored = s.image;
-  if (!state.imagePath.empty() && !path.empty()) s.image = app::imagePathForSession(state.imagePath, path);
-  std::string text = app::sessionToJson(s);
-  s.image = stored;
-  return text;
+}  // namespace
+
+namespace {
+
+/// Forgets the document (picture, session, cage, pose, undo) and the interaction tied to it.
+void clearDocument(AppState& state) {
+  state.source = Image();
+  state.imagePath.clear();
+  ++state.sourceRevision;
+  state.session.reset();
+  state.bound = false;
+  state.boundCage = Cage{};
+  state.samples = SampleSet{};
+  state.mesh = WarpMesh{};
+  ++state.meshRevision;
+  state.pose.clear();
+  ++state.poseRevision;
+  state.selection.clear();
+  state.pivot.reset();
+  state.activeControl = -1;
+  state.sessionPath.clear();
+  state.undo.clear();
+  state.diagnostics.reset();
+  Cage empty;
+  empty.closed = false;
+  setDraftCage(state, empty);
+  state.tool = Tool::Cage;
+  state.fitPending = true;
+  state.unsaved = false;
+}
+
+/// A JSON file holding a cage (not a session): it parses as a cage file.
+bool isCageFile(const std::string& path) {
+  if (endsWith(path, ".kcw.json") || !endsWith(path, ".json")) return false;
+  try {
+    app::loadCage(path);
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
 }
 
 }  // namespace
@@ -47,36 +81,62 @@ bool openImage(AppState& state, const std::string& path) {
     postMessage(state, "Busy: open the image after the current job has finished.", false);
     return false;
   }
+  clearDocument(state);
   state.source = std::move(img);
   state.imagePath = fs::absolute(path).string();
-  ++state.sourceRevision;
-  state.session.reset();
-  state.bound = false;
-  state.boundCage = Cage{};
-  state.samples = SampleSet{};
-  state.mesh = WarpMesh{};
-  ++state.meshRevision;
-  state.pose.clear();
-  ++state.poseRevision;
-  state.selection.clear();
-  state.activeControl = -1;
-  state.sessionPath.clear();
-  state.undo.clear();
-  state.diagnostics.reset();
-  Cage empty;
-  empty.closed = false;
-  setDraftCage(state, empty);
-  state.tool = Tool::Cage;
-  state.fitPending = true;
-  state.unsaved = false;
-  postMessage(state, "Opened " + path + ": click on the picture to draw a cage, then Bind.", false);
+  rememberFile(state, path);
+  postMessage(state, "Opened " + path + ": click on the picture to draw a cage around what you want to bend, then Bind.", false);
   return true;
+}
+
+void newDocument(AppState& state) {
+  if (state.worker.busy()) {
+    postMessage(state, "Busy: wait for the current job (or cancel it) first.", false);
+    return;
+  }
+  clearDocument(state);
+  postMessage(state, "Open a picture (Ctrl+O) or drop one onto the window.", false);
 }
 
 bool openPath(AppState& state, const std::string& path) {
   if (endsWith(path, ".json")) return startOpenSession(state, path);
   return openImage(state, path);
 }
+
+bool openAnyFile(AppState& state, const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    postMessage(state, "Cannot open " + path + ": no such file.", true);
+    return false;
+  }
+  if (isCageFile(path)) return loadCageAndBind(state, path);
+  unlessUnsaved(state, "Open", [path](AppState& st) { openPath(st, path); });
+  return true;
+}
+
+void unlessUnsaved(AppState& state, std::string what, std::function<void(AppState&)> action) {
+  if (!state.unsaved) {
+    action(state);
+    return;
+  }
+  state.unsavedPrompt = PendingAction{std::move(what), std::move(action)};
+}
+
+void openDroppedFiles(AppState& state) {
+  if (state.droppedPaths.empty()) return;
+  std::vector<std::string> paths;
+  paths.swap(state.droppedPaths);
+  // Cages first (they go onto the picture), then the one picture or session that replaces the document.
+  std::string document;
+  for (const std::string& p : paths) {
+    if (isCageFile(p)) loadCageAndBind(state, p);
+    else if (document.empty()) document = p;
+    else postMessage(state, "Dropped several pictures or sessions: opened only " + document + ".", false);
+  }
+  if (!document.empty()) openAnyFile(state, document);
+}
+
+void rememberFile(AppState& state, const std::string& path) { addRecentFile(state.recentFiles, path, state.recentFilesPath); }
 
 bool startOpenSession(AppState& state, const std::string& path) {
   if (state.worker.busy()) {
@@ -112,6 +172,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
         st.sessionPath = path;
         st.unsaved = false;
         st.tool = Tool::Pose;
+        rememberFile(st, path);
         st.fitPending = true;
         postMessage(st, warning.empty() ? "Opened " + path : warning, !warning.empty());
       };
@@ -146,6 +207,7 @@ bool startExport(AppState& state, const std::string& path) {
       const std::string message = text;
       return [s, message](AppState& st) {
         st.session = s;
+        ++st.exportCount;
         postMessage(st, message, false);
       };
     } catch (const std::exception& e) {
@@ -159,31 +221,100 @@ bool startExport(AppState& state, const std::string& path) {
   return true;
 }
 
-bool saveSessionFile(AppState& state, const std::string& path) {
-  if (!state.session) {
-    postMessage(state, state.bound ? "Busy: save after the current job has finished." : "Nothing to save: bind a cage first.", false);
+bool startSaveSession(AppState& state, const std::string& path, bool autosave) {
+  if (!state.session || state.worker.busy()) {
+    if (!autosave)
+      postMessage(state, state.bound ? "Busy: save after the current job has finished." : "Nothing to save: bind a cage first.", false);
     return false;
   }
-  try {
-    app::writeFileAtomic(path, sessionJson(state, path));
-  } catch (const std::exception& e) {
-    postMessage(state, std::string("Save failed: ") + e.what(), true);
-    return false;
-  }
-  state.sessionPath = path;
-  state.unsaved = false;
-  postMessage(state, "Saved " + path, false);
+  auto s = std::move(state.session);
+  // The job owns the session meanwhile: set the pose and the image path the file refers to.
+  s->pose = state.pose;
+  const std::string storedImage = s->image;
+  if (!state.imagePath.empty()) s->image = app::imagePathForSession(state.imagePath, path);
+  const std::uint64_t poseRevision = state.poseRevision;
+  state.worker.submit(autosave ? "Autosaving" : "Saving", [s, path, storedImage, autosave, poseRevision](JobContext& ctx) -> Worker::Apply {
+    std::string error;
+    try {
+      ctx.progress("writing", 0.3);
+      if (autosave) fs::create_directories(fs::path(path).parent_path());
+      app::writeFileAtomic(path, app::sessionToJson(*s));
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    s->image = storedImage;
+    return [s, path, autosave, poseRevision, error](AppState& st) {
+      st.session = s;
+      if (!error.empty()) {
+        st.afterSave = nullptr;
+        postMessage(st, std::string(autosave ? "Autosave failed: " : "Save failed: ") + error, true);
+        return;
+      }
+      if (autosave) return;
+      st.sessionPath = path;
+      st.unsaved = st.poseRevision != poseRevision;  // a drag during the save is still unsaved
+      rememberFile(st, path);
+      postMessage(st, "Saved " + path, false);
+      if (auto then = std::move(st.afterSave)) {
+        st.afterSave = nullptr;
+        then(st);
+      }
+    };
+  });
   return true;
+}
+
+bool saveSessionFile(AppState& state, const std::string& path) { return startSaveSession(state, path, false); }
+
+void whenIdle(AppState& state, std::function<void(AppState&)> action) {
+  if (state.worker.busy() || (state.bound && !state.session)) {
+    postMessage(state, "After the current job: " + state.worker.name() + "...", false);
+    state.deferred.push_back(std::move(action));
+    return;
+  }
+  action(state);
+}
+
+void runDeferred(AppState& state) {
+  if (state.deferred.empty() || state.worker.busy() || (state.bound && !state.session)) return;
+  auto action = std::move(state.deferred.front());
+  state.deferred.erase(state.deferred.begin());
+  action(state);
+}
+
+void saveCommand(AppState& state, bool saveAs) {
+  whenIdle(state, [saveAs](AppState& st) {
+    if (!st.session) return;
+    if (saveAs || st.sessionPath.empty())
+      requestPath(st, PathPurpose::SaveSession, st.sessionPath.empty() ? "untitled.kcw.json" : st.sessionPath);
+    else
+      saveSessionFile(st, st.sessionPath);
+  });
+}
+
+void exportCommand(AppState& state, bool exportAs) {
+  whenIdle(state, [exportAs](AppState& st) {
+    if (!st.session) return;
+    if (exportAs || st.exportPath.empty()) requestPath(st, PathPurpose::Export, st.exportPath.empty() ? "warped.png" : st.exportPath);
+    else startExport(st, st.exportPath);
+  });
 }
 
 bool saveCageFile(AppState& state, const std::string& path) {
   try {
     app::saveCage(path, state.cage);
   } catch (const std::exception& e) {
+    state.afterSave = nullptr;
     postMessage(state, std::string("Cannot save cage: ") + e.what(), true);
     return false;
   }
   postMessage(state, "Saved cage " + path, false);
+  rememberFile(state, path);
+  if (!state.bound) state.unsaved = false;  // an unbound cage is the whole of the work
+  if (auto then = std::move(state.afterSave)) {
+    state.afterSave = nullptr;
+    then(state);
+  }
   return true;
 }
 
@@ -198,7 +329,18 @@ bool loadCageFile(AppState& state, const std::string& path) {
     postMessage(state, std::string("Cannot load cage: ") + e.what(), true);
     return false;
   }
-  postMessage(state, "Loaded cage " + path + (state.cageValid ? ": press Bind." : ": " + state.cageStatus), !state.cageValid);
+  postMessage(state, "Loaded cage " + path + (state.cageValid ? "." : ": " + state.cageStatus), !state.cageValid);
+  return true;
+}
+
+bool loadCageAndBind(AppState& state, const std::string& path) {
+  if (state.source.empty()) {
+    postMessage(state, "Open a picture first, then its cage.", true);
+    return false;
+  }
+  if (!loadCageFile(state, path)) return false;
+  rememberFile(state, path);
+  if (state.cageValid) startBind(state);
   return true;
 }
 
@@ -209,13 +351,38 @@ std::string defaultRecoveryPath() {
   return (base / "kcwarp" / "recovery.kcw.json").string();
 }
 
+std::string recoveryCagePath(const AppState& state) {
+  std::string p = state.recoveryPath;
+  if (endsWith(p, ".kcw.json")) p.resize(p.size() - 9);
+  return p.empty() ? p : p + ".cage.json";
+}
+
+namespace {
+
+/// The recovery copy of an unbound draft cage: its points, edges, closed flag and the picture.
+void writeCageRecovery(const AppState& state) {
+  nlohmann::json points = nlohmann::json::array(), edges = nlohmann::json::array();
+  for (Index i = 0; i < state.cage.size(); ++i) points.push_back({state.cage.C(i, 0), state.cage.C(i, 1)});
+  for (const auto& e : state.cage.edges) edges.push_back({e[0], e[1]});
+  const nlohmann::json j = {{"version", 1}, {"points", points}, {"edges", edges}, {"closed", state.cage.closed},
+                            {"image", state.imagePath}};
+  fs::create_directories(fs::path(recoveryCagePath(state)).parent_path());
+  app::writeFileAtomic(recoveryCagePath(state), j.dump(1) + "\n");
+}
+
+}  // namespace
+
 bool maybeAutosave(AppState& state, double now, double interval) {
-  if (!state.unsaved || !state.session || state.recoveryPath.empty()) return false;
-  if (now - state.lastAutosave < interval) return false;
+  if (!state.unsaved || state.recoveryPath.empty() || now - state.lastAutosave < interval) return false;
+  if (state.session) {
+    if (state.worker.busy()) return false;
+    state.lastAutosave = now;
+    return startSaveSession(state, state.recoveryPath, true);
+  }
+  if (state.bound || state.cage.size() == 0 || state.imagePath.empty()) return false;  // a job holds the session, or nothing to keep
   state.lastAutosave = now;
   try {
-    fs::create_directories(fs::path(state.recoveryPath).parent_path());
-    app::writeFileAtomic(state.recoveryPath, sessionJson(state, state.recoveryPath));
+    writeCageRecovery(state);
   } catch (const std::exception& e) {
     postMessage(state, std::string("Autosave failed: ") + e.what(), true);
     return false;
@@ -225,12 +392,39 @@ bool maybeAutosave(AppState& state, double now, double interval) {
 
 bool hasRecoveryCopy(const AppState& state) {
   std::error_code ec;
-  return !state.recoveryPath.empty() && fs::exists(state.recoveryPath, ec);
+  return !state.recoveryPath.empty() && (fs::exists(state.recoveryPath, ec) || fs::exists(recoveryCagePath(state), ec));
+}
+
+bool openRecoveryCopy(AppState& state) {
+  std::error_code ec;
+  if (fs::exists(state.recoveryPath, ec)) return startOpenSession(state, state.recoveryPath);
+  try {
+    const nlohmann::json j = nlohmann::json::parse(app::readTextFile(recoveryCagePath(state)));
+    const std::string image = j.at("image").get<std::string>();
+    Points C(static_cast<Index>(j.at("points").size()), 2);
+    for (Index i = 0; i < C.rows(); ++i) C.row(i) << j["points"][static_cast<std::size_t>(i)][0].get<double>(), j["points"][static_cast<std::size_t>(i)][1].get<double>();
+    Cage cage = j.at("closed").get<bool>() ? Cage::polygon(C) : Cage{};
+    cage.C = C;
+    cage.closed = j.at("closed").get<bool>();
+    cage.edges.clear();
+    for (const auto& e : j.at("edges")) cage.edges.push_back({e[0].get<int>(), e[1].get<int>()});
+    if (cage.closed && cage.edges.empty()) cage = Cage::polygon(C);
+    if (!openImage(state, image)) return false;
+    setDraftCage(state, std::move(cage));
+    state.unsaved = true;  // recovered work is not saved anywhere else
+    postMessage(state, "Recovered the cage on " + image + (state.cageValid ? ": press Bind." : "."), false);
+    return true;
+  } catch (const std::exception& e) {
+    postMessage(state, std::string("Cannot open the recovery copy: ") + e.what(), true);
+    return false;
+  }
 }
 
 void discardRecoveryCopy(const AppState& state) {
   std::error_code ec;
-  if (!state.recoveryPath.empty()) fs::remove(state.recoveryPath, ec);
+  if (state.recoveryPath.empty()) return;
+  fs::remove(state.recoveryPath, ec);
+  fs::remove(recoveryCagePath(state), ec);
 }
 
 std::string windowTitle(const AppState& state) {

@@ -103,6 +103,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.meshSource = std::move(display.source);
   ++state.meshRevision;
   state.selection.clear();
+  state.pivot.reset();
   if (state.activeControl >= s.cage.size() || state.activeControl < 0) state.activeControl = 0;
   state.undo.clear();
   state.diagnostics.reset();
@@ -110,7 +111,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.weightsReproducible = fromOptimizer;
 }
 
-bool startBind(AppState& state) {
+bool startBind(AppState& state, bool markUnsaved) {
   if (!canStart(state, "bind")) return false;
   if (state.source.empty()) {
     postMessage(state, "Open an image before binding.", true);
@@ -134,9 +135,9 @@ bool startBind(AppState& state) {
       s->image = image;
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display](AppState& st) {
+      return [s, display, markUnsaved](AppState& st) {
         installSession(st, s, display, true);
-        st.unsaved = true;
+        st.unsaved = st.unsaved || markUnsaved;
         st.tool = Tool::Pose;
         char text[160];
         std::snprintf(text, sizeof text, "Bound %ld control points, %ld samples in %.2f s.", long(s->cage.size()),

@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "kc/ui/canvas.h"
 #include "kc/ui/heat_field.h"
 
 namespace kc::ui {
@@ -34,6 +35,11 @@ uniform vec4 uColor;
 out vec4 outColor;
 void main() {
   if (uFlat == 1) { outColor = uColor; return; }
+  if (uFlat == 2) {  // transparency checkerboard, 8 screen pixels per square
+    float k = mod(floor(gl_FragCoord.x / 8.0) + floor(gl_FragCoord.y / 8.0), 2.0);
+    outColor = vec4(vec3(mix(0.62, 0.80, k)), 1.0);
+    return;
+  }
   vec4 c = texture(uTex, vUv);
   float h = uHeat * vHeat.a;
   outColor = vec4(mix(c.rgb, vHeat.rgb, h), max(c.a, h));
@@ -61,6 +67,8 @@ Renderer::~Renderer() {
   const GLuint buffers[] = {m_posBuffer, m_uvBuffer, m_heatBuffer, m_indexBuffer};
   glDeleteBuffers(4, buffers);
   glDeleteVertexArrays(1, &m_vao);
+  glDeleteVertexArrays(1, &m_quadVao);
+  glDeleteBuffers(1, &m_quadBuffer);
   if (m_texture) glDeleteTextures(1, &m_texture);
 }
 
@@ -93,6 +101,12 @@ bool Renderer::init() {
   m_uvBuffer = buffers[1];
   m_heatBuffer = buffers[2];
   m_indexBuffer = buffers[3];
+  glGenVertexArrays(1, &m_quadVao);
+  glGenBuffers(1, &m_quadBuffer);
+  glBindVertexArray(m_quadVao);
+  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffer);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
   glBindVertexArray(m_vao);
   glBindBuffer(GL_ARRAY_BUFFER, m_posBuffer);
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
@@ -181,8 +195,7 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
     m_sourceRevision = state.sourceRevision;
     m_meshRevision = ~0ull;
   }
-  const bool warped = state.bound && state.tool != Tool::Cage && state.mesh.hasWeights() &&
-                      state.mesh.width() == state.source.width && state.mesh.height() == state.source.height;
+  const bool warped = showsWarp(state);
   if (m_meshRevision != state.meshRevision || m_warped != warped) {
     uploadMesh(state, warped);
     m_meshRevision = state.meshRevision;
@@ -222,6 +235,13 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
   glUniform1i(m_uTex, 0);
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, m_texture);
+  glBindVertexArray(m_quadVao);  // the image rectangle: a checkerboard shows through transparent pixels
+  const float w = static_cast<float>(state.source.width), h = static_cast<float>(state.source.height);
+  const float quad[] = {-0.5f, -0.5f, w - 0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, h - 0.5f};
+  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffer);
+  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_DYNAMIC_DRAW);
+  glUniform1i(m_uFlat, 2);
+  glDrawArrays(GL_TRIANGLES, 0, 6);
   const bool heat = warped && state.activeControl >= 0 &&
                     (state.tool == Tool::Brush ? state.heat.show : state.tool == Tool::Pose && state.heat.showInPose);
   glUniform1f(m_uHeat, heat ? state.heat.opacity : 0.0f);

@@ -12,22 +12,16 @@ namespace kc::ui {
 
 void handleShortcuts(AppState& state) {
   const ImGuiIO& io = ImGui::GetIO();
-  if (io.WantTextInput || state.pathDialog != PathPurpose::None) return;
+  state.showOriginal = false;
+  if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
   auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
   if (io.KeyCtrl) {
     if (pressed(GLFW_KEY_Z)) io.KeyShift ? redo(state) : undo(state);
     if (pressed(GLFW_KEY_Y)) redo(state);
-    if (pressed(GLFW_KEY_S) && state.session) {
-      if (io.KeyShift || state.sessionPath.empty())
-        requestPath(state, PathPurpose::SaveSession, state.sessionPath.empty() ? "untitled.kcw.json" : state.sessionPath);
-      else
-        saveSessionFile(state, state.sessionPath);
-    }
-    if (pressed(GLFW_KEY_E) && state.bound) {
-      if (state.exportPath.empty() || io.KeyShift) requestPath(state, PathPurpose::Export, state.exportPath.empty() ? "warped.png" : state.exportPath);
-      else startExport(state, state.exportPath);
-    }
+    if (pressed(GLFW_KEY_S) && state.bound) saveCommand(state, io.KeyShift);
+    if (pressed(GLFW_KEY_E) && state.bound) exportCommand(state, io.KeyShift);
     if (pressed(GLFW_KEY_O)) requestPath(state, PathPurpose::Open, state.imagePath);
+    if (pressed(GLFW_KEY_N)) unlessUnsaved(state, "New", newDocument);
     if (pressed(GLFW_KEY_R)) resetPose(state);
     if (pressed(GLFW_KEY_B)) startBind(state);
     if (pressed(GLFW_KEY_Q)) state.quitRequested = true;
@@ -44,6 +38,9 @@ void handleShortcuts(AppState& state) {
   if (pressed(GLFW_KEY_B)) selectTool(state, Tool::Brush);
   if (pressed(GLFW_KEY_C)) selectTool(state, Tool::Cage);
   if (pressed(GLFW_KEY_F)) state.fitPending = true;
+  if (pressed(GLFW_KEY_1)) state.view.zoomTo(1.0);
+  if (pressed(GLFW_KEY_F1)) state.helpOpen = true;
+  state.showOriginal = state.bound && ImGui::IsKeyDown(GLFW_KEY_O);
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Cage) state.cageTool.deleteSelected(state);
 }
 

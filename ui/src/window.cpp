@@ -17,8 +17,10 @@
 #include "kc/ui/canvas.h"
 #include "kc/ui/document.h"
 #include "kc/ui/edits.h"
+#include "kc/ui/frame.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/recent_files.h"
 #include "kc/ui/renderer.h"
 #include "kc/ui/shortcuts.h"
 
@@ -26,8 +28,6 @@ namespace kc::ui {
 namespace {
 
 std::atomic<bool> g_terminate{false};  // set by SIGTERM/SIGINT only (signal handlers need a global)
-
-constexpr float kPanelWidth = 350.0f;
 
 void onSignal(int) { g_terminate = true; }
 
@@ -55,27 +55,9 @@ void openStartup(AppState& state, const WindowOptions& o) {
   if (!openPath(state, image) || cage.empty()) return;
   if (loadCageFile(state, cage) && state.cageValid) {
     state.undo.clear();
-    startBind(state);
+    state.unsaved = false;           // the picture and the cage are files on disk
+    startBind(state, false);
   }
-}
-
-/// Side panel (right), status bar (bottom) and the canvas between them.
-void drawLayout(AppState& state, float menuHeight) {
-  const ImGuiIO& io = ImGui::GetIO();
-  const float statusHeight = ImGui::GetFrameHeight() + 12.0f;
-  const float panelHeight = io.DisplaySize.y - menuHeight - statusHeight;
-  layoutCanvas(state, Vec2(0, menuHeight), Vec2(io.DisplaySize.x - kPanelWidth, panelHeight));
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kPanelWidth, menuHeight));
-  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, panelHeight));
-  ImGui::Begin("##side", nullptr,
-               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
-                   ImGuiWindowFlags_NoSavedSettings);
-  if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) drawToolsPanel(state);
-  if (ImGui::CollapsingHeader("Weights", ImGuiTreeNodeFlags_DefaultOpen)) drawWeightsPanel(state);
-  if (ImGui::CollapsingHeader("Bind", ImGuiTreeNodeFlags_DefaultOpen)) drawBindPanel(state);
-  if (ImGui::CollapsingHeader("Diagnostics", ImGuiTreeNodeFlags_DefaultOpen)) drawDiagnosticsPanel(state);
-  ImGui::End();
-  drawStatusBar(state, io.DisplaySize.y - statusHeight, io.DisplaySize.x, statusHeight);
 }
 
 double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
@@ -116,7 +98,16 @@ int runWindow(const WindowOptions& o) {
     auto state = std::make_unique<AppState>();
     Renderer renderer;
     if (!renderer.init()) postMessage(*state, "OpenGL: " + renderer.error(), true);
-    state->worker.setWakeup([] { glfwPostEmptyEvent(); });
+    state->wakeup = [] { glfwPostEmptyEvent(); };
+    state->worker.setWakeup(state->wakeup);
+    state->nativeDialogs = true;
+    state->recentFilesPath = defaultRecentFilesPath();
+    state->recentFiles = loadRecentFiles(state->recentFilesPath);
+    glfwSetWindowUserPointer(window, state.get());
+    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+      for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
+    });
     state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
     state->exportPath = o.exportPath;
     state->lastAutosave = nowSeconds();
@@ -128,34 +119,33 @@ int runWindow(const WindowOptions& o) {
 
     FrameLog frameLog;
     std::string title, lastState;
-    int screenshots = 0, exportsSeen = 0;
+    int screenshots = 0;
     bool readyWritten = false;
+    int settleFrames = 3;
     auto previous = std::chrono::steady_clock::now();
     const auto start = previous;
     while (!state->quitConfirmed && !g_terminate) {
-      // Display rate while dragging; otherwise wait for input (a running job only needs a few
-      // progress updates per second and should get the CPU).
-      if (state->canvasDrag.button >= 0) glfwPollEvents();
-      else glfwWaitEventsTimeout(state->worker.busy() ? 0.1 : 0.05);
+      // Display rate while dragging or for a few frames after an event (ImGui settles hover and
+      // popups over two or three frames); a running job gets a few progress redraws per second;
+      // otherwise sleep until input arrives (no redraw while nothing changes). The timeout wakes
+      // the loop for autosave and a blinking text cursor.
+      if (state->canvasDrag.button >= 0 || settleFrames > 0) {
+        glfwPollEvents();
+        --settleFrames;
+      } else {
+        glfwWaitEventsTimeout(state->worker.busy() ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 10.0);
+        settleFrames = 3;
+      }
       if (glfwWindowShouldClose(window)) {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
         state->quitRequested = true;
       }
       const auto t0 = std::chrono::steady_clock::now();
-      const bool wasBusy = state->worker.busy();
       pollWorker(*state);
-      if (wasBusy && !state->worker.busy() && state->messages.size() && state->messages.back().text.rfind("Exported", 0) == 0)
-        ++exportsSeen;
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();
-      const float menuHeight = drawMainMenu(*state);
-      drawLayout(*state, menuHeight);
-      handleShortcuts(*state);
-      handleCanvasInput(*state);
-      const bool deformed = updateDeformation(*state);
-      drawCanvasOverlay(*state);
-      drawDialogs(*state);
+      const bool deformed = drawFrame(*state);
       ImGui::Render();
       int fbw = 0, fbh = 0;
       glfwGetFramebufferSize(window, &fbw, &fbh);
@@ -185,7 +175,7 @@ int runWindow(const WindowOptions& o) {
         int win[4];
         glfwGetWindowPos(window, &win[0], &win[1]);
         glfwGetWindowSize(window, &win[2], &win[3]);
-        const std::string text = stateJson(*state, win, screenshots, exportsSeen);
+        const std::string text = stateJson(*state, win, screenshots, state->exportCount);
         if (text != lastState && writeAtomically(o.readyFile, text)) {
           lastState = text;
           readyWritten = true;
@@ -196,6 +186,8 @@ int runWindow(const WindowOptions& o) {
     if (state->quitConfirmed) discardRecoveryCopy(*state);  // a crash or a signal keeps it
     state->worker.cancel();
     pollWorker(*state);
+    glfwSetDropCallback(window, nullptr);
+    glfwSetWindowUserPointer(window, nullptr);
   }
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();

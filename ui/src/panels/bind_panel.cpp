@@ -7,13 +7,14 @@
 #include "kc/app/pipeline.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
 
 /// A combo over an enum's values with app::toString labels; returns true on change.
 template <class E, std::size_t N>
-bool enumCombo(const char* label, E& value, const E (&values)[N]) {
+bool enumCombo(const char* label, E& value, const E (&values)[N], const char* tip) {
   bool changed = false;
   if (ImGui::BeginCombo(label, std::string(app::toString(value)).c_str())) {
     for (E v : values) {
@@ -24,6 +25,7 @@ bool enumCombo(const char* label, E& value, const E (&values)[N]) {
     }
     ImGui::EndCombo();
   }
+  tooltip(tip);
   return changed;
 }
 
@@ -34,59 +36,73 @@ void drawBindPanel(AppState& state) {
   ImGui::PushItemWidth(150);
   float spacing = static_cast<float>(p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
+  tooltip("Distance between the sample points the weights are computed at, in pixels.\n"
+          "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
   bool autoSigma = p.kc.sigma <= 0.0;
-  if (ImGui::Checkbox("Auto sigma", &autoSigma)) p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
+  if (checkbox(state, "Auto sigma", &autoSigma,
+               "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
+    p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   if (autoSigma) {
-    ImGui::TextDisabled("~ %.2f px (3T/pi, T measured)", app::automaticSigma(p.spacing));
+    ImGui::TextDisabled("about %.2f px", app::automaticSigma(p.spacing));
+    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28).");
   } else {
     float sigma = static_cast<float>(p.kc.sigma);
     ImGui::SetNextItemWidth(100);
     if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.kc.sigma = std::max(0.2f, sigma);
+    tooltip("Smoothing width in pixels: larger gives smoother but less exact weights.");
   }
   static constexpr InitMethod inits[] = {InitMethod::HeatLinear, InitMethod::HeatImpulse, InitMethod::InverseDistance};
-  static constexpr Method methods[] = {Method::QP, Method::QEC, Method::L1};
   static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
-  enumCombo("Initialization", p.kc.init.method, inits);
+  enumCombo("Initialization", p.kc.init.method, inits,
+            "How the starting influences are guessed before they are optimized:\n"
+            "heat-linear: heat spread from the cage outline, linear along its edges (recommended);\n"
+            "heat-impulse: heat spread from the points only;\n"
+            "inverse-distance: nearer points pull harder.");
   if (p.kc.init.method == InitMethod::HeatLinear) {
     // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
     bool screened = p.kc.init.locality != 0.0;
-    if (ImGui::Checkbox("Local targets", &screened)) p.kc.init.locality = screened ? -1.0 : 0.0;
-    if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("Screened heat diffusion: targets decay with the distance inside the shape.\n"
-                        "More local, but the QP may then give far controls small weights.\n"
-                        "Off: smooth, global (harmonic-like) targets. Takes effect at the next Bind.");
+    if (checkbox(state, "Local targets", &screened,
+                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion).\n"
+                 "More local, but far points may get very small influence.\n"
+                 "Off: smooth, global influences. Takes effect at the next Bind."))
+      p.kc.init.locality = screened ? -1.0 : 0.0;
     if (screened) {
       ImGui::SameLine();
       float locality = static_cast<float>(p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.kc.init.locality);
       ImGui::SetNextItemWidth(100);
       if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.kc.init.locality = std::max(1.0f, locality);
+      tooltip("How far (pixels, inside the shape) a point's pull reaches.");
     }
   }
-  enumCombo("Method", p.kc.method, methods);
-  enumCombo("Interpolation", p.kc.interp, interps);
+  enumCombo("Interpolation", p.kc.interp, interps,
+            "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
+            "thesis: the plain kernel form of the thesis (about 0.1% off).");
   ImGui::PopItemWidth();
 
   if (!state.cageStatus.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, state.cage.closed ? ImVec4(1.0f, 0.42f, 0.42f, 1.0f) : ImVec4(0.75f, 0.85f, 1.0f, 1.0f));
     ImGui::TextWrapped("%s", state.cageStatus.c_str());
     ImGui::PopStyleColor();
+    if (state.cage.closed) ImGui::TextDisabled("Point numbers are shown on the picture (Cage tool).");
   } else {
     ImGui::TextDisabled("Cage: %ld points, valid.", long(state.cage.size()));
   }
   const bool canBind = state.cageValid && !state.worker.busy() && !state.source.empty();
   if (!canBind) ImGui::BeginDisabled();
   // "##run": the side panel's "Bind" header has the label "Bind" too; one ID would take both clicks.
-  if (ImGui::Button("Bind##run", ImVec2(120, 0))) startBind(state);
+  if (button(state, "Bind##run",
+             "Compute how each cage point pulls on the picture (Ctrl+B). Then drag points with the Pose tool.",
+             ImVec2(120, 0)))
+    startBind(state);
   if (!canBind) ImGui::EndDisabled();
-  markWidget(state, "bind");
   if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
   }
-  if (ImGui::Button("Load cage...")) requestPath(state, PathPurpose::LoadCage, "");
+  if (button(state, "Load cage...", "Read a cage outline from a JSON file (it is bound right away).")) requestPath(state, PathPurpose::LoadCage, "");
   ImGui::SameLine();
-  if (ImGui::Button("Save cage...")) requestPath(state, PathPurpose::SaveCage, "cage.json");
+  if (button(state, "Save cage...", "Write the cage outline to a JSON file.")) requestPath(state, PathPurpose::SaveCage, "cage.json");
 }
 
 }  // namespace kc::ui

@@ -1,101 +1,200 @@
+// The file dialogs (native when available, else the in-app browser), the unsaved-changes prompt
+// and the handling of dropped files.
 #include <imgui.h>
 
 #include <cstring>
+#include <filesystem>
 
 #include "kc/ui/document.h"
+#include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
 
-const char* title(PathPurpose p) {
-  switch (p) {
-    case PathPurpose::Open: return "Open image (PNG/JPEG) or session (*.kcw.json)";
-    case PathPurpose::SaveSession: return "Save session as";
-    case PathPurpose::Export: return "Export warped PNG";
-    case PathPurpose::LoadCage: return "Load cage (JSON)";
-    case PathPurpose::SaveCage: return "Save cage (JSON)";
-    case PathPurpose::None: break;
-  }
-  return "";
-}
+namespace fs = std::filesystem;
 
 void run(AppState& state, PathPurpose p, const std::string& path) {
   switch (p) {
-    case PathPurpose::Open: openPath(state, path); break;
+    case PathPurpose::Open: openAnyFile(state, path); break;
     case PathPurpose::SaveSession: saveSessionFile(state, path); break;
     case PathPurpose::Export:
       state.exportPath = path;
       startExport(state, path);
       break;
-    case PathPurpose::LoadCage: loadCageFile(state, path); break;
+    case PathPurpose::LoadCage: loadCageAndBind(state, path); break;
     case PathPurpose::SaveCage: saveCageFile(state, path); break;
     case PathPurpose::None: break;
   }
 }
 
-void pathDialog(AppState& state) {
+/// The folder the browser lists for a path typed or chosen so far.
+std::string folderOf(const std::string& text) {
+  std::error_code ec;
+  if (text.empty()) return fs::current_path(ec).string();
+  if (fs::is_directory(text, ec)) return text;
+  const fs::path parent = fs::absolute(text, ec).parent_path();
+  return fs::is_directory(parent, ec) ? parent.string() : fs::current_path(ec).string();
+}
+
+/// The in-app file browser: folder listing (double-click opens a folder or chooses a file) and
+/// the path field, whose text is selected when the dialog opens so typing replaces it.
+void browserDialog(AppState& state) {
   static char buffer[1024];  // ImGui needs a stable buffer while the popup is open
+  static std::string folder;
+  static std::vector<DirEntry> entries;
+  auto setFolder = [](const std::string& dir, PathPurpose purpose) {
+    std::error_code ec;
+    folder = fs::absolute(dir, ec).lexically_normal().string();
+    entries = listFolder(folder, purpose);
+  };
   if (state.pathDialog != PathPurpose::None && !ImGui::IsPopupOpen("File")) {
-    std::strncpy(buffer, state.pathDialogText.c_str(), sizeof buffer - 1);
+    std::string initial = state.pathDialogText;
+    setFolder(folderOf(initial), state.pathDialog);
+    if (!initial.empty() && fs::path(initial).is_relative()) initial = (fs::path(folder) / initial).string();
+    std::strncpy(buffer, initial.c_str(), sizeof buffer - 1);
     buffer[sizeof buffer - 1] = 0;
     ImGui::OpenPopup("File");
   }
-  ImGui::SetNextWindowSize(ImVec2(560, 0), ImGuiCond_Appearing);
+  ImGui::SetNextWindowSize(ImVec2(640, 460), ImGuiCond_Appearing);
   if (!ImGui::BeginPopupModal("File", nullptr, ImGuiWindowFlags_NoSavedSettings)) return;
-  ImGui::TextUnformatted(title(state.pathDialog));
+  const PathPurpose purpose = state.pathDialog;
+  ImGui::TextUnformatted(dialogTitle(purpose));
+  if (button(state, "Up", "Go to the folder above.")) setFolder(fs::path(folder).parent_path().string(), purpose);
+  ImGui::SameLine();
+  ImGui::TextDisabled("%s", folder.c_str());
+  std::string chosen;
+  if (ImGui::BeginChild("##files", ImVec2(0, -2.2f * ImGui::GetFrameHeightWithSpacing()), true)) {
+    for (const DirEntry& e : entries) {
+      const std::string label = e.directory ? "[" + e.name + "]" : e.name;
+      const std::string full = (fs::path(folder) / e.name).string();
+      if (ImGui::Selectable(label.c_str(), full == buffer, ImGuiSelectableFlags_AllowDoubleClick)) {
+        if (!e.directory) {
+          std::strncpy(buffer, full.c_str(), sizeof buffer - 1);
+          if (ImGui::IsMouseDoubleClicked(0)) chosen = full;
+        } else if (ImGui::IsMouseDoubleClicked(0)) {
+          setFolder(full, purpose);
+          break;
+        }
+      }
+    }
+  }
+  ImGui::EndChild();
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
   ImGui::SetNextItemWidth(-1);
-  const bool enter = ImGui::InputText("##path", buffer, sizeof buffer, ImGuiInputTextFlags_EnterReturnsTrue);
-  if (ImGui::Button("OK", ImVec2(100, 0)) || enter) {
-    const PathPurpose p = state.pathDialog;
-    state.pathDialog = PathPurpose::None;
-    ImGui::CloseCurrentPopup();
-    if (buffer[0]) run(state, p, buffer);
-  }
+  const bool enter = ImGui::InputText("##path", buffer, sizeof buffer,
+                                      ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+  tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
+  if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)
+    chosen = buffer;
   ImGui::SameLine();
-  if (ImGui::Button("Cancel", ImVec2(100, 0)) || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) {
+  const bool cancel = button(state, "Cancel##file", "Close without choosing a file.", ImVec2(100, 0)) ||
+                      ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape));
+  if (!chosen.empty() && fs::is_directory(chosen)) {  // a folder typed or picked: list it
+    setFolder(chosen, purpose);
+    chosen.clear();
+  }
+  if (!chosen.empty() || cancel) {
     state.pathDialog = PathPurpose::None;
     ImGui::CloseCurrentPopup();
+    if (!chosen.empty()) run(state, purpose, chosen);
+    else state.afterSave = nullptr;
   }
   ImGui::EndPopup();
 }
 
-void quitDialog(AppState& state) {
-  if (state.quitRequested && !state.unsaved) {
-    state.quitConfirmed = true;
+/// A native dialog that has closed: run what it chose.
+void pollNativeDialog(AppState& state) {
+  if (!state.nativeDialog || !state.nativeDialog->done()) return;
+  const auto dialog = std::move(state.nativeDialog);
+  state.nativeDialog.reset();
+  const std::optional<std::string> chosen = dialog->result();
+  if (chosen) run(state, dialog->purpose(), *chosen);
+  else state.afterSave = nullptr;
+}
+
+std::string lowerFirst(std::string s) {
+  if (!s.empty()) s[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
+  return s;
+}
+
+/// "Save and <what>", "<what> without saving", "Cancel" before unsaved work would be lost.
+void unsavedPrompt(AppState& state) {
+  if (state.quitRequested) {
+    state.quitRequested = false;
+    unlessUnsaved(state, "Quit", [](AppState& st) { st.quitConfirmed = true; });
+  }
+  if (state.unsavedPrompt && !ImGui::IsPopupOpen("Unsaved changes")) ImGui::OpenPopup("Unsaved changes");
+  if (!ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  if (!state.unsavedPrompt) {  // answered elsewhere (e.g. a second request replaced it)
+    ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
     return;
   }
-  if (state.quitRequested && !ImGui::IsPopupOpen("Unsaved changes")) ImGui::OpenPopup("Unsaved changes");
-  if (!ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
-  ImGui::TextUnformatted("The session has unsaved changes. Quit anyway?");
-  if (!state.recoveryPath.empty()) ImGui::TextDisabled("(A recovery copy is autosaved to %s.)", state.recoveryPath.c_str());
-  if (ImGui::Button("Save and quit") && state.session) {
-    if (state.sessionPath.empty()) {
-      state.quitRequested = false;
+  const PendingAction& pending = *state.unsavedPrompt;
+  const bool haveSession = state.session != nullptr, unboundCage = !state.bound && state.cage.size() > 0;
+  ImGui::TextUnformatted(unboundCage ? "The cage you drew is not saved." : "The session has unsaved changes.");
+  if (hasRecoveryCopy(state))
+    ImGui::TextDisabled("An autosaved recovery copy exists (%s);\n%s without saving removes it.", state.recoveryPath.c_str(),
+                        pending.what.c_str());
+  const std::string save = (unboundCage ? "Save cage and " : "Save and ") + lowerFirst(pending.what);
+  const std::string discard = pending.what + " without saving";
+  const bool canSave = haveSession || unboundCage;
+  if (!canSave) ImGui::BeginDisabled();
+  if (button(state, save.c_str(), "Save first (you choose the file if it has none yet), then continue.")) {
+    state.afterSave = std::move(state.unsavedPrompt->run);
+    state.unsavedPrompt.reset();
+    ImGui::CloseCurrentPopup();
+    if (unboundCage) requestPath(state, PathPurpose::SaveCage, "cage.json");
+    else if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
+    else saveSessionFile(state, state.sessionPath);
+  }
+  if (!canSave) ImGui::EndDisabled();
+  if (state.unsavedPrompt) {
+    ImGui::SameLine();
+    if (button(state, discard.c_str(), "Continue; the changes since the last save are lost.")) {
+      auto action = std::move(state.unsavedPrompt->run);
+      state.unsavedPrompt.reset();
+      state.unsaved = false;
       ImGui::CloseCurrentPopup();
-      requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
-    } else if (saveSessionFile(state, state.sessionPath)) {
-      state.quitConfirmed = true;
+      action(state);
     }
   }
-  ImGui::SameLine();
-  if (ImGui::Button("Quit without saving")) state.quitConfirmed = true;
-  markWidget(state, "quit_discard");
-  ImGui::SameLine();
-  if (ImGui::Button("Cancel")) {
-    state.quitRequested = false;
-    ImGui::CloseCurrentPopup();
+  if (state.unsavedPrompt) {
+    ImGui::SameLine();
+    if (button(state, "Cancel##unsaved", "Go back to your work.")) {
+      state.unsavedPrompt.reset();
+      ImGui::CloseCurrentPopup();
+    }
   }
   ImGui::EndPopup();
 }
 
 }  // namespace
 
+void requestPath(AppState& state, PathPurpose purpose, const std::string& initial) {
+  if (state.nativeDialogs && !state.nativeDialog) {
+    const std::string program = nativeDialogProgram();
+    if (!program.empty()) {
+      std::error_code ec;
+      const std::string start = initial.empty() || fs::path(initial).is_absolute()
+                                    ? initial
+                                    : (fs::current_path(ec) / initial).string();
+      state.nativeDialog = std::make_shared<NativeDialog>(nativeDialogCommand(program, purpose, start), purpose, state.wakeup);
+      return;
+    }
+  }
+  state.pathDialog = purpose;
+  state.pathDialogText = initial;
+}
+
 void drawDialogs(AppState& state) {
-  pathDialog(state);
-  quitDialog(state);
+  openDroppedFiles(state);
+  pollNativeDialog(state);
+  browserDialog(state);
+  unsavedPrompt(state);
 }
 
 }  // namespace kc::ui

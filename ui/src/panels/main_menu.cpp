@@ -4,35 +4,40 @@
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 
-void markWidget(AppState& state, const char* name) {
+void markWidget(AppState& state, const char* label) {
+  const std::string text(label);
+  const std::string name = text.substr(0, text.find("##"));
+  if (name.empty()) return;
   const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
   state.widgets[name] = Vec2(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
-}
-
-void requestPath(AppState& state, PathPurpose purpose, const std::string& initial) {
-  state.pathDialog = purpose;
-  state.pathDialogText = initial;
 }
 
 float drawMainMenu(AppState& state) {
   if (!ImGui::BeginMainMenuBar()) return 0.0f;
   const bool idle = !state.worker.busy();
-  const bool haveSession = state.session != nullptr;
   if (ImGui::BeginMenu("File")) {
-    if (ImGui::MenuItem("Open image or session...", "Ctrl+O", false, idle)) requestPath(state, PathPurpose::Open, state.imagePath);
-    if (hasRecoveryCopy(state) && ImGui::MenuItem("Open recovery copy", nullptr, false, idle))
-      startOpenSession(state, state.recoveryPath);
-    if (ImGui::MenuItem("Save session", "Ctrl+S", false, haveSession)) {
-      if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
-      else saveSessionFile(state, state.sessionPath);
+    if (ImGui::MenuItem("New", "Ctrl+N", false, idle)) unlessUnsaved(state, "New", newDocument);
+    tooltip("Close the picture (asks first when something is unsaved).");
+    if (ImGui::MenuItem("Open...", "Ctrl+O", false, idle)) requestPath(state, PathPurpose::Open, state.imagePath);
+    tooltip("Open a picture (PNG/JPEG), a saved session (.kcw.json) or a cage (.json). You can also drop files onto the window.");
+    if (ImGui::BeginMenu("Open recent", idle && !state.recentFiles.empty())) {
+      const std::vector<std::string> recent = state.recentFiles;  // opening reorders the list
+      for (const std::string& path : recent)
+        if (ImGui::MenuItem(path.c_str())) openAnyFile(state, path);
+      ImGui::EndMenu();
     }
-    if (ImGui::MenuItem("Save session as...", "Ctrl+Shift+S", false, haveSession))
-      requestPath(state, PathPurpose::SaveSession, state.sessionPath.empty() ? "untitled.kcw.json" : state.sessionPath);
-    if (ImGui::MenuItem("Export PNG...", "Ctrl+E", false, haveSession))
-      requestPath(state, PathPurpose::Export, state.exportPath.empty() ? "warped.png" : state.exportPath);
+    if (hasRecoveryCopy(state) && ImGui::MenuItem("Open recovery copy", nullptr, false, idle))
+      unlessUnsaved(state, "Open", [](AppState& st) { openRecoveryCopy(st); });
+    ImGui::Separator();
+    if (ImGui::MenuItem("Save session", "Ctrl+S", false, state.bound)) saveCommand(state, false);
+    tooltip("Save everything (cage, weights, pose) to come back later without binding again.");
+    if (ImGui::MenuItem("Save session as...", "Ctrl+Shift+S", false, state.bound)) saveCommand(state, true);
+    if (ImGui::MenuItem("Export PNG...", "Ctrl+E", false, state.bound)) exportCommand(state, true);
+    tooltip("Write the warped picture, full size, as a PNG.");
     ImGui::Separator();
     if (ImGui::MenuItem("Load cage...")) requestPath(state, PathPurpose::LoadCage, "");
     if (ImGui::MenuItem("Save cage...", nullptr, false, state.cage.size() > 0)) requestPath(state, PathPurpose::SaveCage, "cage.json");
@@ -53,6 +58,7 @@ float drawMainMenu(AppState& state) {
   }
   if (ImGui::BeginMenu("View")) {
     if (ImGui::MenuItem("Fit picture", "F")) state.fitPending = true;
+    if (ImGui::MenuItem("Actual size (100%)", "1")) state.view.zoomTo(1.0);
     ImGui::Separator();
     ImGui::MenuItem("Cage", nullptr, &state.show.cage);
     ImGui::MenuItem("Rest cage", nullptr, &state.show.restCage);
@@ -61,6 +67,10 @@ float drawMainMenu(AppState& state) {
     ImGui::MenuItem("Fold-overs", nullptr, &state.show.foldovers);
     ImGui::MenuItem("Weights heatmap (brush)", nullptr, &state.heat.show);
     ImGui::MenuItem("Weights heatmap (pose)", nullptr, &state.heat.showInPose);
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Help")) {
+    if (ImGui::MenuItem("How to and shortcuts", "F1")) state.helpOpen = true;
     ImGui::EndMenu();
   }
   const float height = ImGui::GetWindowSize().y;

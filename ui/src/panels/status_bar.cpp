@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
@@ -29,8 +30,7 @@ void errorBanner(AppState& state) {
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
   ImGui::TextUnformatted(state.messages[index].text.c_str());
   ImGui::PopTextWrapPos();
-  if (ImGui::Button("Dismiss")) state.messages.erase(state.messages.begin() + static_cast<long>(index));
-  markWidget(state, "dismiss_error");
+  if (button(state, "Dismiss", "Hide this message.")) state.messages.erase(state.messages.begin() + static_cast<long>(index));
   ImGui::End();
   ImGui::PopStyleColor();
 }
@@ -50,7 +50,9 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
     ImGui::ProgressBar(static_cast<float>(state.worker.fraction()), ImVec2(260, 0), label.c_str());
     ImGui::SameLine();
     if (state.worker.cancelRequested()) ImGui::TextDisabled("cancelling...");
-    else if (ImGui::SmallButton("Cancel")) state.worker.cancel();
+    else if (ImGui::SmallButton("Cancel##job")) state.worker.cancel();
+    tooltip("Stop this job; nothing you made is lost.");
+    markWidget(state, "Cancel##job");
     ImGui::SameLine();
   }
   if (!state.messages.empty()) {

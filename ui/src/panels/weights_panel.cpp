@@ -7,6 +7,7 @@
 #include "kc/ui/heat_field.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
@@ -38,44 +39,54 @@ void colorBar(const AppState& state) {
   ImGui::TextUnformatted(hi);
 }
 
-}  // namespace
-
-void drawWeightsPanel(AppState& state) {
-  if (!state.bound) {
-    ImGui::TextDisabled("Bind a cage to see and edit weights.");
-    return;
-  }
-  ImGui::TextUnformatted("Method");
-  ImGui::SameLine();
-  const bool canSwitch = state.session != nullptr && !state.worker.busy() && state.capabilities.methods;
+void methodControl(AppState& state) {
+  // One control for the method: before a bind it is the bind's method, after it switching
+  // re-optimizes the bound session (painted targets are kept) and the next bind uses it too.
+  const Method current = state.bound ? state.method : state.bindParams.kc.method;
+  const bool canSwitch = !state.bound || (state.session != nullptr && !state.worker.busy() && state.capabilities.methods);
   const struct {
     const char* label;
     Method method;
-    const char* id;
-  } methods[] = {{"QP", Method::QP, "method_qp"}, {"QEC", Method::QEC, "method_qec"}, {"L1", Method::L1, "method_l1"}};
+    const char* tip;
+  } methods[] = {
+      {"QP", Method::QP, "Smooth, never negative influence (recommended)."},
+      {"QEC", Method::QEC, "Fastest; influences may turn slightly negative, so far parts can move the wrong way."},
+      {"L1", Method::L1, "Sparse: each part of the picture follows fewer points, more locally."},
+  };
+  ImGui::TextUnformatted("Method");
+  tooltip("How the influence of each cage point is spread over the picture.");
   for (const auto& m : methods) {
-    if (!canSwitch) ImGui::BeginDisabled();
-    if (ImGui::RadioButton(m.label, state.method == m.method)) switchMethod(state, m.method);
-    if (!canSwitch) ImGui::EndDisabled();
-    if (!state.capabilities.methods && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-      ImGui::SetTooltip("%s", state.capabilities.why.c_str());
-    markWidget(state, m.id);
     ImGui::SameLine();
+    if (!canSwitch) ImGui::BeginDisabled();
+    if (radio(state, m.label, current == m.method, state.bound && !state.capabilities.methods ? state.capabilities.why.c_str() : m.tip)) {
+      state.bindParams.kc.method = m.method;
+      if (state.bound) switchMethod(state, m.method);
+    }
+    if (!canSwitch) ImGui::EndDisabled();
   }
-  ImGui::NewLine();
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("Re-optimizes all samples from the current (painted) targets.");
-  ImGui::Checkbox("Heatmap", state.tool == Tool::Pose ? &state.heat.showInPose : &state.heat.show);
-  markWidget(state, "heatmap");
+}
+
+}  // namespace
+
+void drawWeightsPanel(AppState& state) {
+  methodControl(state);
+  if (!state.bound) {
+    ImGui::TextDisabled("Bind a cage to see and edit its influence.");
+    return;
+  }
+  checkbox(state, "Heatmap", state.tool == Tool::Pose ? &state.heat.showInPose : &state.heat.show,
+           "Colour the picture by how strongly the active point pulls on it.");
   ImGui::SameLine();
-  if (ImGui::RadioButton("Linear", !state.heat.log)) state.heat.log = false;
+  if (radio(state, "Linear", !state.heat.log, "Colours proportional to the influence.")) state.heat.log = false;
   ImGui::SameLine();
-  if (ImGui::RadioButton("Log", state.heat.log)) state.heat.log = true;
+  if (radio(state, "Log", state.heat.log, "Logarithmic colours: shows small influences far away.")) state.heat.log = true;
   ImGui::SliderFloat("Opacity", &state.heat.opacity, 0.0f, 1.0f, "%.2f");
+  tooltip("How strongly the heatmap covers the picture.");
   if (state.activeControl >= 0) {
-    ImGui::Text("Weights of control %ld", long(state.activeControl));
+    ImGui::Text("Influence of point %ld", long(state.activeControl));
     colorBar(state);
   } else {
-    ImGui::TextDisabled("Select a control point to see its weights.");
+    ImGui::TextDisabled("Select a point to see its influence.");
   }
 }
 

@@ -28,7 +28,35 @@ namespace {
 
 bool isSelected(const AppState& s, Index i) { return std::find(s.selection.begin(), s.selection.end(), i) != s.selection.end(); }
 
+/// Sets the selection; a new selection forgets a pivot the user moved.
+void setSelection(AppState& s, std::vector<Index> selection) {
+  if (selection != s.selection) s.pivot.reset();
+  s.selection = std::move(selection);
+}
+
 }  // namespace
+
+Vec2 selectionPivot(const AppState& state) {
+  if (state.pivot) return *state.pivot;
+  const Points P = posedControls(state.boundCage.C, state.pose);
+  Vec2 sum = Vec2::Zero();
+  int n = 0;
+  for (Index i : state.selection)
+    if (i >= 0 && i < P.rows()) sum += P.row(i).transpose(), ++n;
+  return n > 0 ? Vec2(sum / n) : Vec2::Zero();
+}
+
+Pose rotateAbout(const Pose& before, const Points& C, const std::vector<Index>& selection, const Vec2& pivot, double angle) {
+  Pose pose = before;
+  const Eigen::Matrix2d R = screenRotation(angle);
+  for (Index i : selection) {
+    HandlePose& h = pose[static_cast<std::size_t>(i)];
+    const Vec2 c = C.row(i).transpose();
+    h.translate = R * (c + h.translate - pivot) + pivot - c;
+    h.rotate += angle;
+  }
+  return pose;
+}
 
 void PoseTool::press(AppState& state, const PointerEvent& e) {
   if (!state.bound || m_mode != Mode::None) return;
@@ -38,21 +66,32 @@ void PoseTool::press(AppState& state, const PointerEvent& e) {
   m_before = state.pose;
   m_pivot = hit;
   m_additive = e.shift;
+  if (state.selection.size() >= 2 && e.button == MouseButton::Left && !e.shift &&
+      (selectionPivot(state) - e.position).norm() <= e.pickRadius) {  // the pivot marker wins over a point under it
+    m_mode = Mode::MovePivot;
+    return;
+  }
   if (hit < 0) {
     if (e.button == MouseButton::Left) m_mode = Mode::Select;
     return;
   }
   if (e.shift && e.button == MouseButton::Left) {  // toggle membership, no drag
-    auto it = std::find(state.selection.begin(), state.selection.end(), hit);
-    if (it == state.selection.end()) state.selection.push_back(hit);
-    else state.selection.erase(it);
+    std::vector<Index> selection = state.selection;
+    auto it = std::find(selection.begin(), selection.end(), hit);
+    if (it == selection.end()) selection.push_back(hit);
+    else selection.erase(it);
+    setSelection(state, std::move(selection));
     if (!state.selection.empty()) state.activeControl = state.selection.back();
     return;
   }
-  if (!isSelected(state, hit)) state.selection = {hit};
+  if (!isSelected(state, hit)) setSelection(state, {hit});
   state.activeControl = hit;
   if (e.button == MouseButton::Left) {
     m_mode = Mode::Move;
+  } else if (e.button == MouseButton::Right && state.selection.size() >= 2) {
+    m_mode = Mode::RotateGroup;
+    m_groupPivot = selectionPivot(state);
+    m_angleSet = false;
   } else if (e.button == MouseButton::Right) {
     m_mode = Mode::Rotate;
     m_angleSet = (e.position - P.row(hit).transpose()).norm() >= e.pickRadius;
@@ -62,6 +101,21 @@ void PoseTool::press(AppState& state, const PointerEvent& e) {
 
 void PoseTool::drag(AppState& state, const PointerEvent& e) {
   m_current = e.position;
+  if (m_mode == Mode::MovePivot) {
+    state.pivot = e.position;
+    return;
+  }
+  if (m_mode == Mode::RotateGroup) {
+    if (m_before.size() != static_cast<std::size_t>(state.boundCage.size())) return;
+    if ((e.position - m_groupPivot).norm() < e.pickRadius) return;
+    if (!m_angleSet) {  // the reference direction: from the pivot to where the turn starts
+      m_angleSet = true;
+      m_startAngle = screenAngle(m_start - m_groupPivot);
+    }
+    const double angle = std::remainder(screenAngle(e.position - m_groupPivot) - m_startAngle, 2.0 * std::numbers::pi);
+    setPose(state, rotateAbout(m_before, state.boundCage.C, state.selection, m_groupPivot, angle));
+    return;
+  }
   if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
     if (m_before.size() != static_cast<std::size_t>(state.boundCage.size())) return;
     Pose pose = m_before;
@@ -90,21 +144,23 @@ void PoseTool::release(AppState& state, const PointerEvent& e) {
   if (m_mode == Mode::Select) {
     const Points P = posedControls(state.boundCage.C, state.pose);
     const Vec2 lo = m_start.cwiseMin(m_current), hi = m_start.cwiseMax(m_current);
-    if (!m_additive) state.selection.clear();
+    std::vector<Index> selection = m_additive ? state.selection : std::vector<Index>{};
     for (Index i = 0; i < P.rows(); ++i) {
       const Vec2 p = P.row(i).transpose();
-      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all() && !isSelected(state, i))
-        state.selection.push_back(i);
+      if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all() &&
+          std::find(selection.begin(), selection.end(), i) == selection.end())
+        selection.push_back(i);
     }
+    setSelection(state, std::move(selection));
     if (!state.selection.empty()) state.activeControl = state.selection.back();
-  } else if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
-    commitPose(state, m_before, m_mode == Mode::Move ? "move control" : "rotate control");
+  } else if (m_mode == Mode::Move || m_mode == Mode::Rotate || m_mode == Mode::RotateGroup) {
+    commitPose(state, m_before, m_mode == Mode::Move ? "move control" : m_mode == Mode::Rotate ? "rotate control" : "rotate selection");
   }
   m_mode = Mode::None;
 }
 
 void PoseTool::cancel(AppState& state) {
-  if (m_mode == Mode::Move || m_mode == Mode::Rotate) setPose(state, m_before);
+  if (m_mode == Mode::Move || m_mode == Mode::Rotate || m_mode == Mode::RotateGroup) setPose(state, m_before);
   m_mode = Mode::None;
 }
 

@@ -22,7 +22,10 @@ struct InverseMeanShiftOptions {
   double tolerance = 3e-3;     ///< Stop when the largest move < tolerance · h.
   int maxIterations = 1000;
   double clearance = 0.35;     ///< A free sample stays this far (· h) from the cage and the domain boundary.
-  std::function<void(double)> progress;  ///< Called with the fraction of the iteration budget used.
+  /// Called after every iteration with an estimate of the fraction done (non-decreasing, the
+  /// larger of the iteration budget used and the log-scale progress of the largest move towards
+  /// the tolerance), and with 1 at the end. It may throw to cancel (outside parallel loops).
+  std::function<void(double)> progress;
 };
 
 struct InverseMeanShiftReport {

@@ -4,6 +4,7 @@
 /// selection, brush, overlays, messages, timings). No globals.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "kc/app/session.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/warp_mesh.h"
+#include "kc/ui/file_dialog.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/cage_tool.h"
 #include "kc/ui/tools/pose_tool.h"
@@ -62,12 +64,18 @@ struct CanvasDrag {
   Vec2 lastScreen = Vec2::Zero();
 };
 
-/// Files asked for by menus and shortcuts (answered by the path dialog).
-enum class PathPurpose { None, Open, SaveSession, Export, LoadCage, SaveCage };
+
+struct AppState;
 
 struct Message {
   std::string text;
   bool error = false;
+};
+
+/// Something that would discard unsaved work, waiting for the user's answer (Open, New, Quit).
+struct PendingAction {
+  std::string what;                          ///< Names the action on the prompt's buttons: "Open", "New", "Quit".
+  std::function<void(AppState&)> run;
 };
 
 struct AppState {
@@ -115,7 +123,11 @@ struct AppState {
   Tool tool = Tool::Pose;
   View view;
   bool fitPending = true;                  ///< Fit the view at the next frame (new image).
+  bool showOriginal = false;               ///< Before/after: the original picture while O is held.
   std::vector<Index> selection;            ///< Selected control points (pose tool).
+  /// Pivot of a multi-selection's rotation where the user dragged it (posed image pixels);
+  /// empty = the selection's centre. Forgotten when the selection changes.
+  std::optional<Vec2> pivot;
   Index activeControl = -1;                ///< Control whose weights are painted and shown.
   BrushSettings brush;
   HeatmapSettings heat;
@@ -127,6 +139,7 @@ struct AppState {
   std::vector<Message> messages;
   Timings timings;
   double releaseStart = 0.0;               ///< Seconds at stroke release (for releaseToPictureMs).
+  bool helpOpen = false;                   ///< Help > How to / shortcuts window shown.
   bool quitRequested = false;              ///< Close asked while unsaved: confirm dialog open.
   bool quitConfirmed = false;              ///< The user agreed to close.
   CanvasDrag canvasDrag;
@@ -134,6 +147,17 @@ struct AppState {
   Vec2 mouseImage = Vec2::Zero();          ///< Mouse position in image pixels (status bar, brush ring).
   PathPurpose pathDialog = PathPurpose::None;
   std::string pathDialogText;
+  bool nativeDialogs = false;              ///< Use zenity/kdialog when installed (the window sets it).
+  std::shared_ptr<NativeDialog> nativeDialog;  ///< A native dialog that is open.
+  std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
+  std::function<void(AppState&)> afterSave;    ///< Runs after the next successful save (prompt's "Save and ...").
+  std::vector<std::string> droppedPaths;   ///< Files dropped onto the window, handled next frame.
+  std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
+  std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
+  std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
+  /// Commands asked for while a job held the session (Save, Export): run when the worker is free.
+  std::vector<std::function<void(AppState&)>> deferred;
+  int exportCount = 0;                     ///< Successful exports in this run (automation).
   /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
   std::map<std::string, Vec2> widgets;
   /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).

@@ -16,9 +16,11 @@ namespace kc::ui {
 /// coarser for larger images.
 WarpMeshOptions displayMeshOptions(int width, int height);
 
-/// Binds the draft cage over the current image with state.bindParams (progress, Cancel).
+/// Binds the draft cage over the current image with state.bindParams (progress, Cancel); when it
+/// is done the pose tool is active. `markUnsaved` = false for a bind that only reproduces files
+/// on disk (the picture and cage given at startup), so an untouched document is not "unsaved".
 /// Returns false (with a message) when the cage is invalid or a job is running.
-bool startBind(AppState& state);
+bool startBind(AppState& state, bool markUnsaved = true);
 
 /// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
 /// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to
@@ -39,6 +41,12 @@ bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const 
 /// Loads a session file (and its image) on the worker; on success it replaces the document, on
 /// failure the current one is untouched and the error is shown.
 bool startOpenSession(AppState& state, const std::string& path);
+
+/// Saves the session (with the current pose) atomically on the worker, so a large session does
+/// not freeze the window. On success: sessionPath, the unsaved flag (cleared unless the pose
+/// changed meanwhile), the recent list, then state.afterSave runs. `autosave` writes the recovery
+/// copy instead and changes nothing else. Returns false (with a message) when it cannot start.
+bool startSaveSession(AppState& state, const std::string& path, bool autosave = false);
 
 /// Exports the warped picture at full resolution (app::warpSessionImage, as kcwarp-cli warp).
 bool startExport(AppState& state, const std::string& path);

@@ -1,7 +1,8 @@
 #pragma once
 /// Draws the picture on the GPU as a textured triangle mesh: the warp mesh's deformed vertices
 /// (uploaded when the pose or the mesh changed), rest positions as texture coordinates (the
-/// texture is uploaded once per image), and the heatmap of the active control as vertex colours.
+/// texture is uploaded once per image), and the heatmap of the active control as vertex colours,
+/// over a checkerboard on the image rectangle (transparent pixels show it).
 /// Needs a current OpenGL 3.3 core context.
 
 #include <cstdint>
@@ -35,7 +36,7 @@ class Renderer {
 
   std::string m_error;
   unsigned m_program = 0, m_vao = 0, m_posBuffer = 0, m_uvBuffer = 0, m_heatBuffer = 0, m_indexBuffer = 0;
-  unsigned m_texture = 0;
+  unsigned m_texture = 0, m_quadVao = 0, m_quadBuffer = 0;
   int m_uScale = -1, m_uOffset = -1, m_uHeat = -1, m_uFlat = -1, m_uColor = -1, m_uTex = -1;
   std::uint64_t m_sourceRevision = ~0ull, m_meshRevision = ~0ull, m_deformKey = ~0ull, m_heatKey = ~0ull;
   bool m_warped = false;

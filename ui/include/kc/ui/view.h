@@ -11,6 +11,7 @@ struct View {
   Vec2 canvasSize = Vec2(1.0, 1.0);     ///< Canvas extent on screen.
   Vec2 offset = Vec2::Zero();           ///< Screen position of image point (0, 0) relative to canvasMin.
   double zoom = 1.0;                    ///< Screen pixels per image pixel.
+  bool fitted = false;                  ///< Set by fit(), cleared by zoom and pan (refit on resize).
 
   Vec2 toScreen(const Vec2& p) const { return canvasMin + offset + zoom * p; }
   Vec2 toImage(const Vec2& s) const { return (s - canvasMin - offset) / zoom; }
@@ -19,7 +20,12 @@ struct View {
   /// Zooms by `factor` keeping the image point under screen point `s` fixed; zoom ∈ [1/64, 64].
   void zoomAt(const Vec2& s, double factor);
   /// Moves the picture by a screen-space delta.
-  void pan(const Vec2& delta) { offset += delta; }
+  void pan(const Vec2& delta) {
+    offset += delta;
+    fitted = false;
+  }
+  /// Sets the zoom to `z` (1 = one screen pixel per image pixel) keeping the canvas centre fixed.
+  void zoomTo(double z);
   /// Centres a width×height image in the canvas, as large as fits with `margin` (fraction) around.
   void fit(int width, int height, double margin = 0.04);
 };

@@ -6,7 +6,7 @@
 
 namespace kc::ui {
 
-/// Menu bar (File, Edit, View); returns its height in pixels.
+/// Menu bar (File, Edit, View, Help); returns its height in pixels.
 float drawMainMenu(AppState& state);
 /// Tool choice and the active tool's options (pose buttons, brush radius/strength/mode).
 void drawToolsPanel(AppState& state);
@@ -18,12 +18,15 @@ void drawBindPanel(AppState& state);
 void drawDiagnosticsPanel(AppState& state);
 /// Bottom bar: latest message, job progress with Cancel, zoom and cursor; error banner on the canvas.
 void drawStatusBar(AppState& state, float y, float width, float height);
+/// Help > How to: the steps cage → bind → pose → paint → export and the shortcut list (F1).
+void drawHelpWindow(AppState& state);
 /// The path dialog (open/save/export/cage files) and the unsaved-changes confirmation.
 void drawDialogs(AppState& state);
 
 /// Asks for a file path for `purpose` (opens the path dialog prefilled with `initial`).
 void requestPath(AppState& state, PathPurpose purpose, const std::string& initial);
-/// Records the centre of the last ImGui item under `name` (AppState::widgets, for UI automation).
-void markWidget(AppState& state, const char* name);
+/// Records the centre of the last ImGui item under its visible label (the text of `label` before
+/// "##") in AppState::widgets, for UI automation: tests and the window test click by label.
+void markWidget(AppState& state, const char* label);
 
 }  // namespace kc::ui

@@ -1,7 +1,11 @@
 #pragma once
 /// Pose tool (thesis 6.3.3): left-drag a control point to translate it, right-drag to rotate it
 /// about its rest position; shift-click toggles selection; left-drag on empty canvas selects with a
-/// rectangle; dragging a selected point moves the whole selection. One undo entry per drag.
+/// rectangle; dragging a selected point moves the whole selection. Right-dragging a point of a
+/// multi-selection turns the whole selection about its pivot (the selection's centre unless the
+/// user dragged the pivot marker elsewhere). One undo entry per drag.
+
+#include <vector>
 
 #include "kc/core/deform.h"
 #include "kc/ui/tools/pointer.h"
@@ -20,17 +24,18 @@ class PoseTool {
 
   bool active() const { return m_mode != Mode::None; }
   bool selectingRect() const { return m_mode == Mode::Select; }
-  bool rotating() const { return m_mode == Mode::Rotate; }
+  bool rotating() const { return m_mode == Mode::Rotate || m_mode == Mode::RotateGroup; }
   /// Corners of the selection rectangle (image pixels) while selectingRect().
   Vec2 rectStart() const { return m_start; }
   Vec2 rectEnd() const { return m_current; }
 
  private:
-  enum class Mode { None, Move, Rotate, Select };
+  enum class Mode { None, Move, Rotate, RotateGroup, MovePivot, Select };
   Mode m_mode = Mode::None;
   Vec2 m_start = Vec2::Zero(), m_current = Vec2::Zero();
   Pose m_before;
   Index m_pivot = -1;        ///< Control under the mouse at press.
+  Vec2 m_groupPivot = Vec2::Zero();  ///< RotateGroup: the centre of the turn (posed image pixels).
   double m_startAngle = 0.0;
   bool m_angleSet = false;   ///< Rotation: reference direction known.
   bool m_additive = false;   ///< Shift held at press (rectangle adds to the selection).
@@ -38,5 +43,14 @@ class PoseTool {
 
 /// Angle of d in screen axes, counter-clockwise on screen (y down): atan2(−d.y, d.x).
 double screenAngle(const Vec2& d);
+
+/// The pivot of a multi-selection (posed image pixels): AppState::pivot when the user moved it,
+/// else the mean of the selected points' posed positions. Meaningful for ≥ 2 selected points.
+Vec2 selectionPivot(const AppState& state);
+
+/// `before` with the handles in `selection` turned by `angle` (counter-clockwise on screen) about
+/// `pivot`: each handle's map x ↦ R_θ(x − c) + c + t becomes x ↦ R_α(R_θ(x − c) + c + t − p) + p,
+/// i.e. θ' = θ + α and t' = R_α(c + t − p) + p − c (R = screenRotation, c the rest position).
+Pose rotateAbout(const Pose& before, const Points& C, const std::vector<Index>& selection, const Vec2& pivot, double angle);
 
 }  // namespace kc::ui
