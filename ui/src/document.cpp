@@ -26,6 +26,7 @@ bool endsWith(const std::string& s, const std::string& tail) {
 std::string sessionJson(const AppState& state, const std::string& path) {
   app::Session& s = *state.session;
   s.pose = state.pose;
+  s.outside = toString(state.outside);
   const std::string stored = s.image;
   if (!state.imagePath.empty() && !path.empty()) s.image = app::imagePathForSession(state.imagePath, path);
   std::string text = app::sessionToJson(s);
@@ -102,7 +103,8 @@ bool startOpenSession(AppState& state, const std::string& path) {
         imagePath.clear();
       }
       ctx.progress("warp mesh", 0.8);
-      DisplayMesh display = buildDisplayMesh(*s, displayMeshOptions(s->imageWidth, s->imageHeight));
+      DisplayMesh display =
+          buildDisplayMesh(*s, displayMeshOptions(s->imageWidth, s->imageHeight, sessionOutsideMode(*s)));
       auto image = std::make_shared<Image>(std::move(img));
       return [s, display, image, imagePath, path, warning](AppState& st) {
         st.source = std::move(*image);
@@ -131,12 +133,14 @@ bool startExport(AppState& state, const std::string& path) {
   auto s = std::move(state.session);
   auto source = std::make_shared<const Image>(state.source);
   const Pose pose = state.pose;
-  state.worker.submit("Exporting", [s, source, pose, path](JobContext& ctx) -> Worker::Apply {
+  app::WarpExportOptions options;
+  options.mesh.outside = state.outside;  // the same mode as the view, as `kcwarp-cli warp --outside`
+  state.worker.submit("Exporting", [s, source, pose, path, options](JobContext& ctx) -> Worker::Apply {
     try {
       const auto t0 = std::chrono::steady_clock::now();
       ctx.progress("warping", 0.2);
       app::WarpExportReport report;
-      const Image out = app::warpSessionImage(*s, *source, pose, {}, &report);
+      const Image out = app::warpSessionImage(*s, *source, pose, options, &report);
       ctx.progress("writing", 0.8);
       app::saveImage(path, out);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
