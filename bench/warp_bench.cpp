@@ -79,7 +79,8 @@ Image texture(int n) {
 struct Setup {
   WarpMesh mesh;
   CompactWeightsReport compact;
-  Setup(int size, double spacing) : mesh(size, size, starCage(size), WarpMeshOptions{spacing}) {
+  Setup(int size, double spacing, OutsideMode outside = OutsideMode::Deform)
+      : mesh(size, size, starCage(size), WarpMeshOptions{spacing, 1e-3, outside}) {
     compact = mesh.setWeights(meanValue(mesh.cage().C, mesh.restVertices()));
   }
 };
@@ -99,6 +100,36 @@ void BM_DeformWarpMesh1MP(benchmark::State& state) {
 }
 BENCHMARK(BM_DeformWarpMesh1MP)->ArgNames({"threads", "spacing"})->Args({1, 4})->Args({2, 4})->Args({2, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// Building the warp mesh of a 1024×1024 image (spacing 4: 66k vertices): the grid alone (deform)
+/// vs the grid plus the pinned mode's exterior weights (factorization + 24 right-hand sides).
+void BM_BuildWarpMesh1MP(benchmark::State& state) {
+  const Cage cage = starCage(1024);
+  WarpMeshOptions o;
+  o.outside = state.range(1) == 1 ? OutsideMode::Pinned : OutsideMode::Deform;
+  ScopedThreadCount threads(int(state.range(0)));
+  for (auto _ : state) {
+    WarpMesh mesh(1024, 1024, cage, o);
+    benchmark::DoNotOptimize(mesh.restVertices().data());
+    if (const ExteriorWeights* e = mesh.exteriorWeights()) {
+      state.counters["unknowns"] = double(e->report.unknowns);
+      state.counters["factor_ms"] = 1e3 * e->report.factorSeconds;
+      state.counters["solve_ms"] = 1e3 * e->report.solveSeconds;
+    }
+  }
+}
+BENCHMARK(BM_BuildWarpMesh1MP)->ArgNames({"threads", "pinned"})->Args({2, 0})->Args({1, 1})->Args({2, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// New pose on a 1024×1024 image in the pinned mode (m + 1 columns with the anchor).
+void BM_DeformPinned1MP(benchmark::State& state) {
+  static Setup s(1024, 4.0, OutsideMode::Pinned);
+  ScopedThreadCount threads(int(state.range(0)));
+  int k = 0;
+  for (auto _ : state) s.mesh.deform(somePose(s.mesh.cage().size(), ++k));
+  state.counters["nnz/vertex"] = s.compact.meanPerVertex;
+}
+BENCHMARK(BM_DeformPinned1MP)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Full-resolution export of a 2048×2048 image: rasterize the deformed mesh (spacing 4).
 void BM_Export2048(benchmark::State& state) {

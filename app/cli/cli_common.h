@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include "kc/core/warp_mesh.h"
+
 namespace kc::cli {
 
 /// Exit codes (ARCHITECTURE.md): 0 success, 1 internal failure, 2 bad input (one line on stderr).
@@ -30,6 +32,13 @@ std::pair<int, int> imageSize(const std::string& path);
 void requireFinite(double value, const std::string& option);
 /// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.
 std::string limitsText();
+/// The value of an --outside option; InputError naming `option` on an unknown name.
+OutsideMode parseOutsideOption(const std::string& text, const std::string& option = "--outside");
+/// Help text of the --outside options.
+inline constexpr const char* kOutsideHelp =
+    "Outside the cage: pinned (the image border stays, the background between cage and border stretches) | "
+    "deform (the weights move everything, the thesis) | fixed (only the inside moves, drawn over the picture) | "
+    "transparent (only the inside is drawn)";
 /// True when stderr is a terminal (progress output is shown only then).
 bool stderrIsTerminal();
 

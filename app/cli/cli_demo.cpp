@@ -17,6 +17,7 @@
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/outside_motion.h"
 #include "kc/core/warp_mesh.h"
 
 #ifndef KC_EXAMPLES_DIR
@@ -82,7 +83,8 @@ Example loadExample(const std::string& dir, const std::string& name) {
 }
 
 /// Binds and warps one example; its output files go into `files` (written at the end).
-void runExample(const Example& e, const std::string& out, app::OutputBatch& files, std::string& report) {
+void runExample(const Example& e, const std::string& out, OutsideMode outside, app::OutputBatch& files,
+                std::string& report) {
   const std::string& name = e.name;
   const std::string& base = e.base;
   const Cage& cage = e.cage;
@@ -94,13 +96,17 @@ void runExample(const Example& e, const std::string& out, app::OutputBatch& file
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
   s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;
+  s.outside = toString(outside);
   files.set(sessionPath, app::sessionToJson(s));
 
   app::WarpExportReport er;
-  WarpMesh mesh = app::buildWarpMesh(s, {}, &er);
+  WarpMeshOptions meshOptions;
+  meshOptions.outside = outside;
+  WarpMesh mesh = app::buildWarpMesh(s, meshOptions, &er);
   const CompactWeightsReport& cw = er.weights;
   const double vertexMs = 1e3 * er.weightSeconds;
   const DeformReport dr = mesh.deform(pose);
+  const OutsideMotion om = measureOutside(mesh);
   RasterReport rr;
   Image warped = mesh.render(source, {}, &rr);
   files.set((fs::path(out) / (name + ".warped.png")).string(), png(warped));
@@ -141,6 +147,10 @@ void runExample(const Example& e, const std::string& out, app::OutputBatch& file
       cw.denseBytes / 1024.0, cw.meanPerVertex);
   say(report, "      deform %.3f ms, render %.1f ms, flipped triangles %ld (%.1f px^2), det J in [%.2f, %.2f]\n",
       dr.seconds * 1e3, rr.seconds * 1e3, long(dr.flippedTriangles), dr.flippedArea, dr.minJacobian, dr.maxJacobian);
+  say(report, "      outside (%s): corners moved %.2f px, background 50 px from the cage moved mean %.2f max %.2f px, "
+              "200 px mean %.2f max %.2f px, weights in [%.2f, %.2f], fold-overs outside %ld\n",
+      toString(outside), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
+      om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
 }
 
@@ -148,13 +158,15 @@ void runExample(const Example& e, const std::string& out, app::OutputBatch& file
 
 void addDemoCommand(CLI::App& app) {
   struct Args {
-    std::string out = "kcwarp-demo", images;
+    std::string out = "kcwarp-demo", images, outside = "pinned";
   };
   auto a = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("demo", "Bind and warp the bundled examples; write PNGs, heatmaps and a report");
   sub->add_option("--out", a->out, "Output folder")->capture_default_str();
   sub->add_option("--images", a->images, "Folder with the examples (default: ./images or the source tree's)");
+  sub->add_option("--outside", a->outside, kOutsideHelp)->capture_default_str();
   sub->callback([a] {
+    const OutsideMode outside = parseOutsideOption(a->outside);
     const std::string dir = findExamples(a->images);
     std::error_code ec;
     if (fs::exists(a->out, ec) && !fs::is_directory(a->out, ec)) throw app::InputError(a->out, "exists and is not a folder");
@@ -169,7 +181,7 @@ void addDemoCommand(CLI::App& app) {
     try {
       app::OutputBatch files;
       files.reserve(path);
-      for (const Example& e : examples) runExample(e, a->out, files, report);
+      for (const Example& e : examples) runExample(e, a->out, outside, files, report);
       files.set(path, report);
       files.commit();
     } catch (...) {

@@ -13,6 +13,7 @@
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
 #include "kc/app/limits.h"
+#include "kc/core/outside_motion.h"
 #include "kc/core/warp_mesh.h"
 
 namespace kc::cli {
@@ -23,7 +24,7 @@ struct WarpArgs {
   int heatmap = -1;
   std::string heatmapOut, scale = "linear";
   bool overlay = false;
-  std::string outside = "deform";
+  std::string outside;  // empty: the session's choice, else pinned
   bool supersample = false;
   double meshSpacing = 4.0;
   std::string background;
@@ -45,8 +46,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 void runWarp(const WarpArgs& a) {
   WarpMeshOptions meshOptions;
-  if (!parseOutsideMode(a.outside, meshOptions.outside))
-    throw app::InputError("--outside", "unknown value '" + a.outside + "' (accepted: deform, fixed, transparent)");
+  if (!a.outside.empty()) meshOptions.outside = parseOutsideOption(a.outside);
   if (!(a.meshSpacing >= 0.5 && a.meshSpacing <= 256))
     throw app::InputError("--mesh-spacing", "must be between 0.5 and 256 pixels");
   meshOptions.spacing = a.meshSpacing;
@@ -59,6 +59,7 @@ void runWarp(const WarpArgs& a) {
 
   // Everything is read and checked before anything is computed or written.
   const app::Session s = app::loadSession(a.session);
+  if (a.outside.empty() && !s.outside.empty()) parseOutsideMode(s.outside, meshOptions.outside);  // validated on load
   const Index m = s.cage.size();
   if (a.heatmap >= m) throw app::InputError("--heatmap", "control point " + std::to_string(a.heatmap) +
                                                              " does not exist (the cage has " + std::to_string(m) + ")");
@@ -113,6 +114,7 @@ void runWarp(const WarpArgs& a) {
   const CompactWeightsReport& cw = er.weights;
   const double bindMs = 1e3 * er.weightSeconds;
   const DeformReport dr = mesh.deform(pose);
+  const OutsideMotion om = measureOutside(mesh);
   RasterReport rr;
   Image out = mesh.render(source, raster, &rr);
   if (a.overlay) {
@@ -129,6 +131,17 @@ void runWarp(const WarpArgs& a) {
               cw.meanPerVertex, long(cw.maxPerVertex), cw.compactBytes / 1024.0, cw.denseBytes / 1024.0);
   std::printf("deform: %.3f ms; det J in [%.3g, %.3g]; flipped triangles: %ld (rest area %.1f px^2)\n",
               dr.seconds * 1e3, dr.minJacobian, dr.maxJacobian, long(dr.flippedTriangles), dr.flippedArea);
+  if (const ExteriorWeights* ext = mesh.exteriorWeights()) {
+    const ExteriorWeightsReport& e = ext->report;
+    std::printf("pinned exterior: %ld vertices solved (%ld cut edges), weights in [%.3g, %.3g]; assemble %.1f ms, "
+                "factor %.1f ms, %ld right-hand sides %.1f ms%s\n",
+                long(e.unknowns), long(e.cutEdges), e.minWeight, e.maxWeight, 1e3 * e.assembleSeconds,
+                1e3 * e.factorSeconds, long(m), 1e3 * e.solveSeconds, e.ok ? "" : " (factorization FAILED: outside kept fixed)");
+  }
+  std::printf("outside the cage: corners moved %.2f px; background 50 px from the cage moved mean %.2f max %.2f px "
+              "(%ld vertices), 200 px mean %.2f max %.2f px (%ld); weights in [%.3g, %.3g]; fold-overs outside %ld\n",
+              om.cornerMax, om.bands[0].mean, om.bands[0].max, long(om.bands[0].vertices), om.bands[1].mean,
+              om.bands[1].max, long(om.bands[1].vertices), om.minWeight, om.maxWeight, long(om.flippedOutside));
   std::printf("render: %dx%d%s in %.1f ms; wrote %s\n", out.width, out.height, a.supersample ? " (2x2 supersampled)" : "",
               rr.seconds * 1e3, a.output.c_str());
 }
@@ -146,7 +159,7 @@ void addWarpCommand(CLI::App& app) {
   sub->add_option("--out,--heatmap-out", a->heatmapOut, "Heatmap PNG to write (with --heatmap)");
   sub->add_option("--scale", a->scale, "Heatmap colour scale: linear | log")->capture_default_str();
   sub->add_flag("--overlay", a->overlay, "Draw the rest cage (white) and the deformed cage (orange) on the output");
-  sub->add_option("--outside", a->outside, "Outside the cage: deform | fixed | transparent")->capture_default_str();
+  sub->add_option("--outside", a->outside, std::string(kOutsideHelp) + ". Default: the session's choice, else pinned");
   sub->add_flag("--supersample", a->supersample, "2x2 supersampling");
   sub->add_option("--mesh-spacing", a->meshSpacing, "Warp mesh spacing in pixels")->capture_default_str();
   sub->add_option("--background", a->background, "Colour of uncovered pixels R,G,B[,A] (default transparent)");

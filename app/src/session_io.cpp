@@ -8,6 +8,7 @@
 #include "kc/app/limits.h"
 #include "kc/app/pipeline.h"
 #include "kc/core/kernel/gaussian_kernel.h"
+#include "kc/core/warp_mesh.h"
 
 namespace kc::app {
 namespace {
@@ -89,6 +90,7 @@ std::string sessionToJson(const Session& s) {
   if (const json field = detail::fieldToJson(s); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.reports);
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
+  if (!s.outside.empty()) j["outside"] = s.outside;
   const BindTimings& t = s.timings;
   j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                   {"optimize", t.optimize}, {"solve", t.solve},       {"total", t.total}};
@@ -192,6 +194,12 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (j.contains("image")) {
     if (!j["image"].is_string()) throw InputError(where, "image must be a path string");
     s.image = j["image"].get<std::string>();
+  }
+  if (j.contains("outside") && !j["outside"].is_null()) {
+    OutsideMode mode;
+    if (!j["outside"].is_string() || !parseOutsideMode(j["outside"].get<std::string>(), mode))
+      throw InputError(where, "outside must be one of \"pinned\", \"deform\", \"fixed\", \"transparent\"");
+    s.outside = j["outside"].get<std::string>();
   }
   if (j.contains("timings") && j["timings"].is_object()) {
     const json& t = j["timings"];

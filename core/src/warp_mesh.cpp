@@ -26,7 +26,8 @@ double signedArea2(const Points& P, const std::array<int, 3>& t) {
 }  // namespace
 
 bool parseOutsideMode(const std::string& text, OutsideMode& mode) {
-  if (text == "deform") mode = OutsideMode::Deform;
+  if (text == "pinned") mode = OutsideMode::Pinned;
+  else if (text == "deform") mode = OutsideMode::Deform;
   else if (text == "fixed") mode = OutsideMode::Fixed;
   else if (text == "transparent") mode = OutsideMode::Transparent;
   else return false;
@@ -35,6 +36,7 @@ bool parseOutsideMode(const std::string& text, OutsideMode& mode) {
 
 const char* toString(OutsideMode mode) {
   switch (mode) {
+    case OutsideMode::Pinned: return "pinned";
     case OutsideMode::Deform: return "deform";
     case OutsideMode::Fixed: return "fixed";
     case OutsideMode::Transparent: return "transparent";
@@ -59,7 +61,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   if (!(options.keepThreshold >= 0.0) || !(options.keepThreshold < 1.0))
     throw std::invalid_argument("warp mesh: keep threshold must be in [0, 1)");
   validateCage(cage);
-  const bool cull = options.outside != OutsideMode::Deform;
+  const bool cull = options.outside == OutsideMode::Fixed || options.outside == OutsideMode::Transparent;
   if (cull && !cage.closed)
     throw std::invalid_argument(std::string("warp mesh: outside mode '") + toString(options.outside) +
                                 "' needs a closed cage");
@@ -105,6 +107,21 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   }
   m_deformed = m_rest;
   m_jacobian = Eigen::VectorXd::Ones(Index(m_triangles.size()));
+  if (options.outside == OutsideMode::Pinned) {  // no culling: vertex ids are grid ids
+    ExteriorWeightsOptions eo;
+    eo.keepThreshold = options.keepThreshold;
+    m_exterior = std::make_shared<const ExteriorWeights>(pinnedExteriorWeights(xs, ys, cage, eo));
+    // The picture inside the cage is drawn over its stretched background: triangles wholly
+    // outside the cage first, then those across the cage, then the inside (the rasterizer
+    // composites in index order, later on top).
+    const auto insideCount = [&](const std::array<int, 3>& t) {
+      return int(!m_exterior->exterior[std::size_t(t[0])]) + int(!m_exterior->exterior[std::size_t(t[1])]) +
+             int(!m_exterior->exterior[std::size_t(t[2])]);
+    };
+    const auto layer = [&](const std::array<int, 3>& t) { const int k = insideCount(t); return k == 0 ? 0 : (k == 3 ? 2 : 1); };
+    std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
+    for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
+  }
 }
 
 CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
@@ -118,11 +135,18 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
                                 std::to_string(m_cage.size()) + " control points");
   if (!W.allFinite()) throw std::invalid_argument("warp mesh: weights contain NaN or infinity");
   const double keep = m_options.keepThreshold / double(m);
+  // Pinned mode: rows of exterior vertices come from the harmonic extension (with the anchor).
+  const ExteriorWeights* ext = m_exterior.get();
+  const auto exterior = [ext](Index v) { return ext && ext->exterior[std::size_t(v)]; };
 
   // Pass 1: entries kept per row (the row's largest entry is always kept).
   std::vector<int> rowCount(std::size_t(nv), 0);
   std::vector<double> dropped(std::size_t(nv), 0.0);
   parallelFor(nv, [&](Index v) {
+    if (exterior(v)) {
+      rowCount[std::size_t(v)] = int(ext->H.outerIndexPtr()[v + 1] - ext->H.outerIndexPtr()[v]);
+      return;
+    }
     int n = 0;
     Index best = 0;
     double mass = 0.0, sum = 0.0;
@@ -138,7 +162,7 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
     rowCount[std::size_t(v)] = n;
     dropped[std::size_t(v)] = mass;
   }, 1024);
-  m_weights = SparseWeights(nv, m);
+  m_weights = SparseWeights(nv, ext ? m + 1 : m);
   int* outer = m_weights.outerIndexPtr();
   outer[0] = 0;
   for (Index v = 0; v < nv; ++v) outer[v + 1] = outer[v] + rowCount[std::size_t(v)];
@@ -148,6 +172,13 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
   // Pass 2: fill and renormalize to partition of unity.
   parallelFor(nv, [&](Index v) {
     int k = outer[v];
+    if (exterior(v)) {
+      for (CompactWeights::InnerIterator it(ext->H, v); it; ++it, ++k) {
+        cols[k] = int(it.col());
+        values[k] = it.value();
+      }
+      return;
+    }
     double sum = 0.0;
     for (Index i = 0; i < m; ++i)
       if (std::abs(W(v, i)) > keep) {
@@ -196,7 +227,8 @@ DeformReport WarpMesh::deform(const Pose& pose) {
   const double* values = m_weights.valuePtr();
   // Every T_i is [R(θ_i) | d_i] with R = [[cos, sin], [−sin, cos]], so Σ_i w_i T_i needs only four
   // sums: Σ w cos θ, Σ w sin θ and Σ w d (3.38). Packed per control for the inner loop.
-  std::vector<std::array<double, 4>> packed(T.size());
+  // In Pinned mode the last column is the anchor: the identity.
+  std::vector<std::array<double, 4>> packed(std::size_t(m_weights.cols()), {1.0, 0.0, 0.0, 0.0});
   for (std::size_t i = 0; i < T.size(); ++i) packed[i] = {T[i](0, 0), T[i](0, 1), T[i](0, 2), T[i](1, 2)};
   // f(v) = (Σ_i w_i T_i) [v; 1]  (3.37)
   parallelForRange(nv, 4096, [&](Index begin, Index end) {
@@ -243,6 +275,7 @@ Image WarpMesh::render(const Image& source, const RasterOptions& options, Raster
                                 std::to_string(source.height) + " but the mesh was built for " +
                                 std::to_string(m_width) + "x" + std::to_string(m_height));
   switch (m_options.outside) {
+    case OutsideMode::Pinned:
     case OutsideMode::Deform:
       return rasterizeMesh(source, m_rest, m_deformed, m_triangles, m_width, m_height, options, report);
     case OutsideMode::Transparent: {

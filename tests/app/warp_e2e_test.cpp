@@ -228,6 +228,30 @@ TEST(WarpCli, HeatmapOverlayAndOutsideModes) {
   const cv::Mat f = cv::imread((dir / "f.png").string(), cv::IMREAD_UNCHANGED);
   const cv::Mat src = cv::imread(example("star.png"), cv::IMREAD_UNCHANGED);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(f.at<cv::Vec4b>(3, 3)[c], src.at<cv::Vec4b>(3, 3)[c]);
+  // The default is pinned: the image corners stay, and the CLI says so.
+  r = cli(base + " -o p.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("outside pinned"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("corners moved 0.00 px"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pinned exterior:"), std::string::npos) << r.out;
+  // A session that remembers "outside": "deform" is warped that way unless --outside says otherwise.
+  json j = json::parse(slurpFile(boundSession("star")));
+  j["outside"] = "deform";
+  std::ofstream(dir / "deform.kcw.json") << j.dump();
+  const std::string viaSession = "warp --session deform.kcw.json --image '" + example("star.png") + "' --pose '" +
+                                 example("star.pose.json") + "'";
+  r = cli(viaSession + " -o d.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("outside deform"), std::string::npos) << r.out;
+  r = cli(viaSession + " -o d2.png --outside pinned", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("outside pinned"), std::string::npos) << r.out;
+  j["outside"] = "around";
+  std::ofstream(dir / "bad.kcw.json") << j.dump();
+  r = cli("warp --session bad.kcw.json -o b.png", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("outside must be one of"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "b.png"));
 }
 
 TEST(WarpCli, BadInputExitsWithTwoAndNamesTheProblem) {

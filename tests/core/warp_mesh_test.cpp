@@ -8,41 +8,10 @@
 #include <stdexcept>
 
 #include "kc/core/parallel.h"
+#include "warp_fixtures.h"
 
 namespace kc {
 namespace {
-
-/// Mean value coordinates (Floater 2003) of the closed polygon C at the rows of X: partition of
-/// unity and linear reproduction everywhere off the boundary; linear on the edges.
-Weights meanValueWeights(const Points& C, const Points& X) {
-  const Index m = C.rows();
-  Weights W = Weights::Zero(X.rows(), m);
-  for (Index p = 0; p < X.rows(); ++p) {
-    const Points S = C.rowwise() - X.row(p);  // s_i = c_i − x
-    const Eigen::VectorXd r = S.rowwise().norm();
-    Eigen::VectorXd t = Eigen::VectorXd::Zero(m);  // tan(α_i / 2) for the angle at x of edge i
-    bool done = false;
-    for (Index i = 0; i < m && !done; ++i)
-      if (r(i) < 1e-12) W(p, i) = 1.0, done = true;
-    for (Index i = 0; i < m && !done; ++i) {
-      const Index j = (i + 1) % m;
-      const double A = 0.5 * (S(i, 0) * S(j, 1) - S(i, 1) * S(j, 0)), D = S.row(i).dot(S.row(j));
-      if (std::abs(A) < 1e-12 * r(i) * r(j)) {
-        if (D < 0) {  // on the edge: linear interpolation
-          W(p, i) = r(j) / (r(i) + r(j));
-          W(p, j) = r(i) / (r(i) + r(j));
-          done = true;
-        }
-      } else {
-        t(i) = (r(i) * r(j) - D) / (2 * A);
-      }
-    }
-    if (done) continue;
-    for (Index i = 0; i < m; ++i) W(p, i) = (t((i + m - 1) % m) + t(i)) / r(i);
-    W.row(p) /= W.row(p).sum();
-  }
-  return W;
-}
 
 Image checker(int w, int h) {
   Image img(w, h);
@@ -58,11 +27,11 @@ Image checker(int w, int h) {
   return img;
 }
 
-/// A non-convex 8-point "L"-ish cage inside a 120×100 image.
-Cage lCage() {
-  Points C(8, 2);
-  C << 15, 10, 70, 12, 72, 45, 105, 48, 108, 90, 40, 92, 12, 88, 30, 50;
-  return Cage::polygon(C);
+/// The thesis's outside mode: every vertex keeps the field's weights (here mean value coordinates).
+WarpMeshOptions deformEverywhere() {
+  WarpMeshOptions o;
+  o.outside = OutsideMode::Deform;
+  return o;
 }
 
 TEST(WarpMesh, GridCoversTheImage) {
@@ -77,7 +46,7 @@ TEST(WarpMesh, GridCoversTheImage) {
 
 TEST(WarpMesh, CompactWeightsKeepPartitionOfUnity) {
   const Cage cage = lCage();
-  WarpMesh mesh(120, 100, cage, {});
+  WarpMesh mesh(120, 100, cage, deformEverywhere());
   const Weights W = meanValueWeights(cage.C, mesh.restVertices());
   const CompactWeightsReport rep = mesh.setWeights(W);
   const auto& S = mesh.weights();
@@ -102,7 +71,7 @@ TEST(WarpMesh, CompactStorageIsSmallerForLocalWeights) {
   // Local weights (each vertex influenced by ≤ 3 of 30 controls) take far less than dense.
   Points C(30, 2);
   for (int i = 0; i < 30; ++i) C.row(i) << 60 + 40 * std::cos(2 * std::numbers::pi * i / 30), 50 + 40 * std::sin(2 * std::numbers::pi * i / 30);
-  WarpMesh mesh(120, 100, Cage::polygon(C), {});
+  WarpMesh mesh(120, 100, Cage::polygon(C), deformEverywhere());
   Weights W = Weights::Zero(mesh.restVertices().rows(), 30);
   for (Index v = 0; v < W.rows(); ++v) {
     const int k = int(v % 30);
@@ -116,7 +85,7 @@ TEST(WarpMesh, CompactStorageIsSmallerForLocalWeights) {
 
 TEST(WarpMesh, AffinePoseMovesVerticesInsideTheCageByThatMap) {
   const Cage cage = lCage();
-  WarpMesh mesh(120, 100, cage, {});
+  WarpMesh mesh(120, 100, cage, deformEverywhere());
   mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
   EXPECT_THROW(mesh.deform(restPose(7)), std::invalid_argument);
   DeformReport rest = mesh.deform({});

@@ -162,7 +162,8 @@ bool startOpenSession(AppState& state, const std::string& path) {
         imagePath.clear();
       }
       ctx.progress("warp mesh", 0.8);
-      DisplayMesh display = buildDisplayMesh(*s, displayMeshOptions(s->imageWidth, s->imageHeight));
+      DisplayMesh display =
+          buildDisplayMesh(*s, displayMeshOptions(s->imageWidth, s->imageHeight, sessionOutsideMode(*s)));
       auto image = std::make_shared<Image>(std::move(img));
       return [s, display, image, imagePath, path, warning](AppState& st) {
         st.source = std::move(*image);
@@ -192,12 +193,14 @@ bool startExport(AppState& state, const std::string& path) {
   auto s = std::move(state.session);
   auto source = std::make_shared<const Image>(state.source);
   const Pose pose = state.pose;
-  state.worker.submit("Exporting", [s, source, pose, path](JobContext& ctx) -> Worker::Apply {
+  app::WarpExportOptions options;
+  options.mesh.outside = state.outside;  // the same mode as the view, as `kcwarp-cli warp --outside`
+  state.worker.submit("Exporting", [s, source, pose, path, options](JobContext& ctx) -> Worker::Apply {
     try {
       const auto t0 = std::chrono::steady_clock::now();
       ctx.progress("warping", 0.2);
       app::WarpExportReport report;
-      const Image out = app::warpSessionImage(*s, *source, pose, {}, &report);
+      const Image out = app::warpSessionImage(*s, *source, pose, options, &report);
       ctx.progress("writing", 0.8);
       app::saveImage(path, out);
       const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -230,6 +233,7 @@ bool startSaveSession(AppState& state, const std::string& path, bool autosave) {
   auto s = std::move(state.session);
   // The job owns the session meanwhile: set the pose and the image path the file refers to.
   s->pose = state.pose;
+  s->outside = toString(state.outside);
   const std::string storedImage = s->image;
   if (!state.imagePath.empty()) s->image = app::imagePathForSession(state.imagePath, path);
   const std::uint64_t poseRevision = state.poseRevision;

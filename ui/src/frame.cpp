@@ -22,6 +22,7 @@ void drawLayout(AppState& state, float menuHeight) {
                    ImGuiWindowFlags_NoSavedSettings);
   if (ImGui::CollapsingHeader("Tools", ImGuiTreeNodeFlags_DefaultOpen)) drawToolsPanel(state);
   if (ImGui::CollapsingHeader("Weights", ImGuiTreeNodeFlags_DefaultOpen)) drawWeightsPanel(state);
+  if (ImGui::CollapsingHeader("Outside", ImGuiTreeNodeFlags_DefaultOpen)) drawOutsidePanel(state);
   if (ImGui::CollapsingHeader("Bind", ImGuiTreeNodeFlags_DefaultOpen)) drawBindPanel(state);
   if (ImGui::CollapsingHeader("Diagnostics", ImGuiTreeNodeFlags_DefaultOpen)) drawDiagnosticsPanel(state);
   ImGui::End();

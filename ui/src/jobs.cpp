@@ -73,8 +73,9 @@ bool canStart(AppState& state, const char* what) {
 
 }  // namespace
 
-WarpMeshOptions displayMeshOptions(int width, int height) {
+WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside) {
   WarpMeshOptions o;
+  o.outside = outside;
   const double area = double(width) * double(height);
   if (area / (o.spacing * o.spacing) > 70000.0) o.spacing = std::sqrt(area / 70000.0);
   return o;
@@ -97,6 +98,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.capabilities = app::sessionCapabilities(s);
   state.reports = s.reports;
   state.bindParams = s.params;
+  state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
   state.mesh = std::move(*display.mesh);
@@ -126,7 +128,7 @@ bool startBind(AppState& state, bool markUnsaved) {
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = state.bindParams;
   const std::string image = state.imagePath;
-  const WarpMeshOptions meshOptions = displayMeshOptions(w, h);
+  const WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
   state.worker.submit("Binding", [=](JobContext& ctx) -> Worker::Apply {
     try {
       app::BindReport report;
@@ -152,6 +154,48 @@ bool startBind(AppState& state, bool markUnsaved) {
       };
     } catch (const std::exception& e) {
       return failure(previous, std::string("Bind failed: ") + e.what());
+    }
+  });
+  return true;
+}
+
+OutsideMode sessionOutsideMode(const app::Session& session) {
+  OutsideMode mode = WarpMeshOptions{}.outside;
+  if (!session.outside.empty()) parseOutsideMode(session.outside, mode);
+  return mode;
+}
+
+bool setOutsideMode(AppState& state, OutsideMode mode) {
+  if (mode == state.outside) return true;
+  if (!state.bound) {
+    state.outside = mode;
+    return true;
+  }
+  if (!state.session || !canStart(state, "change the outside mode")) return false;
+  const OutsideMode before = state.outside;
+  state.outside = mode;  // the panel shows the choice while the mesh is rebuilt
+  SessionPtr s = std::move(state.session);
+  const WarpMeshOptions options = displayMeshOptions(s->imageWidth, s->imageHeight, mode);
+  state.worker.submit("Outside the cage", [s, options, before](JobContext& ctx) -> Worker::Apply {
+    try {
+      ctx.progress("warp mesh", 0.1);
+      const auto t0 = std::chrono::steady_clock::now();
+      DisplayMesh display = buildDisplayMesh(*s, options);
+      const double ms = msSince(t0);
+      return [s, display, ms, mode = options.outside](AppState& st) {
+        s->outside = toString(mode);
+        takeBack(st, s, display.mesh, display.source);
+        st.outside = mode;
+        st.unsaved = true;
+        st.timings.meshWeightsMs = ms;
+      };
+    } catch (const std::exception& e) {
+      const std::string text = std::string("Changing the outside mode failed: ") + e.what();
+      return [s, text, before](AppState& st) {
+        st.session = s;
+        st.outside = before;
+        postMessage(st, text, true);
+      };
     }
   });
   return true;

@@ -67,9 +67,10 @@ Renderer::~Renderer() {
   const GLuint buffers[] = {m_posBuffer, m_uvBuffer, m_heatBuffer, m_indexBuffer};
   glDeleteBuffers(4, buffers);
   glDeleteVertexArrays(1, &m_vao);
+  glDeleteBuffers(2, m_quadBuffers);
   glDeleteVertexArrays(1, &m_quadVao);
-  glDeleteBuffers(1, &m_quadBuffer);
   if (m_texture) glDeleteTextures(1, &m_texture);
+  if (m_maskedTexture) glDeleteTextures(1, &m_maskedTexture);
 }
 
 bool Renderer::init() {
@@ -101,12 +102,6 @@ bool Renderer::init() {
   m_uvBuffer = buffers[1];
   m_heatBuffer = buffers[2];
   m_indexBuffer = buffers[3];
-  glGenVertexArrays(1, &m_quadVao);
-  glGenBuffers(1, &m_quadBuffer);
-  glBindVertexArray(m_quadVao);
-  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffer);
-  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
   glBindVertexArray(m_vao);
   glBindBuffer(GL_ARRAY_BUFFER, m_posBuffer);
   glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
@@ -119,12 +114,37 @@ bool Renderer::init() {
   glEnableVertexAttribArray(2);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_indexBuffer);
   glBindVertexArray(0);
+  glGenVertexArrays(1, &m_quadVao);
+  glGenBuffers(2, m_quadBuffers);
+  glBindVertexArray(m_quadVao);
+  for (GLuint a = 0; a < 2; ++a) {
+    glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffers[a]);
+    glVertexAttribPointer(a, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(a);
+  }
+  glBindVertexArray(0);
   return true;
 }
 
-void Renderer::uploadTexture(const Image& image) {
-  if (!m_texture) glGenTextures(1, &m_texture);
+void Renderer::drawImageQuad(const AppState& state, int flat) {
+  const float w = float(state.source.width), h = float(state.source.height);
+  const float pos[] = {-0.5f, -0.5f, w - 0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, h - 0.5f};
+  const float uv[] = {0, 0, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1};
+  glBindVertexArray(m_quadVao);
+  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffers[0]);
+  glBufferData(GL_ARRAY_BUFFER, sizeof pos, pos, GL_STREAM_DRAW);
+  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffers[1]);
+  glBufferData(GL_ARRAY_BUFFER, sizeof uv, uv, GL_STREAM_DRAW);
+  glVertexAttrib4f(2, 0.0f, 0.0f, 0.0f, 0.0f);  // no heat colour
+  glUniform1i(m_uFlat, flat);
   glBindTexture(GL_TEXTURE_2D, m_texture);
+  glDrawArrays(GL_TRIANGLES, 0, 6);
+  glBindVertexArray(0);
+}
+
+void Renderer::uploadTexture(const Image& image, unsigned& texture) {
+  if (!texture) glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
@@ -178,8 +198,11 @@ bool Renderer::uploadHeat(AppState& state, bool warped) {
   // The field's weights at the mesh vertices; a job may be holding them (try again next frame).
   if (!state.meshSource || state.meshSource->W.rows() != state.mesh.restVertices().rows()) return false;
   HeatRange range;
-  const std::vector<Rgba> colors =
-      heatColors(controlWeights(state.meshSource->W, state.activeControl), state.heat.log, state.heat.logFloor, range);
+  std::vector<double> w = controlWeights(state.meshSource->W, state.activeControl);
+  if (const ExteriorWeights* ext = state.mesh.exteriorWeights(); ext && state.activeControl >= 0)
+    for (std::size_t v = 0; v < w.size(); ++v)  // pinned: outside the cage the warp uses the exterior weights
+      if (ext->exterior[v]) w[v] = ext->H.coeff(Index(v), state.activeControl);
+  const std::vector<Rgba> colors = heatColors(w, state.heat.log, state.heat.logFloor, range);
   state.heatLow = range.low;
   state.heatHigh = range.high;
   glBindBuffer(GL_ARRAY_BUFFER, m_heatBuffer);
@@ -191,9 +214,10 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
   if (!m_program || state.source.empty()) return;
   const auto t0 = std::chrono::steady_clock::now();
   if (m_sourceRevision != state.sourceRevision) {
-    uploadTexture(state.source);
+    uploadTexture(state.source, m_texture);
     m_sourceRevision = state.sourceRevision;
     m_meshRevision = ~0ull;
+    m_maskKey = ~0ull;
   }
   const bool warped = showsWarp(state);
   if (m_meshRevision != state.meshRevision || m_warped != warped) {
@@ -212,6 +236,13 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
     glBindBuffer(GL_ARRAY_BUFFER, m_posBuffer);
     glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(m_scratch.size() * sizeof(float)), m_scratch.data());
     m_deformKey = state.deformCount;
+  }
+  const OutsideMode outside = state.mesh.options().outside;
+  const bool masked = warped && (outside == OutsideMode::Fixed || outside == OutsideMode::Transparent);
+  if (masked && m_maskKey != state.meshRevision) {  // the export's mask: the bound cage's polygon
+    uploadTexture(applyMask(state.source, polygonMask(state.boundCage.C, state.source.width, state.source.height)),
+                  m_maskedTexture);
+    m_maskKey = state.meshRevision;
   }
   const std::uint64_t heatKey = (static_cast<std::uint64_t>(state.activeControl + 1) << 1) | (state.heat.log ? 1u : 0u);
   if (warped && m_heatKey != heatKey && uploadHeat(state, warped)) m_heatKey = heatKey;
@@ -234,14 +265,11 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
               static_cast<float>(1.0 - origin.y() * 2.0 / displayHeight));
   glUniform1i(m_uTex, 0);
   glActiveTexture(GL_TEXTURE0);
-  glBindTexture(GL_TEXTURE_2D, m_texture);
-  glBindVertexArray(m_quadVao);  // the image rectangle: a checkerboard shows through transparent pixels
-  const float w = static_cast<float>(state.source.width), h = static_cast<float>(state.source.height);
-  const float quad[] = {-0.5f, -0.5f, w - 0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, -0.5f, w - 0.5f, h - 0.5f, -0.5f, h - 0.5f};
-  glBindBuffer(GL_ARRAY_BUFFER, m_quadBuffer);
-  glBufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_DYNAMIC_DRAW);
-  glUniform1i(m_uFlat, 2);
-  glDrawArrays(GL_TRIANGLES, 0, 6);
+  glUniform1f(m_uHeat, 0.0f);
+  drawImageQuad(state, 2);  // the image rectangle: a checkerboard shows through transparent pixels
+  if (warped && outside == OutsideMode::Fixed) drawImageQuad(state, 0);
+  glUniform1i(m_uFlat, 0);
+  glBindTexture(GL_TEXTURE_2D, masked ? m_maskedTexture : m_texture);
   const bool heat = warped && state.activeControl >= 0 &&
                     (state.tool == Tool::Brush ? state.heat.show : state.tool == Tool::Pose && state.heat.showInPose);
   glUniform1f(m_uHeat, heat ? state.heat.opacity : 0.0f);

@@ -13,7 +13,7 @@ namespace kc::app {
 
 /// Options of a full-resolution warp; the defaults are `kcwarp-cli warp`'s.
 struct WarpExportOptions {
-  WarpMeshOptions mesh;    ///< Warp mesh spacing (4 px) and outside mode (deform).
+  WarpMeshOptions mesh;    ///< Warp mesh spacing (4 px) and outside mode (pinned).
   RasterOptions raster;    ///< Supersampling and background (transparent).
 };
 

@@ -76,6 +76,9 @@ struct Session {
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).
   std::string image;           ///< Image path as written in the file (may be empty).
+  /// The user's outside-the-cage choice ("pinned", "deform", "fixed", "transparent"; kc::OutsideMode
+  /// names), empty when none was made: warps then use WarpMeshOptions' default (pinned).
+  std::string outside;
   BindTimings timings;         ///< How long the bind took.
   SolverReports reports;       ///< What the solvers reported.
   /// The coordinate field: the only way to weights at points. Built by the backend (bind) or

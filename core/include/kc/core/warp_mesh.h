@@ -8,11 +8,13 @@
 
 #include <Eigen/SparseCore>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
+#include "kc/core/exterior_weights.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/types.h"
 
@@ -20,12 +22,16 @@ namespace kc {
 
 /// What happens to the image outside the cage.
 enum class OutsideMode {
+  /// The image border stays pinned; the background between cage and border stretches smoothly:
+  /// outside the cage each control's weight is its harmonic extension to the border and a fixed
+  /// anchor takes the rest (exterior_weights.h). Inside the cage the field's weights are used.
+  Pinned,
   Deform,       ///< Everything follows the weights (kernel coordinates cover the whole image).
   Fixed,        ///< Outside stays in place (like GIMP's cage tool): deformed inside drawn over the original.
   Transparent,  ///< Only the inside of the cage is drawn.
 };
 
-/// Parses "deform", "fixed", "transparent"; returns false on anything else.
+/// Parses "pinned", "deform", "fixed", "transparent"; returns false on anything else.
 bool parseOutsideMode(const std::string& text, OutsideMode& mode);
 const char* toString(OutsideMode mode);
 
@@ -35,7 +41,7 @@ struct WarpMeshOptions {
   /// compare magnitudes so that kernel coordinates' small negative lobes, which carry linear
   /// precision, are kept too).
   double keepThreshold = 1e-3;
-  OutsideMode outside = OutsideMode::Deform;
+  OutsideMode outside = OutsideMode::Pinned;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
@@ -62,12 +68,13 @@ struct DeformReport {
 
 class WarpMesh {
  public:
-  using SparseWeights = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+  using SparseWeights = CompactWeights;
 
   WarpMesh() = default;
   /// Grid over [−0.5, w−0.5]×[−0.5, h−0.5] (pixel centres at integers) with about `spacing`
   /// pixels between vertices, two triangles per cell. In Fixed/Transparent modes only triangles
-  /// that can meet the cage are kept. Throws std::invalid_argument on bad sizes or options.
+  /// that can meet the cage are kept; in Pinned mode the exterior weights are solved here (one
+  /// sparse factorization, exteriorWeights()). Throws std::invalid_argument on bad sizes or options.
   WarpMesh(int width, int height, const Cage& cage, const WarpMeshOptions& options = {});
 
   int width() const { return m_width; }
@@ -76,19 +83,27 @@ class WarpMesh {
   const Cage& cage() const { return m_cage; }
   /// #V×2 rest positions: where to evaluate weights.
   const Points& restVertices() const { return m_rest; }
-  /// Triangles that are drawn (#T).
+  /// Triangles that are drawn (#T), in drawing order (later on top): row-major grid order; in
+  /// Pinned mode the triangles wholly outside the cage come first, then those across the cage,
+  /// then those inside, so the inside is drawn over the stretched background.
   const Triangles& triangles() const { return m_triangles; }
 
   /// Stores weights W (#V×m, dense, at restVertices()) compactly: entries with |w| ≤ keepThreshold/m
-  /// are dropped and each row is renormalized to sum to 1 (partition of unity). Throws on shape
+  /// are dropped and each row is renormalized to sum to 1 (partition of unity). In Pinned mode the
+  /// rows of vertices outside the cage are taken from exteriorWeights() instead (W's rows there
+  /// are not used) and weights() has m+1 columns, the last one the fixed anchor. Throws on shape
   /// mismatch or non-finite weights.
   CompactWeightsReport setWeights(const Weights& W);
   /// Same, from weights already sparse (#V×m); they are thresholded and renormalized too.
   CompactWeightsReport setWeights(const SparseWeights& W);
   bool hasWeights() const { return m_weights.rows() > 0; }
+  /// #V×m compact weights (#V×(m+1) in Pinned mode: column m is the anchor, transform = identity).
   const SparseWeights& weights() const { return m_weights; }
+  /// Pinned mode: the exterior classification and harmonic-extension weights (null otherwise).
+  /// Vertices are in grid order (vertex j·nx + i), as restVertices().
+  const ExteriorWeights* exteriorWeights() const { return m_exterior.get(); }
 
-  /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex — one sparse product, parallel over vertices —
+  /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex (plus a(v)·v for the pinned anchor) — one sparse product, parallel over vertices —
   /// and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
   /// area). Throws std::invalid_argument for a bad pose or when no weights are set.
   DeformReport deform(const Pose& pose);
@@ -108,6 +123,7 @@ class WarpMesh {
   Points m_rest, m_deformed;
   Triangles m_triangles;
   SparseWeights m_weights;
+  std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
 };
 

@@ -101,6 +101,8 @@ struct AppState {
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).
   Pose pose;                               ///< Current pose, one handle per bound control point.
   std::uint64_t poseRevision = 0;
+  /// What happens outside the cage, in the view and the export (saved in the session as "outside").
+  OutsideMode outside = OutsideMode::Pinned;
   WarpMesh mesh;                           ///< Display warp mesh (weights at its vertices).
   /// Where the display mesh's weights come from: the field sampler at its vertices and the dense
   /// vertex weights, so a paint stroke re-evaluates only the controls whose weights changed.

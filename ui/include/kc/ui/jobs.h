@@ -13,8 +13,16 @@
 namespace kc::ui {
 
 /// Display warp mesh options for an image size: the export's 4 px spacing up to ~70k vertices,
-/// coarser for larger images.
-WarpMeshOptions displayMeshOptions(int width, int height);
+/// coarser for larger images; `outside` as chosen.
+WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside = OutsideMode::Pinned);
+
+/// Sets the outside-the-cage mode (view and export). When a session is bound the display mesh is
+/// rebuilt on the worker (the window stays responsive) and the document is marked unsaved.
+/// Returns false (with a message) while another job runs.
+bool setOutsideMode(AppState& state, OutsideMode mode);
+
+/// The outside mode a session asks for (its "outside" key), or the default.
+OutsideMode sessionOutsideMode(const app::Session& session);
 
 /// Binds the draft cage over the current image with state.bindParams (progress, Cancel); when it
 /// is done the pose tool is active. `markUnsaved` = false for a bind that only reproduces files

@@ -2,7 +2,9 @@
 /// Draws the picture on the GPU as a textured triangle mesh: the warp mesh's deformed vertices
 /// (uploaded when the pose or the mesh changed), rest positions as texture coordinates (the
 /// texture is uploaded once per image), and the heatmap of the active control as vertex colours,
-/// over a checkerboard on the image rectangle (transparent pixels show it).
+/// over a checkerboard on the image rectangle (transparent pixels show it). Outside modes as in
+/// the export: fixed draws the picture at rest first and the inside of the cage over it; fixed and
+/// transparent draw the mesh with a texture masked to the cage.
 /// Needs a current OpenGL 3.3 core context.
 
 #include <cstdint>
@@ -29,14 +31,19 @@ class Renderer {
   void draw(AppState& state, int fbWidth, int fbHeight, double displayWidth, double displayHeight);
 
  private:
-  void uploadTexture(const Image& image);
+  void uploadTexture(const Image& image, unsigned& texture);
   void uploadMesh(const AppState& state, bool warped);
   /// Uploads the active control's field weights as vertex colours; false while a job holds them.
   bool uploadHeat(AppState& state, bool warped);
+  /// The image rectangle at rest as one quad, drawn with shader mode `flat` (0: the picture, under
+  /// the warped inside in the fixed mode; 2: the transparency checkerboard).
+  void drawImageQuad(const AppState& state, int flat);
 
   std::string m_error;
   unsigned m_program = 0, m_vao = 0, m_posBuffer = 0, m_uvBuffer = 0, m_heatBuffer = 0, m_indexBuffer = 0;
-  unsigned m_texture = 0, m_quadVao = 0, m_quadBuffer = 0;
+  unsigned m_texture = 0, m_maskedTexture = 0;  // masked: alpha 0 outside the bound cage
+  unsigned m_quadVao = 0, m_quadBuffers[2] = {0, 0};
+  std::uint64_t m_maskKey = ~0ull;
   int m_uScale = -1, m_uOffset = -1, m_uHeat = -1, m_uFlat = -1, m_uColor = -1, m_uTex = -1;
   std::uint64_t m_sourceRevision = ~0ull, m_meshRevision = ~0ull, m_deformKey = ~0ull, m_heatKey = ~0ull;
   bool m_warped = false;

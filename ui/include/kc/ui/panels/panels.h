@@ -12,6 +12,8 @@ float drawMainMenu(AppState& state);
 void drawToolsPanel(AppState& state);
 /// Method radio buttons (QP / QEC / L1), heatmap options and colour bar.
 void drawWeightsPanel(AppState& state);
+/// The outside-the-cage choice (a combo with plain-words tooltips; setOutsideMode on change).
+void drawOutsidePanel(AppState& state);
 /// Bind parameters, cage status, Bind button; cage files.
 void drawBindPanel(AppState& state);
 /// Property table, fold-overs and timings.

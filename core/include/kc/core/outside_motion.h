@@ -1,0 +1,36 @@
+#pragma once
+/// How a deformation treats the picture outside the cage: how far the background moves at given
+/// distances from the cage, whether the image corners stay, the range of the weights there and
+/// fold-overs that lie wholly outside the cage. Works for every outside mode of the warp mesh.
+
+#include <vector>
+
+#include "kc/core/warp_mesh.h"
+
+namespace kc {
+
+/// Displacement |f(v) − v| of the mesh vertices outside the cage whose distance to the cage is
+/// within `halfWidth` of `distance`.
+struct OutsideBand {
+  double distance = 0.0, halfWidth = 0.0;
+  Index vertices = 0;
+  double mean = 0.0, max = 0.0;
+};
+
+struct OutsideMotion {
+  double cornerMax = 0.0;          ///< Largest displacement of the image's four corner vertices (px).
+  std::vector<OutsideBand> bands;  ///< One per requested distance.
+  double minWeight = 0.0;          ///< Range of w_i (i < m; the pinned anchor excluded) at vertices
+  double maxWeight = 0.0;          ///< outside the cage, as stored by the mesh (compact weights).
+  Index verticesOutside = 0;
+  Index flippedOutside = 0;        ///< Flipped triangles (det J ≤ 0) with all three vertices outside the cage.
+  Index flippedTotal = 0;
+};
+
+/// Measures the last deform() of `mesh` (vertices outside a closed cage by the even-odd rule; every
+/// vertex for open cages). Bands of half width `halfWidth` pixels around each of `distances`.
+/// Cost O(#V · #edges). Throws std::invalid_argument when the mesh has no weights.
+OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& distances = {50.0, 200.0},
+                             double halfWidth = 5.0);
+
+}  // namespace kc

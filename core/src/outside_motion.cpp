@@ -1,0 +1,63 @@
+#include "kc/core/outside_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "kc/core/parallel.h"
+
+namespace kc {
+
+OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& distances, double halfWidth) {
+  if (!mesh.hasWeights()) throw std::invalid_argument("outside motion: the warp mesh has no weights");
+  const Points& R = mesh.restVertices();
+  const Points& F = mesh.deformedVertices();
+  const Cage& cage = mesh.cage();
+  const Index nv = R.rows(), m = cage.size();
+  std::vector<std::uint8_t> outside(std::size_t(nv), 0);
+  std::vector<double> dist(std::size_t(nv), 0.0);
+  parallelFor(nv, [&](Index v) {
+    const Vec2 p = R.row(v);
+    outside[std::size_t(v)] = insideCage(cage, p) ? 0 : 1;
+    dist[std::size_t(v)] = distanceToCage(cage, p);
+  }, 256);
+
+  OutsideMotion out;
+  out.minWeight = std::numeric_limits<double>::infinity();
+  out.maxWeight = -std::numeric_limits<double>::infinity();
+  for (const double d : distances) out.bands.push_back({d, halfWidth});
+  const double x0 = R.col(0).minCoeff(), x1 = R.col(0).maxCoeff(), y0 = R.col(1).minCoeff(), y1 = R.col(1).maxCoeff();
+  const auto& W = mesh.weights();
+  for (Index v = 0; v < nv; ++v) {
+    const double move = (F.row(v) - R.row(v)).norm();
+    if ((R(v, 0) == x0 || R(v, 0) == x1) && (R(v, 1) == y0 || R(v, 1) == y1)) out.cornerMax = std::max(out.cornerMax, move);
+    if (!outside[std::size_t(v)]) continue;
+    ++out.verticesOutside;
+    for (WarpMesh::SparseWeights::InnerIterator it(W, v); it; ++it)
+      if (it.col() < m) {
+        out.minWeight = std::min(out.minWeight, it.value());
+        out.maxWeight = std::max(out.maxWeight, it.value());
+      }
+    for (OutsideBand& b : out.bands)
+      if (std::abs(dist[std::size_t(v)] - b.distance) <= b.halfWidth) {
+        ++b.vertices;
+        b.mean += move;
+        b.max = std::max(b.max, move);
+      }
+  }
+  for (OutsideBand& b : out.bands)
+    if (b.vertices > 0) b.mean /= double(b.vertices);
+  if (out.verticesOutside == 0) out.minWeight = out.maxWeight = 0.0;
+  // Weights absent from a sparse row are 0, which is in the range whenever a row has fewer than m.
+  out.minWeight = std::min(out.minWeight, 0.0);
+  const auto& T = mesh.triangles();
+  for (std::size_t t = 0; t < T.size(); ++t) {
+    if (mesh.jacobians()(Index(t)) > 0.0) continue;
+    ++out.flippedTotal;
+    if (outside[std::size_t(T[t][0])] && outside[std::size_t(T[t][1])] && outside[std::size_t(T[t][2])]) ++out.flippedOutside;
+  }
+  return out;
+}
+
+}  // namespace kc

@@ -1,0 +1,83 @@
+// The outside-the-cage combo: choosing a mode rebuilds the display mesh on the worker; the view
+// and the export follow it and the session remembers it.
+#include <gtest/gtest.h>
+
+#include "kc/ui/panels/panels.h"
+#include "ui_fixture.h"
+
+namespace kc::ui {
+namespace {
+
+void drawSide(AppState& s) {
+  ImGui::SetNextWindowPos(ImVec2(1050, 20));
+  ImGui::SetNextWindowSize(ImVec2(350, 860));
+  ImGui::Begin("##side", nullptr, ImGuiWindowFlags_NoDecoration);
+  if (ImGui::CollapsingHeader("Outside", ImGuiTreeNodeFlags_DefaultOpen)) drawOutsidePanel(s);
+  ImGui::End();
+}
+
+/// A bound AppState on the checker picture with a square cage 50 px inside its border.
+std::unique_ptr<AppState> boundSquare() {
+  auto state = std::make_unique<AppState>();
+  state->worker.setSynchronous(true);
+  state->source = app::loadImage(std::string(KC_SOURCE_DIR) + "/images/checker.png");
+  Points C(4, 2);
+  C << 50, 50, 205, 50, 205, 205, 50, 205;
+  app::BindParams p;
+  p.spacing = 10.0;
+  auto s = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
+  installSession(*state, s, buildDisplayMesh(*s, displayMeshOptions(256, 256, state->outside)));
+  return state;
+}
+
+/// Largest displacement of the display mesh's corner vertices after deforming with `pose`.
+double cornerMove(AppState& s, const Pose& pose) {
+  s.mesh.deform(pose);
+  const Points& R = s.mesh.restVertices();
+  const Points& F = s.mesh.deformedVertices();
+  double worst = 0.0;
+  for (Index v = 0; v < R.rows(); ++v)
+    if ((R(v, 0) < 0 || R(v, 0) > s.source.width - 1) && (R(v, 1) < 0 || R(v, 1) > s.source.height - 1))
+      worst = std::max(worst, (F.row(v) - R.row(v)).norm());
+  return worst;
+}
+
+TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
+  test::HeadlessImGui gui;
+  auto s = boundSquare();
+  EXPECT_EQ(s->outside, OutsideMode::Pinned) << "pinned is the default for a new picture";
+  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Pinned);
+  Pose pose = restPose(4);
+  pose[1].translate = Vec2(-30, 20);
+  EXPECT_EQ(cornerMove(*s, pose), 0.0);
+
+  gui.frame([&] { drawSide(*s); });
+  ASSERT_TRUE(s->widgets.count("outside_mode"));
+  gui.click(s->widgets["outside_mode"], [&] { drawSide(*s); });  // opens the combo
+  gui.frame([&] { drawSide(*s); });  // a new popup is placed after its first frame
+  ASSERT_TRUE(s->widgets.count("outside_deform"));
+  const auto revision = s->meshRevision;
+  gui.click(s->widgets["outside_deform"], [&] { drawSide(*s); });
+  pollWorker(*s);
+  ASSERT_TRUE(s->session) << "the job handed the session back";
+  EXPECT_EQ(s->outside, OutsideMode::Deform);
+  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
+  EXPECT_GT(s->meshRevision, revision);
+  EXPECT_TRUE(s->unsaved);
+  EXPECT_EQ(s->session->outside, "deform");
+  EXPECT_GT(cornerMove(*s, pose), 1.0) << "deform moves the picture's corners";
+
+  // Back to pinned through the setter; a session opened later starts in the mode it saved.
+  ASSERT_TRUE(setOutsideMode(*s, OutsideMode::Pinned));
+  pollWorker(*s);
+  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Pinned);
+  EXPECT_EQ(cornerMove(*s, pose), 0.0);
+  app::Session& session = *s->session;
+  session.outside = "transparent";
+  EXPECT_EQ(sessionOutsideMode(session), OutsideMode::Transparent);
+  session.outside.clear();
+  EXPECT_EQ(sessionOutsideMode(session), OutsideMode::Pinned);
+}
+
+}  // namespace
+}  // namespace kc::ui

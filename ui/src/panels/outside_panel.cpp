@@ -1,0 +1,49 @@
+// The outside-the-cage choice: what happens to the picture around the cage, in the view and the export.
+#include <imgui.h>
+
+#include "kc/ui/jobs.h"
+#include "kc/ui/panels/panels.h"
+
+namespace kc::ui {
+
+void drawOutsidePanel(AppState& state) {
+  const struct {
+    OutsideMode mode;
+    const char* label;
+    const char* tip;
+    const char* id;  // UI automation name of the entry
+  } modes[] = {
+      {OutsideMode::Pinned, "Pinned border",
+       "The edges of the picture stay where they are; the background between the cage and the\n"
+       "edges stretches smoothly to follow what you move. Good for a figure on a background.", "outside_pinned"},
+      {OutsideMode::Deform, "Move everything",
+       "The whole picture follows the control points, also far outside the cage\n"
+       "(the original kernel coordinates). Horizons and picture corners may move.", "outside_deform"},
+      {OutsideMode::Fixed, "Keep outside",
+       "Only the inside of the cage moves; it is drawn over the untouched picture,\n"
+       "so the old outline may show behind it.", "outside_fixed"},
+      {OutsideMode::Transparent, "Cut out",
+       "Only the inside of the cage is drawn; everything else is transparent in the view\n"
+       "and in the exported PNG.", "outside_transparent"},
+  };
+  int current = 0;
+  for (int k = 0; k < 4; ++k)
+    if (modes[k].mode == state.outside) current = k;
+  const bool busy = state.worker.busy();
+  if (busy) ImGui::BeginDisabled();
+  ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
+  const bool open = ImGui::BeginCombo("Outside the cage", modes[current].label);
+  markWidget(state, "outside_mode");
+  if (!open && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", modes[current].tip);
+  if (open) {
+    for (int k = 0; k < 4; ++k) {
+      if (ImGui::Selectable(modes[k].label, k == current) && k != current) setOutsideMode(state, modes[k].mode);
+      markWidget(state, modes[k].id);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", modes[k].tip);
+    }
+    ImGui::EndCombo();
+  }
+  if (busy) ImGui::EndDisabled();
+}
+
+}  // namespace kc::ui
