@@ -160,7 +160,7 @@ bool readImageHeader(std::string_view bytes, ImageHeader& header, std::string& p
   if (bytes.substr(0, 4) == std::string_view("II*\0", 4) || bytes.substr(0, 4) == std::string_view("MM\0*", 4) ||
       bytes.substr(0, 4) == std::string_view("II+\0", 4) || bytes.substr(0, 4) == std::string_view("MM\0+", 4))
     return header.format = "TIFF", tiff(r, header, problem);
-  if (bytes.substr(0, 4) == "RIFF" && bytes.substr(8, 4) == "WEBP") return header.format = "WebP", webp(r, header, problem);
+  if (r.has(0, 12) && bytes.substr(0, 4) == "RIFF" && bytes.substr(8, 4) == "WEBP") return header.format = "WebP", webp(r, header, problem);
   if (r.has(0, 2) && bytes[0] == 'P' && bytes[1] >= '1' && bytes[1] <= '6') return header.format = "PNM", pnm(r, header, problem);
   problem = std::string("not an image kcwarp reads (") + kImageFormats + ")";
   return false;

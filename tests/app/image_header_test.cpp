@@ -59,6 +59,10 @@ TEST(ImageHeader, RefusesTruncatedAndUnknownData) {
   EXPECT_FALSE(readImageHeader("GIF89a....", h, problem));
   EXPECT_NE(problem.find("not an image kcwarp reads"), std::string::npos) << problem;
   EXPECT_FALSE(readImageHeader("P6\n99999999999999 3\n", h, problem));  // more digits than a size has
+  const std::string riff("RIFF\x10\0\0\0WEBPVP8 ", 16);  // shorter than a WebP header: refused, not read past its end
+  for (std::size_t n = 4; n < riff.size(); ++n) {
+    EXPECT_NO_THROW(EXPECT_FALSE(readImageHeader(riff.substr(0, n), h, problem)) << n);
+  }
 }
 
 TEST(ImageHeader, ImageSizeLimits) {
