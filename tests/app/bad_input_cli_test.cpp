@@ -108,6 +108,8 @@ class BadInput : public ::testing::Test {
   static json session() { return s_session; }
 
   void SetUp() override {
+    // A failure in SetUpTestSuite only skips the cases; make it fail each of them instead.
+    ASSERT_FALSE(s_session.is_null()) << "the shared bind in " << s_dir << " failed";
     m_dir = scratchDir(std::string("bad_input_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     writeText(m_dir / "cage.json", kSquare);
     fs::copy_file(s_dir / "s.kcw.json", m_dir / "s.kcw.json");

@@ -5,6 +5,8 @@
 #include <sys/wait.h>
 
 #include <cstdlib>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,7 +33,9 @@ inline void writeText(const std::filesystem::path& p, const std::string& text) {
 
 /// A fresh empty folder under the system temp dir, named after the test.
 inline std::filesystem::path scratchDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("kcwarp_test_" + name);
+  // The process id keeps test processes that ctest runs side by side (and other checkouts'
+  // runs) out of each other's folders: one removing a folder another is writing made tests flaky.
+  const auto dir = std::filesystem::temp_directory_path() / ("kcwarp_test_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
