@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libglpk-dev coinor-libclp-dev   # reference LP / QP solvers used only by the tests
   xvfb xauth mesa-utils xdotool imagemagick
+  clang libclang-rt-14-dev   # libFuzzer + sanitizers for the fuzz targets (scripts/fuzz.sh)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Builds kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, points CSV, image header)
+# with clang, AddressSanitizer and UndefinedBehaviorSanitizer against the main build in build/,
+# then runs each for SECONDS (default 40) from the committed seed corpus (tests/fuzz/corpus/;
+# new inputs go to a scratch folder). A finding stops with its reproducer in build-fuzz/.
+#   bash scripts/fuzz.sh          # 40 s per target
+#   bash scripts/fuzz.sh 600      # a long run: 10 minutes per target
+#   bash scripts/fuzz.sh 600 session   # one target
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-40}"
+targets="${2:-cage pose session points_csv image_header}"
+if [ ! -f build/core/libkc_core.a ] || [ ! -f build/sampling/libkc_sampling.a ]; then
+  echo "fuzz.sh: build kcwarp first (bash scripts/build.sh)" >&2
+  exit 1
+fi
+launcher=()
+command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+CXX=clang++ cmake -S tests/fuzz -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKC_MAIN_BUILD="$PWD/build" "${launcher[@]}" > /dev/null
+cmake --build build-fuzz -j"$(nproc 2>/dev/null || echo 2)"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+failed=0
+for t in $targets; do
+  mkdir -p "$work/$t"
+  # OMP_NUM_THREADS=1: the session target factorizes small kernels; threads only add noise.
+  if OMP_NUM_THREADS=1 build-fuzz/fuzz_"$t" "$work/$t" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=20 \
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-fuzz/finding-$t-" > "$work/$t.log" 2>&1; then
+    runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$t.log" | grep -o '[0-9]*$' || echo "?")
+    rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$work/$t.log" | grep -o '[0-9]*$' || echo "?")
+    cov=$(grep -o 'cov: [0-9]*' "$work/$t.log" | tail -1 | grep -o '[0-9]*' || echo "?")
+    echo "fuzz_$t: ${seconds} s, $runs inputs, coverage $cov edges, peak RSS ${rss} MB: no finding"
+  else
+    echo "fuzz_$t: FINDING (log below; reproducer in build-fuzz/finding-$t-*)"
+    tail -60 "$work/$t.log"
+    failed=1
+  fi
+done
+exit $failed
