@@ -57,13 +57,16 @@ void drawHelpWindow(AppState& state) {
   ImGui::Spacing();
   ImGui::TextUnformatted("Shortcuts");
   ImGui::Separator();
-  if (ImGui::BeginTable("shortcuts", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) {
+  if (ImGui::BeginTable("shortcuts", 2, ImGuiTableFlags_RowBg)) {
+    // Keys as wide as they need; descriptions take the rest of the window and wrap in it.
+    ImGui::TableSetupColumn("keys", ImGuiTableColumnFlags_WidthFixed);
+    ImGui::TableSetupColumn("what", ImGuiTableColumnFlags_WidthStretch);
     for (const Shortcut& s : kShortcuts) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(s.keys);
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(s.what);
+      ImGui::TextWrapped("%s", s.what);
     }
     ImGui::EndTable();
   }
