@@ -123,12 +123,24 @@ bool startBind(AppState& state, bool markUnsaved) {
     postMessage(state, "The cage cannot be bound: " + state.cageStatus, true);
     return false;
   }
+  if (!state.worker.canAbandonMore()) {
+    postMessage(state, "Busy: cancelled binds are still finishing in the background; bind again in a moment.", false);
+    return false;
+  }
   SessionPtr previous = std::move(state.session);
   const Cage cage = state.cage;
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = state.bindParams;
   const std::string image = state.imagePath;
   const WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
+  // The kernel factorization and the steady-state heat solve are single solver calls that cannot
+  // stop half way, so Cancel abandons the bind (Worker): the previous session comes back at once
+  // and the bind's result is dropped when it ends. The job only reads its own copies (cage,
+  // params), never `previous`, so handing `previous` back early is safe.
+  auto cancelled = [previous](AppState& st) {
+    st.session = previous;
+    postMessage(st, "Bind cancelled.", false);
+  };
   state.worker.submit("Binding", [=](JobContext& ctx) -> Worker::Apply {
     try {
       app::BindReport report;
@@ -148,14 +160,11 @@ bool startBind(AppState& state, bool markUnsaved) {
         for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
       };
     } catch (const app::BindCancelled&) {
-      return [previous](AppState& st) {
-        st.session = previous;
-        postMessage(st, "Bind cancelled.", false);
-      };
+      return cancelled;
     } catch (const std::exception& e) {
       return failure(previous, std::string("Bind failed: ") + e.what());
     }
-  });
+  }, cancelled);
   return true;
 }
 

@@ -186,6 +186,7 @@ int runWindow(const WindowOptions& o) {
     if (state->quitConfirmed) discardRecoveryCopy(*state);  // a crash or a signal keeps it
     state->worker.cancel();
     pollWorker(*state);
+    glfwHideWindow(window);  // the window goes at once; an abandoned bind may still end its solver call
     glfwSetDropCallback(window, nullptr);
     glfwSetWindowUserPointer(window, nullptr);
   }
