@@ -86,10 +86,10 @@ double cancelLatency(const Cage& cage, int w, int h, double at) {
 }
 
 #ifdef KC_BENCH_UI
-/// Seconds from a Cancel made `delay` seconds into stage `stage` of the GUI's Bind (the worker's
-/// stage is checked again when the request is made) until the window is idle again with its
-/// previous state: the main thread polls the worker every millisecond, as frames would (the
-/// window adds at most one frame). −1: the stage ended before the request. The abandoned bind is
+/// Seconds from a Cancel made `delay` seconds into stage `stage` of the GUI's Bind (as the
+/// worker reports it) until the window is idle again with its previous state: the main thread
+/// polls the worker every millisecond, as frames would (the window adds at most one frame).
+/// −1: the stage was missed or ended before the delay. The abandoned bind is
 /// waited for afterwards, outside the measured time, so it does not slow the next measurement.
 double uiCancelLatency(const Cage& cage, int w, int h, const std::string& stage, double delay) {
   ui::AppState st;
@@ -97,14 +97,18 @@ double uiCancelLatency(const Cage& cage, int w, int h, const std::string& stage,
   ui::setDraftCage(st, cage);
   if (!ui::startBind(st)) return -1.0;
   std::optional<Clock::time_point> entered, requested;
+  bool asked = false;
   while (st.worker.busy()) {
-    if (!requested && st.worker.stage() == stage) {
+    if (!asked && st.worker.stage() == stage) {
       if (!entered) entered = Clock::now();
       if (secondsBetween(*entered, Clock::now()) >= delay) {
         requested = Clock::now();
         st.worker.cancel();
-        if (st.worker.stage() != stage) requested.reset();  // moved on meanwhile: not this stage
+        asked = true;
       }
+    } else if (!asked && entered) {
+      asked = true;  // the stage ended before the delay: not measured
+      st.worker.cancel();
     }
     ui::pollWorker(st);
     if (st.worker.busy()) std::this_thread::sleep_for(std::chrono::milliseconds(1));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "kc/core/exterior_fold_guard.h"
 #include "kc/core/parallel.h"
 
 namespace kc {
@@ -120,6 +121,13 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     };
     const auto layer = [&](const std::array<int, 3>& t) { const int k = insideCount(t); return k == 0 ? 0 : (k == 3 ? 2 : 1); };
     std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
+    m_outsideTriangles = Index(std::count_if(m_triangles.begin(), m_triangles.end(), [&](const auto& t) { return layer(t) == 0; }));
+    // The fold guard moves exterior vertices (1), those of triangles across the cage last (2).
+    m_guardClass.assign(m_exterior->exterior.begin(), m_exterior->exterior.end());
+    for (const auto& t : m_triangles)
+      if (layer(t) == 1)
+        for (int v : t)
+          if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
 }
@@ -247,12 +255,18 @@ DeformReport WarpMesh::deform(const Pose& pose) {
       m_deformed(v, 1) = -s * x + c * y + dy;
     }
   });
+  DeformReport rep;
+  if (m_exterior && m_options.foldGuard) {
+    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, m_outsideTriangles, m_restArea,
+                                                 m_guardClass);
+    rep.guardFolds = g.foldedBefore;
+    rep.guardVertices = g.scaledVertices;
+  }
   const Index nt = Index(m_triangles.size());
   parallelForRange(nt, 8192, [&](Index begin, Index end) {
     for (Index t = begin; t < end; ++t)
       m_jacobian(t) = 0.5 * signedArea2(m_deformed, m_triangles[std::size_t(t)]) / m_restArea(t);
   });
-  DeformReport rep;
   rep.minJacobian = nt > 0 ? std::numeric_limits<double>::infinity() : 0.0;
   rep.maxJacobian = nt > 0 ? -std::numeric_limits<double>::infinity() : 0.0;
   for (Index t = 0; t < nt; ++t) {

@@ -42,6 +42,9 @@ struct WarpMeshOptions {
   /// precision, are kept too).
   double keepThreshold = 1e-3;
   OutsideMode outside = OutsideMode::Pinned;
+  /// Pinned mode: hold the background back where a pose would fold it against the image border
+  /// (exterior_fold_guard.h). Off: the plain harmonic extension, which folds there.
+  bool foldGuard = true;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
@@ -63,6 +66,9 @@ struct DeformReport {
   double flippedArea = 0.0;      ///< Rest area (px²) of the flipped triangles.
   double minJacobian = 0.0;      ///< min det J over drawn triangles (1 = area kept).
   double maxJacobian = 0.0;
+  /// Pinned mode's fold guard: triangles wholly outside the cage that would have folded
+  /// (det J ≤ 0.05) and the vertices it held back (0 when the pose folds nothing outside).
+  Index guardFolds = 0, guardVertices = 0;
   double seconds = 0.0;
 };
 
@@ -104,7 +110,7 @@ class WarpMesh {
   const ExteriorWeights* exteriorWeights() const { return m_exterior.get(); }
 
   /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex (plus a(v)·v for the pinned anchor) — one sparse product, parallel over vertices —
-  /// and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
+  /// then, in Pinned mode, the fold guard on the triangles wholly outside the cage, and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
   /// area). Throws std::invalid_argument for a bad pose or when no weights are set.
   DeformReport deform(const Pose& pose);
   /// Deformed vertices (#V×2) of the last deform() (rest positions before the first).
@@ -124,6 +130,8 @@ class WarpMesh {
   Triangles m_triangles;
   SparseWeights m_weights;
   std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
+  Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie wholly outside the cage
+  std::vector<std::uint8_t> m_guardClass;  // Pinned mode: per vertex, movable by the fold guard (exterior_fold_guard.h)
   Eigen::VectorXd m_restArea, m_jacobian;
 };
 
