@@ -1,0 +1,53 @@
+#pragma once
+/// The LBC domain mesh (LBC paper §4): a constrained Delaunay triangulation of the cage interior,
+/// refined by a Delaunay mesher, whose vertices 0..m−1 are the control points in cage order and
+/// whose other boundary vertices carry the cage edge they lie on and their edge parameter.
+
+#include <Eigen/Core>
+
+#include "kc/core/cage.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+struct CageMeshOptions {
+  double spacing = 8.0;          ///< h: longest triangle edge; cage edges are pre-split at ≈ h (pixels).
+  double minAngleDegrees = 20.0; ///< Smallest triangle angle the mesher aims for (≤ 20.7° always terminates).
+  Index maxVertices = 2'000'000; ///< The mesher stops with status TooManyVertices past this count.
+};
+
+enum class CageMeshStatus {
+  Ok,
+  TooManyVertices,  ///< Refinement would exceed maxVertices (spacing too small for the cage).
+};
+
+/// A triangle mesh of the cage interior, vertices ordered controls | cage-edge points | interior.
+struct CageMesh {
+  Points V;                 ///< #V×2 vertex positions; rows 0..m−1 are the control points C.
+  Triangles T;              ///< Triangles (vertex indices), counter-clockwise in the (x, y) axes.
+  Index controls = 0;       ///< m.
+  Index boundary = 0;       ///< nb: rows 0..nb−1 lie on the cage (controls, then edge points).
+  /// #V×2: for edge points (rows m..nb−1) the control indices (k, l) of their cage edge; (−1, −1) else.
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
+  /// #V: edge parameter t of an edge point, V = (1 − t) c_k + t c_l exactly; 0 elsewhere.
+  Eigen::VectorXd t;
+  CageMeshStatus status = CageMeshStatus::Ok;
+
+  Index size() const { return V.rows(); }
+  Index interior() const { return V.rows() - boundary; }
+};
+
+/// Meshes the interior of a closed cage (paper §4): every cage edge is split into
+/// ⌈|c_l − c_k|/h⌉ equal pieces, the pieces are the constraints of a constrained Delaunay
+/// triangulation, and the Delaunay mesher refines the interior to edges ≤ h and angles ≥
+/// minAngleDegrees. Points the mesher adds on the cage are recorded with their edge and edge
+/// parameter (and put exactly on the edge). Throws std::invalid_argument for an open cage, an
+/// edge graph that is not the cage polygon, or an invalid cage (validateCage), or a spacing that
+/// is not positive and finite. On status TooManyVertices the mesh is empty.
+CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options = {});
+
+/// A spacing h for which meshCageInterior gives about `targetVertices` vertices (for benchmarks
+/// and for binding by vertex count): h from the cage area, corrected once by a trial mesh.
+double spacingForVertexCount(const Cage& cage, Index targetVertices, double minAngleDegrees = 20.0);
+
+}  // namespace kc

@@ -1,0 +1,98 @@
+#pragma once
+/// Local barycentric coordinates (Zhang et al. 2014, "LBC"): per-vertex weights on a mesh of the
+/// cage interior minimizing the weighted total variation (paper eq. 10, 14)
+///   Σ_s Σ_i φ_i^s a_s |∇_s w_i|   s.t.  W K = B (reproduction, partition of unity), W ≥ 0,
+///   Lagrange at the controls and linear along cage edges (Dirichlet data, eq. 5),
+/// solved by ADMM in the null-space form W = Y M + H (eq. 15–17, Appendix B).
+
+#include <functional>
+#include <memory>
+#include <string_view>
+
+#include "kc/core/lbc/cage_mesh.h"
+#include "kc/core/lbc/mesh_operators.h"
+
+namespace kc {
+
+/// τ in φ_i = τ(D_i) (paper eq. 11): D_i the geodesic distance to control i normalized by its maximum.
+enum class LbcTau { Square, Constant, Linear, Sqrt };
+
+/// τ(x) for x ∈ [0, 1]: x², 1, x, √x.
+double lbcTau(LbcTau tau, double x);
+
+enum class LbcStatus {
+  Converged,     ///< Primal and dual RMS residuals ≤ tolerance.
+  NotConverged,  ///< maxIterations reached first; the weights are the last iterate (still exact barycentric).
+  Cancelled,     ///< The progress callback returned false; the weights are the last iterate.
+  Failed,        ///< A factorization failed (the mesh is degenerate); weights are empty.
+};
+
+/// Progress of the ADMM iteration, handed to LbcOptions::progress.
+struct LbcProgress {
+  int iteration = 0;
+  double primalResidual = 0.0, dualResidual = 0.0;
+};
+
+struct LbcOptions {
+  LbcTau tau = LbcTau::Square;
+  /// Stopping rule: the primal and the dual residual (eq. 26–27), each as an area-weighted RMS
+  /// per control function on the mesh scaled to bounding-box diameter 1, are ≤ tolerance. These
+  /// are discretizations of L² norms of functions, so the rule does not loosen as the mesh is refined.
+  double tolerance = 1e-4;
+  int maxIterations = 20000;
+  double penalty = 0.3;             ///< μ at the start (normalized units: bounding-box diameter 1).
+  bool adaptivePenalty = true;      ///< Residual balancing (Boyd et al. 2011 §3.4.1): μ ×/÷ 2 when one residual is 10× the other.
+  double relaxation = 1.65;         ///< α, over-relaxation in [1.5, 1.8] (Appendix B).
+  bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
+  bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
+  /// Called every 10 iterations; return false to cancel. Called on the calling thread.
+  std::function<bool(const LbcProgress&)> progress;
+};
+
+struct LbcReport {
+  LbcStatus status = LbcStatus::Converged;
+  int iterations = 0;
+  double primalResidual = 0.0, dualResidual = 0.0;  ///< At the last iteration (see LbcOptions::tolerance).
+  double penalty = 0.0;                             ///< μ at the end.
+  double objective = 0.0;    ///< Σ φ a |∇w| of the returned weights (normalized units: diameter 1).
+  Index projectedVertices = 0;  ///< Vertices whose weights the final QP changed (negative entries).
+  double maxProjection = 0.0;   ///< max |w − w_affine| over those vertices.
+  Index projectionFailures = 0; ///< Vertices where the QP did not certify its optimum.
+  double geodesicSeconds = 0.0, factorSeconds = 0.0, iterationSeconds = 0.0, seconds = 0.0;
+};
+
+struct LbcResult {
+  Weights W;  ///< #V×m per-vertex weights of the mesh (rows 0..nb−1 the Dirichlet data).
+  LbcReport report;
+};
+
+/// Precomputation for one mesh and one τ: normalized geometry, geodesic weights φ (heat method),
+/// the null-space basis M and H (eq. 15–17), the Dirichlet data, and the factorization of the
+/// Y-system. solve() runs ADMM; it can be called several times (e.g. with different tolerances).
+class LbcSolver {
+ public:
+  /// mesh: from meshCageInterior (status Ok). Throws std::invalid_argument for an empty mesh or
+  /// fewer than 3 controls. A failed factorization is reported by solve() (status Failed).
+  LbcSolver(const CageMesh& mesh, LbcTau tau);
+  ~LbcSolver();
+  LbcSolver(const LbcSolver&) = delete;
+  LbcSolver& operator=(const LbcSolver&) = delete;
+
+  /// ADMM (Appendix B) with the area-weighted inner products described in lbc_solver.cpp;
+  /// returns #V×m weights. Bit-identical for any thread count.
+  LbcResult solve(const LbcOptions& options = {}) const;
+
+  /// The discrete objective Σ_s Σ_i φ_i^s a_s |∇_s w_i| (eq. 14) of #V×m weights W (normalized units).
+  double objective(const Weights& W) const;
+  /// The Dirichlet data of the boundary vertices (nb×m): Lagrange at controls, linear on edges (eq. 5).
+  const Weights& boundaryWeights() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> m_impl;
+};
+
+/// One-shot: LbcSolver(mesh, options.tau).solve(options).
+LbcResult solveLbc(const CageMesh& mesh, const LbcOptions& options = {});
+
+}  // namespace kc

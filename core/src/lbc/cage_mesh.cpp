@@ -1,0 +1,206 @@
+// The one translation unit that includes CGAL (its headers are slow to compile): the LBC
+// domain mesh. CGAL's 2D constrained Delaunay triangulation + Delaunay mesher.
+#include "kc/core/lbc/cage_mesh.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesh_vertex_base_2.h>
+#include <CGAL/Delaunay_mesher_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace kc {
+namespace {
+
+/// What we know about a vertex we inserted: a control (id) or an edge point (edge e, parameter t).
+struct VertexInfo {
+  int control = -1;
+  int edge = -1;
+  double t = 0.0;
+};
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, K, CGAL::Delaunay_mesh_vertex_base_2<K>>;
+using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
+using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+using Mesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;
+
+/// The closed polygon's edges; throws unless the cage is a closed polygon.
+std::vector<std::array<int, 2>> polygonEdges(const Cage& cage) {
+  if (!cage.closed) throw std::invalid_argument("LBC needs a closed cage (an open cage has no interior to mesh)");
+  const auto edges = cageEdges(cage);
+  const Index m = cage.size();
+  bool polygon = Index(edges.size()) == m;
+  for (Index i = 0; polygon && i < m; ++i) polygon = edges[std::size_t(i)][0] == i && edges[std::size_t(i)][1] == (i + 1) % m;
+  if (!polygon)
+    throw std::invalid_argument("LBC needs the cage to be one closed polygon through its points in order "
+                                "(this cage lists its own edges)");
+  return edges;
+}
+
+/// Morton (Z-order) code of p in the box [lo, lo + extent]²: 16 bits per axis, interleaved.
+std::uint32_t mortonCode(double x, double y, const Vec2& lo, double extent) {
+  auto spread = [](std::uint32_t v) {
+    v &= 0xffff;
+    v = (v | (v << 8)) & 0x00ff00ff;
+    v = (v | (v << 4)) & 0x0f0f0f0f;
+    v = (v | (v << 2)) & 0x33333333;
+    return (v | (v << 1)) & 0x55555555;
+  };
+  const double q = 65535.0 / extent;
+  return spread(std::uint32_t(std::clamp((x - lo.x()) * q, 0.0, 65535.0))) |
+         (spread(std::uint32_t(std::clamp((y - lo.y()) * q, 0.0, 65535.0))) << 1);
+}
+
+}  // namespace
+
+CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options) {
+  if (!(options.spacing > 0.0) || !std::isfinite(options.spacing))
+    throw std::invalid_argument("LBC mesh: the spacing must be positive and finite");
+  validateCage(cage);
+  const auto edges = polygonEdges(cage);
+  const Index m = cage.size();
+  const Points& C = cage.C;
+
+  // Controls and pre-split edge points, each with what it is; then the constraints between them.
+  Cdt cdt;
+  std::vector<Cdt::Vertex_handle> control(static_cast<std::size_t>(m));
+  for (Index i = 0; i < m; ++i) {
+    control[std::size_t(i)] = cdt.insert(Cdt::Point(C(i, 0), C(i, 1)));
+    control[std::size_t(i)]->info().control = int(i);
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    const auto [k, l] = edges[e];
+    const Vec2 a = C.row(k), b = C.row(l);
+    const int pieces = std::max(1, int(std::ceil((b - a).norm() / options.spacing - 1e-9)));
+    Cdt::Vertex_handle prev = control[std::size_t(k)];
+    for (int p = 1; p <= pieces; ++p) {
+      Cdt::Vertex_handle next = control[std::size_t(l)];
+      if (p < pieces) {
+        const double t = double(p) / pieces;
+        const Vec2 x = (1.0 - t) * a + t * b;
+        next = cdt.insert(Cdt::Point(x.x(), x.y()));
+        next->info().edge = int(e);
+        next->info().t = t;
+      }
+      cdt.insert_constraint(prev, next);
+      prev = next;
+    }
+  }
+
+  // Refinement, step by step so a spacing far too small for the cage stops at maxVertices.
+  const double angle = std::clamp(options.minAngleDegrees, 0.0, 20.7) * std::numbers::pi / 180.0;
+  Mesher mesher(cdt, Criteria(std::sin(angle) * std::sin(angle), options.spacing));
+  mesher.init();
+  CageMesh out;
+  out.controls = m;
+  while (!mesher.is_refinement_done()) {
+    if (Index(cdt.number_of_vertices()) > options.maxVertices) {
+      out.status = CageMeshStatus::TooManyVertices;
+      return out;
+    }
+    mesher.step_by_step_refine_mesh();
+  }
+
+  // Points the mesher put on the cage: on a constrained edge, with no info. Their cage edge is
+  // the nearest one; they are moved exactly onto it.
+  std::vector<Cdt::Vertex_handle> onEdge, inside;
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    if (v->info().control >= 0) continue;
+    if (v->info().edge >= 0) {
+      onEdge.push_back(v);
+      continue;
+    }
+    bool constrained = false;
+    auto e = cdt.incident_edges(v), done = e;
+    do constrained = constrained || (!cdt.is_infinite(e) && cdt.is_constrained(*e));
+    while (++e != done && !constrained);
+    if (constrained) {
+      const Vec2 p(v->point().x(), v->point().y());
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < edges.size(); ++k) {
+        const double d = pointSegmentDistance(p, C.row(edges[k][0]), C.row(edges[k][1]));
+        if (d < best) {
+          best = d;
+          v->info().edge = int(k);
+        }
+      }
+      const Vec2 a = C.row(edges[std::size_t(v->info().edge)][0]), b = C.row(edges[std::size_t(v->info().edge)][1]);
+      v->info().t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      onEdge.push_back(v);
+    } else {
+      inside.push_back(v);
+    }
+  }
+
+  // Numbering: controls, edge points (by edge, then t), interior points in Z-order so that the
+  // solvers' per-vertex and per-triangle loops touch memory locally.
+  const Vec2 lo = C.colwise().minCoeff();
+  const double extent = std::max((C.colwise().maxCoeff() - C.colwise().minCoeff()).maxCoeff(), 1e-300);
+  std::sort(onEdge.begin(), onEdge.end(), [](const auto& a, const auto& b) {
+    return std::pair(a->info().edge, a->info().t) < std::pair(b->info().edge, b->info().t);
+  });
+  auto morton = [&](const Cdt::Point& p) { return mortonCode(p.x(), p.y(), lo, extent); };
+  std::stable_sort(inside.begin(), inside.end(), [&](const auto& a, const auto& b) { return morton(a->point()) < morton(b->point()); });
+  std::vector<Cdt::Vertex_handle> order(control);
+  order.insert(order.end(), onEdge.begin(), onEdge.end());
+  const Index nb = Index(order.size());
+  order.insert(order.end(), inside.begin(), inside.end());
+  // Interior vertices outside the domain cannot occur (only the cage's own points are inserted
+  // outside it); the face loop below checks indices anyway.
+  const Index nv = Index(order.size());
+  out.boundary = nb;
+  out.V.resize(nv, 2);
+  out.edge.setConstant(nv, 2, -1);
+  out.t.setZero(nv);
+  for (Index i = 0; i < nv; ++i) {
+    auto& info = order[std::size_t(i)]->info();
+    info.control = int(i);  // reused as the vertex index from here on
+    const auto& p = order[std::size_t(i)]->point();
+    out.V.row(i) = Vec2(p.x(), p.y());
+    if (i >= m && i < nb) {
+      const auto [k, l] = edges[std::size_t(info.edge)];
+      out.edge.row(i) << k, l;
+      out.t(i) = info.t;
+      out.V.row(i) = (1.0 - info.t) * C.row(k) + info.t * C.row(l);
+    }
+  }
+  std::vector<std::pair<std::uint32_t, std::array<int, 3>>> faces;
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    if (f->is_in_domain()) {
+      const auto c = CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point());
+      faces.push_back({morton(c), {f->vertex(0)->info().control, f->vertex(1)->info().control, f->vertex(2)->info().control}});
+    }
+  std::stable_sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  out.T.reserve(faces.size());
+  for (const auto& f : faces) out.T.push_back(f.second);
+  return out;
+}
+
+double spacingForVertexCount(const Cage& cage, Index targetVertices, double minAngleDegrees) {
+  if (targetVertices < 3 * cage.size()) throw std::invalid_argument("LBC mesh: the vertex count must be at least 3m");
+  // A Delaunay-refined mesh with edges ≤ h has about 1.2 vertices per h² of area; one trial mesh
+  // at a 4× coarser count corrects the constant for this cage (vertices ∝ 1/h²).
+  const double area = std::abs(signedArea(cage.C));
+  CageMeshOptions options;
+  options.minAngleDegrees = minAngleDegrees;
+  const Index trial = std::max<Index>(targetVertices / 4, 3 * cage.size());
+  options.spacing = std::sqrt(1.2 * area / double(trial));
+  const Index got = meshCageInterior(cage, options).size();
+  return options.spacing * std::sqrt(double(got) / double(targetVertices));
+}
+
+}  // namespace kc

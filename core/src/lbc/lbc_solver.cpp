@@ -1,0 +1,369 @@
+// ADMM for local barycentric coordinates (LBC paper, Appendix B), in the null-space form
+// W = Y M + H so that W K = B (reproduction, partition of unity) holds at every iterate.
+//
+// Inner products. The paper's augmented Lagrangian (25) uses plain Frobenius norms. Here the
+// constraint X = ∇W is weighted by the triangle areas a_s and W = YM + H by the lumped vertex
+// masses m_v (an equivalent problem: the constraints are unchanged, only the penalty's metric is
+// that of L²(Ω)). Then
+//   step 1: x_i^s = shrink(a, φ_i^s/μ)        (area cancels; eq. 30 with A_s/μ → 1/μ)
+//           W = max(0, YM + H − U2)           (eq. 31)
+//   step 2: (L_II + M_II) Y = (Gᵀ A P + M_II Q) Mᵀ, P = X̃ + U1 − J, Q = W̃ + U2 − H
+//           (L the cotangent stiffness matrix: GᵀAG; X̃, W̃ over-relaxed as in Appendix B)
+//   step 3: U1 += X̃ − ∇W_new, U2 += W̃ − (Y_new M + H)   (scaled multipliers U = λ/μ)
+// so the Y-system matrix is the same for every μ (adaptive μ costs nothing) and the residuals are
+// discretized L² norms, comparable across mesh sizes.
+#include "kc/core/lbc/lbc_solver.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/QR>
+
+#include "../sparse_cholesky.h"
+#include "kc/core/lbc/heat_geodesic.h"
+#include "kc/core/parallel.h"
+#include "kc/core/weights/sample_qp.h"
+
+namespace kc {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Σ of per-row partial sums in a fixed order (bit-identical for any thread count).
+double sum(const std::vector<double>& parts) {
+  double s = 0.0;
+  for (double p : parts) s += p;
+  return s;
+}
+
+}  // namespace
+
+double lbcTau(LbcTau tau, double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  switch (tau) {
+    case LbcTau::Square: return x * x;
+    case LbcTau::Constant: return 1.0;
+    case LbcTau::Linear: return x;
+    case LbcTau::Sqrt: return std::sqrt(x);
+  }
+  return 1.0;
+}
+
+struct LbcSolver::Impl {
+  Index m = 0, r = 0, nb = 0, n = 0, nt = 0;  // controls, null-space dim, boundary, interior, triangles
+  Points V;                                 // pixel positions (for the final QP)
+  Triangles T;
+  TriangleGradients g;                      // of the normalized mesh (diameter 1)
+  double domainArea = 0.0;
+  RowMatrix phi;                            // #T×m: φ_i^s = τ(D_i at the centroid of s)
+  Weights Wb;                               // nb×m Dirichlet data
+  RowMatrix Mn;                             // r×m, orthonormal rows, Mn K = 0
+  RowMatrix H;                              // n×m least-norm solution of H K = B (interior rows)
+  RowMatrix GtAJ;                           // n×m: Gᵀ A ∇[Wb; H] = L_IB Wb + L_II H (constant part of step 2)
+  std::vector<Index> adjStart;              // interior vertex v → (triangle, corner) pairs
+  std::vector<std::pair<int, int>> adj;
+  SparseMatrix Lib;                         // n×nb block of the stiffness matrix
+  detail::SupernodalCholesky system;        // L_II + M_II
+  detail::SupernodalCholesky laplace;       // L_II (harmonic warm start)
+  bool ok = true;
+  double geodesicSeconds = 0.0, factorSeconds = 0.0;
+
+  /// Weight i of (full) vertex v given the interior rows Z.
+  double w(const RowMatrix& Z, int v, Index i) const { return v < nb ? Wb(v, i) : Z(v - nb, i); }
+
+  /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
+  void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
+    const auto& t = T[std::size_t(s)];
+    const auto& gr = g.gradient[std::size_t(s)];
+    for (Index i = 0; i < m; ++i) {
+      const double f0 = w(Z, t[0], i), f1 = w(Z, t[1], i), f2 = w(Z, t[2], i);
+      gx[i] = gr[0].x() * f0 + gr[1].x() * f1 + gr[2].x() * f2;
+      gy[i] = gr[0].y() * f0 + gr[1].y() * f1 + gr[2].y() * f2;
+    }
+  }
+};
+
+LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique<Impl>()) {
+  Impl& d = *m_impl;
+  d.m = mesh.controls;
+  if (d.m < 3) throw std::invalid_argument("LBC: the cage needs at least 3 control points");
+  if (mesh.status != CageMeshStatus::Ok || mesh.T.empty() || mesh.size() < d.m)
+    throw std::invalid_argument("LBC: the cage mesh is empty (the mesher did not finish)");
+  d.r = d.m - 3;
+  d.nb = mesh.boundary;
+  d.n = mesh.size() - mesh.boundary;
+  d.nt = Index(mesh.T.size());
+  d.V = mesh.V;
+  d.T = mesh.T;
+
+  // Normalized geometry: centred, bounding-box diameter 1 (the paper's scaling).
+  const Vec2 lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
+  const Vec2 center = 0.5 * (lo + hi);
+  const double scale = (hi - lo).norm();
+  Points Vn = (mesh.V.rowwise() - center.transpose()) / scale;
+  d.g = triangleGradients(Vn, d.T);
+  for (double a : d.g.area) d.domainArea += a;
+  const SparseMatrix L = stiffnessMatrix(d.T, d.g, mesh.size());
+
+  // φ from geodesic distances to the controls (heat method), normalized by their maxima.
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<Index> sources(static_cast<std::size_t>(d.m));
+  for (Index i = 0; i < d.m; ++i) sources[std::size_t(i)] = i;
+  HeatGeodesicReport heat;
+  Eigen::MatrixXd D = heatGeodesics(Vn, d.T, d.g, L, sources, &heat);
+  d.ok = heat.ok;
+  for (Index i = 0; i < d.m; ++i) {
+    const double mx = D.col(i).maxCoeff();
+    if (mx > 0.0) D.col(i) /= mx;
+  }
+  d.phi.resize(d.nt, d.m);
+  parallelFor(d.nt, [&](Index s) {
+    const auto& t = d.T[std::size_t(s)];
+    for (Index i = 0; i < d.m; ++i) d.phi(s, i) = lbcTau(tau, (D(t[0], i) + D(t[1], i) + D(t[2], i)) / 3.0);
+  }, 256);
+  d.geodesicSeconds = secondsSince(t0);
+
+  // Dirichlet data (eq. 5): Lagrange at the controls, linear along the cage edges.
+  d.Wb = Weights::Zero(d.nb, d.m);
+  for (Index v = 0; v < d.nb; ++v) {
+    if (v < d.m) {
+      d.Wb(v, v) = 1.0;
+    } else {
+      d.Wb(v, mesh.edge(v, 0)) += 1.0 - mesh.t(v);
+      d.Wb(v, mesh.edge(v, 1)) += mesh.t(v);
+    }
+  }
+
+  // Null space of Kᵀ (K = [Ĉ 1], m×3) and the least-norm H (eq. 15–17), from a QR of K.
+  Eigen::MatrixXd K(d.m, 3);
+  K.leftCols(2) = Vn.topRows(d.m);
+  K.col(2).setOnes();
+  const Eigen::MatrixXd Q = K.householderQr().householderQ();
+  d.Mn = Q.rightCols(d.r).transpose();
+  const Eigen::MatrixXd Kpinv = (K.transpose() * K).ldlt().solve(K.transpose());  // 3×m
+  d.H.resize(d.n, d.m);
+  for (Index v = 0; v < d.n; ++v) {
+    const Eigen::RowVector3d b(Vn(d.nb + v, 0), Vn(d.nb + v, 1), 1.0);
+    d.H.row(v) = b * Kpinv;
+  }
+
+  // Interior vertex → incident (triangle, corner).
+  d.adjStart.assign(std::size_t(d.n + 1), 0);
+  for (const auto& t : d.T)
+    for (int v : t)
+      if (v >= d.nb) ++d.adjStart[std::size_t(v - d.nb + 1)];
+  for (Index v = 0; v < d.n; ++v) d.adjStart[std::size_t(v + 1)] += d.adjStart[std::size_t(v)];
+  d.adj.resize(std::size_t(d.adjStart[std::size_t(d.n)]));
+  std::vector<Index> fill(d.adjStart.begin(), d.adjStart.end() - 1);
+  for (std::size_t s = 0; s < d.T.size(); ++s)
+    for (int c = 0; c < 3; ++c)
+      if (d.T[s][std::size_t(c)] >= d.nb) d.adj[std::size_t(fill[std::size_t(d.T[s][std::size_t(c)] - d.nb)]++)] = {int(s), c};
+
+  // Factorizations: L_II + M_II (the Y-system, eq. B step 2) and L_II (harmonic warm start).
+  t0 = std::chrono::steady_clock::now();
+  if (d.n > 0) {
+    SparseMatrix Lii = L.bottomRightCorner(d.n, d.n);
+    d.Lib = L.block(d.nb, 0, d.n, d.nb);
+    d.GtAJ = RowMatrix(d.Lib * d.Wb) + RowMatrix(Lii * d.H);
+    SparseMatrix S = Lii;
+    for (Index v = 0; v < d.n; ++v) S.coeffRef(v, v) += d.g.vertexMass[std::size_t(d.nb + v)];
+    d.system.compute(S);
+    d.laplace.compute(Lii);
+    d.ok = d.ok && d.system.info() == Eigen::Success && d.laplace.info() == Eigen::Success;
+  }
+  d.factorSeconds = secondsSince(t0);
+}
+
+LbcSolver::~LbcSolver() = default;
+
+const Weights& LbcSolver::boundaryWeights() const { return m_impl->Wb; }
+
+double LbcSolver::objective(const Weights& W) const {
+  const Impl& d = *m_impl;
+  if (W.rows() != d.nb + d.n || W.cols() != d.m) throw std::invalid_argument("LBC objective: W must be #V×m");
+  std::vector<double> part(std::size_t(d.nt), 0.0);
+  parallelFor(d.nt, [&](Index s) {
+    const auto& t = d.T[std::size_t(s)];
+    const auto& gr = d.g.gradient[std::size_t(s)];
+    double e = 0.0;
+    for (Index i = 0; i < d.m; ++i) {
+      const Vec2 grad = gr[0] * W(t[0], i) + gr[1] * W(t[1], i) + gr[2] * W(t[2], i);
+      e += d.phi(s, i) * grad.norm();
+    }
+    part[std::size_t(s)] = d.g.area[std::size_t(s)] * e;
+  }, 256);
+  return sum(part);
+}
+
+LbcResult LbcSolver::solve(const LbcOptions& options) const {
+  const Impl& d = *m_impl;
+  const auto start = std::chrono::steady_clock::now();
+  LbcResult res;
+  LbcReport& rep = res.report;
+  rep.geodesicSeconds = d.geodesicSeconds;
+  rep.factorSeconds = d.factorSeconds;
+  if (!d.ok) {
+    rep.status = LbcStatus::Failed;
+    return res;
+  }
+  const Index m = d.m, n = d.n, nt = d.nt;
+  const double alpha = options.relaxation;
+
+  // Start: harmonic coordinates (L_II W_I = −L_IB W_B) projected to the affine set, or Y = 0.
+  RowMatrix Z = d.H;  // interior rows of the affine iterate Y M + H
+  if (options.harmonicStart && n > 0 && d.r > 0) {
+    const Eigen::MatrixXd harmonic = d.laplace.solve(Eigen::MatrixXd(-(d.Lib * d.Wb)));
+    const RowMatrix Y = (RowMatrix(harmonic) - d.H) * d.Mn.transpose();
+    Z = Y * d.Mn + d.H;
+  }
+  RowMatrix G(nt, 2 * m);
+  parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
+
+  const auto iterStart = std::chrono::steady_clock::now();
+  if (n > 0 && d.r > 0) {
+    RowMatrix X(nt, 2 * m), U1 = RowMatrix::Zero(nt, 2 * m), F(nt, 3 * m);
+    RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), R(n, d.r);
+    std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
+    double mu = options.penalty;
+    const double norm = 1.0 / (double(m) * d.domainArea);
+    rep.status = LbcStatus::NotConverged;
+    for (int k = 1; k <= options.maxIterations; ++k) {
+      // Step 1: group shrinkage of ∇W − U1 (eq. 30); per triangle also its share of step 2's
+      // right-hand side, F(s, c·m + i) = a_s ∇λ_c · P_s,i with P = X̃ + U1 (J = ∇[Wb; H] enters
+      // through the constant Gᵀ A J).
+      parallelFor(nt, [&](Index s) {
+        const auto& gr = d.g.gradient[std::size_t(s)];
+        const double area = d.g.area[std::size_t(s)];
+        for (Index i = 0; i < m; ++i) {
+          const double ax = G(s, i) - U1(s, i), ay = G(s, m + i) - U1(s, m + i);
+          const double len = std::sqrt(ax * ax + ay * ay), thr = d.phi(s, i) / mu;
+          const double f = len > thr ? 1.0 - thr / len : 0.0;
+          X(s, i) = f * ax;
+          X(s, m + i) = f * ay;
+          const double px = area * (alpha * X(s, i) + (1.0 - alpha) * G(s, i) + U1(s, i));
+          const double py = area * (alpha * X(s, m + i) + (1.0 - alpha) * G(s, m + i) + U1(s, m + i));
+          for (int c = 0; c < 3; ++c) F(s, c * m + i) = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
+        }
+      }, 256);
+      // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side (Gᵀ A P + M Q) Mᵀ per
+      // interior vertex (Q = W̃ + U2 − H), gathered from its triangles.
+      parallelForRange(n, 64, [&](Index begin, Index end) {
+        Eigen::RowVectorXd q(m);
+        for (Index v = begin; v < end; ++v) {
+          const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
+          for (Index i = 0; i < m; ++i) {
+            Wc(v, i) = std::max(0.0, Z(v, i) - U2(v, i));
+            q(i) = mass * (alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i) + U2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
+          }
+          for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
+            const auto [s, c] = d.adj[std::size_t(a)];
+            q += F.row(s).segment(c * m, m);
+          }
+          R.row(v).noalias() = q * d.Mn.transpose();
+        }
+      });
+      const Eigen::MatrixXd Y = d.system.solve(Eigen::MatrixXd(R));
+      // Step 3: new affine iterate, multipliers and residuals (eq. 26–27), row by row.
+      parallelFor(n, [&](Index v) {
+        double p = 0.0, q = 0.0;
+        for (Index i = 0; i < m; ++i) {
+          double z = d.H(v, i);
+          for (Index j = 0; j < d.r; ++j) z += Y(v, j) * d.Mn(j, i);
+          const double relaxed = alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i);
+          U2(v, i) += relaxed - z;
+          p += (Wc(v, i) - z) * (Wc(v, i) - z);
+          q += (z - Z(v, i)) * (z - Z(v, i));
+          Z(v, i) = z;
+        }
+        const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
+        primalV[std::size_t(v)] = mass * p;
+        dualV[std::size_t(v)] = mass * q;
+      }, 64);
+      parallelForRange(nt, 256, [&](Index begin, Index end) {
+        std::vector<double> buffer(std::size_t(2 * m));
+        double* nx = buffer.data();
+        double* ny = buffer.data() + m;
+        for (Index s = begin; s < end; ++s) {
+          d.gradientRow(Z, s, nx, ny);
+          double p = 0.0, q = 0.0;
+          for (Index i = 0; i < m; ++i) {
+            const double rx = alpha * X(s, i) + (1.0 - alpha) * G(s, i);
+            const double ry = alpha * X(s, m + i) + (1.0 - alpha) * G(s, m + i);
+            U1(s, i) += rx - nx[i];
+            U1(s, m + i) += ry - ny[i];
+            p += (X(s, i) - nx[i]) * (X(s, i) - nx[i]) + (X(s, m + i) - ny[i]) * (X(s, m + i) - ny[i]);
+            q += (nx[i] - G(s, i)) * (nx[i] - G(s, i)) + (ny[i] - G(s, m + i)) * (ny[i] - G(s, m + i));
+            G(s, i) = nx[i];
+            G(s, m + i) = ny[i];
+          }
+          primalT[std::size_t(s)] = d.g.area[std::size_t(s)] * p;
+          dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
+        }
+      });
+      rep.iterations = k;
+      rep.primalResidual = std::sqrt((sum(primalT) + sum(primalV)) * norm);
+      rep.dualResidual = mu * std::sqrt((sum(dualT) + sum(dualV)) * norm);
+      if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance) {
+        rep.status = LbcStatus::Converged;
+        break;
+      }
+      if (options.progress && k % 10 == 0 &&
+          !options.progress({k, rep.primalResidual, rep.dualResidual})) {
+        rep.status = LbcStatus::Cancelled;
+        break;
+      }
+      // Residual balancing: μ changes, the scaled multipliers U = λ/μ follow.
+      if (options.adaptivePenalty) {
+        double factor = 1.0;
+        if (rep.primalResidual > 10.0 * rep.dualResidual) factor = 2.0;
+        else if (rep.dualResidual > 10.0 * rep.primalResidual) factor = 0.5;
+        if (factor != 1.0) {
+          mu *= factor;
+          U1 /= factor;
+          U2 /= factor;
+        }
+      }
+    }
+    rep.penalty = mu;
+  }
+  rep.iterationSeconds = secondsSince(iterStart);
+
+  // Final weights: Dirichlet rows, and the affine iterate made non-negative by the per-vertex QP
+  // (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1).
+  res.W.resize(d.nb + n, m);
+  res.W.topRows(d.nb) = d.Wb;
+  res.W.bottomRows(n) = Z;
+  if (options.projectNonNegative && n > 0) {
+    const ControlFrame frame(d.V.topRows(m));
+    std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
+    std::vector<double> moved(std::size_t(n), 0.0);
+    parallelFor(n, [&](Index v) {
+      if (Z.row(v).minCoeff() >= 0.0) return;
+      const Vec2 x = d.V.row(d.nb + v);
+      const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(&Z(v, 0), std::size_t(m)),
+                                       std::span<double>(&res.W(d.nb + v, 0), std::size_t(m)));
+      changed[std::size_t(v)] = 1;
+      failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
+      moved[std::size_t(v)] = (res.W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
+    }, 64);
+    for (Index v = 0; v < n; ++v) {
+      rep.projectedVertices += changed[std::size_t(v)];
+      rep.projectionFailures += failed[std::size_t(v)];
+      rep.maxProjection = std::max(rep.maxProjection, moved[std::size_t(v)]);
+    }
+  }
+  rep.objective = objective(res.W);
+  rep.seconds = secondsSince(start) + d.geodesicSeconds + d.factorSeconds;
+  return res;
+}
+
+LbcResult solveLbc(const CageMesh& mesh, const LbcOptions& options) {
+  return LbcSolver(mesh, options.tau).solve(options);
+}
+
+}  // namespace kc
