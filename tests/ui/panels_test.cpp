@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
+
+#include <imgui_internal.h>
 
 #include "kc/ui/document.h"
 #include "kc/ui/frame.h"
@@ -64,6 +67,30 @@ TEST(Window, EveryPanelControlHasItsVisibleLabel) {
   for (const char* label : {"Pose (P)", "Brush (B)", "Cage (C)", "Reset pose", "QP", "QEC", "L1", "Heatmap", "Bind",
                             "Load cage...", "Save cage...", "Auto sigma"})
     EXPECT_TRUE(s->widgets.count(label)) << label;
+}
+
+TEST(Window, EveryMarkedControlShowsATooltipWhenHovered) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  refreshDiagnostics(*s);
+  ImGui::GetIO().DisplaySize = ImVec2(1400, 2000);  // tall enough that every panel is on screen
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  const std::map<std::string, Vec2> widgets = s->widgets;
+  // The diagnostics panel: its button, table headers, row names and every line.
+  for (const char* label : {"Refresh properties", "|sum-1|", "repro px", "min w", "neg", "samples", "inside", "image",
+                            "Lagrange", "grid step", "Solver", "Flipped triangles", "det J", "Mesh", "Samples", "Bind:",
+                            "Re-optimization", "Mesh weights", "Release -> picture", "Frame"})
+    EXPECT_TRUE(widgets.count(label)) << label;
+  std::string missing;
+  for (const auto& [label, at] : widgets) {
+    ImGui::GetIO().MousePos = ImVec2(float(at.x()), float(at.y()));
+    gui.frame(draw);
+    gui.frame(draw);
+    const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00");
+    if (!tip || !tip->Active) missing += " '" + label + "'";
+  }
+  EXPECT_TRUE(missing.empty()) << "no tooltip on" << missing;
 }
 
 TEST(BindPanel, InvalidCageDisablesBindAndShowsTheReason) {

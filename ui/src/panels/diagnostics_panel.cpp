@@ -6,14 +6,32 @@
 #include "kc/app/pipeline.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
 
-void propertyRow(const char* name, const app::PropertyRow& r) {
+struct Column {
+  const char* name;
+  const char* tip;
+};
+
+constexpr Column kColumns[] = {
+    {"where", "Where the weights were checked. Hover a row's name for details."},
+    {"|sum-1|", "How far the weights of a point are from adding up to exactly 1 (largest error). "
+                "They must add up to 1, or the picture would shrink or grow by itself. Tiny is good."},
+    {"repro px", "How far, in pixels, the weights put a point when nothing is moved (largest error). "
+                 "Below 0.01 px is invisible."},
+    {"min w", "The smallest weight found. Negative weights pull a part of the picture the opposite way "
+              "of the point you drag."},
+    {"neg", "How many checked places have a clearly negative weight (below -0.001)."},
+};
+
+void propertyRow(AppState& state, const char* name, const char* tip, const app::PropertyRow& r) {
   ImGui::TableNextRow();
   ImGui::TableNextColumn();
   ImGui::TextUnformatted(name);
+  labelled(state, name, tip);
   ImGui::TableNextColumn();
   ImGui::Text("%.1e", r.partitionOfUnity);
   ImGui::TableNextColumn();
@@ -33,30 +51,40 @@ void drawDiagnosticsPanel(AppState& state) {
   }
   const bool can = state.session && !state.worker.busy();
   if (!can) ImGui::BeginDisabled();
-  if (ImGui::Button(state.diagnostics ? "Refresh properties" : "Measure properties")) refreshDiagnostics(state);
+  if (button(state, state.diagnostics ? "Refresh properties##diag" : "Measure properties##diag",
+             "Check the weights of this bind: do they add up to 1, leave the picture in place when nothing moves, "
+             "stay positive? Checked at the sample points, inside the cage and over the whole picture."))
+    refreshDiagnostics(state);
   if (!can) ImGui::EndDisabled();
   if (state.diagnostics) {
     const app::Diagnostics& d = *state.diagnostics;
     if (ImGui::BeginTable("properties", 5, ImGuiTableFlags_Borders | ImGuiTableFlags_SizingFixedFit)) {
-      ImGui::TableSetupColumn("where");
-      ImGui::TableSetupColumn("|sum-1|");
-      ImGui::TableSetupColumn("repro px");
-      ImGui::TableSetupColumn("min w");
-      ImGui::TableSetupColumn("neg");
-      ImGui::TableHeadersRow();
-      propertyRow("samples", d.samples);
-      propertyRow("inside", d.inside);
-      propertyRow("image", d.image);
+      for (const Column& c : kColumns) ImGui::TableSetupColumn(c.name);
+      ImGui::TableNextRow(ImGuiTableRowFlags_Headers);
+      for (int k = 0; k < 5; ++k) {
+        ImGui::TableSetColumnIndex(k);
+        ImGui::TableHeader(kColumns[k].name);
+        labelled(state, kColumns[k].name, kColumns[k].tip);
+      }
+      propertyRow(state, "samples", "At the sample points the weights were computed at.", d.samples);
+      propertyRow(state, "inside", "At a grid of points inside the cage.", d.inside);
+      propertyRow(state, "image", "At a grid of points over the whole picture, outside the cage too.", d.image);
       ImGui::EndTable();
     }
     ImGui::Text("Lagrange %.1e   edge linearity %.1e", d.lagrange, d.edgeLinearity);
+    labelled(state, "Lagrange", "Lagrange: how far each cage point's own weight is from 1 at that point. Edge linearity: "
+                                "how far the weights along each cage edge are from a straight blend of its two points. "
+                                "Small means the cage outline follows the points exactly.");
     ImGui::TextDisabled("grid step %d px, %.0f ms", d.pixelStep, d.evalSeconds * 1e3);
+    labelled(state, "grid step", "Spacing of the check grid, in pixels, and how long the check took.");
   }
   ImGui::Separator();
   // Solver outcomes of the bind (and of the last method switch): warning colour when something fell back.
   const std::vector<std::string> problems = state.reports.problems();
   if (problems.empty()) ImGui::TextWrapped("%s", state.reports.summary().c_str());
   else ImGui::TextUnformatted("Solver warnings:");
+  labelled(state, "Solver", "What the solvers of the last bind or method switch reported. A warning means some sample "
+                            "points got fallback weights: usually harmless, shown so nothing is hidden.");
   for (const std::string& p : problems) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.2f, 1.0f));
     ImGui::TextWrapped("%s", p.c_str());
@@ -68,17 +96,34 @@ void drawDiagnosticsPanel(AppState& state) {
     ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "Flipped triangles: %ld (%.0f px^2)", long(r.flippedTriangles), r.flippedArea);
   else
     ImGui::Text("Flipped triangles: 0");
+  labelled(state, "Flipped triangles", "Places where the pose folds the picture over itself (shown in red on the "
+                                       "picture when View > Fold-overs is on), and their area before the pose.");
+  if (r.guardVertices > 0) {
+    ImGui::Text("Background held back: %ld points", long(r.guardVertices));
+    labelled(state, "Background held back", "The pose pushes the cage against the picture's border: the background "
+                                            "there stays back instead of folding, and the shape covers it.");
+  }
   ImGui::Text("det J in [%.3g, %.3g]", r.minJacobian, r.maxJacobian);
+  labelled(state, "det J", "How much the pose grows or shrinks each small piece of the picture: 1 = same size, "
+                           "2 = twice the area, below 0 = folded over.");
   ImGui::Text("Mesh: %ld vertices, %zu triangles (%.1f px)", long(state.mesh.restVertices().rows()), state.mesh.triangles().size(),
               state.mesh.options().spacing);
+  labelled(state, "Mesh", "The picture is drawn as a grid of small triangles that follow the pose; the grid spacing in pixels.");
   ImGui::Text("Samples: %ld, controls: %ld", long(state.samples.size()), long(state.boundCage.size()));
+  labelled(state, "Samples", "Sample points the weights were computed at, and the number of cage points.");
   ImGui::Separator();
   const Timings& t = state.timings;
   ImGui::Text("Bind: %.2f s", t.bindSeconds);
+  labelled(state, "Bind:", "How long the last Bind took.");
   ImGui::Text("Re-optimization: %.1f ms (%ld samples)", t.reoptimizeMs, long(t.reoptimizeSamples));
+  labelled(state, "Re-optimization", "How long the weights took to update after the last brush stroke or method switch, "
+                                     "and at how many sample points.");
   ImGui::Text("Mesh weights: %.1f ms", t.meshWeightsMs);
+  labelled(state, "Mesh weights", "How long updating the weights at the drawing grid took.");
   ImGui::Text("Release -> picture: %.0f ms", t.releaseToPictureMs);
+  labelled(state, "Release -> picture", "From letting go of the brush to the updated picture.");
   ImGui::Text("Frame: %.1f ms (deform %.2f ms)", t.frameMs, t.deformMs);
+  labelled(state, "Frame", "Time to draw one frame of the window, and the part spent moving the picture to the pose.");
 }
 
 }  // namespace kc::ui

@@ -8,6 +8,11 @@ void tooltip(const char* text) {
   if (text && *text && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
 }
 
+void labelled(AppState& state, const char* name, const char* tip) {
+  tooltip(tip);
+  markWidget(state, name);
+}
+
 bool button(AppState& state, const char* label, const char* tip, const ImVec2& size) {
   const bool clicked = ImGui::Button(label, size);
   tooltip(tip);

@@ -12,6 +12,9 @@ namespace kc::ui {
 /// Shows `text` as a tooltip while the last item is hovered (also when it is disabled).
 void tooltip(const char* text);
 
+/// For the last item drawn (a line of text, a table header): tooltip `tip` and mark it as `name`.
+void labelled(AppState& state, const char* name, const char* tip);
+
 /// ImGui::Button + tooltip + mark. Returns true when clicked.
 bool button(AppState& state, const char* label, const char* tip, const ImVec2& size = ImVec2(0, 0));
 /// ImGui::RadioButton (selected = `active`) + tooltip + mark. Returns true when clicked.
