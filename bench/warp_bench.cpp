@@ -131,6 +131,21 @@ void BM_DeformPinned1MP(benchmark::State& state) {
 }
 BENCHMARK(BM_DeformPinned1MP)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+/// Same, for a pose that pushes the cage over the image border (control 0, 52 px from the right
+/// border, moved 120 px right and turned): the fold guard holds the background back.
+void BM_DeformPinnedOverTheBorder1MP(benchmark::State& state) {
+  static Setup s(1024, 4.0, OutsideMode::Pinned);
+  ScopedThreadCount threads(int(state.range(0)));
+  Pose pose = restPose(s.mesh.cage().size());
+  pose[0] = {Vec2(120.0, 10.0), 0.3};
+  DeformReport rep;
+  for (auto _ : state) rep = s.mesh.deform(pose);
+  state.counters["guard_folds"] = double(rep.guardFolds);
+  state.counters["held_back"] = double(rep.guardVertices);
+  state.counters["flipped"] = double(rep.flippedTriangles);
+}
+BENCHMARK(BM_DeformPinnedOverTheBorder1MP)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 /// Full-resolution export of a 2048×2048 image: rasterize the deformed mesh (spacing 4).
 void BM_Export2048(benchmark::State& state) {
   static Setup s(2048, 4.0);
