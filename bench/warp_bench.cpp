@@ -79,8 +79,8 @@ Image texture(int n) {
 struct Setup {
   WarpMesh mesh;
   CompactWeightsReport compact;
-  Setup(int size, double spacing, OutsideMode outside = OutsideMode::Deform)
-      : mesh(size, size, starCage(size), WarpMeshOptions{spacing, 1e-3, outside}) {
+  Setup(int size, double spacing, OutsideMode outside = OutsideMode::Deform, bool foldGuard = true)
+      : mesh(size, size, starCage(size), WarpMeshOptions{spacing, 1e-3, outside, foldGuard}) {
     compact = mesh.setWeights(meanValue(mesh.cage().C, mesh.restVertices()));
   }
 };
@@ -121,15 +121,25 @@ void BM_BuildWarpMesh1MP(benchmark::State& state) {
 BENCHMARK(BM_BuildWarpMesh1MP)->ArgNames({"threads", "pinned"})->Args({2, 0})->Args({1, 1})->Args({2, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
-/// New pose on a 1024×1024 image in the pinned mode (m + 1 columns with the anchor).
+/// New pose on a 1024×1024 image in the pinned mode (m + 1 columns with the anchor), with and
+/// without the fold guard. somePose turns controls by 0.05·k rad, so later poses fold (counters:
+/// mean per pose of the triangles the guard found folded and of the vertices it held back).
 void BM_DeformPinned1MP(benchmark::State& state) {
-  static Setup s(1024, 4.0, OutsideMode::Pinned);
+  static Setup guarded(1024, 4.0, OutsideMode::Pinned, true), plain(1024, 4.0, OutsideMode::Pinned, false);
+  Setup& s = state.range(1) ? guarded : plain;
   ScopedThreadCount threads(int(state.range(0)));
   int k = 0;
-  for (auto _ : state) s.mesh.deform(somePose(s.mesh.cage().size(), ++k));
+  double folds = 0.0, held = 0.0;
+  for (auto _ : state) {
+    const DeformReport r = s.mesh.deform(somePose(s.mesh.cage().size(), ++k));
+    folds += double(r.guardFolds);
+    held += double(r.guardVertices);
+  }
   state.counters["nnz/vertex"] = s.compact.meanPerVertex;
+  state.counters["guard_folds"] = benchmark::Counter(folds, benchmark::Counter::kAvgIterations);
+  state.counters["held_back"] = benchmark::Counter(held, benchmark::Counter::kAvgIterations);
 }
-BENCHMARK(BM_DeformPinned1MP)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DeformPinned1MP)->ArgNames({"threads", "guard"})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Same, for a pose that pushes the cage over the image border (control 0, 52 px from the right
 /// border, moved 120 px right and turned): the fold guard holds the background back.

@@ -22,9 +22,24 @@ double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) {
 
 }  // namespace
 
+FoldGuardTopology foldGuardTopology(const Triangles& triangles, Index guardedTriangles, Index vertices) {
+  const Index nt = std::min<Index>(guardedTriangles, Index(triangles.size()));
+  FoldGuardTopology g;
+  g.start.assign(std::size_t(vertices) + 1, 0);
+  g.around.resize(std::size_t(nt) * 3);
+  for (Index t = 0; t < nt; ++t)
+    for (int v : triangles[std::size_t(t)]) ++g.start[std::size_t(v) + 1];
+  for (Index v = 0; v < vertices; ++v) g.start[std::size_t(v) + 1] += g.start[std::size_t(v)];
+  std::vector<Index> fill(g.start.begin(), g.start.end() - 1);
+  for (Index t = 0; t < nt; ++t)
+    for (int v : triangles[std::size_t(t)]) g.around[std::size_t(fill[std::size_t(v)]++)] = t;
+  return g;
+}
+
 FoldGuardReport guardExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles,
-                                   Index guardedTriangles, const Eigen::VectorXd& restArea,
-                                   const std::vector<std::uint8_t>& movable, double minJacobian) {
+                                   const FoldGuardTopology& topology, Index guardedTriangles,
+                                   const Eigen::VectorXd& restArea, const std::vector<std::uint8_t>& movable,
+                                   double minJacobian) {
   FoldGuardReport rep;
   const Index nt = std::min<Index>(guardedTriangles, Index(triangles.size()));
   std::vector<Index> bad;
@@ -33,16 +48,9 @@ FoldGuardReport guardExteriorFolds(const Points& rest, Points& deformed, const T
   rep.foldedBefore = Index(bad.size());
   if (bad.empty()) return rep;
 
-  // Guarded triangles around each vertex (CSR), to re-check only what a round changed.
   const Index nv = rest.rows();
-  std::vector<Index> start(std::size_t(nv) + 1, 0), around(std::size_t(nt) * 3);
-  for (Index t = 0; t < nt; ++t)
-    for (int v : triangles[std::size_t(t)]) ++start[std::size_t(v) + 1];
-  for (Index v = 0; v < nv; ++v) start[std::size_t(v) + 1] += start[std::size_t(v)];
-  std::vector<Index> fill(start.begin(), start.end() - 1);
-  for (Index t = 0; t < nt; ++t)
-    for (int v : triangles[std::size_t(t)]) around[std::size_t(fill[std::size_t(v)]++)] = t;
-
+  const std::vector<Index>& start = topology.start;
+  const std::vector<Index>& around = topology.around;
   const Points displacement = deformed - rest;
   std::vector<double> scale(std::size_t(nv), 1.0);
   std::vector<std::uint32_t> seenVertex(std::size_t(nv), 0), seenTriangle(std::size_t(nt), 0);

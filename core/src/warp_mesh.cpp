@@ -8,7 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "kc/core/exterior_fold_guard.h"
 #include "kc/core/parallel.h"
 
 namespace kc {
@@ -128,6 +127,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
       if (layer(t) == 1)
         for (int v : t)
           if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
+    m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_outsideTriangles, m_rest.rows()));
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
 }
@@ -257,8 +257,8 @@ DeformReport WarpMesh::deform(const Pose& pose) {
   });
   DeformReport rep;
   if (m_exterior && m_options.foldGuard) {
-    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, m_outsideTriangles, m_restArea,
-                                                 m_guardClass);
+    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, *m_guardTopology, m_outsideTriangles,
+                                                 m_restArea, m_guardClass);
     rep.guardFolds = g.foldedBefore;
     rep.guardVertices = g.scaledVertices;
   }

@@ -29,13 +29,23 @@ struct FoldGuardReport {
   int rounds = 0;
 };
 
+/// The guarded triangles around each vertex (CSR: triangles around[start[v] .. start[v+1]) of
+/// vertex v), built once per mesh.
+struct FoldGuardTopology {
+  std::vector<Index> start, around;
+};
+/// Topology of triangles[0..guardedTriangles) over `vertices` vertices.
+FoldGuardTopology foldGuardTopology(const Triangles& triangles, Index guardedTriangles, Index vertices);
+
 /// Applies the guard (see the file comment) to `deformed` (#V×2, the positions f(v) of `rest`,
 /// #V×2). Guarded triangles: triangles[0..guardedTriangles) (their vertices must all be movable:
 /// movable[v] = 1, or 2 for a vertex next to the cage, scaled last); det J = deformed / rest signed
-/// area with rest areas `restArea` (#T, non-zero). Only movable vertices of those triangles change. Cost O(guarded triangles) per round, and
+/// area with rest areas `restArea` (#T, non-zero); `topology` from foldGuardTopology(). Only
+/// movable vertices of those triangles change. Cost O(guarded triangles) per round, and
 /// nothing when no guarded triangle is folded.
 FoldGuardReport guardExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles,
-                                   Index guardedTriangles, const Eigen::VectorXd& restArea,
-                                   const std::vector<std::uint8_t>& movable, double minJacobian = 0.05);
+                                   const FoldGuardTopology& topology, Index guardedTriangles,
+                                   const Eigen::VectorXd& restArea, const std::vector<std::uint8_t>& movable,
+                                   double minJacobian = 0.05);
 
 }  // namespace kc

@@ -14,6 +14,7 @@
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
+#include "kc/core/exterior_fold_guard.h"
 #include "kc/core/exterior_weights.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/types.h"
@@ -132,6 +133,7 @@ class WarpMesh {
   std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
   Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie wholly outside the cage
   std::vector<std::uint8_t> m_guardClass;  // Pinned mode: per vertex, movable by the fold guard (exterior_fold_guard.h)
+  std::shared_ptr<const FoldGuardTopology> m_guardTopology;  // Pinned mode; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
 };
 
