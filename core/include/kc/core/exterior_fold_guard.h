@@ -8,7 +8,10 @@
 /// multiplied by 3/4 on the vertices of every exterior triangle whose det J ≤ minJacobian, round
 /// after round, until none is left (s = 1 elsewhere: an unfolded pose is not changed). Vertices
 /// next to the cage (of triangles across it) are scaled only once a folded triangle's other
-/// vertices are nearly at rest, so the background stays attached to the cage wherever it can. The picture inside the
+/// vertices are nearly at rest, so the background stays attached to the cage wherever it can.
+/// A held-back vertex also holds back its neighbours away from the cage, so the scale rises from
+/// it no faster than 1 over twice the neighbour's displacement: the background bends smoothly
+/// instead of kinking (the added stretch |d|·|∇s| stays below 1/2). The picture inside the
 /// cage, drawn over its background, covers the part that was held back, as a hand covers the
 /// background it slides over. It terminates (a scale below 1/1024 becomes 0 and is not scaled
 /// again), and leaves no guarded triangle folded: one whose three scales reach 0 is at rest, det J = 1.
