@@ -21,6 +21,9 @@ struct BindArgs {
   int heatIterations = 0;
   double locality = 0.0;  // unscreened
   std::uint64_t seed = 1;
+  std::string lbcTau = "square";
+  double lbcTolerance = app::LbcParams{}.tolerance;
+  int lbcMaxIterations = app::LbcParams{}.maxIterations;
 };
 
 template <class E>
@@ -50,6 +53,11 @@ void runBind(const BindArgs& a) {
   p.kc.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
   p.kc.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
   p.sampler = parseOrThrow(a.sampler, &app::parseSamplerKind, "--sampler", "blue-noise, grid");
+  p.lbc.tau = parseOrThrow(a.lbcTau, &app::parseLbcTau, "--lbc-tau", "square, const, linear, sqrt");
+  requireFinite(a.lbcTolerance, "--lbc-tolerance");
+  if (!(a.lbcTolerance > 0.0)) throw app::InputError("--lbc-tolerance", "must be positive");
+  p.lbc.tolerance = a.lbcTolerance;
+  p.lbc.maxIterations = a.lbcMaxIterations;
   try {
     app::backendFor(p.backend);
   } catch (const std::invalid_argument& e) {
@@ -68,10 +76,17 @@ void runBind(const BindArgs& a) {
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
   app::saveSession(a.output, s);
 
-  std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
-              static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
-              static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
-  std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
+  if (s.reports.lbcMesh > 0) {
+    std::printf("bound %ld control points, LBC mesh of %ld vertices (%ld on the cage), tau %s\n", static_cast<long>(cage.size()),
+                static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.controls + r.sampling.edge),
+                std::string(app::toString(p.lbc.tau)).c_str());
+    std::printf("%s\n", s.reports.summary().c_str());
+  } else {
+    std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
+                static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
+                static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
+    std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
+  }
   const app::BindTimings& t = s.timings;
   std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",
               t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
@@ -98,7 +113,17 @@ void addBindCommand(CLI::App& app) {
                   "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
-  sub->add_option("--backend", a->backend, "Weight backend: kc")->capture_default_str();
+  sub->add_option("--backend", a->backend,
+                  "Weight backend: kc (kernel coordinates) | lbc (local barycentric coordinates on a mesh of the cage interior, "
+                  "edge length --spacing; no weights outside the cage: warps default to --outside fixed)")
+      ->capture_default_str();
+  sub->add_option("--lbc-tau", a->lbcTau, "LBC locality weighting tau(D) of the geodesic distance: square | const | linear | sqrt")
+      ->capture_default_str();
+  sub->add_option("--lbc-tolerance", a->lbcTolerance, "LBC stopping rule: RMS primal and dual ADMM residuals (per unit area)")
+      ->capture_default_str();
+  sub->add_option("--lbc-max-iterations", a->lbcMaxIterations, "LBC iteration cap (not converged by then: the bind fails)")
+      ->check(CLI::Range(1, 10'000'000))
+      ->capture_default_str();
   sub->add_option("--sampler", a->sampler, "Sampling: blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
   sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "kc/app/backend.h"
+#include "backends.h"
 #include "kc/app/pipeline.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/sampling/sigma.h"
@@ -82,7 +82,7 @@ class KcBackend final : public Backend {
     field->update(s.W);
     r.solveSeconds = secondsSince(ts);
     s.field = std::move(field);
-    s.reports = {r.sampling, r.init, r.optimize};
+    s.reports = {r.sampling, r.init, r.optimize, {}, 0};
   }
 
   void rebuildField(Session& s) const override {
@@ -130,15 +130,20 @@ class KcBackend final : public Backend {
 
 }  // namespace
 
-const Backend& backendFor(std::string_view name) {
+const Backend& kcBackend() {
   static const KcBackend kc;
-  if (name == kc.name()) return kc;
+  return kc;
+}
+
+const Backend& backendFor(std::string_view name) {
+  for (const Backend* b : {&kcBackend(), &lbcBackend()})
+    if (name == b->name()) return *b;
   std::string names;
   for (const std::string_view n : backendNames()) names += (names.empty() ? "" : ", ") + std::string(n);
   throw std::invalid_argument("backend '" + std::string(name) + "' is not available (available: " + names + ")");
 }
 
-std::vector<std::string_view> backendNames() { return {"kc"}; }
+std::vector<std::string_view> backendNames() { return {"kc", "lbc"}; }
 
 BackendCapabilities sessionCapabilities(const Session& s) {
   BackendCapabilities c = backendFor(s.params.backend).capabilities();

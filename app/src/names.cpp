@@ -33,6 +33,9 @@ constexpr std::array<std::pair<InterpMode, std::string_view>, 2> kInterp{
 constexpr std::array<std::pair<sampling::SamplerKind, std::string_view>, 2> kSampler{
     {{sampling::SamplerKind::BlueNoise, "blue-noise"}, {sampling::SamplerKind::Grid, "grid"}}};
 
+constexpr std::array<std::pair<LbcTau, std::string_view>, 4> kTau{
+    {{LbcTau::Square, "square"}, {LbcTau::Constant, "const"}, {LbcTau::Linear, "linear"}, {LbcTau::Sqrt, "sqrt"}}};
+
 }  // namespace
 
 std::string_view toString(InitMethod m) { return nameOf(kInit, m); }
@@ -43,5 +46,7 @@ bool parseInitMethod(std::string_view s, InitMethod& m) { return parseName(kInit
 bool parseMethod(std::string_view s, Method& m) { return parseName(kMethod, s, m); }
 bool parseInterpMode(std::string_view s, InterpMode& m) { return parseName(kInterp, s, m); }
 bool parseSamplerKind(std::string_view s, sampling::SamplerKind& k) { return parseName(kSampler, s, k); }
+std::string_view toString(LbcTau t) { return nameOf(kTau, t); }
+bool parseLbcTau(std::string_view s, LbcTau& t) { return parseName(kTau, s, t); }
 
 }  // namespace kc::app

@@ -109,7 +109,8 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
   validateCage(cage);
   checkCommonParams(width, height, params);
   const Backend& backend = backendFor(params.backend);
-  checkBindCost(estimateBindCost(cage, width, height, params), params);
+  if (backend.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
+    checkBindCost(estimateBindCost(cage, width, height, params), params);
   checkCageScale(cage, params.spacing);
   BindReport local;
   BindReport& r = report ? *report : local;

@@ -19,6 +19,13 @@ std::string format(const char* fmt, auto... args) {
 
 std::vector<std::string> SolverReports::problems() const {
   std::vector<std::string> out;
+  if (lbcMesh > 0) {
+    if (lbc.status != LbcStatus::Converged)
+      out.push_back(format("LBC: not converged after %d iterations (primal %.2e, dual %.2e)", lbc.iterations,
+                           lbc.primalResidual, lbc.dualResidual));
+    if (lbc.projectionFailures > 0)
+      out.push_back(format("LBC: %ld vertices not projected to w >= 0 with certainty", static_cast<long>(lbc.projectionFailures)));
+  }
   if (!sampling.converged)
     out.push_back(format("sampling: the blue-noise relaxation did not converge (largest move %.3g h after %d iterations)",
                          sampling.lastMove, sampling.iterations));
@@ -37,7 +44,12 @@ std::vector<std::string> SolverReports::problems() const {
 bool SolverReports::anyProblem() const { return !problems().empty(); }
 
 std::string SolverReports::summary() const {
-  std::string s = format("solver: %ld samples optimized, %ld outside the control hull (hull fallback)",
+  std::string s = lbcMesh > 0
+                      ? format("solver: LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g, "
+                               "%ld vertices projected to w >= 0",
+                               static_cast<long>(lbcMesh), lbc.iterations, lbc.primalResidual, lbc.dualResidual, lbc.objective,
+                               static_cast<long>(lbc.projectedVertices))
+                      : format("solver: %ld samples optimized, %ld outside the control hull (hull fallback)",
                          static_cast<long>(optimize.solved), static_cast<long>(optimize.infeasible));
   const std::vector<std::string> p = problems();
   if (p.empty()) return s + "; no failures";

@@ -102,7 +102,7 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
 json reportsToJson(const SolverReports& r) {
   json problems = json::array();
   for (const std::string& p : r.problems()) problems.push_back(p);
-  return {{"sampling",
+  json j = {{"sampling",
            {{"converged", r.sampling.converged},
             {"iterations", r.sampling.iterations},
             {"last_move", r.sampling.lastMove},
@@ -118,6 +118,21 @@ json reportsToJson(const SolverReports& r) {
             {"failed", r.optimize.failed},
             {"max_iterations", r.optimize.maxIterations}}},
           {"problems", problems}};
+  if (r.lbcMesh > 0) {
+    const LbcReport& l = r.lbc;
+    j["lbc"] = {{"mesh_vertices", r.lbcMesh},
+                {"converged", l.status == LbcStatus::Converged},
+                {"iterations", l.iterations},
+                {"primal_residual", l.primalResidual},
+                {"dual_residual", l.dualResidual},
+                {"penalty", l.penalty},
+                {"objective", l.objective},
+                {"projected_vertices", l.projectedVertices},
+                {"max_projection", l.maxProjection},
+                {"projection_failures", l.projectionFailures},
+                {"seconds", {{"geodesics", l.geodesicSeconds}, {"factor", l.factorSeconds}, {"iterations", l.iterationSeconds}}}};
+  }
+  return j;
 }
 
 SolverReports reportsFromJson(const json& block) {
@@ -143,6 +158,18 @@ SolverReports reportsFromJson(const json& block) {
   r.optimize.infeasible = get("optimize", "infeasible", Index{0});
   r.optimize.failed = get("optimize", "failed", Index{0});
   r.optimize.maxIterations = get("optimize", "max_iterations", 0);
+  if (block.contains("lbc") && block["lbc"].is_object()) {
+    r.lbcMesh = get("lbc", "mesh_vertices", Index{0});
+    r.lbc.status = get("lbc", "converged", false) ? LbcStatus::Converged : LbcStatus::NotConverged;
+    r.lbc.iterations = get("lbc", "iterations", 0);
+    r.lbc.primalResidual = get("lbc", "primal_residual", 0.0);
+    r.lbc.dualResidual = get("lbc", "dual_residual", 0.0);
+    r.lbc.penalty = get("lbc", "penalty", 0.0);
+    r.lbc.objective = get("lbc", "objective", 0.0);
+    r.lbc.projectedVertices = get("lbc", "projected_vertices", Index{0});
+    r.lbc.maxProjection = get("lbc", "max_projection", 0.0);
+    r.lbc.projectionFailures = get("lbc", "projection_failures", Index{0});
+  }
   return r;
 }
 

@@ -77,6 +77,8 @@ std::string sessionToJson(const Session& s) {
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
                  {"seed", p.seed}};
+  if (p.backend == "lbc")
+    params["lbc"] = {{"tau", std::string(toString(p.lbc.tau))}, {"tolerance", p.lbc.tolerance}, {"max_iterations", p.lbc.maxIterations}};
   json j = {{"version", 1},
             {"cage", detail::cageToJson(s.cage)},
             {"image_size", {s.imageWidth, s.imageHeight}},
@@ -117,8 +119,29 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   BindParams& p = s.params;
   p.spacing = detail::boundedNumber(detail::require(params, "spacing", where), kMaxCoordinate, where, "params.spacing");
   if (!(p.spacing > 0)) throw InputError(where, "params.spacing must be positive");
-  s.sigma = detail::boundedNumber(detail::require(params, "sigma", where), kMaxCoordinate, where, "params.sigma");
-  if (!(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
+  if (params.contains("backend")) {
+    if (!params["backend"].is_string()) throw InputError(where, "params.backend must be a name");
+    p.backend = params["backend"].get<std::string>();
+    try {
+      backendFor(p.backend);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, std::string("params.") + e.what());
+    }
+  }
+  const bool kernel = backendFor(p.backend).capabilities().targets;  // σ belongs to the kernel backend
+  s.sigma = kernel || params.contains("sigma")
+                ? detail::boundedNumber(detail::require(params, "sigma", where), kMaxCoordinate, where, "params.sigma")
+                : 0.0;
+  if (kernel && !(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
+  if (params.contains("lbc")) {
+    const json& l = params["lbc"];
+    if (!l.is_object()) throw InputError(where, "params.lbc must be an object");
+    p.lbc.tau = parseEnum(l, "tau", LbcTau::Square, &parseLbcTau, where);
+    if (l.contains("tolerance")) p.lbc.tolerance = detail::boundedNumber(l["tolerance"], 1.0, where, "params.lbc.tolerance");
+    if (!(p.lbc.tolerance > 0)) throw InputError(where, "params.lbc.tolerance must be positive");
+    if (l.contains("max_iterations"))
+      p.lbc.maxIterations = static_cast<int>(detail::integerInRange(l["max_iterations"], 1, 100'000'000, where, "params.lbc.max_iterations"));
+  }
   const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
   p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
   p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
@@ -134,15 +157,6 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   p.kc.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
   p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, &parseSamplerKind, where);
-  if (params.contains("backend")) {
-    if (!params["backend"].is_string()) throw InputError(where, "params.backend must be a name");
-    p.backend = params["backend"].get<std::string>();
-    try {
-      backendFor(p.backend);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(where, std::string("params.") + e.what());
-    }
-  }
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
@@ -210,7 +224,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
   const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
   if (!built) {
-    checkFieldCost(s, where);
+    if (s.sigma > 0) checkFieldCost(s, where);  // a kernel field is rebuilt from the samples
     try {
       refreshField(s);
     } catch (const std::invalid_argument& e) {

@@ -30,6 +30,7 @@ struct BackendCase {
   std::function<Session(const Cage&, int, int)> bind;     ///< The backend factory.
   bool exact = true;              ///< Partition of unity and reproduction to round-off everywhere.
   bool nonNegative = false;       ///< w ≥ 0 at interior samples (inside the control hull).
+  bool outsideCage = true;        ///< The field has weights outside the cage (else only inside is checked).
   PerExample edgeLinearity;       ///< max deviation from linear weights along cage edges (4.7).
   PerExample negativeLobe;        ///< −(min weight of the field inside the cage).
 };
@@ -37,22 +38,45 @@ struct BackendCase {
 /// gtest prints parameters with this (ctest shows it): the case's name, not raw bytes.
 void PrintTo(const BackendCase& c, std::ostream* os) { *os << c.name; }
 
+/// A bind at h = 8 with the default parameters changed by `configure`.
+std::function<Session(const Cage&, int, int)> binder(std::function<void(BindParams&)> configure) {
+  return [configure](const Cage& cage, int w, int h) {
+    BindParams p;
+    p.spacing = 8.0;
+    configure(p);
+    return app::bind(cage, w, h, p);
+  };
+}
+
 BackendCase kc(std::string name, Method method, InterpMode interp, InitMethod init, PerExample edge, PerExample lobe) {
   BackendCase c;
   c.name = std::move(name);
-  c.bind = [=](const Cage& cage, int w, int h) {
-    BindParams p;
+  c.bind = binder([=](BindParams& p) {
     p.backend = "kc";
-    p.spacing = 8.0;
     p.kc.method = method;
     p.kc.interp = interp;
     p.kc.init.method = init;
-    return app::bind(cage, w, h, p);
-  };
+  });
   c.exact = interp == InterpMode::Exact;
   c.nonNegative = method == Method::QP;
   c.edgeLinearity = std::move(edge);
   c.negativeLobe = std::move(lobe);
+  return c;
+}
+
+/// Local barycentric coordinates: exact barycentric, w ≥ 0, exactly linear on the cage edges, on
+/// the cage interior only.
+BackendCase lbc(std::string name, LbcTau tau) {
+  BackendCase c;
+  c.name = std::move(name);
+  c.bind = binder([=](BindParams& p) {
+    p.backend = "lbc";
+    p.lbc.tau = tau;
+  });
+  c.nonNegative = true;
+  c.outsideCage = false;
+  c.edgeLinearity = {{"checker", 1e-12}, {"star", 1e-12}, {"figure", 1e-12}};
+  c.negativeLobe = {{"checker", 1e-15}, {"star", 1e-15}, {"figure", 1e-15}};  // round-off of barycentric interpolation
   return c;
 }
 
@@ -97,9 +121,11 @@ TEST_P(WeightConformance, PropertiesHold) {
   }
 
   if (c.exact) {
-    // The field everywhere in the image, to round-off.
-    EXPECT_LE(d.image.partitionOfUnity, 1e-9);
-    EXPECT_LE(d.image.reproduction, 1e-9);  // pixels
+    // The field everywhere in the image (inside the cage for a field without weights outside), to round-off.
+    const PropertyRow& where = c.outsideCage ? d.image : d.inside;
+    EXPECT_GT(where.points, 1000);
+    EXPECT_LE(where.partitionOfUnity, 1e-9);
+    EXPECT_LE(where.reproduction, 1e-9);  // pixels
     EXPECT_LE(d.lagrange, 1e-9);
   } else {
     // The thesis's plain interpolation is approximate (~1e-3); held to that inside the cage, away
@@ -139,6 +165,7 @@ const BackendCase kCases[] = {
        {{"checker", 0.0021}, {"star", 0.015}, {"figure", 0.11}}),
     kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance, {{"checker", 0.0012}, {"star", 0.061}, {"figure", 0.41}},
        {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
+    lbc("lbc_square", LbcTau::Square),
 };
 
 const BackendCase& caseNamed(const std::string& name) {

@@ -11,6 +11,7 @@
 #include "kc/core/deform.h"
 #include "kc/core/field/field.h"
 #include "kc/core/kernel/interpolator.h"
+#include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/types.h"
 #include "kc/core/weights/heat_diffusion.h"
 #include "kc/core/weights/optimizer.h"
@@ -26,6 +27,14 @@ struct KcParams {
   InterpMode interp = InterpMode::Exact;
 };
 
+/// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is
+/// BindParams::spacing.
+struct LbcParams {
+  LbcTau tau = LbcTau::Square;     ///< φ_i = τ(D_i), LBC eq. 11.
+  double tolerance = LbcOptions{}.tolerance;
+  int maxIterations = LbcOptions{}.maxIterations;
+};
+
 /// Parameters of one bind: the ones every backend shares, then each backend's own. Defaults are
 /// what `kcwarp-cli bind` uses.
 struct BindParams {
@@ -35,17 +44,20 @@ struct BindParams {
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
   std::uint64_t seed = 1;
   KcParams kc;             ///< Used when backend == "kc".
+  LbcParams lbc;           ///< Used when backend == "lbc".
 };
 
 std::string_view toString(InitMethod m);
 std::string_view toString(Method m);
 std::string_view toString(InterpMode m);
 std::string_view toString(sampling::SamplerKind k);
+std::string_view toString(LbcTau t);
 /// Parsers return false on unknown names (callers report the accepted ones).
 bool parseInitMethod(std::string_view s, InitMethod& m);
 bool parseMethod(std::string_view s, Method& m);
 bool parseInterpMode(std::string_view s, InterpMode& m);
 bool parseSamplerKind(std::string_view s, sampling::SamplerKind& k);
+bool parseLbcTau(std::string_view s, LbcTau& t);
 
 /// Seconds spent in each stage of the bind that produced a session (saved with it).
 struct BindTimings {
@@ -58,6 +70,9 @@ struct SolverReports {
   sampling::SamplingReport sampling;
   InitReport init;
   OptimizeReport optimize;
+  /// The LBC solve (backend "lbc"); `lbcMesh` = mesh vertices, 0 when the session is not LBC's.
+  LbcReport lbc;
+  Index lbcMesh = 0;
   /// True when some stage failed or fell back (the GUI's warning colour).
   bool anyProblem() const;
   /// One line per problem, e.g. "QP: 3 samples did not converge (QEC fallback)"; empty when none.

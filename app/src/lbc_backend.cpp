@@ -1,0 +1,137 @@
+// The local-barycentric-coordinates backend ("lbc"): cage → CGAL mesh of its interior → LBC
+// weights by ADMM (core/lbc) → MeshField. No targets, methods or painting; no weights outside
+// the cage (LBC paper §3–4, Appendix B).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "backends.h"
+#include "kc/core/field/mesh_field.h"
+#include "kc/core/lbc/cage_mesh.h"
+#include "kc/core/lbc/lbc_solver.h"
+
+namespace kc::app {
+namespace {
+
+/// Where each stage starts on the bind's progress bar: mesh, geodesics and factorizations, ADMM.
+constexpr double kStageStart[] = {0.0, 0.05, 0.15};
+
+/// Mesh vertices kcwarp accepts for one LBC bind (≈ 16 kB per vertex for 30 controls).
+constexpr Index kMaxLbcVertices = 400'000;
+
+double secondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string num(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", v);
+  return text;
+}
+
+class LbcBackend final : public Backend {
+ public:
+  std::string_view name() const override { return "lbc"; }
+
+  BackendCapabilities capabilities() const override {
+    BackendCapabilities c;
+    c.why = "LBC weights are solved once on a mesh of the cage interior: there are no per-sample target weights to "
+            "paint or re-optimize, and no weights outside the cage";
+    return c;
+  }
+
+  void bind(Session& s, BindReport& r, const BindStep& step) const override {
+    const BindParams& params = s.params;
+    const LbcParams& lbc = params.lbc;
+    if (!(lbc.tolerance > 0.0)) throw std::invalid_argument("the LBC tolerance must be positive (--lbc-tolerance)");
+    if (lbc.maxIterations < 1) throw std::invalid_argument("the LBC iteration cap must be at least 1 (--lbc-max-iterations)");
+
+    // About 1.2 vertices per h² of cage area (Delaunay refinement to edges ≤ h): refuse before meshing.
+    const double estimate = 1.2 * std::abs(signedArea(s.cage.C)) / (params.spacing * params.spacing);
+    if (estimate > double(kMaxLbcVertices))
+      throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have about " +
+                                  num(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
+                                  "; use a larger --spacing");
+    step("mesh", kStageStart[0]);
+    auto t0 = std::chrono::steady_clock::now();
+    CageMeshOptions mo;
+    mo.spacing = params.spacing;
+    mo.maxVertices = kMaxLbcVertices;
+    const CageMesh mesh = meshCageInterior(s.cage, mo);
+    if (mesh.status != CageMeshStatus::Ok)
+      throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have more than " +
+                                  std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
+    r.sampling = {};
+    r.sampling.controls = mesh.controls;
+    r.sampling.edge = mesh.boundary - mesh.controls;
+    r.sampling.interior = mesh.interior();
+    r.sampling.seconds = secondsSince(t0);
+
+    step("geodesics", kStageStart[1]);
+    const LbcSolver solver(mesh, lbc.tau);
+    LbcOptions options;
+    options.tau = lbc.tau;
+    options.tolerance = lbc.tolerance;
+    options.maxIterations = lbc.maxIterations;
+    options.progress = [&](const LbcProgress& p) {
+      // Progress by the residual's way down to the tolerance (log scale), capped by the iteration share.
+      const double worst = std::max(p.primalResidual, p.dualResidual);
+      const double byResidual = std::log(std::max(worst, lbc.tolerance) / 1.0) / std::log(lbc.tolerance / 1.0);
+      const double f = std::clamp(std::max(byResidual, double(p.iteration) / lbc.maxIterations), 0.0, 1.0);
+      step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws BindCancelled to stop
+      return true;
+    };
+    step("LBC iterations", kStageStart[2]);
+    LbcResult res = solver.solve(options);
+    const LbcReport& rep = res.report;
+    if (rep.status == LbcStatus::Failed)
+      throw std::invalid_argument("the LBC system of this cage's mesh cannot be factorized (degenerate triangles); "
+                                  "try another --spacing");
+    if (rep.status == LbcStatus::NotConverged)
+      throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
+                                  num(rep.primalResidual) + ", " + num(rep.dualResidual) + " > tolerance " + num(lbc.tolerance) +
+                                  "); raise --lbc-max-iterations or --lbc-tolerance");
+    r.factor = {};
+    r.factor.status = FactorStatus::Ok;
+    r.factor.factorSeconds = rep.factorSeconds;
+    r.init = {};
+    r.init.seconds = rep.geodesicSeconds;
+    r.optimize = {};
+    r.optimize.solved = mesh.size();
+    r.optimize.maxIterations = rep.iterations;
+    r.optimize.failed = rep.projectionFailures;
+    r.optimize.seconds = rep.iterationSeconds;
+
+    s.sigma = 0.0;
+    s.samples.X = mesh.V;
+    s.samples.kind.assign(std::size_t(mesh.size()), SampleKind::Interior);
+    for (Index v = 0; v < mesh.boundary; ++v) s.samples.kind[std::size_t(v)] = v < mesh.controls ? SampleKind::Control : SampleKind::Edge;
+    s.samples.edge = mesh.edge;
+    s.W0.resize(0, 0);
+    s.W = res.W;
+    s.field = std::make_unique<MeshField>(mesh.V, mesh.T, std::move(res.W));
+    s.reports = SolverReports{r.sampling, r.init, r.optimize, rep, mesh.size()};
+    if (s.outside.empty()) s.outside = "fixed";  // LBC has no weights outside the cage
+  }
+
+  void rebuildField(Session& s) const override {
+    throw std::invalid_argument("an LBC session must carry its mesh (the \"field\" block with kind \"mesh\"); bind it again");
+  }
+
+  OptimizeReport reoptimize(Session&, Method, std::span<const Index>, std::vector<Index>*) const override {
+    throw std::invalid_argument("LBC sessions cannot be re-optimized: " + capabilities().why);
+  }
+};
+
+}  // namespace
+
+const Backend& lbcBackend() {
+  static const LbcBackend lbc;
+  return lbc;
+}
+
+}  // namespace kc::app

@@ -1,0 +1,128 @@
+// The LBC backend through the app: bind, session round trip without recomputation, capabilities,
+// and the CLI's answers to what it cannot do (exit 2, one line).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "cli_run.h"
+#include "kc/app/backend.h"
+#include "kc/app/errors.h"
+#include "kc/app/export.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+#include "kc/core/field/mesh_field.h"
+
+namespace kc::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kImages = std::string(KC_SOURCE_DIR) + "/images/";
+
+Session bindStar(double spacing = 10.0) {
+  BindParams p;
+  p.backend = "lbc";
+  p.spacing = spacing;
+  return bind(loadCage(kImages + "star.cage.json"), 320, 320, p);
+}
+
+TEST(LbcBackend, BindsAMeshFieldWithItsReportAndCapabilities) {
+  const Session s = bindStar();
+  ASSERT_TRUE(s.hasField());
+  const auto* mesh = dynamic_cast<const MeshField*>(s.field.get());
+  ASSERT_NE(mesh, nullptr);
+  EXPECT_EQ(mesh->vertices(), s.samples.X);
+  EXPECT_EQ(mesh->vertexWeights(), s.W);
+  EXPECT_EQ(s.W0.rows(), 0);
+  EXPECT_EQ(s.reports.lbcMesh, s.samples.size());
+  EXPECT_EQ(s.reports.lbc.status, LbcStatus::Converged);
+  EXPECT_GT(s.reports.lbc.iterations, 0);
+  EXPECT_EQ(s.outside, "fixed");
+  const BackendCapabilities c = sessionCapabilities(s);
+  EXPECT_FALSE(c.targets || c.methods || c.painting || c.outsideCage);
+  EXPECT_NE(c.why.find("LBC"), std::string::npos);
+  Session copy = bindStar();
+  EXPECT_THROW(reoptimize(copy, Method::QP, {}, nullptr), std::invalid_argument);
+}
+
+TEST(LbcBackend, SessionReloadsWithoutRecomputation) {
+  const fs::path dir = test::scratchDir("lbc_round_trip");
+  const Session s = bindStar();
+  saveSession((dir / "s.kcw.json").string(), s);
+  const Session t = loadSession((dir / "s.kcw.json").string());
+  const auto* a = dynamic_cast<const MeshField*>(s.field.get());
+  const auto* b = dynamic_cast<const MeshField*>(t.field.get());
+  ASSERT_NE(b, nullptr);
+  EXPECT_EQ(a->triangles(), b->triangles());
+  EXPECT_EQ(a->vertices(), b->vertices());
+  EXPECT_EQ(a->vertexWeights(), b->vertexWeights());
+  EXPECT_EQ(t.params.backend, "lbc");
+  EXPECT_EQ(t.params.lbc.tau, s.params.lbc.tau);
+  EXPECT_EQ(t.reports.lbc.iterations, s.reports.lbc.iterations);
+  EXPECT_EQ(t.reports.lbc.objective, s.reports.lbc.objective);
+  EXPECT_EQ(t.reports.lbcMesh, s.reports.lbcMesh);
+  EXPECT_EQ(t.outside, "fixed");
+
+  // The field block has the documented shape; without it the session cannot be rebuilt.
+  nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "s.kcw.json"));
+  EXPECT_EQ(j["field"]["kind"], "mesh");
+  EXPECT_EQ(j["field"]["vertices"].size(), std::size_t(s.samples.size()));
+  EXPECT_EQ(j["field"]["triangles"][0].size(), 3u);
+  EXPECT_EQ(j["field"]["weights"][0].size(), std::size_t(s.cage.size()));
+  j.erase("field");
+  test::writeText(dir / "nofield.kcw.json", j.dump());
+  EXPECT_THROW(loadSession((dir / "nofield.kcw.json").string()), InputError);
+}
+
+TEST(LbcBackend, WarpRefusesDeformAndKeepsTheOutsideFixed) {
+  const Session s = bindStar();
+  WarpMeshOptions deform;
+  deform.outside = OutsideMode::Deform;
+  EXPECT_THROW(buildWarpMesh(s, deform), std::invalid_argument);
+  // Fixed: every warp-mesh vertex has weights summing to 1 (outside the mesh: the nearest cage point's).
+  WarpMeshOptions fixed;
+  fixed.outside = OutsideMode::Fixed;
+  Weights W;
+  buildWarpMesh(s, fixed, nullptr, nullptr, nullptr);
+  FieldSampler sampler;
+  buildWarpMesh(s, fixed, nullptr, &sampler, &W);
+  ASSERT_GT(W.rows(), 0);
+  EXPECT_LT((W.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-12);
+  EXPECT_GE(W.minCoeff(), -1e-15);
+}
+
+TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
+  const fs::path dir = test::scratchDir("lbc_cli");
+  const std::string cage = "'" + kImages + "star.cage.json'", image = "'" + kImages + "star.png'";
+  auto r = test::runCli("bind --backend lbc --spacing 10 --lbc-tau linear --cage " + cage + " --image " + image + " -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("LBC mesh of"), std::string::npos) << r.out;
+  r = test::runCli("stats --json --session s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json st = nlohmann::json::parse(r.out);
+  EXPECT_LE(st["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
+  EXPECT_LT(st["locality"]["mean_influencing"].get<double>(), 10.0);
+
+  struct Bad {
+    std::string args, says;
+  } bad[] = {
+      {"bind --backend lbc --lbc-max-iterations 2 --cage " + cage + " --image " + image + " -o x.kcw.json", "did not converge"},
+      {"bind --backend lbc --spacing 0.06 --cage " + cage + " --image " + image + " -o x.kcw.json", "larger --spacing"},
+      {"bind --backend lbc --lbc-tau cubic --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-tau"},
+      {"bind --backend lbc --lbc-tolerance 0 --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-tolerance"},
+      {"warp --session s.kcw.json --outside deform -o w.png", "deform"},
+  };
+  for (const Bad& b : bad) {
+    r = test::runCli(b.args, dir);
+    EXPECT_EQ(r.code, 2) << b.args << "\n" << r.err;
+    EXPECT_EQ(test::lineCount(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(b.says), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.kcw.json"));
+  EXPECT_FALSE(fs::exists(dir / "w.png"));
+}
+
+}  // namespace
+}  // namespace kc::app
