@@ -1,5 +1,6 @@
 // Solver outcomes in words (bind's summary, stats, the session's reports block, the GUI).
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -45,9 +46,10 @@ bool SolverReports::anyProblem() const { return !problems().empty(); }
 
 std::string SolverReports::summary() const {
   std::string s = lbcMesh > 0
-                      ? format("solver: LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g, "
-                               "%ld vertices projected to w >= 0",
+                      ? format("solver: LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g "
+                               "(certified within %.3g%% of the optimum), %ld vertices projected to w >= 0",
                                static_cast<long>(lbcMesh), lbc.iterations, lbc.primalResidual, lbc.dualResidual, lbc.objective,
+                               100.0 * (lbc.objective - lbc.lowerBound) / std::abs(lbc.lowerBound),
                                static_cast<long>(lbc.projectedVertices))
                       : format("solver: %ld samples optimized, %ld outside the control hull (hull fallback)",
                          static_cast<long>(optimize.solved), static_cast<long>(optimize.infeasible));

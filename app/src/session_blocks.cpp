@@ -1,6 +1,7 @@
 #include "session_blocks.h"
 
 #include <cmath>
+#include <limits>
 
 #include "kc/app/errors.h"
 #include "kc/app/limits.h"
@@ -127,6 +128,7 @@ json reportsToJson(const SolverReports& r) {
                 {"dual_residual", l.dualResidual},
                 {"penalty", l.penalty},
                 {"objective", l.objective},
+                {"lower_bound", std::isfinite(l.lowerBound) ? json(l.lowerBound) : json(nullptr)},
                 {"projected_vertices", l.projectedVertices},
                 {"max_projection", l.maxProjection},
                 {"projection_failures", l.projectionFailures},
@@ -166,6 +168,7 @@ SolverReports reportsFromJson(const json& block) {
     r.lbc.dualResidual = get("lbc", "dual_residual", 0.0);
     r.lbc.penalty = get("lbc", "penalty", 0.0);
     r.lbc.objective = get("lbc", "objective", 0.0);
+    r.lbc.lowerBound = get("lbc", "lower_bound", -std::numeric_limits<double>::infinity());
     r.lbc.projectedVertices = get("lbc", "projected_vertices", Index{0});
     r.lbc.maxProjection = get("lbc", "max_projection", 0.0);
     r.lbc.projectionFailures = get("lbc", "projection_failures", Index{0});

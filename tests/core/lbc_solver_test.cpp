@@ -54,15 +54,25 @@ TEST(LbcSolver, BarycentricNonNegativeLagrangeAndLinearOnEdges) {
 TEST(LbcSolver, ObjectiveWithinAThousandthOfATightSolve) {
   const CageMesh mesh = starMesh(20.0);
   const LbcSolver solver(mesh, LbcTau::Square);
-  const LbcResult normal = solver.solve();
+  LbcOptions normalOptions;
+  normalOptions.certify = true;
+  const LbcResult normal = solver.solve(normalOptions);
   LbcOptions tight;
   tight.tolerance = 1e-10;
   tight.maxIterations = 200000;
+  tight.certify = true;
   const LbcResult best = solver.solve(tight);
   ASSERT_EQ(best.report.status, LbcStatus::Converged);
   EXPECT_LE(normal.report.objective, best.report.objective * 1.001);
   EXPECT_GE(normal.report.objective, best.report.objective * (1 - 1e-6));  // the tight solve is the lower one
   EXPECT_EQ(solver.objective(best.W), best.report.objective);
+
+  // The duality-gap certificate: a lower bound (below the tight optimum, weak duality) that closes
+  // as ADMM converges; at the default tolerance it already certifies the 0.1% goal on this mesh.
+  EXPECT_LE(normal.report.lowerBound, best.report.objective);
+  EXPECT_LE(best.report.lowerBound, best.report.objective);
+  EXPECT_LT(best.report.objective - best.report.lowerBound, 1e-7 * best.report.objective);
+  EXPECT_LT(normal.report.objective - normal.report.lowerBound, 1e-3 * normal.report.lowerBound);
 
   // The optimization does something: harmonic coordinates (no iteration) cost clearly more.
   LbcOptions none;

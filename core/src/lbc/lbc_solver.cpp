@@ -20,6 +20,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <Eigen/QR>
 
 #include "../sparse_cholesky.h"
@@ -62,6 +63,8 @@ struct LbcSolver::Impl {
   double domainArea = 0.0;
   RowMatrix phi;                            // #T×m: φ_i^s = τ(D_i at the centroid of s)
   Weights Wb;                               // nb×m Dirichlet data
+  Eigen::MatrixXd K;                        // m×3: [Ĉ 1] (normalized controls)
+  Points Vn;                                // #V×2 normalized positions
   RowMatrix Mn;                             // r×m, orthonormal rows, Mn K = 0
   RowMatrix H;                              // n×m least-norm solution of H K = B (interior rows)
   RowMatrix GtAJ;                           // n×m: Gᵀ A ∇[Wb; H] = L_IB Wb + L_II H (constant part of step 2)
@@ -76,6 +79,13 @@ struct LbcSolver::Impl {
   /// Weight i of (full) vertex v given the interior rows Z.
   double w(const RowMatrix& Z, int v, Index i) const { return v < nb ? Wb(v, i) : Z(v - nb, i); }
 
+  /// Lower bound on the optimum of (15) by weak duality. With Λ = −μ a_s U1 (the multiplier of
+  /// X = ∇W in the unweighted inner product) scaled per group into |Λ_s,i| ≤ φ_i^s a_s,
+  ///   min_W F(∇W) ≥ ⟨Λ, E⟩ + Σ_v min_{w ≥ 0, wK = b_v} (GᵀΛ)_v · w,
+  /// E = ∇ of the Dirichlet data; the inner minimum is a 3-constraint LP whose optimum has at
+  /// most three non-zeros: the minimum over triangles of controls that contain v.
+  double dualBound(const RowMatrix& U1, double mu) const;
+
   /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
   void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
     const auto& t = T[std::size_t(s)];
@@ -87,6 +97,70 @@ struct LbcSolver::Impl {
     }
   }
 };
+
+double LbcSolver::Impl::dualBound(const RowMatrix& U1, double mu) const {
+  // Λ per triangle, clipped into the dual-feasible set of F.
+  RowMatrix Lam(nt, 2 * m);
+  std::vector<double> edgePart(std::size_t(nt), 0.0);
+  parallelFor(nt, [&](Index s) {
+    const auto& t = T[std::size_t(s)];
+    const auto& gr = g.gradient[std::size_t(s)];
+    const double a = g.area[std::size_t(s)];
+    double e = 0.0;
+    for (Index i = 0; i < m; ++i) {
+      double lx = -mu * a * U1(s, i), ly = -mu * a * U1(s, m + i);
+      const double len = std::sqrt(lx * lx + ly * ly), cap = phi(s, i) * a;
+      if (len > cap) {
+        lx *= cap / len;
+        ly *= cap / len;
+      }
+      Lam(s, i) = lx;
+      Lam(s, m + i) = ly;
+      Vec2 boundaryGradient = Vec2::Zero();  // E_s,i: the Dirichlet vertices' part of ∇w_i
+      for (int c = 0; c < 3; ++c)
+        if (t[std::size_t(c)] < nb) boundaryGradient += gr[std::size_t(c)] * Wb(t[std::size_t(c)], i);
+      e += lx * boundaryGradient.x() + ly * boundaryGradient.y();
+    }
+    edgePart[std::size_t(s)] = e;
+  }, 256);
+  // Triangles of controls (normalized positions, as in K) with their barycentric inverse.
+  struct Triple {
+    int i, j, k;
+    Eigen::Matrix2d inv;
+    Vec2 origin;
+  };
+  std::vector<Triple> triples;
+  const Eigen::MatrixXd& Kc = K;
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j)
+      for (int k = j + 1; k < m; ++k) {
+        const Vec2 ci(Kc(i, 0), Kc(i, 1)), cj(Kc(j, 0), Kc(j, 1)), ck(Kc(k, 0), Kc(k, 1));
+        Eigen::Matrix2d A;
+        A.col(0) = cj - ci;
+        A.col(1) = ck - ci;
+        if (std::abs(A.determinant()) < 1e-14) continue;
+        triples.push_back({i, j, k, A.inverse(), ci});
+      }
+  std::vector<double> vertexPart(std::size_t(n), 0.0);
+  parallelFor(n, [&](Index v) {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(m);  // (GᵀΛ)_v
+    for (Index a = adjStart[std::size_t(v)]; a < adjStart[std::size_t(v + 1)]; ++a) {
+      const auto [s, c] = adj[std::size_t(a)];
+      const Vec2& gr = g.gradient[std::size_t(s)][std::size_t(c)];
+      for (Index i = 0; i < m; ++i) q(i) += gr.x() * Lam(s, i) + gr.y() * Lam(s, m + i);
+    }
+    const Vec2 x = Vn.row(nb + v);
+    double best = std::numeric_limits<double>::infinity();
+    for (const Triple& tr : triples) {
+      const Vec2 l = tr.inv * (x - tr.origin);
+      const double l0 = 1.0 - l.x() - l.y();
+      if (l0 < -1e-12 || l.x() < -1e-12 || l.y() < -1e-12) continue;
+      best = std::min(best, l0 * q(tr.i) + l.x() * q(tr.j) + l.y() * q(tr.k));
+    }
+    vertexPart[std::size_t(v)] = best;
+  }, 16);
+  return sum(edgePart) + sum(vertexPart);
+}
 
 LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique<Impl>()) {
   Impl& d = *m_impl;
@@ -105,7 +179,8 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   const Vec2 lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
   const Vec2 center = 0.5 * (lo + hi);
   const double scale = (hi - lo).norm();
-  Points Vn = (mesh.V.rowwise() - center.transpose()) / scale;
+  d.Vn = (mesh.V.rowwise() - center.transpose()) / scale;
+  const Points& Vn = d.Vn;
   d.g = triangleGradients(Vn, d.T);
   for (double a : d.g.area) d.domainArea += a;
   const SparseMatrix L = stiffnessMatrix(d.T, d.g, mesh.size());
@@ -140,9 +215,10 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   }
 
   // Null space of Kᵀ (K = [Ĉ 1], m×3) and the least-norm H (eq. 15–17), from a QR of K.
-  Eigen::MatrixXd K(d.m, 3);
-  K.leftCols(2) = Vn.topRows(d.m);
-  K.col(2).setOnes();
+  d.K.resize(d.m, 3);
+  d.K.leftCols(2) = Vn.topRows(d.m);
+  d.K.col(2).setOnes();
+  const Eigen::MatrixXd& K = d.K;
   const Eigen::MatrixXd Q = K.householderQr().householderQ();
   d.Mn = Q.rightCols(d.r).transpose();
   const Eigen::MatrixXd Kpinv = (K.transpose() * K).ldlt().solve(K.transpose());  // 3×m
@@ -224,13 +300,47 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   RowMatrix G(nt, 2 * m);
   parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
 
+  // Final weights from the affine iterate Z: Dirichlet rows, and Z made non-negative by the
+  // per-vertex QP (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1); their objective.
+  auto finalize = [&](const RowMatrix& Z) {
+    res.W.resize(d.nb + n, m);
+    res.W.topRows(d.nb) = d.Wb;
+    res.W.bottomRows(n) = Z;
+    rep.projectedVertices = rep.projectionFailures = 0;
+    rep.maxProjection = 0.0;
+    if (options.projectNonNegative && n > 0) {
+      const ControlFrame frame(d.V.topRows(m));
+      std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
+      std::vector<double> moved(std::size_t(n), 0.0);
+      parallelFor(n, [&](Index v) {
+        if (Z.row(v).minCoeff() >= 0.0) return;
+        const Vec2 x = d.V.row(d.nb + v);
+        const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(&Z(v, 0), std::size_t(m)),
+                                         std::span<double>(&res.W(d.nb + v, 0), std::size_t(m)));
+        changed[std::size_t(v)] = 1;
+        failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
+        moved[std::size_t(v)] = (res.W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
+      }, 64);
+      for (Index v = 0; v < n; ++v) {
+        rep.projectedVertices += changed[std::size_t(v)];
+        rep.projectionFailures += failed[std::size_t(v)];
+        rep.maxProjection = std::max(rep.maxProjection, moved[std::size_t(v)]);
+      }
+    }
+    rep.objective = objective(res.W);
+  };
   const auto iterStart = std::chrono::steady_clock::now();
+  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m);
+  double mu = options.penalty;
+  bool certified = false;  // rep.lowerBound and res.W belong to the current iterate
   if (n > 0 && d.r > 0) {
-    RowMatrix X(nt, 2 * m), U1 = RowMatrix::Zero(nt, 2 * m), F(nt, 3 * m);
-    RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), R(n, d.r);
+    RowMatrix X(nt, 2 * m), F(nt, 3 * m);
+    RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), Qm(n, m);
+    Eigen::MatrixXd R(n, d.r);
+    const Eigen::MatrixXd MnT = d.Mn.transpose();
     std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
-    double mu = options.penalty;
     const double norm = 1.0 / (double(m) * d.domainArea);
+    int nextGapCheck = 0;
     rep.status = LbcStatus::NotConverged;
     for (int k = 1; k <= options.maxIterations; ++k) {
       // Step 1: group shrinkage of ∇W − U1 (eq. 30); per triangle also its share of step 2's
@@ -264,26 +374,30 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
             const auto [s, c] = d.adj[std::size_t(a)];
             q += F.row(s).segment(c * m, m);
           }
-          R.row(v).noalias() = q * d.Mn.transpose();
+          Qm.row(v) = q;
+        }
+        // (Fixed row blocks, whatever the thread count: the products round the same way.)
+        R.middleRows(begin, end - begin).noalias() = Qm.middleRows(begin, end - begin) * MnT;
+      });
+      const Eigen::MatrixXd Y = d.system.solve(R);
+      // Step 3: new affine iterate Y M + H, multipliers and residuals (eq. 26–27), row by row.
+      parallelForRange(n, 64, [&](Index begin, Index end) {
+        RowMatrix Znew = Y.middleRows(begin, end - begin) * d.Mn;
+        for (Index v = begin; v < end; ++v) {
+          double p = 0.0, q = 0.0;
+          for (Index i = 0; i < m; ++i) {
+            const double z = Znew(v - begin, i) + d.H(v, i);
+            const double relaxed = alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i);
+            U2(v, i) += relaxed - z;
+            p += (Wc(v, i) - z) * (Wc(v, i) - z);
+            q += (z - Z(v, i)) * (z - Z(v, i));
+            Z(v, i) = z;
+          }
+          const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
+          primalV[std::size_t(v)] = mass * p;
+          dualV[std::size_t(v)] = mass * q;
         }
       });
-      const Eigen::MatrixXd Y = d.system.solve(Eigen::MatrixXd(R));
-      // Step 3: new affine iterate, multipliers and residuals (eq. 26–27), row by row.
-      parallelFor(n, [&](Index v) {
-        double p = 0.0, q = 0.0;
-        for (Index i = 0; i < m; ++i) {
-          double z = d.H(v, i);
-          for (Index j = 0; j < d.r; ++j) z += Y(v, j) * d.Mn(j, i);
-          const double relaxed = alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i);
-          U2(v, i) += relaxed - z;
-          p += (Wc(v, i) - z) * (Wc(v, i) - z);
-          q += (z - Z(v, i)) * (z - Z(v, i));
-          Z(v, i) = z;
-        }
-        const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
-        primalV[std::size_t(v)] = mass * p;
-        dualV[std::size_t(v)] = mass * q;
-      }, 64);
       parallelForRange(nt, 256, [&](Index begin, Index end) {
         std::vector<double> buffer(std::size_t(2 * m));
         double* nx = buffer.data();
@@ -308,9 +422,22 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
       rep.iterations = k;
       rep.primalResidual = std::sqrt((sum(primalT) + sum(primalV)) * norm);
       rep.dualResidual = mu * std::sqrt((sum(dualT) + sum(dualV)) * norm);
-      if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance) {
-        rep.status = LbcStatus::Converged;
-        break;
+      if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
+        if (!(options.gapTolerance > 0.0)) {
+          rep.status = LbcStatus::Converged;
+          break;
+        }
+        // Certified stop: the returned weights' objective within gapTolerance of a lower bound.
+        const auto tc = std::chrono::steady_clock::now();
+        finalize(Z);
+        rep.lowerBound = d.dualBound(U1, mu);
+        rep.certifySeconds += secondsSince(tc);
+        if (rep.objective - rep.lowerBound <= options.gapTolerance * std::abs(rep.lowerBound)) {
+          rep.status = LbcStatus::Converged;
+          certified = true;
+          break;
+        }
+        nextGapCheck = k + std::max(20, k / 5);  // checks cost O(#V·m³): a geometric schedule
       }
       if (options.progress && k % 10 == 0 &&
           !options.progress({k, rep.primalResidual, rep.dualResidual})) {
@@ -333,31 +460,14 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   }
   rep.iterationSeconds = secondsSince(iterStart);
 
-  // Final weights: Dirichlet rows, and the affine iterate made non-negative by the per-vertex QP
-  // (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1).
-  res.W.resize(d.nb + n, m);
-  res.W.topRows(d.nb) = d.Wb;
-  res.W.bottomRows(n) = Z;
-  if (options.projectNonNegative && n > 0) {
-    const ControlFrame frame(d.V.topRows(m));
-    std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
-    std::vector<double> moved(std::size_t(n), 0.0);
-    parallelFor(n, [&](Index v) {
-      if (Z.row(v).minCoeff() >= 0.0) return;
-      const Vec2 x = d.V.row(d.nb + v);
-      const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(&Z(v, 0), std::size_t(m)),
-                                       std::span<double>(&res.W(d.nb + v, 0), std::size_t(m)));
-      changed[std::size_t(v)] = 1;
-      failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
-      moved[std::size_t(v)] = (res.W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
-    }, 64);
-    for (Index v = 0; v < n; ++v) {
-      rep.projectedVertices += changed[std::size_t(v)];
-      rep.projectionFailures += failed[std::size_t(v)];
-      rep.maxProjection = std::max(rep.maxProjection, moved[std::size_t(v)]);
+  if (!certified) {
+    finalize(Z);
+    if (options.certify || options.gapTolerance > 0.0) {
+      const auto tc = std::chrono::steady_clock::now();
+      rep.lowerBound = d.dualBound(U1, mu);
+      rep.certifySeconds += secondsSince(tc);
     }
   }
-  rep.objective = objective(res.W);
   rep.seconds = secondsSince(start) + d.geodesicSeconds + d.factorSeconds;
   return res;
 }

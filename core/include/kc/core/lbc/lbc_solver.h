@@ -6,6 +6,7 @@
 /// solved by ADMM in the null-space form W = Y M + H (eq. 15–17, Appendix B).
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string_view>
 
@@ -45,6 +46,13 @@ struct LbcOptions {
   double relaxation = 1.65;         ///< α, over-relaxation in [1.5, 1.8] (Appendix B).
   bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
+  /// Certified stopping: once the residuals are below `tolerance`, also require
+  /// (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the ADMM
+  /// multipliers (a duality-gap certificate, LbcReport::lowerBound); checked on a geometric
+  /// schedule (each check O(#V·m³) and one projection). 0 = residuals only.
+  double gapTolerance = 1e-3;
+  /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
+  bool certify = false;
   /// Called every 10 iterations; return false to cancel. Called on the calling thread.
   std::function<bool(const LbcProgress&)> progress;
 };
@@ -58,7 +66,12 @@ struct LbcReport {
   Index projectedVertices = 0;  ///< Vertices whose weights the final QP changed (negative entries).
   double maxProjection = 0.0;   ///< max |w − w_affine| over those vertices.
   Index projectionFailures = 0; ///< Vertices where the QP did not certify its optimum.
+  /// With LbcOptions::gapTolerance > 0 or certify: a lower bound on the optimum of (15) (weak
+  /// duality), so the returned weights are within (objective − lowerBound)/lowerBound of optimal.
+  /// −∞ otherwise.
+  double lowerBound = -std::numeric_limits<double>::infinity();
   double geodesicSeconds = 0.0, factorSeconds = 0.0, iterationSeconds = 0.0, seconds = 0.0;
+  double certifySeconds = 0.0;  ///< Part of `seconds` spent on lower bounds (and their projections).
 };
 
 struct LbcResult {
