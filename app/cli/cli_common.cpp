@@ -37,6 +37,15 @@ void requireFinite(double value, const std::string& option) {
   if (!std::isfinite(value)) throw app::InputError(option, "must be a finite number of pixels");
 }
 
+void addPngCompressionOption(CLI::App* sub, int& level) {
+  level = app::kDefaultPngCompression;
+  sub->add_option("--png-compression", level,
+                  "zlib level of the PNGs written: 0 stores, 1 fastest, 9 smallest (a 12-megapixel picture: "
+                  "about 1-2 s at 1, 6-40 s at 9)")
+      ->check(CLI::Range(0, 9))
+      ->capture_default_str();
+}
+
 std::string limitsText() {
   using namespace app;
   auto n = [](double v) {

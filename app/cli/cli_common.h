@@ -39,6 +39,9 @@ inline constexpr const char* kOutsideHelp =
     "Outside the cage: pinned (the image border stays, the background between cage and border stretches) | "
     "deform (the weights move everything, the thesis) | fixed (only the inside moves, drawn over the picture) | "
     "transparent (only the inside is drawn)";
+/// Adds `--png-compression 0..9` (zlib level of the PNGs written; default
+/// app::kDefaultPngCompression, fast) to a subcommand; a value outside 0..9 is a parse error (exit 2).
+void addPngCompressionOption(CLI::App* sub, int& level);
 /// True when stderr is a terminal (progress output is shown only then).
 bool stderrIsTerminal();
 

@@ -51,8 +51,6 @@ std::string findExamples(const std::string& given) {
   throw app::InputError("--images", "cannot find the bundled examples (images/checker.cage.json); give --images DIR");
 }
 
-std::string png(const Image& image) { return app::encodeImage(image, ".png"); }
-
 /// The control point the pose moves most: the heatmap shows its weights.
 Index mostMoved(const Pose& pose) {
   Index best = 0;
@@ -83,8 +81,9 @@ Example loadExample(const std::string& dir, const std::string& name) {
 }
 
 /// Binds and warps one example; its output files go into `files` (written at the end).
-void runExample(const Example& e, const std::string& out, OutsideMode outside, app::OutputBatch& files,
-                std::string& report) {
+void runExample(const Example& e, const std::string& out, OutsideMode outside, int pngCompression,
+                app::OutputBatch& files, std::string& report) {
+  const auto png = [pngCompression](const Image& image) { return app::encodeImage(image, ".png", pngCompression); };
   const std::string& name = e.name;
   const std::string& base = e.base;
   const Cage& cage = e.cage;
@@ -159,12 +158,14 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, a
 void addDemoCommand(CLI::App& app) {
   struct Args {
     std::string out = "kcwarp-demo", images, outside = "pinned";
+    int pngCompression = app::kDefaultPngCompression;
   };
   auto a = std::make_shared<Args>();
   CLI::App* sub = app.add_subcommand("demo", "Bind and warp the bundled examples; write PNGs, heatmaps and a report");
   sub->add_option("--out", a->out, "Output folder")->capture_default_str();
   sub->add_option("--images", a->images, "Folder with the examples (default: ./images or the source tree's)");
   sub->add_option("--outside", a->outside, kOutsideHelp)->capture_default_str();
+  addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {
     const OutsideMode outside = parseOutsideOption(a->outside);
     const std::string dir = findExamples(a->images);
@@ -181,7 +182,7 @@ void addDemoCommand(CLI::App& app) {
     try {
       app::OutputBatch files;
       files.reserve(path);
-      for (const Example& e : examples) runExample(e, a->out, outside, files, report);
+      for (const Example& e : examples) runExample(e, a->out, outside, a->pngCompression, files, report);
       files.set(path, report);
       files.commit();
     } catch (...) {

@@ -26,11 +26,13 @@ struct SampleArgs {
   std::string cage, image, size, output, png, sampler = "blue-noise";
   double spacing = 6.0, margin = -1.0;
   std::uint64_t seed = 1;
+  int pngCompression = app::kDefaultPngCompression;
 };
 
 /// The samples over the image (or a blank canvas), the picture padded by the sampling margin,
 /// encoded as PNG.
-std::string plotPng(const std::string& png, const Image* image, const Cage& cage, const SampleSet& S, int w, int h, double margin) {
+std::string plotPng(const std::string& png, const Image* image, const Cage& cage, const SampleSet& S, int w, int h, double margin,
+                    int pngCompression) {
   const int pad = static_cast<int>(std::ceil(std::max(0.0, margin)));
   Image canvas(w + 2 * pad, h + 2 * pad, Rgba{235, 235, 235, 255});
   if (image) {
@@ -51,7 +53,7 @@ std::string plotPng(const std::string& png, const Image* image, const Cage& cage
   shiftedCage.C.rowwise() += Eigen::RowVector2d(pad, pad);
   app::drawCage(canvas, shiftedCage, Rgba{60, 60, 60, 255});
   app::drawSamples(canvas, shifted);
-  return app::encodeImage(canvas, app::imageExtension(png));
+  return app::encodeImage(canvas, app::imageExtension(png), pngCompression);
 }
 
 void runSample(const SampleArgs& a) {
@@ -99,7 +101,8 @@ void runSample(const SampleArgs& a) {
       {"metrics", {{"separation", q.separation}, {"fill", q.fill}, {"nn_mean", q.nnMean}, {"nn_cv", q.nnCv}}},
       {"iterations", rep.iterations}};
   outputs.set(a.output, app::samplesText(S, extra.dump()));
-  if (!a.png.empty()) outputs.set(a.png, plotPng(a.png, image ? &*image : nullptr, cage, S, w, h, sampling::resolvedMargin(o)));
+  if (!a.png.empty())
+    outputs.set(a.png, plotPng(a.png, image ? &*image : nullptr, cage, S, w, h, sampling::resolvedMargin(o), a.pngCompression));
   outputs.commit();
   std::printf("%ld samples: %ld control, %ld edge, %ld frame, %ld interior, %ld exterior (%d relaxation iterations, %.3f s)\n",
               static_cast<long>(S.size()), static_cast<long>(rep.controls), static_cast<long>(rep.edge),
@@ -124,6 +127,7 @@ void addSampleCommand(CLI::App& app) {
   sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
   sub->add_option("-o,--output", a->output, "Samples file to write (JSON)")->required();
   sub->add_option("--png", a->png, "Also draw the samples, coloured by kind, into this PNG");
+  addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {
     if (a->image.empty() && a->size.empty()) throw app::InputError("sample", "give --image I.png or --size W,H");
     runSample(*a);

@@ -28,6 +28,7 @@ struct WarpArgs {
   bool supersample = false;
   double meshSpacing = 4.0;
   std::string background;
+  int pngCompression = app::kDefaultPngCompression;
 };
 
 Rgba parseColor(const std::string& text) {
@@ -100,7 +101,7 @@ void runWarp(const WarpArgs& a) {
     const auto t0 = std::chrono::steady_clock::now();
     app::HeatmapReport hr;
     const Image heat = app::weightHeatmap(s, a.heatmap, heatOptions, &hr);
-    outputs.set(a.heatmapOut, app::encodeImage(heat, app::imageExtension(a.heatmapOut)));
+    outputs.set(a.heatmapOut, app::encodeImage(heat, app::imageExtension(a.heatmapOut), a.pngCompression));
     std::printf("heatmap of w%d: range [%.3g, %.3g], %s scale, %.1f ms, %s\n", a.heatmap, hr.minValue, hr.maxValue,
                 a.scale.c_str(), msSince(t0), a.heatmapOut.c_str());
   }
@@ -121,7 +122,7 @@ void runWarp(const WarpArgs& a) {
     app::drawCage(out, s.cage, app::OverlayStyle{}.restCage);
     app::drawDeformedCage(out, s.cage, posedControls(s.cage.C, pose));
   }
-  outputs.set(a.output, app::encodeImage(out, app::imageExtension(a.output)));
+  outputs.set(a.output, app::encodeImage(out, app::imageExtension(a.output), a.pngCompression));
   outputs.commit();
 
   std::printf("mesh: %ld vertices, %ld triangles (spacing %.3g px, outside %s); weights at vertices %.1f ms\n",
@@ -166,6 +167,7 @@ void addWarpCommand(CLI::App& app) {
   sub->add_flag("--supersample", a->supersample, "2x2 supersampling");
   sub->add_option("--mesh-spacing", a->meshSpacing, "Warp mesh spacing in pixels")->capture_default_str();
   sub->add_option("--background", a->background, "Colour of uncovered pixels R,G,B[,A] (default transparent)");
+  addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {
     if (a->output.empty() && a->heatmap < 0) throw app::InputError("warp", "give -o OUT.png and/or --heatmap I --out W.png");
     if (a->heatmap >= 0 && a->heatmapOut.empty()) throw app::InputError("--heatmap", "needs --out W.png");

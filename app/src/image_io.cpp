@@ -62,7 +62,9 @@ Image loadImage(const std::string& path) {
   return img;
 }
 
-std::string encodeImage(const Image& image, const std::string& ext) {
+std::string encodeImage(const Image& image, const std::string& ext, int pngCompression) {
+  if (pngCompression < 0 || pngCompression > 9)
+    throw std::invalid_argument("PNG compression must be 0..9, got " + std::to_string(pngCompression));
   image.validate();
   if (image.empty()) throw std::invalid_argument("cannot encode an empty image");
   const cv::Mat rgba(image.height, image.width, CV_8UC4, const_cast<std::uint8_t*>(image.rgba.data()));
@@ -70,7 +72,7 @@ std::string encodeImage(const Image& image, const std::string& ext) {
   std::vector<int> params;
   if (ext == ".png") {
     cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGRA);
-    params = {cv::IMWRITE_PNG_COMPRESSION, 9};
+    params = {cv::IMWRITE_PNG_COMPRESSION, pngCompression};
   } else if (ext == ".jpg" || ext == ".jpeg") {
     cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
     params = {cv::IMWRITE_JPEG_QUALITY, 92};
@@ -89,11 +91,11 @@ std::string imageExtension(const std::string& path) {
   return ext;
 }
 
-void saveImage(const std::string& path, const Image& image) {
+void saveImage(const std::string& path, const Image& image, int pngCompression) {
   const std::string ext = imageExtension(path);
   std::string bytes;
   try {
-    bytes = encodeImage(image, ext);
+    bytes = encodeImage(image, ext, pngCompression);
   } catch (const std::invalid_argument& e) {
     throw InputError(path, e.what());
   }

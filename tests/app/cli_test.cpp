@@ -80,6 +80,18 @@ TEST(CliSample, WritesSamplesMetricsAndPicture) {
   // Same seed, same samples.
   ASSERT_EQ(runCli("sample --cage cage.json --size 96,96 --spacing 4 --seed 3 -o t.json", dir).code, 0);
   EXPECT_EQ(nlohmann::json::parse(slurp(dir / "t.json"))["samples"], j["samples"]);
+  // --png-compression: 0 stores the pixels (larger), 9 compresses at least as well as the default;
+  // a level outside 0..9 is refused and writes nothing.
+  ASSERT_EQ(runCli("sample --cage cage.json --size 96,96 --spacing 4 --seed 3 -o t.json --png s0.png --png-compression 0", dir).code, 0);
+  ASSERT_EQ(runCli("sample --cage cage.json --size 96,96 --spacing 4 --seed 3 -o t.json --png s9.png --png-compression 9", dir).code, 0);
+  EXPECT_GT(std::filesystem::file_size(dir / "s0.png"), std::filesystem::file_size(dir / "s.png"));
+  EXPECT_LE(std::filesystem::file_size(dir / "s9.png"), std::filesystem::file_size(dir / "s.png"));
+  r = runCli("sample --cage cage.json --size 96,96 -o v.json --png v.png --png-compression 10", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "--png-compression")) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.png"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "v.json"));
   r = runCli("sample --cage cage.json --size 96,96 --spacing -1 -o u.json", dir);
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lineCount(r.err), 1) << r.err;

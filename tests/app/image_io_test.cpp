@@ -42,6 +42,35 @@ TEST(ImageIo, PngRoundTripKeepsRgba) {
   EXPECT_EQ(m.at<cv::Vec4b>(2, 5)[2], img.pixel(5, 2)[0]);
 }
 
+TEST(ImageIo, EveryPngCompressionLevelIsLosslessAndLevelsTradeSizeForTime) {
+  // A smooth picture with flat regions: what compression should shrink.
+  Image img(256, 192);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      p[0] = std::uint8_t(x), p[1] = std::uint8_t(y), p[2] = std::uint8_t(x < 128 ? 40 : 200), p[3] = 255;
+    }
+  std::vector<std::size_t> sizes;
+  for (int level = 0; level <= 9; ++level) {
+    const std::string bytes = encodeImage(img, ".png", level);
+    sizes.push_back(bytes.size());
+    const cv::Mat m = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(m.type(), CV_8UC4) << "level " << level;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(m.at<cv::Vec4b>(y, x)[2 - c], img.pixel(x, y)[c]) << "level " << level << " at " << x << "," << y;
+  }
+  EXPECT_GT(sizes[0], std::size_t(img.width) * img.height * 4);  // stored: at least the raw pixels
+  EXPECT_LT(sizes[kDefaultPngCompression] * 4, sizes[0]);     // the fast default still compresses
+  EXPECT_LE(sizes[9], sizes[kDefaultPngCompression]);
+  EXPECT_THROW(encodeImage(img, ".png", -1), std::invalid_argument);
+  EXPECT_THROW(encodeImage(img, ".png", 10), std::invalid_argument);
+  const fs::path dir = freshDir("png_level");
+  EXPECT_THROW(saveImage((dir / "a.png").string(), img, 10), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "a.png"));
+}
+
 TEST(ImageIo, JpegDropsAlphaAndIsClose) {
   const fs::path dir = freshDir("jpg");
   Image img(64, 64, Rgba{200, 100, 50, 255});

@@ -21,16 +21,24 @@ ImageHeader readImageFileHeader(const std::string& path);
 /// The header of the image file content `bytes` (read from `path`), checked against the limits.
 ImageHeader checkImageFile(const std::string& bytes, const std::string& path);
 
+/// PNG compression (zlib level) when none is asked for. Measured on a generated 4000×3000 picture
+/// (one core): level 1 encodes in 1.7 s (photo-like, 27.6 MB) / 0.9 s (smooth, 7.8 MB) where level
+/// 9 takes 5.8 s (25.9 MB) / 40 s (4.6 MB).
+inline constexpr int kDefaultPngCompression = 1;
+
 /// Saves an RGBA8 image; the format follows the extension (.png keeps alpha, .jpg/.jpeg drop it).
+/// `pngCompression` 0..9 as in encodeImage (ignored for JPEG).
 /// Atomic: encoded in memory, written to a temporary file in the same folder, then renamed.
 /// Throws InputError naming the file on an unknown extension or a failed write.
-void saveImage(const std::string& path, const Image& image);
+void saveImage(const std::string& path, const Image& image, int pngCompression = kDefaultPngCompression);
 
 /// The lower-case extension of `path` when kcwarp can write it (".png", ".jpg", ".jpeg"); InputError
 /// naming the file otherwise.
 std::string imageExtension(const std::string& path);
 
-/// The image encoded as `ext` (".png", ".jpg") in memory.
-std::string encodeImage(const Image& image, const std::string& ext);
+/// The image encoded as `ext` (".png", ".jpg") in memory. PNG: `pngCompression` is the zlib level
+/// 0..9 (0 stores, 1 fastest, 9 smallest and slowest). std::invalid_argument on an unknown
+/// extension or a level outside 0..9.
+std::string encodeImage(const Image& image, const std::string& ext, int pngCompression = kDefaultPngCompression);
 
 }  // namespace kc::app
