@@ -39,10 +39,13 @@ struct LbcOptions {
   /// Stopping rule: the primal and the dual residual (eq. 26–27), each as an area-weighted RMS
   /// per control function on the mesh scaled to bounding-box diameter 1, are ≤ tolerance. These
   /// are discretizations of L² norms of functions, so the rule does not loosen as the mesh is refined.
-  double tolerance = 1e-4;
+  double tolerance = 1e-3;
   int maxIterations = 20000;
-  double penalty = 0.3;             ///< μ at the start (normalized units: bounding-box diameter 1).
-  bool adaptivePenalty = true;      ///< Residual balancing (Boyd et al. 2011 §3.4.1): μ ×/÷ 2 when one residual is 10× the other.
+  /// μ at the start (normalized units: bounding-box diameter 1). Measured on the bundled star and
+  /// figure at 2k/5k vertices (iterations to a certified 0.1% gap): 0.03 fixed beats larger μ and
+  /// residual balancing by 2–3×.
+  double penalty = 0.03;
+  bool adaptivePenalty = false;     ///< Residual balancing (Boyd et al. 2011 §3.4.1): μ ×/÷ 2 when one residual is 10× the other.
   double relaxation = 1.65;         ///< α, over-relaxation in [1.5, 1.8] (Appendix B).
   bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
