@@ -5,7 +5,8 @@
 // Optimality is certified, not estimated: LbcOptions::certify turns the final ADMM multipliers
 // into a dual-feasible point whose value is a lower bound on the optimum (weak duality), so
 // "gap_pct" = (objective − lower bound)/lower bound bounds how far the returned weights are from
-// the optimal objective. The certificate's own time is excluded from the measured time.
+// the optimal objective. The default solve stops on that certificate (gap ≤ 0.1%), so its checks
+// ("certify_s") are part of the measured time.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -57,7 +58,7 @@ void BM_LbcSolve(benchmark::State& state) {
     const LbcSolver solver(mesh, options.tau);
     const LbcResult r = solver.solve(options);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    state.SetIterationTime(seconds - r.report.certifySeconds);
+    state.SetIterationTime(seconds);
     peakKb = statusKb("VmHWM") - baseKb;
     report = r.report;
     benchmark::DoNotOptimize(r.W.data());
