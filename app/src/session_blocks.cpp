@@ -1,8 +1,11 @@
 #include "session_blocks.h"
 
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
+#include "base64.h"
 #include "kc/app/errors.h"
 #include "kc/app/limits.h"
 #include "kc/core/field/kernel_field.h"
@@ -37,15 +40,98 @@ Weights parseWeights(const json& rows, Index n, Index m, const std::string& wher
   return W;
 }
 
-json fieldToJson(const Session& s) {
+namespace {
+
+static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
+constexpr bool kLittleEndian = std::endian::native == std::endian::little;
+
+/// The 8 bytes of `v` in little-endian order, in place (nothing to do on little-endian machines).
+void toLittleEndian(unsigned char* bytes) {
+  if constexpr (!kLittleEndian)
+    for (int i = 0; i < 4; ++i) std::swap(bytes[i], bytes[7 - i]);
+}
+
+Weights parseCompactWeights(const json& block, Index n, Index m, const std::string& where, const std::string& field) {
+  if (!block.is_object()) throw InputError(where, field + " must be an object {\"shape\", \"dtype\", \"base64\"}");
+  const json& shape = require(block, "shape", where);
+  if (!shape.is_array() || shape.size() != 2) throw InputError(where, field + ".shape must be [rows, columns]");
+  const long long rows = integerInRange(shape[0], 0, std::numeric_limits<int>::max(), where, field + ".shape[0]");
+  const long long cols = integerInRange(shape[1], 0, std::numeric_limits<int>::max(), where, field + ".shape[1]");
+  if (rows != n || cols != m)
+    throw InputError(where, field + ".shape is [" + std::to_string(rows) + ", " + std::to_string(cols) + "] but the session has " +
+                                std::to_string(n) + " rows (samples) and " + std::to_string(m) + " control points");
+  if (block.contains("dtype") && block["dtype"] != "f64le")
+    throw InputError(where, field + ".dtype " + block["dtype"].dump() + " is not \"f64le\"");
+  const json& text = require(block, "base64", where);
+  if (!text.is_string()) throw InputError(where, field + ".base64 must be a string");
+  const std::string& b64 = text.get_ref<const std::string&>();
+  const std::size_t bytes = static_cast<std::size_t>(n) * static_cast<std::size_t>(m) * sizeof(double);
+  const std::size_t expected = (bytes + 2) / 3 * 4;
+  if (b64.size() != expected)
+    throw InputError(where, field + ".base64 has " + std::to_string(b64.size()) + " characters, but " + std::to_string(n) + "x" +
+                                std::to_string(m) + " doubles need " + std::to_string(expected) +
+                                (b64.size() < expected ? " (truncated)" : ""));
+  std::string raw, problem;
+  raw.reserve(bytes);
+  if (!base64Decode(b64, raw, problem) || raw.size() != bytes)
+    throw InputError(where, field + ".base64 is not valid base64: " + (problem.empty() ? "wrong padding" : problem));
+  Weights W(n, m);
+  for (Index i = 0; i < n; ++i)
+    for (Index k = 0; k < m; ++k) {
+      unsigned char b[8];
+      std::memcpy(b, raw.data() + (static_cast<std::size_t>(i) * static_cast<std::size_t>(m) + static_cast<std::size_t>(k)) * 8, 8);
+      toLittleEndian(b);
+      double v;
+      std::memcpy(&v, b, 8);
+      if (!std::isfinite(v) || std::abs(v) > kMaxWeight)
+        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + json(v).dump() +
+                                    (std::isfinite(v) ? ", beyond kcwarp's limit |w| <= 1e6" : ", not a finite number"));
+      W(i, k) = v;
+    }
+  return W;
+}
+
+}  // namespace
+
+json weightsToCompactJson(const Weights& W) {
+  std::string raw(static_cast<std::size_t>(W.rows()) * static_cast<std::size_t>(W.cols()) * sizeof(double), '\0');
+  std::size_t o = 0;
+  for (Index i = 0; i < W.rows(); ++i)
+    for (Index k = 0; k < W.cols(); ++k, o += 8) {
+      const double v = W(i, k);
+      unsigned char b[8];
+      std::memcpy(b, &v, 8);
+      toLittleEndian(b);
+      std::memcpy(raw.data() + o, b, 8);
+    }
+  return {{"shape", {W.rows(), W.cols()}}, {"dtype", "f64le"}, {"base64", base64Encode(raw.data(), raw.size())}};
+}
+
+void putWeights(json& block, const std::string& key, const Weights& W, WeightsForm form) {
+  if (form == WeightsForm::Compact)
+    block[key + "_b64"] = weightsToCompactJson(W);
+  else
+    block[key] = weightsToJson(W);
+}
+
+Weights getWeights(const json& block, const std::string& key, Index n, Index m, const std::string& where,
+                   const std::string& field) {
+  const std::string compact = key + "_b64";
+  const bool hasRows = block.contains(key), hasCompact = block.contains(compact);
+  if (hasRows && hasCompact) throw InputError(where, field + " and " + field + "_b64 are both given (keep one)");
+  if (hasCompact) return parseCompactWeights(block[compact], n, m, where, field + "_b64");
+  if (!hasRows) throw InputError(where, "missing key '" + key + "' (or '" + compact + "')");
+  return parseWeights(block[key], n, m, where, field);
+}
+
+json fieldToJson(const Session& s, WeightsForm form) {
   if (!s.field) return nullptr;
   if (const auto* mesh = dynamic_cast<const MeshField*>(s.field.get())) {
     json tris = json::array();
     for (const auto& t : mesh->triangles()) tris.push_back({t[0], t[1], t[2]});
-    return {{"kind", "mesh"},
-            {"vertices", pointsToJson(mesh->vertices())},
-            {"triangles", tris},
-            {"weights", weightsToJson(mesh->vertexWeights())}};
+    json block = {{"kind", "mesh"}, {"vertices", pointsToJson(mesh->vertices())}, {"triangles", tris}};
+    putWeights(block, "weights", mesh->vertexWeights(), form);
+    return block;
   }
   if (const auto* kernel = dynamic_cast<const KernelField*>(s.field.get())) {
     const KernelInterpolator& k = kernel->interpolator();
@@ -82,7 +168,7 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
       }
       T.push_back(tri);
     }
-    Weights W = parseWeights(require(block, "weights", where), V.rows(), m, where, "field.weights");
+    Weights W = getWeights(block, "weights", V.rows(), m, where, "field.weights");
     try {
       s.field = std::make_unique<MeshField>(V, std::move(T), std::move(W));
     } catch (const std::invalid_argument& e) {

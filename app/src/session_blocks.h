@@ -2,6 +2,7 @@
 // Private to kc::app: the session file's `field` and `reports` blocks (ARCHITECTURE.md, Session).
 
 #include "json_util.h"
+#include "kc/app/file_io.h"
 #include "kc/app/session.h"
 
 namespace kc::app::detail {
@@ -9,7 +10,7 @@ namespace kc::app::detail {
 /// {"kind": "kernel", "nodes": "samples", "sigma", "spacing", "interp"} for a KernelField (rebuilt
 /// from the samples and weights.optimized), {"kind": "mesh", "vertices", "triangles", "weights"}
 /// for a MeshField (self-contained). Null json when the session has no field.
-json fieldToJson(const Session& s);
+json fieldToJson(const Session& s, WeightsForm form);
 /// Reads the field block into s: a mesh block builds s.field (returns true); a kernel block is
 /// checked against s.params and σ (returns false: the backend rebuilds it). InputError naming the
 /// bad entry otherwise.
@@ -19,9 +20,22 @@ json reportsToJson(const SolverReports& r);
 /// Missing entries keep their defaults (older files have no reports block).
 SolverReports reportsFromJson(const json& block);
 
-/// One row per sample, one column per control point.
+/// One row per sample, one column per control point (the JSON form older files use).
 json weightsToJson(const Weights& W);
 /// rows → n×m, InputError naming `field` (e.g. "weights.initial[3][1]") when malformed.
 Weights parseWeights(const json& rows, Index n, Index m, const std::string& where, const std::string& field);
+
+/// The compact form of an n×m weight matrix: {"shape": [n, m], "dtype": "f64le", "base64": B}
+/// where B is the base64 of the n·m doubles row by row (W(0,0), W(0,1), …), each 8 bytes of
+/// little-endian IEEE 754. Reading it back gives the same bits.
+json weightsToCompactJson(const Weights& W);
+/// Writes W into `block`: under `key` + "_b64" in the compact form, or under `key` as rows.
+void putWeights(json& block, const std::string& key, const Weights& W, WeightsForm form);
+/// The n×m weights in `block` under `key` + "_b64" (compact) or `key` (rows); exactly one must be
+/// there. `field` names the key in messages (e.g. "weights.optimized"). InputError naming the file
+/// and key on a shape other than [n, m], base64 that is not canonical or has the wrong length
+/// (truncated), or a value that is not finite or exceeds kMaxWeight in magnitude.
+Weights getWeights(const json& block, const std::string& key, Index n, Index m, const std::string& where,
+                   const std::string& field);
 
 }  // namespace kc::app::detail

@@ -14,8 +14,8 @@ namespace kc::app {
 namespace {
 
 using detail::json;
-using detail::parseWeights;
-using detail::weightsToJson;
+using detail::getWeights;
+using detail::putWeights;
 
 template <class E>
 E parseEnum(const json& params, const char* key, E fallback, bool (*parse)(std::string_view, E&), const std::string& where) {
@@ -63,7 +63,7 @@ void saveSamples(const std::string& path, const SampleSet& samples, const std::s
   writeFileAtomic(path, samplesText(samples, extraJsonObject));
 }
 
-std::string sessionToJson(const Session& s) {
+std::string sessionToJson(const Session& s, WeightsForm form) {
   const BindParams& p = s.params;
   json params = {{"spacing", p.spacing},
                  {"sigma", s.sigma},
@@ -84,12 +84,13 @@ std::string sessionToJson(const Session& s) {
             {"image_size", {s.imageWidth, s.imageHeight}},
             {"params", params},
             {"samples", samplesToJson(s.samples)},
-            {"weights", {{"optimized", weightsToJson(s.W)}}},
+            {"weights", json::object()},
             {"lines", json::array()},
             {"rigid", json::array()},
             {"image", s.image}};
-  if (s.W0.rows() > 0) j["weights"]["initial"] = weightsToJson(s.W0);  // a backend without targets has none
-  if (const json field = detail::fieldToJson(s); !field.is_null()) j["field"] = field;
+  putWeights(j["weights"], "optimized", s.W, form);
+  if (s.W0.rows() > 0) putWeights(j["weights"], "initial", s.W0, form);  // a backend without targets has none
+  if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.reports);
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
   if (!s.outside.empty()) j["outside"] = s.outside;
@@ -202,8 +203,10 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
                                   " (the first samples must be the control points)");
 
   const json& weights = detail::require(j, "weights", where);
-  if (weights.contains("initial")) s.W0 = parseWeights(weights["initial"], n, m, where, "weights.initial");
-  s.W = parseWeights(detail::require(weights, "optimized", where), n, m, where, "weights.optimized");
+  if (!weights.is_object()) throw InputError(where, "weights must be an object");
+  if (weights.contains("initial") || weights.contains("initial_b64"))
+    s.W0 = getWeights(weights, "initial", n, m, where, "weights.initial");
+  s.W = getWeights(weights, "optimized", n, m, where, "weights.optimized");
   if (j.contains("pose") && !j["pose"].is_null()) s.pose = detail::parsePose(j["pose"], s.cage.C, where, "pose");
   if (j.contains("image")) {
     if (!j["image"].is_string()) throw InputError(where, "image must be a path string");

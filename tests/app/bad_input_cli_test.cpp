@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli_run.h"
+#include "kc/app/file_io.h"
 
 namespace kc::test {
 namespace {
@@ -164,10 +165,24 @@ TEST_F(BadInput, SessionImageSideTooLong) {
 }
 
 TEST_F(BadInput, SessionHugeWeight) {
-  json j = session();
+  json j = json::parse(app::sessionToJson(app::sessionFromJson(session().dump(), "s.kcw.json"), app::WeightsForm::Rows));
   j["weights"]["optimized"][5][1] = 1e308;
   writeSession(j);
   expectRefused("stats --session bad.kcw.json --json", "weights.optimized[5][1] = 1e+308 is out of range");
+}
+
+TEST_F(BadInput, SessionCompactWeightsCorrupt) {
+  json j = session();
+  std::string& text = j["weights"]["optimized_b64"]["base64"].get_ref<std::string&>();
+  text[text.size() / 2] = '*';
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "weights.optimized_b64.base64 is not valid base64: character");
+  j = session();
+  std::string& cut = j["weights"]["initial_b64"]["base64"].get_ref<std::string&>();
+  cut.resize(cut.size() / 2 / 4 * 4);
+  writeSession(j);
+  expectRefused("warp --session bad.kcw.json --heatmap 0 --out h.png", "weights.initial_b64.base64 has");
+  EXPECT_FALSE(fs::exists(m_dir / "h.png"));
 }
 
 TEST_F(BadInput, SessionEdgeEndWraps) {
