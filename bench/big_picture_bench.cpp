@@ -1,0 +1,271 @@
+// Big pictures (issue 11): cost against picture size. Generated photo-like pictures of 0.1, 1, 4
+// and 12 megapixels (4:3) with the same 34-point cage shape over a quarter of each (its bounding
+// box is half the width and half the height, centred), default bind parameters. Rows:
+//   Bind        `kcwarp-cli bind` as a child process (process start to session file)
+//   OneShotWarp `kcwarp-cli warp -o OUT.png` as a child process (process start to PNG)
+//   SessionLoad app::loadSession of that session, in this process
+//   Export      warp mesh + deform + render + PNG encode (default level) + atomic write, in process
+//   Floor       OpenCV imread + one cv::remap + imwrite (default PNG level) of the same picture
+// Counters: peak_MB is the child's peak resident memory (measured by /usr/bin/time), for the rows
+// that run a child; samples / file_MB where they apply. Each row runs once (Iterations(1)): a bind of
+// 12 MP takes minutes. Run one size with --benchmark_filter='/12$' etc.
+#include <benchmark/benchmark.h>
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <spawn.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "kc/app/export.h"
+#include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// One generated case: its folder holds picture.png, cage.json, pose.json, and after the bind row
+/// session.kcw.json.
+struct Case {
+  int width = 0, height = 0;
+  fs::path dir;
+  bool bound = false;
+};
+
+int sizeForTenthsOfMegapixels(int tenths, bool width) {
+  const double pixels = tenths * 1e5;
+  const double w = std::round(std::sqrt(pixels * 4.0 / 3.0));
+  return static_cast<int>(width ? w : std::round(pixels / w));
+}
+
+/// Smooth colour waves, a coarse checker and Gaussian noise (σ 4 grey levels): compresses like a photo.
+void writePicture(const fs::path& path, int w, int h) {
+  cv::Mat img(h, w, CV_8UC3);
+  std::mt19937 rng(1);
+  std::normal_distribution<double> noise(0.0, 4.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      auto& p = img.at<cv::Vec3b>(y, x);
+      const double u = 4000.0 * x / w, v = 3000.0 * y / h;  // the same picture at every size
+      p[2] = cv::saturate_cast<uchar>(128 + 90 * std::sin(u * 0.004) * std::cos(v * 0.003) + noise(rng));
+      p[1] = cv::saturate_cast<uchar>(128 + 80 * std::sin((u + v) * 0.002) + noise(rng));
+      p[0] = cv::saturate_cast<uchar>(((int(u) / 250 + int(v) / 250) % 2 ? 200 : 60) + noise(rng));
+    }
+  cv::imwrite(path.string(), img, {cv::IMWRITE_PNG_COMPRESSION, 1});
+}
+
+/// 34 points on r(θ) = 1 + 0.15 sin 3θ, scaled to a box of half the picture's width and height.
+void writeCageAndPose(const Case& c) {
+  std::string cage = R"({"version": 1, "closed": true, "points": [)", pose = R"({"version": 1, "positions": [)";
+  const double cx = c.width / 2.0, cy = c.height / 2.0, rx = c.width / 4.0 / 1.15, ry = c.height / 4.0 / 1.15;
+  for (int i = 0; i < 34; ++i) {
+    const double t = 2 * M_PI * i / 34, r = 1 + 0.15 * std::sin(3 * t);
+    const double x = cx + rx * r * std::cos(t), y = cy + ry * r * std::sin(t);
+    // The pose pulls the right third of the cage outwards by 5% of the width.
+    const double dx = std::cos(t) > 0.5 ? 0.05 * c.width : 0.0;
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s[%.3f, %.3f]", i ? ", " : "", x, y);
+    cage += buf;
+    std::snprintf(buf, sizeof buf, "%s[%.3f, %.3f]", i ? ", " : "", x + dx, y);
+    pose += buf;
+  }
+  std::ofstream(c.dir / "cage.json") << cage << "]}\n";
+  std::ofstream(c.dir / "pose.json") << pose << "]}\n";
+}
+
+/// The generated cases; their folders are removed at exit unless KC_BENCH_KEEP is set.
+struct Cases {
+  std::map<int, Case> byTenths;
+  ~Cases() {
+    if (std::getenv("KC_BENCH_KEEP")) return;
+    std::error_code ec;
+    for (const auto& [tenths, c] : byTenths) fs::remove_all(c.dir, ec);
+  }
+};
+
+Case& caseFor(int tenths) {
+  static Cases all;
+  std::map<int, Case>& cases = all.byTenths;
+  Case& c = cases[tenths];
+  if (c.width == 0) {
+    c.width = sizeForTenthsOfMegapixels(tenths, true);
+    c.height = sizeForTenthsOfMegapixels(tenths, false);
+    c.dir = fs::temp_directory_path() / ("kc_bench_big_" + std::to_string(::getpid()) + "_" + std::to_string(tenths));
+    fs::create_directories(c.dir);
+    writePicture(c.dir / "picture.png", c.width, c.height);
+    writeCageAndPose(c);
+  }
+  return c;
+}
+
+struct ChildRun {
+  double seconds = 0, peakMB = 0;
+  int status = -1;
+};
+
+/// Runs kcwarp-cli with `args` (stdout and stderr to log.txt in the case's folder): its wall time
+/// and, through /usr/bin/time when installed, its peak resident memory. (The child's own rusage
+/// would not do: a process spawned from this one inherits this one's high-water mark at exec; time
+/// forks the CLI from its own small process.)
+ChildRun runCli(const Case& c, const std::vector<std::string>& args) {
+  const bool timed = fs::exists("/usr/bin/time");
+  const std::string memory = (c.dir / "peak_kb.txt").string();
+  std::vector<std::string> all;
+  if (timed) all = {"/usr/bin/time", "-f", "%M", "-o", memory};
+  all.push_back(KC_CLI_PATH);
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const std::string log = (c.dir / "log.txt").string();
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  ChildRun r;
+  const auto t0 = Clock::now();
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return r;
+  waitpid(pid, &r.status, 0);
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  double kb = 0;
+  if (timed && (std::ifstream(memory) >> kb)) r.peakMB = kb / 1024.0;
+  return r;
+}
+
+std::string path(const Case& c, const char* name) { return (c.dir / name).string(); }
+
+/// The last line the CLI wrote (why it failed).
+std::string lastLogLine(const Case& c) {
+  std::ifstream in(c.dir / "log.txt");
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+void bindCase(benchmark::State& state, Case& c) {
+  const ChildRun r = runCli(c, {"bind", "--cage", path(c, "cage.json"), "--image", path(c, "picture.png"), "-o",
+                                path(c, "session.kcw.json")});
+  if (r.status != 0) {
+    state.SkipWithError(("bind failed: " + lastLogLine(c)).c_str());
+    return;
+  }
+  c.bound = true;
+  state.SetIterationTime(r.seconds);
+  state.counters["peak_MB"] = r.peakMB;
+  state.counters["file_MB"] = double(fs::file_size(c.dir / "session.kcw.json")) / 1e6;
+}
+
+/// The case of this row, bound (by the Bind row, or here when it was filtered out).
+Case* boundCase(benchmark::State& state) {
+  Case& c = caseFor(static_cast<int>(state.range(0)));
+  state.SetLabel(std::to_string(c.width) + "x" + std::to_string(c.height));
+  if (!c.bound) {
+    const ChildRun r = runCli(c, {"bind", "--cage", path(c, "cage.json"), "--image", path(c, "picture.png"), "-o",
+                                  path(c, "session.kcw.json")});
+    c.bound = r.status == 0;
+    if (!c.bound) state.SkipWithError(("bind failed: " + lastLogLine(c)).c_str());
+  }
+  return c.bound ? &c : nullptr;
+}
+
+void BM_Bind(benchmark::State& state) {
+  Case& c = caseFor(static_cast<int>(state.range(0)));
+  state.SetLabel(std::to_string(c.width) + "x" + std::to_string(c.height));
+  for (auto _ : state) bindCase(state, c);
+}
+
+void BM_OneShotWarp(benchmark::State& state) {
+  Case* c = boundCase(state);
+  for (auto _ : state) {
+    if (!c) break;
+    const ChildRun r = runCli(*c, {"warp", "--session", path(*c, "session.kcw.json"), "--image", path(*c, "picture.png"),
+                                   "--pose", path(*c, "pose.json"), "-o", path(*c, "warped.png")});
+    if (r.status != 0) {
+      state.SkipWithError(("warp failed: " + lastLogLine(*c)).c_str());
+      break;
+    }
+    state.SetIterationTime(r.seconds);
+    state.counters["peak_MB"] = r.peakMB;
+  }
+}
+
+void BM_SessionLoad(benchmark::State& state) {
+  Case* c = boundCase(state);
+  for (auto _ : state) {
+    if (!c) break;
+    const auto t0 = Clock::now();
+    const kc::app::Session s = kc::app::loadSession(path(*c, "session.kcw.json"));
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+    state.counters["samples"] = double(s.samples.size());
+    state.counters["file_MB"] = double(fs::file_size(c->dir / "session.kcw.json")) / 1e6;
+  }
+}
+
+void BM_Export(benchmark::State& state) {
+  Case* c = boundCase(state);
+  if (!c) return;
+  const kc::app::Session s = kc::app::loadSession(path(*c, "session.kcw.json"));
+  const kc::Image source = kc::app::loadImage(path(*c, "picture.png"));
+  const kc::Pose pose = kc::app::loadPose(path(*c, "pose.json"), s.cage.C);
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    kc::WarpMesh mesh = kc::app::buildWarpMesh(s, kc::WarpMeshOptions{});
+    mesh.deform(pose);
+    kc::app::saveImage(path(*c, "export.png"), mesh.render(source, kc::RasterOptions{}));
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+}
+
+void BM_Floor(benchmark::State& state) {
+  Case& c = caseFor(static_cast<int>(state.range(0)));
+  state.SetLabel(std::to_string(c.width) + "x" + std::to_string(c.height));
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    const cv::Mat img = cv::imread(path(c, "picture.png"), cv::IMREAD_UNCHANGED);
+    cv::Mat mapX(img.rows, img.cols, CV_32F), mapY(img.rows, img.cols, CV_32F);
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) {  // a gentle swirl
+        mapX.at<float>(y, x) = float(x + 0.02 * img.cols * std::sin(y * 6.283 / img.rows));
+        mapY.at<float>(y, x) = float(y);
+      }
+    cv::Mat out;
+    cv::remap(img, out, mapX, mapY, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::imwrite(path(c, "floor.png"), out, {cv::IMWRITE_PNG_COMPRESSION, kc::app::kDefaultPngCompression});
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int tenths : {1, 10, 40, 120}) b->Arg(tenths);
+  b->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+}
+
+}  // namespace
+
+BENCHMARK(BM_Floor)->Apply(sizes);
+BENCHMARK(BM_Bind)->Apply(sizes);
+BENCHMARK(BM_SessionLoad)->Apply(sizes);
+BENCHMARK(BM_Export)->Apply(sizes);
+BENCHMARK(BM_OneShotWarp)->Apply(sizes);
+
+BENCHMARK_MAIN();
