@@ -47,7 +47,7 @@ void runBind(const BindArgs& a) {
   p.margin = a.margin;
   p.seed = a.seed;
   p.backend = a.backend;
-  p.kc.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance");
+  p.kc.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance, lbc");
   p.kc.init.iterations = a.heatIterations;
   p.kc.init.locality = a.locality;
   p.kc.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
@@ -104,7 +104,10 @@ void addBindCommand(CLI::App& app) {
   image->excludes(size);
   sub->add_option("--spacing", a->spacing, "Sample spacing h in pixels")->capture_default_str();
   sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
-  sub->add_option("--init", a->init, "Initial weights: heat-linear | heat-impulse | inverse-distance")->capture_default_str();
+  sub->add_option("--init", a->init,
+                  "Initial weights: heat-linear | heat-impulse | inverse-distance | lbc (local barycentric coordinates inside the "
+                  "cage, heat-linear outside; --lbc-* options apply)")
+      ->capture_default_str();
   sub->add_option("--heat-iterations", a->heatIterations,
                   "Heat diffusion iterations, 0.." + std::to_string(app::kMaxHeatIterations) + " (0 = converged steady state)")
       ->check(CLI::Range(0, app::kMaxHeatIterations))

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <numeric>
 #include <vector>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 #include "backends.h"
 #include "kc/app/pipeline.h"
 #include "kc/core/field/kernel_field.h"
+#include "kc/core/field/mesh_field.h"
 #include "kc/sampling/sigma.h"
 
 namespace kc::app {
@@ -24,6 +26,22 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 
 GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
+
+/// `--init lbc`: the targets W0 of the samples inside the cage (controls, edge and interior
+/// samples) become the LBC weights there (solved on a mesh of the cage interior at the bind's
+/// spacing, barycentric interpolation between mesh vertices); exterior samples keep theirs.
+void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>& step) {
+  LbcBind b = solveLbcForBind(s.cage, s.params, step);
+  const MeshField lbc(b.mesh.V, b.mesh.T, std::move(b.result.W));
+  std::vector<Index> inside;
+  for (Index i = 0; i < s.samples.size(); ++i)
+    if (s.samples.kind[std::size_t(i)] != SampleKind::Exterior) inside.push_back(i);
+  Points P(Index(inside.size()), 2);
+  for (std::size_t k = 0; k < inside.size(); ++k) P.row(Index(k)) = s.samples.X.row(inside[k]);
+  const Weights W = lbc.weightsAt(P);
+  for (std::size_t k = 0; k < inside.size(); ++k)
+    if (W.row(Index(k)).sum() > 0.5) s.W0.row(inside[k]) = W.row(Index(k));  // (a point the mesh misses by round-off keeps its heat target)
+}
 
 class KcBackend final : public Backend {
  public:
@@ -53,7 +71,14 @@ class KcBackend final : public Backend {
                                   std::to_string(params.spacing) + "): " + r.factor.advice);
 
     step("initial weights", kStageStart[2]);
-    s.W0 = initialWeights(s.samples, s.cage, field->interpolator().K(), kc.init, &r.init);
+    InitOptions init = kc.init;
+    if (init.method == InitMethod::Lbc) init.method = InitMethod::HeatLinear;  // the exterior; the inside follows
+    s.W0 = initialWeights(s.samples, s.cage, field->interpolator().K(), init, &r.init);
+    if (kc.init.method == InitMethod::Lbc) {
+      const auto t0 = std::chrono::steady_clock::now();
+      lbcTargetsInside(s, [&](const char*, double f) { step("initial weights", kStageStart[2] + (kStageStart[3] - kStageStart[2]) * f); });
+      r.init.seconds += secondsSince(t0);
+    }
 
     step("optimization", kStageStart[3]);
     s.W.resize(s.W0.rows(), s.W0.cols());

@@ -33,6 +33,60 @@ std::string num(double v) {
   return text;
 }
 
+}  // namespace
+
+LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step) {
+  const LbcParams& lbc = params.lbc;
+  if (!(lbc.tolerance > 0.0)) throw std::invalid_argument("the LBC tolerance must be positive (--lbc-tolerance)");
+  if (lbc.maxIterations < 1) throw std::invalid_argument("the LBC iteration cap must be at least 1 (--lbc-max-iterations)");
+
+  // About 1.2 vertices per h² of cage area (Delaunay refinement to edges ≤ h): refuse before meshing.
+  const double estimate = 1.2 * std::abs(signedArea(cage.C)) / (params.spacing * params.spacing);
+  if (estimate > double(kMaxLbcVertices))
+    throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have about " +
+                                num(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
+                                "; use a larger --spacing");
+  step("mesh", 0.0);
+  LbcBind b;
+  auto t0 = std::chrono::steady_clock::now();
+  CageMeshOptions mo;
+  mo.spacing = params.spacing;
+  mo.maxVertices = kMaxLbcVertices;
+  b.mesh = meshCageInterior(cage, mo);
+  if (b.mesh.status != CageMeshStatus::Ok)
+    throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have more than " +
+                                std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
+  b.meshSeconds = secondsSince(t0);
+
+  step("geodesics", kStageStart[1]);
+  const LbcSolver solver(b.mesh, lbc.tau);
+  LbcOptions options;
+  options.tau = lbc.tau;
+  options.tolerance = lbc.tolerance;
+  options.maxIterations = lbc.maxIterations;
+  options.progress = [&](const LbcProgress& p) {
+    // Progress by the residual's way down to the tolerance (log scale), or the iteration share.
+    const double worst = std::max(p.primalResidual, p.dualResidual);
+    const double byResidual = std::log(std::max(worst, lbc.tolerance)) / std::log(lbc.tolerance);
+    const double f = std::clamp(std::max(byResidual, double(p.iteration) / lbc.maxIterations), 0.0, 1.0);
+    step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws BindCancelled to stop
+    return true;
+  };
+  step("LBC iterations", kStageStart[2]);
+  b.result = solver.solve(options);
+  const LbcReport& rep = b.result.report;
+  if (rep.status == LbcStatus::Failed)
+    throw std::invalid_argument("the LBC system of this cage's mesh cannot be factorized (degenerate triangles); "
+                                "try another --spacing");
+  if (rep.status == LbcStatus::NotConverged)
+    throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
+                                num(rep.primalResidual) + ", " + num(rep.dualResidual) + ", tolerance " + num(lbc.tolerance) +
+                                "); raise --lbc-max-iterations or --lbc-tolerance");
+  return b;
+}
+
+namespace {
+
 class LbcBackend final : public Backend {
  public:
   std::string_view name() const override { return "lbc"; }
@@ -45,56 +99,14 @@ class LbcBackend final : public Backend {
   }
 
   void bind(Session& s, BindReport& r, const BindStep& step) const override {
-    const BindParams& params = s.params;
-    const LbcParams& lbc = params.lbc;
-    if (!(lbc.tolerance > 0.0)) throw std::invalid_argument("the LBC tolerance must be positive (--lbc-tolerance)");
-    if (lbc.maxIterations < 1) throw std::invalid_argument("the LBC iteration cap must be at least 1 (--lbc-max-iterations)");
-
-    // About 1.2 vertices per h² of cage area (Delaunay refinement to edges ≤ h): refuse before meshing.
-    const double estimate = 1.2 * std::abs(signedArea(s.cage.C)) / (params.spacing * params.spacing);
-    if (estimate > double(kMaxLbcVertices))
-      throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have about " +
-                                  num(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
-                                  "; use a larger --spacing");
-    step("mesh", kStageStart[0]);
-    auto t0 = std::chrono::steady_clock::now();
-    CageMeshOptions mo;
-    mo.spacing = params.spacing;
-    mo.maxVertices = kMaxLbcVertices;
-    const CageMesh mesh = meshCageInterior(s.cage, mo);
-    if (mesh.status != CageMeshStatus::Ok)
-      throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have more than " +
-                                  std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
+    LbcBind b = solveLbcForBind(s.cage, s.params, step);
+    const CageMesh& mesh = b.mesh;
+    const LbcReport& rep = b.result.report;
     r.sampling = {};
     r.sampling.controls = mesh.controls;
     r.sampling.edge = mesh.boundary - mesh.controls;
     r.sampling.interior = mesh.interior();
-    r.sampling.seconds = secondsSince(t0);
-
-    step("geodesics", kStageStart[1]);
-    const LbcSolver solver(mesh, lbc.tau);
-    LbcOptions options;
-    options.tau = lbc.tau;
-    options.tolerance = lbc.tolerance;
-    options.maxIterations = lbc.maxIterations;
-    options.progress = [&](const LbcProgress& p) {
-      // Progress by the residual's way down to the tolerance (log scale), capped by the iteration share.
-      const double worst = std::max(p.primalResidual, p.dualResidual);
-      const double byResidual = std::log(std::max(worst, lbc.tolerance) / 1.0) / std::log(lbc.tolerance / 1.0);
-      const double f = std::clamp(std::max(byResidual, double(p.iteration) / lbc.maxIterations), 0.0, 1.0);
-      step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws BindCancelled to stop
-      return true;
-    };
-    step("LBC iterations", kStageStart[2]);
-    LbcResult res = solver.solve(options);
-    const LbcReport& rep = res.report;
-    if (rep.status == LbcStatus::Failed)
-      throw std::invalid_argument("the LBC system of this cage's mesh cannot be factorized (degenerate triangles); "
-                                  "try another --spacing");
-    if (rep.status == LbcStatus::NotConverged)
-      throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
-                                  num(rep.primalResidual) + ", " + num(rep.dualResidual) + " > tolerance " + num(lbc.tolerance) +
-                                  "); raise --lbc-max-iterations or --lbc-tolerance");
+    r.sampling.seconds = b.meshSeconds;
     r.factor = {};
     r.factor.status = FactorStatus::Ok;
     r.factor.factorSeconds = rep.factorSeconds;
@@ -112,8 +124,8 @@ class LbcBackend final : public Backend {
     for (Index v = 0; v < mesh.boundary; ++v) s.samples.kind[std::size_t(v)] = v < mesh.controls ? SampleKind::Control : SampleKind::Edge;
     s.samples.edge = mesh.edge;
     s.W0.resize(0, 0);
-    s.W = res.W;
-    s.field = std::make_unique<MeshField>(mesh.V, mesh.T, std::move(res.W));
+    s.W = b.result.W;
+    s.field = std::make_unique<MeshField>(mesh.V, mesh.T, std::move(b.result.W));
     s.reports = SolverReports{r.sampling, r.init, r.optimize, rep, mesh.size()};
     if (s.outside.empty()) s.outside = "fixed";  // LBC has no weights outside the cage
   }

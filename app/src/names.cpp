@@ -23,9 +23,10 @@ bool parseName(const std::array<std::pair<E, std::string_view>, N>& table, std::
   return false;
 }
 
-constexpr std::array<std::pair<InitMethod, std::string_view>, 3> kInit{{{InitMethod::HeatLinear, "heat-linear"},
+constexpr std::array<std::pair<InitMethod, std::string_view>, 4> kInit{{{InitMethod::HeatLinear, "heat-linear"},
                                                                        {InitMethod::HeatImpulse, "heat-impulse"},
-                                                                       {InitMethod::InverseDistance, "inverse-distance"}}};
+                                                                       {InitMethod::InverseDistance, "inverse-distance"},
+                                                                       {InitMethod::Lbc, "lbc"}}};
 constexpr std::array<std::pair<Method, std::string_view>, 3> kMethod{
     {{Method::QP, "qp"}, {Method::QEC, "qec"}, {Method::L1, "l1"}}};
 constexpr std::array<std::pair<InterpMode, std::string_view>, 2> kInterp{

@@ -93,6 +93,39 @@ TEST(LbcBackend, WarpRefusesDeformAndKeepsTheOutsideFixed) {
   EXPECT_GE(W.minCoeff(), -1e-15);
 }
 
+TEST(LbcBackend, KernelCoordinatesOnLbcTargets) {
+  // --init lbc: the targets inside the cage are the LBC weights (exact barycentric, w ≥ 0, far
+  // fewer controls above 10⁻³/m than heat-linear targets); the KC field is bound as usual.
+  const Cage cage = loadCage(kImages + "star.cage.json");
+  BindParams p;
+  p.spacing = 10.0;
+  const Session heat = bind(cage, 320, 320, p);
+  p.kc.init.method = InitMethod::Lbc;
+  const Session local = bind(cage, 320, 320, p);
+  ASSERT_TRUE(local.hasField());
+  ASSERT_EQ(local.W0.rows(), heat.W0.rows());
+  const double t = 1e-3 / double(cage.size());
+  double above[2] = {0, 0};
+  Index inside = 0;
+  for (Index i = 0; i < local.samples.size(); ++i) {
+    if (local.samples.kind[std::size_t(i)] != SampleKind::Interior) continue;
+    ++inside;
+    EXPECT_NEAR(local.W0.row(i).sum(), 1.0, 1e-12);
+    EXPECT_GE(local.W0.row(i).minCoeff(), -1e-15);
+    EXPECT_LT((local.W0.row(i) * cage.C - local.samples.X.row(i)).norm(), 1e-9);
+    above[0] += double((heat.W0.row(i).array() > t).count());
+    above[1] += double((local.W0.row(i).array() > t).count());
+  }
+  ASSERT_GT(inside, 100);
+  EXPECT_LT(above[1], 0.6 * above[0]) << "LBC targets " << above[1] / inside << " vs heat " << above[0] / inside;
+  // Outside the cage the targets stay heat-linear.
+  for (Index i = 0; i < local.samples.size(); ++i) {
+    if (local.samples.kind[std::size_t(i)] != SampleKind::Exterior) continue;
+    ASSERT_EQ(local.W0.row(i), heat.W0.row(i)) << i;
+  }
+  EXPECT_TRUE(sessionCapabilities(local).painting);
+}
+
 TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   const fs::path dir = test::scratchDir("lbc_cli");
   const std::string cage = "'" + kImages + "star.cage.json'", image = "'" + kImages + "star.png'";

@@ -12,6 +12,10 @@ enum class InitMethod {
   HeatLinear,       ///< Heat diffusion, edge samples fixed to their linear weights (4.13). Default.
   HeatImpulse,      ///< Heat diffusion from Dirac deltas at the control points (4.11–4.12).
   InverseDistance,  ///< w_ij = 1 / (1 + (|x_j − c_i| / p)²) (4.10).
+  /// Local barycentric coordinates at the samples inside the cage (solved on a mesh of the cage
+  /// interior, core/lbc), HeatLinear outside. Not computed by initialWeights: the caller runs it
+  /// with HeatLinear and overwrites the rows inside the cage (app/src/kc_backend.cpp).
+  Lbc,
 };
 
 struct InitOptions {
