@@ -21,6 +21,7 @@ struct BindArgs {
   int heatIterations = 0;
   double locality = 0.0;  // unscreened
   std::uint64_t seed = 1;
+  CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
   std::string lbcTau = "square";
   double lbcTolerance = app::LbcParams{}.tolerance;
   int lbcMaxIterations = app::LbcParams{}.maxIterations;
@@ -63,6 +64,12 @@ void runBind(const BindArgs& a) {
   } catch (const std::invalid_argument& e) {
     throw app::InputError("--backend", e.what());
   }
+  if (a.spacingOption && a.spacingOption->count() == 0) {
+    p.spacing = app::automaticSpacing(cage, w, h, p);
+    if (p.spacing != a.spacing)
+      std::printf("spacing: automatic %.3g px (a sample budget of %.0f over %dx%d; --spacing overrides)\n", p.spacing,
+                  app::kAutoSpacingSamples, w, h);
+  }
 
   app::BindReport r;
   app::BindProgress progress;
@@ -102,7 +109,9 @@ void addBindCommand(CLI::App& app) {
   auto* image = sub->add_option("--image", a->image, "Image the cage is drawn over (gives the domain size)");
   auto* size = sub->add_option("--size", a->size, "Domain size W,H in pixels (instead of --image)");
   image->excludes(size);
-  sub->add_option("--spacing", a->spacing, "Sample spacing h in pixels")->capture_default_str();
+  a->spacingOption = sub->add_option("--spacing", a->spacing,
+                                     "Sample spacing h in pixels (default: 6, or larger on big pictures so the kc backend "
+                                     "samples about " + std::to_string(int(app::kAutoSpacingSamples)) + " points)");
   sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
   sub->add_option("--init", a->init,
                   "Initial weights: heat-linear | heat-impulse | inverse-distance | lbc (local barycentric coordinates inside the "

@@ -78,6 +78,14 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
   c.bytes = kDenseBytesPerWeight * c.samples * c.controls + kBytesPerKernelNonZero * c.kernelNonZeros;
   return c;
 }
+double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget) {
+  if (!backendFor(params.backend).capabilities().outsideCage) return params.spacing;
+  BindParams p = params;
+  if (estimateBindCost(cage, width, height, p).samples <= budget) return params.spacing;
+  for (int step = 0; step < 3; ++step) p.spacing *= std::sqrt(estimateBindCost(cage, width, height, p).samples / budget);
+  return std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
+}
+
 void checkBindCost(const BindCost& c, const BindParams& params) {
   auto num = [](double v) {
     char buf[32];

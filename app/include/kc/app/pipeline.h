@@ -34,6 +34,17 @@ struct BindCost {
 /// The estimate for a bind of `cage` over width×height with `params` (σ automatic: 3h/π).
 BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params);
 
+/// Sample budget of the automatic spacing: about the samples of a 1-megapixel picture at h = 6 px
+/// (a bind of ~9 s and ~400 MB on 2 cores, kc_bench_big_picture).
+inline constexpr double kAutoSpacingSamples = 30000.0;
+
+/// The spacing a bind uses when the user gives none: `params.spacing` (the 6 px default) while the
+/// estimated sample count stays within `budget`, else the h ≥ params.spacing whose estimate
+/// (estimateBindCost, ~ domain area / h²) is about `budget`, found by h ← h·√(#S(h)/budget)
+/// (three steps) and rounded up to 0.01 px. Only the kc backend samples the picture; for others
+/// `params.spacing` is returned.
+double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget = kAutoSpacingSamples);
+
 /// Throws std::invalid_argument when `cost` exceeds kcwarp's limits (kMaxBindSamples,
 /// kMaxKernelNonZeros, kMaxBindBytes), saying what the bind would need and the spacing (or σ)
 /// that would fit.
