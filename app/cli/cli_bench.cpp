@@ -150,8 +150,8 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
   sub->callback([a] {
-    if (a->samples < 100 || a->samples > 1000000) throw std::invalid_argument("--samples must be within 100..1000000");
-    if (a->repeats < 1 || a->repeats > 100) throw std::invalid_argument("--repeats must be within 1..100");
+    if (a->samples < 100 || a->samples > 1000000) throw app::InputError("--samples", "must be within 100..1000000");
+    if (a->repeats < 1 || a->repeats > 100) throw app::InputError("--repeats", "must be within 1..100");
     const ScopedThreadCount threads(a->threads);
     benchBind(*a);
     benchOptimizers(*a);

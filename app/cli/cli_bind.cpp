@@ -27,13 +27,6 @@ struct BindArgs {
   int lbcMaxIterations = app::LbcParams{}.maxIterations;
 };
 
-template <class E>
-E parseOrThrow(const std::string& text, bool (*parse)(std::string_view, E&), const char* option, const char* accepted) {
-  E e{};
-  if (!parse(text, e)) throw app::InputError(option, "unknown value '" + text + "' (accepted: " + accepted + ")");
-  return e;
-}
-
 void runBind(const BindArgs& a) {
   const Cage cage = app::loadCage(a.cage);
   app::checkOutputFile(a.output);
@@ -48,22 +41,18 @@ void runBind(const BindArgs& a) {
   p.margin = a.margin;
   p.seed = a.seed;
   p.backend = a.backend;
-  p.kc.init.method = parseOrThrow(a.init, &app::parseInitMethod, "--init", "heat-linear, heat-impulse, inverse-distance, lbc");
+  p.kc.init.method = parseOption<InitMethod>(a.init, "--init");
   p.kc.init.iterations = a.heatIterations;
   p.kc.init.locality = a.locality;
-  p.kc.method = parseOrThrow(a.method, &app::parseMethod, "--method", "qp, qec, l1");
-  p.kc.interp = parseOrThrow(a.interp, &app::parseInterpMode, "--interp", "exact, thesis");
-  p.sampler = parseOrThrow(a.sampler, &app::parseSamplerKind, "--sampler", "blue-noise, grid");
-  p.lbc.tau = parseOrThrow(a.lbcTau, &app::parseLbcTau, "--lbc-tau", "square, const, linear, sqrt");
+  p.kc.method = parseOption<Method>(a.method, "--method");
+  p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
+  p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
+  p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
   requireFinite(a.lbcTolerance, "--lbc-tolerance");
   if (!(a.lbcTolerance > 0.0)) throw app::InputError("--lbc-tolerance", "must be positive");
   p.lbc.tolerance = a.lbcTolerance;
   p.lbc.maxIterations = a.lbcMaxIterations;
-  try {
-    app::backendFor(p.backend);
-  } catch (const std::invalid_argument& e) {
-    throw app::InputError("--backend", e.what());
-  }
+  app::asUserInput("--backend", [&] { app::backendFor(p.backend); });
   if (a.spacingOption && a.spacingOption->count() == 0) {
     p.spacing = app::automaticSpacing(cage, w, h, p);
     if (p.spacing != a.spacing)

@@ -69,11 +69,4 @@ std::string limitsText() {
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }
 
-OutsideMode parseOutsideOption(const std::string& text, const std::string& option) {
-  OutsideMode mode;
-  if (!parseOutsideMode(text, mode))
-    throw app::InputError(option, "unknown value '" + text + "' (accepted: pinned, deform, fixed, transparent)");
-  return mode;
-}
-
 }  // namespace kc::cli

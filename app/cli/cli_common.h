@@ -6,6 +6,8 @@
 #include <utility>
 
 #include "kc/core/warp_mesh.h"
+#include "kc/app/errors.h"
+#include "kc/core/names.h"
 
 namespace kc::cli {
 
@@ -15,7 +17,7 @@ inline constexpr int kExitInternal = 1;
 inline constexpr int kExitBadInput = 2;
 
 // One function per subcommand, each in its own cli_<name>.cpp: adds the subcommand and its
-// callback (which throws kc::app::InputError / std::invalid_argument on bad input).
+// callback (which throws kc::app::InputError on bad input).
 void addSampleCommand(CLI::App& app);
 void addBindCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
@@ -23,6 +25,15 @@ void addWarpCommand(CLI::App& app);
 void addStatsCommand(CLI::App& app);
 void addDemoCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+
+/// The value of the named enum E called `text` (kc/core/names.h); InputError naming `option`
+/// and the accepted names otherwise.
+template <NamedEnum E>
+E parseOption(const std::string& text, const char* option) {
+  E e{};
+  if (!parseName(text, e)) throw app::InputError(option, "unknown value '" + text + "' (accepted: " + nameList<E>() + ")");
+  return e;
+}
 
 /// "W,H" → (W, H); InputError naming `option` when malformed or not positive.
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
@@ -32,8 +43,6 @@ std::pair<int, int> imageSize(const std::string& path);
 void requireFinite(double value, const std::string& option);
 /// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.
 std::string limitsText();
-/// The value of an --outside option; InputError naming `option` on an unknown name.
-OutsideMode parseOutsideOption(const std::string& text, const std::string& option = "--outside");
 /// Help text of the --outside options.
 inline constexpr const char* kOutsideHelp =
     "Outside the cage: pinned (the image border stays, the background between cage and border stretches) | "

@@ -148,7 +148,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       dr.seconds * 1e3, rr.seconds * 1e3, long(dr.flippedTriangles), dr.flippedArea, dr.minJacobian, dr.maxJacobian);
   say(report, "      outside (%s): corners moved %.2f px, background 50 px from the cage moved mean %.2f max %.2f px, "
               "200 px mean %.2f max %.2f px, weights in [%.2f, %.2f], fold-overs outside %ld\n",
-      toString(outside), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
+      std::string(toString(outside)).c_str(), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
       om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
 }
@@ -167,7 +167,7 @@ void addDemoCommand(CLI::App& app) {
   sub->add_option("--outside", a->outside, kOutsideHelp)->capture_default_str();
   addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {
-    const OutsideMode outside = parseOutsideOption(a->outside);
+    const OutsideMode outside = parseOption<OutsideMode>(a->outside, "--outside");
     const std::string dir = findExamples(a->images);
     std::error_code ec;
     if (fs::exists(a->out, ec) && !fs::is_directory(a->out, ec)) throw app::InputError(a->out, "exists and is not a folder");

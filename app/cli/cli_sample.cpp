@@ -76,8 +76,7 @@ void runSample(const SampleArgs& a) {
   o.height = h;
   o.margin = a.margin;
   o.seed = a.seed;
-  if (!app::parseSamplerKind(a.sampler, o.kind))
-    throw app::InputError("--sampler", "unknown value '" + a.sampler + "' (accepted: blue-noise, grid)");
+  o.kind = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   if (stderrIsTerminal())
     o.progress = [](double f) {
       std::fprintf(stderr, "\rrelaxing samples %3.0f%%", 100.0 * f);
@@ -88,7 +87,7 @@ void runSample(const SampleArgs& a) {
     app::checkImageSize(w + pad, h + pad, a.png, "sample plot");
   }
   sampling::SamplingReport rep;
-  const SampleSet S = sampling::sample(cage, o, &rep);
+  const SampleSet S = app::asUserInput("sample", [&] { return sampling::sample(cage, o, &rep); });
   const Index fixed = rep.controls + rep.edge + rep.frame;
   const sampling::PointSetMetrics q = sampling::pointSetMetrics(S.X, a.spacing, sampling::samplingDomain(o), fixed);
   const double sigma = sampling::suggestSigma(S);

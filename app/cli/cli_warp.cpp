@@ -47,20 +47,19 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 void runWarp(const WarpArgs& a) {
   WarpMeshOptions meshOptions;
-  if (!a.outside.empty()) meshOptions.outside = parseOutsideOption(a.outside);
+  if (!a.outside.empty()) meshOptions.outside = parseOption<OutsideMode>(a.outside, "--outside");
   if (!(a.meshSpacing >= 0.5 && a.meshSpacing <= 256))
     throw app::InputError("--mesh-spacing", "must be between 0.5 and 256 pixels");
   meshOptions.spacing = a.meshSpacing;
   app::HeatmapOptions heatOptions;
-  if (!app::parseHeatScale(a.scale, heatOptions.scale))
-    throw app::InputError("--scale", "unknown value '" + a.scale + "' (accepted: linear, log)");
+  heatOptions.scale = parseOption<app::HeatScale>(a.scale, "--scale");
   RasterOptions raster;
   raster.supersample = a.supersample ? 2 : 1;
   if (!a.background.empty()) raster.background = parseColor(a.background);
 
   // Everything is read and checked before anything is computed or written.
   const app::Session s = app::loadSession(a.session);
-  if (a.outside.empty() && !s.outside.empty()) parseOutsideMode(s.outside, meshOptions.outside);  // validated on load
+  if (a.outside.empty() && !s.outside.empty()) parseName(s.outside, meshOptions.outside);  // validated on load
   const Index m = s.cage.size();
   if (a.heatmap >= m) throw app::InputError("--heatmap", "control point " + std::to_string(a.heatmap) +
                                                              " does not exist (the cage has " + std::to_string(m) + ")");
@@ -127,7 +126,7 @@ void runWarp(const WarpArgs& a) {
 
   std::printf("mesh: %ld vertices, %ld triangles (spacing %.3g px, outside %s); weights at vertices %.1f ms\n",
               long(mesh.restVertices().rows()), long(mesh.triangles().size()), meshOptions.spacing,
-              toString(meshOptions.outside), bindMs);
+              std::string(toString(meshOptions.outside)).c_str(), bindMs);
   std::printf("compact weights: %ld entries (%.2f per vertex, max %ld), %.1f KB vs dense %.1f KB\n", long(cw.nonZeros),
               cw.meanPerVertex, long(cw.maxPerVertex), cw.compactBytes / 1024.0, cw.denseBytes / 1024.0);
   std::printf("deform: %.3f ms; det J in [%.3g, %.3g]; flipped triangles: %ld (rest area %.1f px^2)\n",

@@ -29,14 +29,11 @@ int main(int argc, char** argv) {
   } catch (const kc::app::InputError& e) {
     std::cerr << "kcwarp-cli: " << e.what() << "\n";
     return kc::cli::kExitBadInput;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "kcwarp-cli: " << e.what() << "\n";
-    return kc::cli::kExitBadInput;
   } catch (const std::bad_alloc&) {
     std::cerr << "kcwarp-cli: out of memory: this input needs more memory than the machine has; use a larger --spacing, "
                  "a smaller image or a cage with fewer points\n";
     return kc::cli::kExitBadInput;
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // std::invalid_argument included: misuse of an internal API
     std::cerr << "kcwarp-cli: internal error: " << e.what() << "\n";
     return kc::cli::kExitInternal;
   }

@@ -43,13 +43,6 @@ void drawPolygon(Image& image, const Cage& cage, const Points& P, Rgba color, co
 
 }  // namespace
 
-bool parseHeatScale(const std::string& text, HeatScale& scale) {
-  if (text == "linear") scale = HeatScale::Linear;
-  else if (text == "log") scale = HeatScale::Log;
-  else return false;
-  return true;
-}
-
 Rgba heatColor(double t) {
   static constexpr std::array<std::array<double, 3>, 5> kAnchors{
       {{68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}}};

@@ -145,8 +145,7 @@ Pose parsePose(const json& obj, const Points& C, const std::string& where, const
   if (obj.contains("positions")) {
     const Points P = parsePoints(obj["positions"], where, pre + "positions");
     if (P.rows() != m) throw countError(static_cast<std::size_t>(P.rows()), "positions");
-    for (Index i = 0; i < m; ++i) pose[static_cast<std::size_t>(i)].translate = (P.row(i) - C.row(i)).transpose();
-    return pose;
+    return asUserInput(where, [&] { return poseFromPositions(C, P); });
   }
   if (!obj.contains("handles")) throw InputError(where, "missing key '" + pre + "positions' or '" + pre + "handles'");
   const json& h = obj["handles"];

@@ -1,4 +1,5 @@
 #include "kc/app/pipeline.h"
+#include "kc/app/errors.h"
 #include "kc/core/kernel/gaussian_kernel.h"
 
 #include <algorithm>
@@ -114,12 +115,16 @@ void checkBindCost(const BindCost& c, const BindParams& params) {
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report,
              const BindProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  validateCage(cage);
-  checkCommonParams(width, height, params);
-  const Backend& backend = backendFor(params.backend);
-  if (backend.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
-    checkBindCost(estimateBindCost(cage, width, height, params), params);
-  checkCageScale(cage, params.spacing);
+  // What the user gave (cage, parameters, image size): a lower layer's rejection is bad input.
+  const Backend& backend = asUserInput("bind", [&]() -> const Backend& {
+    validateCage(cage);
+    checkCommonParams(width, height, params);
+    const Backend& b = backendFor(params.backend);
+    if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
+      checkBindCost(estimateBindCost(cage, width, height, params), params);
+    checkCageScale(cage, params.spacing);
+    return b;
+  });
   BindReport local;
   BindReport& r = report ? *report : local;
 
@@ -128,8 +133,11 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
   s.params = params;
   s.imageWidth = width;
   s.imageHeight = height;
-  backend.bind(s, r, [&](const char* stage, double f) {
-    if (progress && !progress(stage, f)) throw BindCancelled();
+  // The backend throws std::invalid_argument for parameters it rejects (documented in backend.h).
+  asUserInput("bind", [&] {
+    backend.bind(s, r, [&](const char* stage, double f) {
+      if (progress && !progress(stage, f)) throw BindCancelled();
+    });
   });
   if (progress && !progress("done", 1.0)) throw BindCancelled();
   r.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,12 +17,12 @@ using detail::json;
 using detail::getWeights;
 using detail::putWeights;
 
-template <class E>
-E parseEnum(const json& params, const char* key, E fallback, bool (*parse)(std::string_view, E&), const std::string& where) {
+template <NamedEnum E>
+E parseEnum(const json& params, const char* key, E fallback, const std::string& where) {
   if (!params.contains(key)) return fallback;
   const json& v = params[key];
   E e{};
-  if (!v.is_string() || !parse(v.get<std::string>(), e))
+  if (!v.is_string() || !parseName(v.get<std::string>(), e))
     throw InputError(where, std::string("params.") + key + " has an unknown value " + v.dump());
   return e;
 }
@@ -123,11 +123,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (params.contains("backend")) {
     if (!params["backend"].is_string()) throw InputError(where, "params.backend must be a name");
     p.backend = params["backend"].get<std::string>();
-    try {
-      backendFor(p.backend);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(where, std::string("params.") + e.what());
-    }
+    asUserInput(where, [&] { backendFor(p.backend); });
   }
   const bool kernel = backendFor(p.backend).capabilities().targets;  // σ belongs to the kernel backend
   s.sigma = kernel || params.contains("sigma")
@@ -137,7 +133,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (params.contains("lbc")) {
     const json& l = params["lbc"];
     if (!l.is_object()) throw InputError(where, "params.lbc must be an object");
-    p.lbc.tau = parseEnum(l, "tau", LbcTau::Square, &parseLbcTau, where);
+    p.lbc.tau = parseEnum(l, "tau", LbcTau::Square, where);
     if (l.contains("tolerance")) p.lbc.tolerance = detail::boundedNumber(l["tolerance"], 1.0, where, "params.lbc.tolerance");
     if (!(p.lbc.tolerance > 0)) throw InputError(where, "params.lbc.tolerance must be positive");
     if (l.contains("max_iterations"))
@@ -145,7 +141,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   }
   const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
   p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
-  p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, &parseInitMethod, where);
+  p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, where);
   if (params.contains("heat_iterations")) {
     p.kc.init.iterations =
         static_cast<int>(detail::integerInRange(params["heat_iterations"], 0, kMaxHeatIterations, where, "params.heat_iterations"));
@@ -155,9 +151,9 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   } else {
     p.kc.init.locality = 0.0;  // sessions written before the option existed
   }
-  p.kc.method = parseEnum(params, "method", Method::QP, &parseMethod, where);
-  p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, &parseInterpMode, where);
-  p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, &parseSamplerKind, where);
+  p.kc.method = parseEnum(params, "method", Method::QP, where);
+  p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, where);
+  p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, where);
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
@@ -176,7 +172,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   s.samples.kind.resize(static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i) {
     const json& k = kinds[static_cast<std::size_t>(i)];
-    if (!k.is_string() || !parseSampleKind(k.get<std::string>(), s.samples.kind[static_cast<std::size_t>(i)]))
+    if (!k.is_string() || !parseName(k.get<std::string>(), s.samples.kind[static_cast<std::size_t>(i)]))
       throw InputError(where, "samples.kinds[" + std::to_string(i) + "] is not one of control, edge, line, interior, exterior");
   }
   s.samples.edge.setConstant(n, 2, -1);
@@ -214,8 +210,8 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   }
   if (j.contains("outside") && !j["outside"].is_null()) {
     OutsideMode mode;
-    if (!j["outside"].is_string() || !parseOutsideMode(j["outside"].get<std::string>(), mode))
-      throw InputError(where, "outside must be one of \"pinned\", \"deform\", \"fixed\", \"transparent\"");
+    if (!j["outside"].is_string() || !parseName(j["outside"].get<std::string>(), mode))
+      throw InputError(where, "outside must be one of " + nameList<OutsideMode>());
     s.outside = j["outside"].get<std::string>();
   }
   if (j.contains("timings") && j["timings"].is_object()) {

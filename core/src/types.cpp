@@ -6,34 +6,6 @@
 
 namespace kc {
 
-std::string_view toString(SampleKind kind) {
-  switch (kind) {
-    case SampleKind::Control: return "control";
-    case SampleKind::Edge: return "edge";
-    case SampleKind::Line: return "line";
-    case SampleKind::Interior: return "interior";
-    case SampleKind::Exterior: return "exterior";
-  }
-  return "unknown";
-}
-
-bool parseSampleKind(std::string_view text, SampleKind& kind) {
-  for (SampleKind k : {SampleKind::Control, SampleKind::Edge, SampleKind::Line, SampleKind::Interior,
-                       SampleKind::Exterior}) {
-    if (text == toString(k)) {
-      kind = k;
-      return true;
-    }
-  }
-  return false;
-}
-
-Index SampleSet::controlCount() const {
-  Index m = 0;
-  while (m < size() && kind[static_cast<std::size_t>(m)] == SampleKind::Control) ++m;
-  return m;
-}
-
 void SampleSet::validate(Index m) const {
   const Index n = X.rows();
   if (static_cast<Index>(kind.size()) != n)

@@ -25,25 +25,6 @@ double signedArea2(const Points& P, const std::array<int, 3>& t) {
 
 }  // namespace
 
-bool parseOutsideMode(const std::string& text, OutsideMode& mode) {
-  if (text == "pinned") mode = OutsideMode::Pinned;
-  else if (text == "deform") mode = OutsideMode::Deform;
-  else if (text == "fixed") mode = OutsideMode::Fixed;
-  else if (text == "transparent") mode = OutsideMode::Transparent;
-  else return false;
-  return true;
-}
-
-const char* toString(OutsideMode mode) {
-  switch (mode) {
-    case OutsideMode::Pinned: return "pinned";
-    case OutsideMode::Deform: return "deform";
-    case OutsideMode::Fixed: return "fixed";
-    case OutsideMode::Transparent: return "transparent";
-  }
-  return "?";
-}
-
 std::vector<double> gridAxis(int n, double spacing) {
   const int cells = std::max(1, static_cast<int>(std::ceil(n / spacing - 1e-9)));
   std::vector<double> axis(static_cast<std::size_t>(cells) + 1);
@@ -63,7 +44,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   validateCage(cage);
   const bool cull = options.outside == OutsideMode::Fixed || options.outside == OutsideMode::Transparent;
   if (cull && !cage.closed)
-    throw std::invalid_argument(std::string("warp mesh: outside mode '") + toString(options.outside) +
+    throw std::invalid_argument("warp mesh: outside mode '" + std::string(toString(options.outside)) +
                                 "' needs a closed cage");
 
   const std::vector<double> xs = gridAxis(width, options.spacing), ys = gridAxis(height, options.spacing);

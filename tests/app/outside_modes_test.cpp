@@ -161,7 +161,7 @@ TEST_F(OutsideModes, MeasuredInEveryMode) {
   for (OutsideMode mode : {OutsideMode::Pinned, OutsideMode::Deform, OutsideMode::Fixed, OutsideMode::Transparent}) {
     const WarpMesh mesh = warp(mode);
     const OutsideMotion om = measureOutside(mesh);
-    std::printf("%-12s %9.2f %10.2f / %9.2f %10.2f / %9.2f %8.3f..%-8.3f %6ld\n", toString(mode), om.cornerMax,
+    std::printf("%-12s %9.2f %10.2f / %9.2f %10.2f / %9.2f %8.3f..%-8.3f %6ld\n", std::string(toString(mode)).c_str(), om.cornerMax,
                 om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max, om.minWeight, om.maxWeight,
                 long(om.flippedOutside));
     if (mode == OutsideMode::Fixed || mode == OutsideMode::Transparent) {

@@ -119,9 +119,9 @@ TEST(PinnedOutside, ContinuousAcrossTheCage) {
 
 TEST(PinnedOutside, ParsesAndIsTheDefault) {
   OutsideMode m = OutsideMode::Deform;
-  EXPECT_TRUE(parseOutsideMode("pinned", m));
+  EXPECT_TRUE(parseName("pinned", m));
   EXPECT_EQ(m, OutsideMode::Pinned);
-  EXPECT_STREQ(toString(OutsideMode::Pinned), "pinned");
+  EXPECT_EQ(toString(OutsideMode::Pinned), "pinned");
   EXPECT_EQ(WarpMeshOptions{}.outside, OutsideMode::Pinned);
   // The anchor column rides along: m + 1 columns, and a copy shares the exterior solution.
   WarpMesh mesh = meshWithMeanValue(lCage(), OutsideMode::Pinned);

@@ -157,9 +157,9 @@ TEST(WarpMesh, OutsideModes) {
       EXPECT_NEAR(out.pixel(20, 20)[c], src.pixel(20, 20)[c], 3);
   }
   OutsideMode m;
-  EXPECT_TRUE(parseOutsideMode("fixed", m));
+  EXPECT_TRUE(parseName("fixed", m));
   EXPECT_EQ(m, OutsideMode::Fixed);
-  EXPECT_FALSE(parseOutsideMode("gimp", m));
+  EXPECT_FALSE(parseName("gimp", m));
 }
 
 TEST(WarpMesh, DeformAndRenderAreIdenticalForOneAndTwoThreads) {

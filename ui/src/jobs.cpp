@@ -170,7 +170,7 @@ bool startBind(AppState& state, bool markUnsaved) {
 
 OutsideMode sessionOutsideMode(const app::Session& session) {
   OutsideMode mode = WarpMeshOptions{}.outside;
-  if (!session.outside.empty()) parseOutsideMode(session.outside, mode);
+  if (!session.outside.empty()) parseName(session.outside, mode);
   return mode;
 }
 

@@ -10,128 +10,17 @@
 
 #include "kc/core/parallel.h"
 #include "../sparse_cholesky.h"
+#include "diffusion_operator.h"
+#include "local_projection.h"
 
 namespace kc {
 namespace {
 
-using Edge = std::array<int, 2>;
-
-/// Uniform grid over the cage edges: a segment can only cross the cage if it comes within `tol`
-/// of an edge bucketed in the cells its bounding box meets; only those pairs pay for the exact
-/// (and O(#edges)) kc::segmentCrossesCage.
-class EdgeGrid {
- public:
-  EdgeGrid(const Cage& cage, const std::vector<Edge>& edges, Vec2 lo, Vec2 hi, double cell, double tol)
-      : m_cage(cage), m_edges(edges), m_tol(tol) {
-    const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-    m_cell = std::max(cell, extent / 512.0);  // at most ~512² cells
-    m_lo = lo;
-    m_nx = static_cast<int>((hi.x() - lo.x()) / m_cell) + 1;
-    m_ny = static_cast<int>((hi.y() - lo.y()) / m_cell) + 1;
-    m_cells.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), {});
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-      const Vec2 a = cage.C.row(edges[e][0]), b = cage.C.row(edges[e][1]);
-      forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) { m_cells[c].push_back(static_cast<int>(e)); });
-    }
-  }
-
-  /// Exact: true when the segment a–b crosses the cage (kc::segmentCrossesCage).
-  bool crosses(const Vec2& a, const Vec2& b) const {
-    bool near = false;
-    forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) {
-      for (int e : m_cells[c]) {
-        if (near) return;
-        const Vec2 p = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][0]);
-        const Vec2 q = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][1]);
-        if (segmentSegmentDistance(a, b, p, q) <= m_tol) near = true;
-      }
-    });
-    return near && segmentCrossesCage(m_cage, a, b);
-  }
-
- private:
-  template <class F>
-  void forCells(const Vec2& lo, const Vec2& hi, F&& f) const {
-    auto cx = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - m_lo.x()) / m_cell)), 0, m_nx - 1); };
-    auto cy = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - m_lo.y()) / m_cell)), 0, m_ny - 1); };
-    const int x0 = cx(lo.x() - m_tol), x1 = cx(hi.x() + m_tol), y0 = cy(lo.y() - m_tol), y1 = cy(hi.y() + m_tol);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) f(static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x));
-  }
-
-  const Cage& m_cage;
-  const std::vector<Edge>& m_edges;
-  double m_tol;
-  double m_cell = 1.0;
-  Vec2 m_lo = Vec2::Zero();
-  int m_nx = 1, m_ny = 1;
-  std::vector<std::vector<int>> m_cells;
-};
-
-enum class Region : std::uint8_t { Inside, Boundary, Outside };
-
-Region regionOf(SampleKind kind, bool closed) {
-  if (!closed) return Region::Inside;  // open structures: one region, only crossings matter
-  switch (kind) {
-    case SampleKind::Control:
-    case SampleKind::Edge: return Region::Boundary;
-    case SampleKind::Exterior: return Region::Outside;
-    default: return Region::Inside;
-  }
-}
-
-/// The diffusion operator: K without the pairs whose segment crosses the cage, and directed so
-/// heat never goes from the outside back in: samples inside or on the cage take heat only through
-/// segments inside (or along) the cage; exterior samples take it from exterior and on-cage samples.
-/// Without this, heat could leave the shape at an on-cage sample, cross a notch outside and enter
-/// again at the other wall. Restricted to inside/on-cage rows (or to exterior rows) the operator is
-/// symmetric: crossing tests use the ordered pair (min, max).
-SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const SparseMatrix& K) {
-  const Points& X = S.X;
-  const auto edges = cageEdges(cage);
-  const Index n = X.rows();
-  const Vec2 lo = X.colwise().minCoeff().transpose().cwiseMin(cage.C.colwise().minCoeff().transpose());
-  const Vec2 hi = X.colwise().maxCoeff().transpose().cwiseMax(cage.C.colwise().maxCoeff().transpose());
-  double reach = 0.0;  // longest kernel pair: a segment's bounding box then meets ≤ 2×2 cells
-  for (Index c = 0; c < K.outerSize(); ++c)
-    for (SparseMatrix::InnerIterator it(K, c); it; ++it)
-      reach = std::max(reach, (X.row(it.row()) - X.row(c)).cwiseAbs().maxCoeff());
-  const double extent = std::max(1e-300, (hi - lo).norm());
-  const EdgeGrid grid(cage, edges, lo, hi, std::max(reach, 1e-6 * extent), 1e-9 * extent);
-  const bool closed = cage.closed;
-
-  std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
-  parallelFor(n, [&](Index i) {
-    auto& row = rows[static_cast<std::size_t>(i)];
-    const Region ri = regionOf(S.kind[static_cast<std::size_t>(i)], closed);
-    for (SparseMatrix::InnerIterator it(K, i); it; ++it) {  // K symmetric: column i = row i
-      const Index j = it.row();
-      if (j != i) {
-        const Region rj = regionOf(S.kind[static_cast<std::size_t>(j)], closed);
-        const Region lower = std::min(ri, rj), upper = std::max(ri, rj);
-        if (lower == Region::Inside && upper == Region::Outside) continue;  // must cross the cage
-        // The side the segment runs on; for two on-cage samples, its midpoint decides.
-        Region side = lower == Region::Inside ? Region::Inside : (upper == Region::Outside ? Region::Outside : Region::Boundary);
-        const Vec2 a = X.row(std::min(i, j)).transpose(), b = X.row(std::max(i, j)).transpose();
-        if (side == Region::Boundary) {
-          const Vec2 mid = 0.5 * (a + b);
-          if (distanceToCage(cage, mid) > 1e-9 * (b - a).norm())
-            side = insideCage(cage, mid) ? Region::Inside : Region::Outside;
-        }
-        if (ri != Region::Outside && side == Region::Outside) continue;
-        if (ri == Region::Outside && side == Region::Inside) continue;
-        if (grid.crosses(a, b)) continue;
-      }
-      row.emplace_back(j, it.value());
-    }
-  });
-  std::vector<Eigen::Triplet<double>> trip;
-  for (Index i = 0; i < n; ++i)
-    for (const auto& [j, v] : rows[static_cast<std::size_t>(i)]) trip.emplace_back(i, j, v);
-  SparseRowMatrix R(n, n);
-  R.setFromTriplets(trip.begin(), trip.end());
-  return R;
-}
+using detail::diffusionOperator;
+using detail::projectTargetsLocally;
+using detail::reachableFromKnown;
+using detail::Region;
+using detail::regionOf;
 
 /// (4.10): w_ij = 1 / (1 + (|x_j − c_i| / p)²).
 void inverseDistanceRow(const Points& C, const Vec2& x, double p, Eigen::Ref<Eigen::RowVectorXd> w) {
@@ -139,34 +28,6 @@ void inverseDistanceRow(const Points& C, const Vec2& x, double p, Eigen::Ref<Eig
     const double r = (Vec2(C.row(i)) - x).norm() / p;
     w(i) = 1.0 / (1.0 + r * r);
   }
-}
-
-/// Unknown samples from which some known sample can be reached through the operator's rows.
-std::vector<char> reachableFromKnown(const SparseRowMatrix& R, const std::vector<Index>& unknown,
-                                     const std::vector<char>& isUnknown) {
-  const Index n = R.rows();
-  std::vector<char> seen(static_cast<std::size_t>(n), 0);
-  std::vector<Index> stack;
-  for (Index i : unknown)
-    for (SparseRowMatrix::InnerIterator it(R, i); it; ++it)
-      if (!isUnknown[static_cast<std::size_t>(it.col())]) {
-        seen[static_cast<std::size_t>(i)] = 1;
-        stack.push_back(i);
-        break;
-      }
-  // Within one stage the operator is symmetric, so following rows outwards finds the component.
-  while (!stack.empty()) {
-    const Index i = stack.back();
-    stack.pop_back();
-    for (SparseRowMatrix::InnerIterator it(R, i); it; ++it) {
-      const auto j = static_cast<std::size_t>(it.col());
-      if (isUnknown[j] && !seen[j]) {
-        seen[j] = 1;
-        stack.push_back(it.col());
-      }
-    }
-  }
-  return seen;
 }
 
 /// Steady state for the rows `unknown` (all others known): ((1+μ) D_UU − R_UU) W_U = R_UK W_K.
@@ -210,57 +71,6 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
     W.row(i) = WU.row(f) / sum;
   }
   return true;
-}
-
-/// Moves a screened target row w0 (positive, sum 1) to reproduce x while staying close to it in
-/// the metric Σ (w_i − w0_i)² / w0_i: min that s.t. Σ w_i c_i = x, Σ w_i = 1, w ≥ 0. Corrections
-/// are proportional to the targets, so controls with negligible targets stay negligible (the
-/// row stays local) and they are recruited only as far as reproduction needs them. Solved in the
-/// 3-variable dual (w(λ) = max(0, w0 + w0 ∘ Aᵀλ), damped Newton). Returns false when x is not
-/// reproducible with w ≥ 0 (outside the controls' hull) or Newton stalls; w0 is then left as is.
-bool projectTargetsLocally(const Points& C, const Vec2& x, Eigen::Ref<Eigen::RowVectorXd> w0) {
-  const Index m = C.rows();
-  // Centred, scaled coordinates keep the 3×3 systems well conditioned.
-  const Vec2 c0 = C.colwise().mean().transpose();
-  const double scale = std::max(1e-300, (C.rowwise() - c0.transpose()).cwiseAbs().maxCoeff());
-  Eigen::Matrix<double, 3, Eigen::Dynamic> A(3, m);
-  for (Index i = 0; i < m; ++i) A.col(i) << (C(i, 0) - c0.x()) / scale, (C(i, 1) - c0.y()) / scale, 1.0;
-  const Eigen::Vector3d b((x.x() - c0.x()) / scale, (x.y() - c0.y()) / scale, 1.0);
-  // Metric weights: the targets, floored at 1e-8 of the largest so the dual stays well posed
-  // where reproduction has to recruit controls whose screened targets underflowed.
-  const Eigen::VectorXd d = w0.transpose().cwiseMax(1e-8 * w0.maxCoeff());
-  auto weights = [&](const Eigen::Vector3d& lambda) {
-    return Eigen::VectorXd((d.array() * (1.0 + (A.transpose() * lambda).array())).cwiseMax(0.0));
-  };
-  auto dual = [&](const Eigen::Vector3d& lambda, const Eigen::VectorXd& w) {  // convex, C¹
-    return 0.5 * (w.array().square() / d.array()).sum() - b.dot(lambda) - 0.5 * d.sum();
-  };
-  Eigen::Vector3d lambda = Eigen::Vector3d::Zero();
-  Eigen::VectorXd w = weights(lambda);
-  for (int it = 0; it < 200; ++it) {
-    const Eigen::Vector3d g = A * w - b;
-    if (g.cwiseAbs().maxCoeff() <= 1e-11) {  // normalized units: ~1e-11 of the cage size
-      w0 = w.transpose();
-      return true;
-    }
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-    for (Index i = 0; i < m; ++i)
-      if (w(i) > 0.0) H.noalias() += d(i) * A.col(i) * A.col(i).transpose();
-    H.diagonal().array() += 1e-14 * (H.trace() + 1e-300);
-    const Eigen::Vector3d step = -H.ldlt().solve(g);
-    if (!step.allFinite()) return false;
-    const double f0 = dual(lambda, w);
-    double t = 1.0;
-    Eigen::VectorXd wt;
-    for (int k = 0; k < 60; ++k, t *= 0.5) {  // Armijo backtracking on the dual objective
-      wt = weights(lambda + t * step);
-      if (dual(lambda + t * step, wt) <= f0 + 1e-4 * t * g.dot(step)) break;
-    }
-    lambda += t * step;
-    w = wt;
-    if (!lambda.allFinite() || lambda.norm() > 1e12) return false;  // infeasible: λ diverges
-  }
-  return false;
 }
 
 }  // namespace

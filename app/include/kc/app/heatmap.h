@@ -13,8 +13,16 @@
 namespace kc::app {
 
 enum class HeatScale { Linear, Log };
-/// Parses "linear", "log"; false on anything else.
-bool parseHeatScale(const std::string& text, HeatScale& scale);
+
+}  // namespace kc::app
+
+template <>
+struct kc::EnumNames<kc::app::HeatScale> {
+  static constexpr std::array<std::pair<app::HeatScale, std::string_view>, 2> table{
+      {{app::HeatScale::Linear, "linear"}, {app::HeatScale::Log, "log"}}};
+};
+
+namespace kc::app {
 
 struct HeatmapOptions {
   HeatScale scale = HeatScale::Linear;

@@ -55,8 +55,8 @@ void checkBindCost(const BindCost& cost, const BindParams& params);
 double automaticSigma(double spacing);
 
 /// Binds a cage over an image of width×height pixels with the backend params.backend. Throws
-/// std::invalid_argument for bad input (invalid cage, bad parameters, unknown backend, too many
-/// samples, a kernel matrix that cannot be factorized — with the advice of the report).
+/// InputError for bad input (invalid cage, bad parameters, unknown backend, too many samples, a
+/// kernel matrix that cannot be factorized with these σ and spacing, with the report's advice).
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report = nullptr,
              const BindProgress& progress = {});
 

@@ -47,17 +47,8 @@ struct BindParams {
   LbcParams lbc;           ///< Used when backend == "lbc".
 };
 
-std::string_view toString(InitMethod m);
-std::string_view toString(Method m);
-std::string_view toString(InterpMode m);
-std::string_view toString(sampling::SamplerKind k);
-std::string_view toString(LbcTau t);
-/// Parsers return false on unknown names (callers report the accepted ones).
-bool parseInitMethod(std::string_view s, InitMethod& m);
-bool parseMethod(std::string_view s, Method& m);
-bool parseInterpMode(std::string_view s, InterpMode& m);
-bool parseSamplerKind(std::string_view s, sampling::SamplerKind& k);
-bool parseLbcTau(std::string_view s, LbcTau& t);
+// The names of InitMethod, Method, InterpMode, SamplerKind and LbcTau (kc/core/names.h), also as app::.
+using kc::toString;
 
 /// Seconds spent in each stage of the bind that produced a session (saved with it).
 struct BindTimings {

@@ -35,8 +35,6 @@ class SpatialGrid {
     }
   }
 
-  double cellSize() const { return m_cell; }
-
  private:
   int cellX(double x) const;
   int cellY(double y) const;

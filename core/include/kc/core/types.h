@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "kc/core/names.h"
+
 namespace kc {
 
 using Index = Eigen::Index;
@@ -28,9 +30,15 @@ using Affine2 = Eigen::Matrix<double, 2, 3>;
 /// What a sample is (ARCHITECTURE.md, file formats). Controls are samples 0..m-1 (thesis 3.18).
 enum class SampleKind : std::uint8_t { Control, Edge, Line, Interior, Exterior };
 
-std::string_view toString(SampleKind kind);
-/// Parses "control", "edge", "line", "interior", "exterior"; returns false on anything else.
-bool parseSampleKind(std::string_view text, SampleKind& kind);
+template <>
+struct EnumNames<SampleKind> {
+  static constexpr std::array<std::pair<SampleKind, std::string_view>, 5> table{
+      {{SampleKind::Control, "control"},
+       {SampleKind::Edge, "edge"},
+       {SampleKind::Line, "line"},
+       {SampleKind::Interior, "interior"},
+       {SampleKind::Exterior, "exterior"}}};
+};
 
 /// The sample set handed to core: positions, kinds, and for edge samples the cage edge they lie on.
 struct SampleSet {
@@ -40,8 +48,6 @@ struct SampleSet {
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
 
   Index size() const { return X.rows(); }
-  /// Number of leading Control samples.
-  Index controlCount() const;
   /// Throws std::invalid_argument when shapes disagree, kinds/edges are inconsistent or X is not finite.
   void validate(Index m) const;
 };

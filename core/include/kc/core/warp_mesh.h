@@ -32,9 +32,12 @@ enum class OutsideMode {
   Transparent,  ///< Only the inside of the cage is drawn.
 };
 
-/// Parses "pinned", "deform", "fixed", "transparent"; returns false on anything else.
-bool parseOutsideMode(const std::string& text, OutsideMode& mode);
-const char* toString(OutsideMode mode);
+template <>
+struct EnumNames<OutsideMode> {
+  static constexpr std::array<std::pair<OutsideMode, std::string_view>, 4> table{
+      {{OutsideMode::Pinned, "pinned"},
+       {OutsideMode::Deform, "deform"}, {OutsideMode::Fixed, "fixed"}, {OutsideMode::Transparent, "transparent"}}};
+};
 
 struct WarpMeshOptions {
   double spacing = 4.0;          ///< Grid spacing in pixels (≥ 0.5).

@@ -14,6 +14,16 @@ namespace kc::sampling {
 
 enum class SamplerKind { BlueNoise, Grid };
 
+}  // namespace kc::sampling
+
+template <>
+struct kc::EnumNames<kc::sampling::SamplerKind> {
+  static constexpr std::array<std::pair<sampling::SamplerKind, std::string_view>, 2> table{
+      {{sampling::SamplerKind::BlueNoise, "blue-noise"}, {sampling::SamplerKind::Grid, "grid"}}};
+};
+
+namespace kc::sampling {
+
 /// Upper bound on the number of samples of one sampling: beyond it `sample` throws
 /// std::invalid_argument naming the spacing that would fit.
 inline constexpr Index kMaxSamples = 400000;

@@ -17,6 +17,12 @@ enum class InterpMode {
   Thesis,  ///< Plain w(x) = U k(x) with U = W K⁻¹ (thesis 1.9, 6.2–6.3), ~1e-3 accurate.
 };
 
+template <>
+struct EnumNames<InterpMode> {
+  static constexpr std::array<std::pair<InterpMode, std::string_view>, 2> table{
+      {{InterpMode::Exact, "exact"}, {InterpMode::Thesis, "thesis"}}};
+};
+
 enum class FactorStatus { Ok, NotComputed, NotPositiveDefinite, Singular, OutOfMemory };
 
 struct InterpolatorReport {

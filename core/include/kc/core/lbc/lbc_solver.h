@@ -5,18 +5,26 @@
 ///   Lagrange at the controls and linear along cage edges (Dirichlet data, eq. 5),
 /// solved by ADMM in the null-space form W = Y M + H (eq. 15–17, Appendix B).
 
+#include <array>
 #include <functional>
 #include <limits>
 #include <memory>
 #include <string_view>
 
 #include "kc/core/lbc/cage_mesh.h"
+#include "kc/core/names.h"
 #include "kc/core/lbc/mesh_operators.h"
 
 namespace kc {
 
 /// τ in φ_i = τ(D_i) (paper eq. 11): D_i the geodesic distance to control i normalized by its maximum.
 enum class LbcTau { Square, Constant, Linear, Sqrt };
+
+template <>
+struct EnumNames<LbcTau> {
+  static constexpr std::array<std::pair<LbcTau, std::string_view>, 4> table{
+      {{LbcTau::Square, "square"}, {LbcTau::Constant, "const"}, {LbcTau::Linear, "linear"}, {LbcTau::Sqrt, "sqrt"}}};
+};
 
 /// τ(x) for x ∈ [0, 1]: x², 1, x, √x.
 double lbcTau(LbcTau tau, double x);

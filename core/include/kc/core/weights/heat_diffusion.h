@@ -18,6 +18,15 @@ enum class InitMethod {
   Lbc,
 };
 
+template <>
+struct EnumNames<InitMethod> {
+  static constexpr std::array<std::pair<InitMethod, std::string_view>, 4> table{
+      {{InitMethod::HeatLinear, "heat-linear"},
+       {InitMethod::HeatImpulse, "heat-impulse"},
+       {InitMethod::InverseDistance, "inverse-distance"},
+       {InitMethod::Lbc, "lbc"}}};
+};
+
 struct InitOptions {
   InitMethod method = InitMethod::HeatLinear;
   /// Diffusion iterations (4.12, 4.13); 0 = the converged steady state solved directly:

@@ -17,6 +17,12 @@ enum class Method {
   L1,   ///< (4.8) min |w − w0|₁ s.t. Cw = x, 1ᵀw = 1 — exact LP optimum.
 };
 
+template <>
+struct EnumNames<Method> {
+  static constexpr std::array<std::pair<Method, std::string_view>, 3> table{
+      {{Method::QP, "qp"}, {Method::QEC, "qec"}, {Method::L1, "l1"}}};
+};
+
 struct OptimizeOptions {
   OptimizeOptions() = default;
   /// Implicit on purpose: `OptimizeOptions{Method::L1}` and passing a Method keep working.

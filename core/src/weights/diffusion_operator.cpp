@@ -1,0 +1,162 @@
+// The cage-aware diffusion operator of the initial weights (thesis 4.11–4.13) and its reachability.
+#include "diffusion_operator.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "kc/core/cage.h"
+#include "kc/core/parallel.h"
+
+namespace kc::detail {
+namespace {
+
+using Edge = std::array<int, 2>;
+
+/// Uniform grid over the cage edges: a segment can only cross the cage if it comes within `tol`
+/// of an edge bucketed in the cells its bounding box meets; only those pairs pay for the exact
+/// (and O(#edges)) kc::segmentCrossesCage.
+class EdgeGrid {
+ public:
+  EdgeGrid(const Cage& cage, const std::vector<Edge>& edges, Vec2 lo, Vec2 hi, double cell, double tol)
+      : m_cage(cage), m_edges(edges), m_tol(tol) {
+    const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+    m_cell = std::max(cell, extent / 512.0);  // at most ~512² cells
+    m_lo = lo;
+    m_nx = static_cast<int>((hi.x() - lo.x()) / m_cell) + 1;
+    m_ny = static_cast<int>((hi.y() - lo.y()) / m_cell) + 1;
+    m_cells.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), {});
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const Vec2 a = cage.C.row(edges[e][0]), b = cage.C.row(edges[e][1]);
+      forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) { m_cells[c].push_back(static_cast<int>(e)); });
+    }
+  }
+
+  /// Exact: true when the segment a–b crosses the cage (kc::segmentCrossesCage).
+  bool crosses(const Vec2& a, const Vec2& b) const {
+    bool near = false;
+    forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) {
+      for (int e : m_cells[c]) {
+        if (near) return;
+        const Vec2 p = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][0]);
+        const Vec2 q = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][1]);
+        if (segmentSegmentDistance(a, b, p, q) <= m_tol) near = true;
+      }
+    });
+    return near && segmentCrossesCage(m_cage, a, b);
+  }
+
+ private:
+  template <class F>
+  void forCells(const Vec2& lo, const Vec2& hi, F&& f) const {
+    auto cx = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - m_lo.x()) / m_cell)), 0, m_nx - 1); };
+    auto cy = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - m_lo.y()) / m_cell)), 0, m_ny - 1); };
+    const int x0 = cx(lo.x() - m_tol), x1 = cx(hi.x() + m_tol), y0 = cy(lo.y() - m_tol), y1 = cy(hi.y() + m_tol);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) f(static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x));
+  }
+
+  const Cage& m_cage;
+  const std::vector<Edge>& m_edges;
+  double m_tol;
+  double m_cell = 1.0;
+  Vec2 m_lo = Vec2::Zero();
+  int m_nx = 1, m_ny = 1;
+  std::vector<std::vector<int>> m_cells;
+};
+
+}  // namespace
+
+Region regionOf(SampleKind kind, bool closed) {
+  if (!closed) return Region::Inside;  // open structures: one region, only crossings matter
+  switch (kind) {
+    case SampleKind::Control:
+    case SampleKind::Edge: return Region::Boundary;
+    case SampleKind::Exterior: return Region::Outside;
+    default: return Region::Inside;
+  }
+}
+
+/// The diffusion operator: K without the pairs whose segment crosses the cage, and directed so
+/// heat never goes from the outside back in: samples inside or on the cage take heat only through
+/// segments inside (or along) the cage; exterior samples take it from exterior and on-cage samples.
+/// Without this, heat could leave the shape at an on-cage sample, cross a notch outside and enter
+/// again at the other wall. Restricted to inside/on-cage rows (or to exterior rows) the operator is
+/// symmetric: crossing tests use the ordered pair (min, max).
+SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const SparseMatrix& K) {
+  const Points& X = S.X;
+  const auto edges = cageEdges(cage);
+  const Index n = X.rows();
+  const Vec2 lo = X.colwise().minCoeff().transpose().cwiseMin(cage.C.colwise().minCoeff().transpose());
+  const Vec2 hi = X.colwise().maxCoeff().transpose().cwiseMax(cage.C.colwise().maxCoeff().transpose());
+  double reach = 0.0;  // longest kernel pair: a segment's bounding box then meets ≤ 2×2 cells
+  for (Index c = 0; c < K.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(K, c); it; ++it)
+      reach = std::max(reach, (X.row(it.row()) - X.row(c)).cwiseAbs().maxCoeff());
+  const double extent = std::max(1e-300, (hi - lo).norm());
+  const EdgeGrid grid(cage, edges, lo, hi, std::max(reach, 1e-6 * extent), 1e-9 * extent);
+  const bool closed = cage.closed;
+
+  std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
+  parallelFor(n, [&](Index i) {
+    auto& row = rows[static_cast<std::size_t>(i)];
+    const Region ri = regionOf(S.kind[static_cast<std::size_t>(i)], closed);
+    for (SparseMatrix::InnerIterator it(K, i); it; ++it) {  // K symmetric: column i = row i
+      const Index j = it.row();
+      if (j != i) {
+        const Region rj = regionOf(S.kind[static_cast<std::size_t>(j)], closed);
+        const Region lower = std::min(ri, rj), upper = std::max(ri, rj);
+        if (lower == Region::Inside && upper == Region::Outside) continue;  // must cross the cage
+        // The side the segment runs on; for two on-cage samples, its midpoint decides.
+        Region side = lower == Region::Inside ? Region::Inside : (upper == Region::Outside ? Region::Outside : Region::Boundary);
+        const Vec2 a = X.row(std::min(i, j)).transpose(), b = X.row(std::max(i, j)).transpose();
+        if (side == Region::Boundary) {
+          const Vec2 mid = 0.5 * (a + b);
+          if (distanceToCage(cage, mid) > 1e-9 * (b - a).norm())
+            side = insideCage(cage, mid) ? Region::Inside : Region::Outside;
+        }
+        if (ri != Region::Outside && side == Region::Outside) continue;
+        if (ri == Region::Outside && side == Region::Inside) continue;
+        if (grid.crosses(a, b)) continue;
+      }
+      row.emplace_back(j, it.value());
+    }
+  });
+  std::vector<Eigen::Triplet<double>> trip;
+  for (Index i = 0; i < n; ++i)
+    for (const auto& [j, v] : rows[static_cast<std::size_t>(i)]) trip.emplace_back(i, j, v);
+  SparseRowMatrix R(n, n);
+  R.setFromTriplets(trip.begin(), trip.end());
+  return R;
+}
+
+/// Unknown samples from which some known sample can be reached through the operator's rows.
+std::vector<char> reachableFromKnown(const SparseRowMatrix& R, const std::vector<Index>& unknown,
+                                     const std::vector<char>& isUnknown) {
+  const Index n = R.rows();
+  std::vector<char> seen(static_cast<std::size_t>(n), 0);
+  std::vector<Index> stack;
+  for (Index i : unknown)
+    for (SparseRowMatrix::InnerIterator it(R, i); it; ++it)
+      if (!isUnknown[static_cast<std::size_t>(it.col())]) {
+        seen[static_cast<std::size_t>(i)] = 1;
+        stack.push_back(i);
+        break;
+      }
+  // Within one stage the operator is symmetric, so following rows outwards finds the component.
+  while (!stack.empty()) {
+    const Index i = stack.back();
+    stack.pop_back();
+    for (SparseRowMatrix::InnerIterator it(R, i); it; ++it) {
+      const auto j = static_cast<std::size_t>(it.col());
+      if (isUnknown[j] && !seen[j]) {
+        seen[j] = 1;
+        stack.push_back(it.col());
+      }
+    }
+  }
+  return seen;
+}
+
+}  // namespace kc::detail
