@@ -163,3 +163,23 @@ TEST(PointsCsv, HeaderOnlyWhenNoFieldLooksLikeANumber) {
 
 }  // namespace
 }  // namespace kc::app
+
+namespace kc::app {
+namespace {
+
+// Exit codes (ARCHITECTURE.md): user data a lower layer rejects is bad input (InputError, exit 2)
+// only where the app hands it over through asUserInput; any other std::invalid_argument is
+// misuse of an internal API and stays one (kcwarp-cli: exit 1).
+TEST(Errors, AsUserInputNamesWhereAndPassesOtherFailuresThrough) {
+  try {
+    asUserInput("cage.json", [] { throw std::invalid_argument("points 3 and 4 coincide"); });
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "cage.json: points 3 and 4 coincide");
+  }
+  EXPECT_THROW(asUserInput("x", [] { throw std::runtime_error("internal"); }), std::runtime_error);
+  EXPECT_EQ(asUserInput("x", [] { return 7; }), 7);
+}
+
+}  // namespace
+}  // namespace kc::app
