@@ -9,6 +9,7 @@
 #include <string>
 
 #include "kc/app/backend.h"
+#include "kc/app/errors.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qec.h"
 
@@ -44,8 +45,8 @@ WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, W
                        FieldSampler* sampler, Weights* vertexWeights) {
   if (!session.hasField()) throw std::invalid_argument("the session has no coordinate field (bind first)");
   if (options.outside == OutsideMode::Deform && !sessionCapabilities(session).outsideCage)
-    throw std::invalid_argument("outside mode 'deform' needs weights outside the cage, and this session has none (" +
-                                sessionCapabilities(session).why + "); use pinned, fixed or transparent");
+    throw InputError("outside mode 'deform'", "needs weights outside the cage, and this session has none (" +
+                                                  sessionCapabilities(session).why + "); use pinned, fixed or transparent");
   WarpMesh mesh(session.imageWidth, session.imageHeight, session.cage, options);
   const auto t0 = std::chrono::steady_clock::now();
   Weights W;

@@ -80,7 +80,7 @@ TEST(LbcBackend, WarpRefusesDeformAndKeepsTheOutsideFixed) {
   const Session s = bindStar();
   WarpMeshOptions deform;
   deform.outside = OutsideMode::Deform;
-  EXPECT_THROW(buildWarpMesh(s, deform), std::invalid_argument);
+  EXPECT_THROW(buildWarpMesh(s, deform), InputError);
   // Fixed: every warp-mesh vertex has weights summing to 1 (outside the mesh: the nearest cage point's).
   WarpMeshOptions fixed;
   fixed.outside = OutsideMode::Fixed;

@@ -27,7 +27,8 @@ struct WarpExportReport {
 
 /// Builds the warp mesh for the session's image size and cage, evaluates the session's field at
 /// its vertices (WarpMesh::setWeights) — the same steps as `kcwarp-cli warp`. Requires a ready
-/// field; throws std::invalid_argument otherwise. When `sampler` is given, the field is evaluated
+/// field (std::invalid_argument otherwise); an outside mode the session's field cannot do
+/// (`deform` without weights outside the cage) is an InputError. When `sampler` is given, the field is evaluated
 /// through a FieldSampler at the vertices, which is kept there together with the dense vertex
 /// weights (`vertexWeights`, #V×m), so that later edits can update only the changed columns.
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options = {}, WarpExportReport* report = nullptr,
