@@ -64,8 +64,9 @@ TEST_P(InterpolatorModes, GradientMatchesFiniteDifferences) {
   Weights gx, gy;
   interp.evaluateGradient(coef, P, gx, gy);
   const double h = 1e-5;
-  const Points dx = Points::Constant(P.rows(), 1, h).replicate(1, 1) * Eigen::RowVector2d(1, 0);
-  const Points dy = Points::Constant(P.rows(), 1, h).replicate(1, 1) * Eigen::RowVector2d(0, 1);
+  Points dx = Points::Zero(P.rows(), 2), dy = Points::Zero(P.rows(), 2);
+  dx.col(0).setConstant(h);
+  dy.col(1).setConstant(h);
   const Weights fdx = (interp.evaluate(coef, P + dx) - interp.evaluate(coef, P - dx)) / (2 * h);
   const Weights fdy = (interp.evaluate(coef, P + dy) - interp.evaluate(coef, P - dy)) / (2 * h);
   const double scale = std::max(gx.cwiseAbs().maxCoeff(), gy.cwiseAbs().maxCoeff());
