@@ -102,13 +102,15 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     const auto layer = [&](const std::array<int, 3>& t) { const int k = insideCount(t); return k == 0 ? 0 : (k == 3 ? 2 : 1); };
     std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
     m_outsideTriangles = Index(std::count_if(m_triangles.begin(), m_triangles.end(), [&](const auto& t) { return layer(t) == 0; }));
-    // The fold guard moves exterior vertices (1), those of triangles across the cage last (2).
-    m_guardClass.assign(m_exterior->exterior.begin(), m_exterior->exterior.end());
-    for (const auto& t : m_triangles)
-      if (layer(t) == 1)
-        for (int v : t)
-          if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
-    m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_outsideTriangles, m_rest.rows()));
+    if (options.foldGuard) {
+      // The fold guard moves exterior vertices (1), those of triangles across the cage last (2).
+      m_guardClass.assign(m_exterior->exterior.begin(), m_exterior->exterior.end());
+      for (const auto& t : m_triangles)
+        if (layer(t) == 1)
+          for (int v : t)
+            if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
+      m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_outsideTriangles, m_rest.rows()));
+    }
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
 }

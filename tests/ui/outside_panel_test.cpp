@@ -79,5 +79,33 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
   EXPECT_EQ(sessionOutsideMode(session), OutsideMode::Pinned);
 }
 
+TEST(OutsidePanel, MoveEverythingIsRefusedWithoutWeightsOutsideTheCage) {
+  test::HeadlessImGui gui;
+  auto s = std::make_unique<AppState>();
+  s->worker.setSynchronous(true);
+  s->source = app::loadImage(std::string(KC_SOURCE_DIR) + "/images/checker.png");
+  Points C(4, 2);
+  C << 50, 50, 205, 50, 205, 205, 50, 205;
+  app::BindParams p;
+  p.backend = "lbc";
+  p.spacing = 10.0;
+  auto session = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
+  session->outside = "fixed";
+  installSession(*s, session, buildDisplayMesh(*session, displayMeshOptions(256, 256, OutsideMode::Fixed)));
+  ASSERT_FALSE(s->capabilities.outsideCage);
+  ASSERT_EQ(s->outside, OutsideMode::Fixed);
+
+  gui.frame([&] { drawSide(*s); });
+  gui.click(s->widgets["outside_mode"], [&] { drawSide(*s); });
+  gui.frame([&] { drawSide(*s); });
+  ASSERT_TRUE(s->widgets.count("outside_deform"));
+  gui.click(s->widgets["outside_deform"], [&] { drawSide(*s); });  // greyed: the click does nothing
+  pollWorker(*s);
+  EXPECT_EQ(s->outside, OutsideMode::Fixed);
+  EXPECT_FALSE(setOutsideMode(*s, OutsideMode::Deform)) << "the setter refuses it too, with a message";
+  EXPECT_EQ(s->outside, OutsideMode::Fixed);
+  ASSERT_TRUE(s->session) << "a refused change keeps the session";
+}
+
 }  // namespace
 }  // namespace kc::ui

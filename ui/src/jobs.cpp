@@ -181,6 +181,10 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
     return true;
   }
   if (!state.session || !canStart(state, "change the outside mode")) return false;
+  if (mode == OutsideMode::Deform && !state.capabilities.outsideCage) {
+    postMessage(state, "Move everything needs weights outside the cage: " + state.capabilities.why, false);
+    return false;
+  }
   const OutsideMode before = state.outside;
   state.outside = mode;  // the panel shows the choice while the mesh is rebuilt
   SessionPtr s = std::move(state.session);

@@ -37,9 +37,13 @@ void drawOutsidePanel(AppState& state) {
   if (!open && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", modes[current].tip);
   if (open) {
     for (int k = 0; k < 4; ++k) {
-      if (ImGui::Selectable(modes[k].label, k == current) && k != current) setOutsideMode(state, modes[k].mode);
+      // A bound session without weights outside the cage (LBC) cannot move the whole picture.
+      const bool unavailable = modes[k].mode == OutsideMode::Deform && state.bound && !state.capabilities.outsideCage;
+      const ImGuiSelectableFlags flags = unavailable ? ImGuiSelectableFlags_Disabled : 0;
+      if (ImGui::Selectable(modes[k].label, k == current, flags) && k != current) setOutsideMode(state, modes[k].mode);
       markWidget(state, modes[k].id);
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", modes[k].tip);
+      if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+        ImGui::SetTooltip("%s", unavailable ? state.capabilities.why.c_str() : modes[k].tip);
     }
     ImGui::EndCombo();
   }
