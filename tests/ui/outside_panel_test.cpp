@@ -16,17 +16,20 @@ void drawSide(AppState& s) {
   ImGui::End();
 }
 
-/// A bound AppState on the checker picture with a square cage 50 px inside its border.
-std::unique_ptr<AppState> boundSquare() {
+/// A bound AppState on the checker picture with a square cage 50 px inside its border, bound
+/// with `backend` and shown in `outside` mode.
+std::unique_ptr<AppState> boundSquare(const std::string& backend = "kc", OutsideMode outside = OutsideMode::Pinned) {
   auto state = std::make_unique<AppState>();
   state->worker.setSynchronous(true);
   state->source = app::loadImage(std::string(KC_SOURCE_DIR) + "/images/checker.png");
   Points C(4, 2);
   C << 50, 50, 205, 50, 205, 205, 50, 205;
   app::BindParams p;
+  p.backend = backend;
   p.spacing = 10.0;
   auto s = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
-  installSession(*state, s, buildDisplayMesh(*s, displayMeshOptions(256, 256, state->outside)));
+  s->outside = std::string(toString(outside));
+  installSession(*state, s, buildDisplayMesh(*s, displayMeshOptions(256, 256, outside)));
   return state;
 }
 
@@ -44,8 +47,9 @@ double cornerMove(AppState& s, const Pose& pose) {
 
 TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
   test::HeadlessImGui gui;
+  EXPECT_EQ(AppState().outside, OutsideMode::Pinned) << "pinned is the default for a new picture";
   auto s = boundSquare();
-  EXPECT_EQ(s->outside, OutsideMode::Pinned) << "pinned is the default for a new picture";
+  EXPECT_EQ(s->outside, OutsideMode::Pinned);
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Pinned);
   Pose pose = restPose(4);
   pose[1].translate = Vec2(-30, 20);
@@ -81,17 +85,7 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
 
 TEST(OutsidePanel, MoveEverythingIsRefusedWithoutWeightsOutsideTheCage) {
   test::HeadlessImGui gui;
-  auto s = std::make_unique<AppState>();
-  s->worker.setSynchronous(true);
-  s->source = app::loadImage(std::string(KC_SOURCE_DIR) + "/images/checker.png");
-  Points C(4, 2);
-  C << 50, 50, 205, 50, 205, 205, 50, 205;
-  app::BindParams p;
-  p.backend = "lbc";
-  p.spacing = 10.0;
-  auto session = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
-  session->outside = "fixed";
-  installSession(*s, session, buildDisplayMesh(*session, displayMeshOptions(256, 256, OutsideMode::Fixed)));
+  auto s = boundSquare("lbc", OutsideMode::Fixed);
   ASSERT_FALSE(s->capabilities.outsideCage);
   ASSERT_EQ(s->outside, OutsideMode::Fixed);
 
