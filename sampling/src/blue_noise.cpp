@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cage_locator.h"
+#include "kc/core/cage_edge_grid.h"
 
 namespace kc::sampling {
 namespace {
@@ -50,7 +50,7 @@ Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cell
   std::mt19937_64 rng(seed);
   const double c = h * std::sqrt(cellArea);
   const auto candidates = jitteredCells(domain, c, rng);
-  const detail::CageLocator locator(cage, h);
+  const CageEdgeGrid locator(cage, h);
   const double minDistance = 0.5 * h;
   std::vector<Vec2> inside, outside;
   for (const Vec2& p : candidates) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "cage_locator.h"
+#include "kc/core/cage_edge_grid.h"
 
 namespace kc::sampling {
 
@@ -69,7 +69,7 @@ void appendSamples(SampleSet& S, const Points& P, SampleKind kind) {
 }
 
 Points dropNearCage(const Cage& cage, const Points& P, double minDistance) {
-  const detail::CageLocator locator(cage, std::max(minDistance, 1e-9));
+  const CageEdgeGrid locator(cage, std::max(minDistance, 1e-9));
   std::vector<Index> keep;
   keep.reserve(static_cast<std::size_t>(P.rows()));
   for (Index i = 0; i < P.rows(); ++i)

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "cage_locator.h"
+#include "kc/core/cage_edge_grid.h"
 
 namespace kc::sampling {
 namespace {
@@ -22,7 +22,7 @@ double gridPointCount(const Rect& domain, double h) {
 SampleSet gridSample(const Cage& cage, const Rect& domain, double h) {
   SampleSet S = boundarySamples(cage, h);
   const GridRange g = gridRange(domain, h);
-  const detail::CageLocator locator(cage, h);
+  const CageEdgeGrid locator(cage, h);
   const double minDistance = 0.5 * h;
   std::vector<Vec2> inside, outside;
   for (double j = g.j0; j <= g.j1; j += 1.0) {

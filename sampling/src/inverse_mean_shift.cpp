@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cage_locator.h"
+#include "kc/core/cage_edge_grid.h"
 #include "kc/core/parallel.h"
 #include "kc/core/spatial_grid.h"
 
@@ -77,7 +77,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
     return (1.0 - t) * table[static_cast<std::size_t>(q)] + t * table[static_cast<std::size_t>(q) + 1];
   };
 
-  std::optional<detail::CageLocator> locator;
+  std::optional<CageEdgeGrid> locator;
   if (region.cage && region.cage->size() >= 2 && !region.periodic) locator.emplace(*region.cage, std::max(h, radius));
 
   const Index n = X.rows(), nFree = n - firstFree;

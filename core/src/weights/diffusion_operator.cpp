@@ -7,64 +7,17 @@
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "kc/core/cage_edge_grid.h"
 #include "kc/core/parallel.h"
 
 namespace kc::detail {
 namespace {
 
-using Edge = std::array<int, 2>;
-
-/// Uniform grid over the cage edges: a segment can only cross the cage if it comes within `tol`
-/// of an edge bucketed in the cells its bounding box meets; only those pairs pay for the exact
-/// (and O(#edges)) kc::segmentCrossesCage.
-class EdgeGrid {
- public:
-  EdgeGrid(const Cage& cage, const std::vector<Edge>& edges, Vec2 lo, Vec2 hi, double cell, double tol)
-      : m_cage(cage), m_edges(edges), m_tol(tol) {
-    const double extent = std::max(hi.x() - lo.x(), hi.y() - lo.y());
-    m_cell = std::max(cell, extent / 512.0);  // at most ~512² cells
-    m_lo = lo;
-    m_nx = static_cast<int>((hi.x() - lo.x()) / m_cell) + 1;
-    m_ny = static_cast<int>((hi.y() - lo.y()) / m_cell) + 1;
-    m_cells.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), {});
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-      const Vec2 a = cage.C.row(edges[e][0]), b = cage.C.row(edges[e][1]);
-      forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) { m_cells[c].push_back(static_cast<int>(e)); });
-    }
-  }
-
-  /// Exact: true when the segment a–b crosses the cage (kc::segmentCrossesCage).
-  bool crosses(const Vec2& a, const Vec2& b) const {
-    bool near = false;
-    forCells(a.cwiseMin(b), a.cwiseMax(b), [&](std::size_t c) {
-      for (int e : m_cells[c]) {
-        if (near) return;
-        const Vec2 p = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][0]);
-        const Vec2 q = m_cage.C.row(m_edges[static_cast<std::size_t>(e)][1]);
-        if (segmentSegmentDistance(a, b, p, q) <= m_tol) near = true;
-      }
-    });
-    return near && segmentCrossesCage(m_cage, a, b);
-  }
-
- private:
-  template <class F>
-  void forCells(const Vec2& lo, const Vec2& hi, F&& f) const {
-    auto cx = [&](double x) { return std::clamp(static_cast<int>(std::floor((x - m_lo.x()) / m_cell)), 0, m_nx - 1); };
-    auto cy = [&](double y) { return std::clamp(static_cast<int>(std::floor((y - m_lo.y()) / m_cell)), 0, m_ny - 1); };
-    const int x0 = cx(lo.x() - m_tol), x1 = cx(hi.x() + m_tol), y0 = cy(lo.y() - m_tol), y1 = cy(hi.y() + m_tol);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) f(static_cast<std::size_t>(y) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(x));
-  }
-
-  const Cage& m_cage;
-  const std::vector<Edge>& m_edges;
-  double m_tol;
-  double m_cell = 1.0;
-  Vec2 m_lo = Vec2::Zero();
-  int m_nx = 1, m_ny = 1;
-  std::vector<std::vector<int>> m_cells;
-};
+/// Exact: true when the segment a–b crosses the cage (kc::segmentCrossesCage); only segments that
+/// come within `tol` of an edge of the grid pay for the exact, O(#edges) test.
+bool crossesCage(const Cage& cage, const CageEdgeGrid& grid, const Vec2& a, const Vec2& b, double tol) {
+  return grid.segmentDistance(a, b, 2.0 * tol) <= tol && segmentCrossesCage(cage, a, b);
+}
 
 }  // namespace
 
@@ -86,7 +39,6 @@ Region regionOf(SampleKind kind, bool closed) {
 /// symmetric: crossing tests use the ordered pair (min, max).
 SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const SparseMatrix& K) {
   const Points& X = S.X;
-  const auto edges = cageEdges(cage);
   const Index n = X.rows();
   const Vec2 lo = X.colwise().minCoeff().transpose().cwiseMin(cage.C.colwise().minCoeff().transpose());
   const Vec2 hi = X.colwise().maxCoeff().transpose().cwiseMax(cage.C.colwise().maxCoeff().transpose());
@@ -94,8 +46,8 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
   for (Index c = 0; c < K.outerSize(); ++c)
     for (SparseMatrix::InnerIterator it(K, c); it; ++it)
       reach = std::max(reach, (X.row(it.row()) - X.row(c)).cwiseAbs().maxCoeff());
-  const double extent = std::max(1e-300, (hi - lo).norm());
-  const EdgeGrid grid(cage, edges, lo, hi, std::max(reach, 1e-6 * extent), 1e-9 * extent);
+  const double extent = std::max(1e-300, (hi - lo).norm()), tol = 1e-9 * extent;
+  const CageEdgeGrid grid(cage, std::max(reach, 1e-6 * extent));
   const bool closed = cage.closed;
 
   std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
@@ -118,7 +70,7 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
         }
         if (ri != Region::Outside && side == Region::Outside) continue;
         if (ri == Region::Outside && side == Region::Inside) continue;
-        if (grid.crosses(a, b)) continue;
+        if (crossesCage(cage, grid, a, b, tol)) continue;
       }
       row.emplace_back(j, it.value());
     }
