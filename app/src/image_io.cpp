@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "image_codecs.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_header.h"
@@ -39,7 +40,7 @@ Image loadImage(const std::string& path) {
   const ImageHeader header = checkImageFile(bytes, path);
   cv::Mat m;
   try {
-    m = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
+    m = detail::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     throw InputError(path, "cannot decode the " + header.format + " image: " + e.msg);
   }
@@ -80,7 +81,7 @@ std::string encodeImage(const Image& image, const std::string& ext, int pngCompr
     throw std::invalid_argument("unknown image format '" + ext + "' (use .png or .jpg)");
   }
   std::vector<uchar> buf;
-  if (!cv::imencode(ext, bgr, buf, params)) throw std::runtime_error("OpenCV could not encode the image as " + ext);
+  if (!detail::imencode(ext, bgr, buf, params)) throw std::runtime_error("OpenCV could not encode the image as " + ext);
   return std::string(buf.begin(), buf.end());
 }
 

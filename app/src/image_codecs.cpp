@@ -1,0 +1,59 @@
+#include "image_codecs.h"
+
+#include <dlfcn.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
+#include <type_traits>
+
+namespace kc::app::detail {
+namespace {
+
+// The functions' types, taken from OpenCV's declarations without referencing the functions
+// (decltype is unevaluated): a change of signature fails to compile instead of crashing.
+using DecodeFn = decltype(static_cast<cv::Mat (*)(cv::InputArray, int)>(&cv::imdecode));
+using EncodeFn = decltype(static_cast<bool (*)(const cv::String&, cv::InputArray, std::vector<uchar>&, const std::vector<int>&)>(
+    &cv::imencode));
+static_assert(std::is_same_v<cv::String, std::string>, "the symbol names below assume cv::String is std::string");
+
+// Their exported (Itanium-mangled) names in libopencv_imgcodecs, as `nm -D` lists them.
+constexpr const char* kDecodeSymbol = "_ZN2cv8imdecodeERKNS_11_InputArrayEi";
+constexpr const char* kEncodeSymbol =
+    "_ZN2cv8imencodeERKNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEERKNS_11_InputArrayERSt6vectorIhSaIhEERKSB_IiSaIiEE";
+
+struct Codecs {
+  DecodeFn decode = nullptr;
+  EncodeFn encode = nullptr;
+  std::string problem;  // why loading failed, or ""
+
+  Codecs() {
+    // The library this build found (its SONAME, then its full path as a fallback).
+    void* handle = nullptr;
+    for (const char* name : {KC_IMGCODECS_SONAME, KC_IMGCODECS_PATH})
+      if ((handle = dlopen(name, RTLD_NOW | RTLD_LOCAL)) != nullptr) break;
+    if (!handle) {
+      const char* why = dlerror();
+      problem = std::string("cannot load OpenCV's image codecs (") + KC_IMGCODECS_SONAME + "): " + (why ? why : "unknown error");
+      return;
+    }
+    decode = reinterpret_cast<DecodeFn>(dlsym(handle, kDecodeSymbol));
+    encode = reinterpret_cast<EncodeFn>(dlsym(handle, kEncodeSymbol));
+    if (!decode || !encode) problem = std::string("OpenCV's image codecs (") + KC_IMGCODECS_SONAME + ") lack imdecode/imencode";
+  }
+};
+
+const Codecs& codecs() {
+  static const Codecs loaded;  // thread-safe one-time initialization
+  if (!loaded.problem.empty()) throw std::runtime_error(loaded.problem);
+  return loaded;
+}
+
+}  // namespace
+
+cv::Mat imdecode(cv::InputArray buf, int flags) { return codecs().decode(buf, flags); }
+
+bool imencode(const std::string& ext, cv::InputArray image, std::vector<uchar>& out, const std::vector<int>& params) {
+  return codecs().encode(ext, image, out, params);
+}
+
+}  // namespace kc::app::detail
