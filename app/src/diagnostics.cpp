@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "kc/app/backend.h"
+
 namespace kc::app {
 namespace {
 
@@ -47,7 +49,8 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
   for (int y = 0; y < ny; ++y)
     for (int x = 0; x < nx; ++x) P.row(static_cast<Index>(y) * nx + x) << (x * d.pixelStep + 0.5), (y * d.pixelStep + 0.5);
   const Weights W = s.field->weightsAt(P);
-  d.image = measure(W, C, P);
+  d.outsideWeights = sessionCapabilities(s).outsideCage;
+  if (d.outsideWeights) d.image = measure(W, C, P);
 
   std::vector<Index> inside;
   for (Index i = 0; i < P.rows(); ++i)

@@ -3,45 +3,16 @@
 // the stage by a stage hook, so no timing is asserted); the abandoned bind never writes the state.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <condition_variable>
-#include <mutex>
 #include <string>
 
 #include "kc/ui/frame.h"
+#include "stage_gate.h"
 #include "ui_fixture.h"
 
 namespace kc::ui {
 namespace {
 
-/// Holds the first job that enters `stage` until release() (a stand-in for a long solver call).
-class StageGate {
- public:
-  explicit StageGate(std::string stage) : m_stage(std::move(stage)) {}
-  void operator()(const std::string& stage) {
-    if (stage != m_stage || m_used.exchange(true)) return;
-    std::unique_lock lock(m_mutex);
-    m_inside = true;
-    m_cv.notify_all();
-    m_cv.wait(lock, [this] { return m_released; });
-  }
-  void waitInside() {
-    std::unique_lock lock(m_mutex);
-    m_cv.wait(lock, [this] { return m_inside; });
-  }
-  void release() {
-    std::lock_guard lock(m_mutex);
-    m_released = true;
-    m_cv.notify_all();
-  }
-
- private:
-  std::string m_stage;
-  std::atomic<bool> m_used{false};
-  std::mutex m_mutex;
-  std::condition_variable m_cv;
-  bool m_inside = false, m_released = false;
-};
+using test::StageGate;
 
 /// The bound checker example with a threaded worker whose jobs pass through `gate`.
 std::unique_ptr<AppState> threadedState(StageGate& gate) {
@@ -102,26 +73,7 @@ TEST(BindCancel, DuringTheFactorizationTheWindowIsIdleBeforeTheWorkerHasFinished
 
 TEST(BindCancel, EveryStageGivesTheSessionBackAtOnce) {
   auto s = test::boundState(20.0);
-  s->worker.setSynchronous(false);
-  std::unique_ptr<StageGate> gate;  // replaced per stage, only while no job runs
-  s->worker.setStageHook([&gate](const std::string& stage) { (*gate)(stage); });
-  const app::Session* before = s->session.get();
-  for (const char* stage : {"sampling", "kernel", "initial weights", "optimization", "interpolation", "warp mesh"}) {
-    SCOPED_TRACE(stage);
-    gate = std::make_unique<StageGate>(stage);
-    ASSERT_TRUE(startBind(*s));
-    gate->waitInside();
-    s->worker.cancel();
-    pollWorker(*s);
-    EXPECT_FALSE(s->worker.busy());
-    EXPECT_EQ(s->session.get(), before);
-    gate->release();
-    s->worker.waitAbandoned();
-    pollWorker(*s);
-    EXPECT_EQ(s->session.get(), before);
-    ASSERT_FALSE(s->messages.empty());
-    EXPECT_EQ(s->messages.back().text, "Bind cancelled.");
-  }
+  test::expectCancelInEveryStage(*s, {"sampling", "kernel", "initial weights", "optimization", "interpolation", "warp mesh"});
 }
 
 }  // namespace

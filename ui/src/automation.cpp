@@ -20,6 +20,8 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["idle"] = !busy && state.canvasDrag.button < 0;
   j["tool"] = state.tool == Tool::Pose ? "pose" : state.tool == Tool::Brush ? "brush" : "cage";
   j["method"] = std::string(app::toString(state.method));
+  j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
+  j["lbc_mesh"] = state.reports.lbcMesh;         // LBC mesh vertices of the bound session, 0 when not LBC
   j["window"] = {window[0], window[1], window[2], window[3]};
   json controls = json::array();
   if (state.bound) {

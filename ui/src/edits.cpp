@@ -156,8 +156,21 @@ bool updateDeformation(AppState& state) {
   return true;
 }
 
+app::BackendCapabilities shownCapabilities(const AppState& state) {
+  if (state.bound) return state.capabilities;
+  try {
+    return app::backendFor(state.bindParams.backend).capabilities();
+  } catch (const std::invalid_argument&) {
+    return state.capabilities;  // an unknown name: the bind itself reports it
+  }
+}
+
 void selectTool(AppState& state, Tool tool) {
   if (state.tool == tool) return;
+  if (tool == Tool::Brush && !shownCapabilities(state).painting) {
+    postMessage(state, "The brush is not available: " + shownCapabilities(state).why, false);
+    return;
+  }
   endInteractions(state);
   state.tool = tool;
 }

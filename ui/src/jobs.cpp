@@ -63,6 +63,18 @@ void postSolverProblems(AppState& st, const OptimizeReport& r, const char* what)
   postMessage(st, text, true);
 }
 
+/// The status line after a bind: what was computed, at how many points, in how long.
+std::string bindSummary(const app::Session& s) {
+  char text[200];
+  if (s.reports.lbcMesh > 0)
+    std::snprintf(text, sizeof text, "Bound %ld control points with LBC: %ld mesh vertices, %d iterations, %.2f s.",
+                  long(s.cage.size()), long(s.reports.lbcMesh), s.reports.lbc.iterations, s.timings.total);
+  else
+    std::snprintf(text, sizeof text, "Bound %ld control points, %ld samples in %.2f s.", long(s.cage.size()),
+                  long(s.samples.size()), s.timings.total);
+  return text;
+}
+
 bool canStart(AppState& state, const char* what) {
   if (state.worker.busy()) {
     postMessage(state, std::string("Busy: ") + what + " after the current job has finished.", false);
@@ -96,6 +108,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.samples = s.samples;
   state.method = s.params.kc.method;
   state.capabilities = app::sessionCapabilities(s);
+  if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
   state.reports = s.reports;
   state.bindParams = s.params;
   state.outside = display.mesh->options().outside;
@@ -132,7 +145,12 @@ bool startBind(AppState& state, bool markUnsaved) {
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = state.bindParams;
   const std::string image = state.imagePath;
-  const WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
+  WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
+  if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
+    // The backend has no weights outside the cage: the outside stays where it is (its default).
+    meshOptions.outside = OutsideMode::Fixed;
+    postMessage(state, "Outside the cage: Keep outside (Move everything needs weights outside the cage).", false);
+  }
   // The kernel factorization and the steady-state heat solve are single solver calls that cannot
   // stop half way, so Cancel abandons the bind (Worker): the previous session comes back at once
   // and the bind's result is dropped when it ends. The job only reads its own copies (cage,
@@ -147,16 +165,14 @@ bool startBind(AppState& state, bool markUnsaved) {
       auto s = std::make_shared<app::Session>(
           app::bind(cage, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
       s->image = image;
+      s->outside = toString(meshOptions.outside);
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
       return [s, display, markUnsaved](AppState& st) {
         installSession(st, s, display, true);
         st.unsaved = st.unsaved || markUnsaved;
         st.tool = Tool::Pose;
-        char text[160];
-        std::snprintf(text, sizeof text, "Bound %ld control points, %ld samples in %.2f s.", long(s->cage.size()),
-                      long(s->samples.size()), s->timings.total);
-        postMessage(st, text, false);
+        postMessage(st, bindSummary(*s), false);
         for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
       };
     } catch (const app::BindCancelled&) {
@@ -176,15 +192,15 @@ OutsideMode sessionOutsideMode(const app::Session& session) {
 
 bool setOutsideMode(AppState& state, OutsideMode mode) {
   if (mode == state.outside) return true;
+  if (mode == OutsideMode::Deform && !shownCapabilities(state).outsideCage) {
+    postMessage(state, "Move everything needs weights outside the cage: " + shownCapabilities(state).why, false);
+    return false;
+  }
   if (!state.bound) {
     state.outside = mode;
     return true;
   }
   if (!state.session || !canStart(state, "change the outside mode")) return false;
-  if (mode == OutsideMode::Deform && !state.capabilities.outsideCage) {
-    postMessage(state, "Move everything needs weights outside the cage: " + state.capabilities.why, false);
-    return false;
-  }
   const OutsideMode before = state.outside;
   state.outside = mode;  // the panel shows the choice while the mesh is rebuilt
   SessionPtr s = std::move(state.session);

@@ -29,57 +29,45 @@ bool enumCombo(const char* label, E& value, const E (&values)[N], const char* ti
   return changed;
 }
 
-}  // namespace
-
-void drawBindPanel(AppState& state) {
+/// The backend switch: kernel coordinates or local barycentric coordinates for the next Bind.
+void backendSwitch(AppState& state) {
   app::BindParams& p = state.bindParams;
-  ImGui::PushItemWidth(150);
-  float spacing = static_cast<float>(p.spacing);
-  if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
-  tooltip("Distance between the sample points the weights are computed at, in pixels.\n"
-          "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
-  bool autoSigma = p.kc.sigma <= 0.0;
-  if (checkbox(state, "Auto sigma", &autoSigma,
-               "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
-    p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
+  ImGui::TextUnformatted("Weights");
+  tooltip("Which method computes the influence of each cage point at the next Bind.");
   ImGui::SameLine();
-  if (autoSigma) {
-    ImGui::TextDisabled("about %.2f px", app::automaticSigma(p.spacing));
-    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28).");
-  } else {
-    float sigma = static_cast<float>(p.kc.sigma);
-    ImGui::SetNextItemWidth(100);
-    if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.kc.sigma = std::max(0.2f, sigma);
-    tooltip("Smoothing width in pixels: larger gives smoother but less exact weights.");
-  }
-  static constexpr InitMethod inits[] = {InitMethod::HeatLinear, InitMethod::HeatImpulse, InitMethod::InverseDistance};
-  static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
-  enumCombo("Initialization", p.kc.init.method, inits,
-            "How the starting influences are guessed before they are optimized:\n"
-            "heat-linear: heat spread from the cage outline, linear along its edges (recommended);\n"
-            "heat-impulse: heat spread from the points only;\n"
-            "inverse-distance: nearer points pull harder.");
-  if (p.kc.init.method == InitMethod::HeatLinear) {
-    // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
-    bool screened = p.kc.init.locality != 0.0;
-    if (checkbox(state, "Local targets", &screened,
-                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion).\n"
-                 "More local, but far points may get very small influence.\n"
-                 "Off: smooth, global influences. Takes effect at the next Bind."))
-      p.kc.init.locality = screened ? -1.0 : 0.0;
-    if (screened) {
-      ImGui::SameLine();
-      float locality = static_cast<float>(p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.kc.init.locality);
-      ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.kc.init.locality = std::max(1.0f, locality);
-      tooltip("How far (pixels, inside the shape) a point's pull reaches.");
-    }
-  }
-  enumCombo("Interpolation", p.kc.interp, interps,
-            "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
-            "thesis: the plain kernel form of the thesis (about 0.1% off).");
-  ImGui::PopItemWidth();
+  if (radio(state, "KC##backend", p.backend == "kc",
+            "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush,\n"
+            "switch the method (QP / QEC / L1) and move everything outside the cage."))
+    p.backend = "kc";
+  ImGui::SameLine();
+  if (radio(state, "LBC##backend", p.backend == "lbc",
+            "Local barycentric coordinates (LBC paper): each point pulls only on the part of the shape near it.\n"
+            "Computed once on a triangle mesh of the cage's inside: no brush, no method switch, and no\n"
+            "influence outside the cage (the outside is kept or pinned)."))
+    p.backend = "lbc";
+}
 
+/// The LBC solver's parameters (the "lbc" backend, and Initialization = lbc of the kc backend).
+void lbcControls(AppState& state) {
+  app::LbcParams& l = state.bindParams.lbc;
+  static constexpr LbcTau taus[] = {LbcTau::Square, LbcTau::Constant, LbcTau::Linear, LbcTau::Sqrt};
+  enumCombo("LBC locality", l.tau, taus,
+            "How strongly an influence far from its point is penalized (tau of the distance inside the shape, LBC eq. 11):\n"
+            "square: most local (recommended); linear and sqrt: less local; const: no distance weighting.");
+  markWidget(state, "LBC locality");
+  float tolerance = static_cast<float>(l.tolerance);
+  if (ImGui::SliderFloat("LBC tolerance", &tolerance, 1e-5f, 1e-1f, "%.0e", ImGuiSliderFlags_Logarithmic))
+    l.tolerance = std::clamp(static_cast<double>(tolerance), 1e-5, 1e-1);
+  labelled(state, "LBC tolerance",
+           "When the solver may stop: its residuals (RMS per point, picture scaled to size 1) below this, and the\n"
+           "result certified within 0.1% of the best possible. Smaller: slower, barely different (default 1e-3).");
+  int iterations = l.maxIterations;
+  if (ImGui::InputInt("Max iterations", &iterations, 1000, 10000)) l.maxIterations = std::clamp(iterations, 1, 1'000'000);
+  labelled(state, "Max iterations", "The solver gives up after this many iterations and Bind reports it (default 20000).");
+}
+
+/// The cage's status, Bind (with the cage-edited hint), Load / Save cage.
+void drawBindButtons(AppState& state) {
   if (!state.cageStatus.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, state.cage.closed ? ImVec4(1.0f, 0.42f, 0.42f, 1.0f) : ImVec4(0.75f, 0.85f, 1.0f, 1.0f));
     ImGui::TextWrapped("%s", state.cageStatus.c_str());
@@ -103,6 +91,73 @@ void drawBindPanel(AppState& state) {
   if (button(state, "Load cage...", "Read a cage outline from a JSON file (it is bound right away).")) requestPath(state, PathPurpose::LoadCage, "");
   ImGui::SameLine();
   if (button(state, "Save cage...", "Write the cage outline to a JSON file.")) requestPath(state, PathPurpose::SaveCage, "cage.json");
+}
+
+}  // namespace
+
+void drawBindPanel(AppState& state) {
+  app::BindParams& p = state.bindParams;
+  backendSwitch(state);
+  const bool lbc = p.backend == "lbc";
+  ImGui::PushItemWidth(150);
+  float spacing = static_cast<float>(p.spacing);
+  if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
+  tooltip(lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels.\n"
+                "Smaller: finer detail, slower Bind. Larger: faster, coarser."
+              : "Distance between the sample points the weights are computed at, in pixels.\n"
+                "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
+  if (lbc) {
+    lbcControls(state);
+    ImGui::PopItemWidth();
+    drawBindButtons(state);
+    return;
+  }
+  bool autoSigma = p.kc.sigma <= 0.0;
+  if (checkbox(state, "Auto sigma", &autoSigma,
+               "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
+    p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
+  ImGui::SameLine();
+  if (autoSigma) {
+    ImGui::TextDisabled("about %.2f px", app::automaticSigma(p.spacing));
+    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28).");
+  } else {
+    float sigma = static_cast<float>(p.kc.sigma);
+    ImGui::SetNextItemWidth(100);
+    if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.kc.sigma = std::max(0.2f, sigma);
+    tooltip("Smoothing width in pixels: larger gives smoother but less exact weights.");
+  }
+  static constexpr InitMethod inits[] = {InitMethod::HeatLinear, InitMethod::HeatImpulse, InitMethod::InverseDistance,
+                                         InitMethod::Lbc};
+  static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
+  enumCombo("Initialization", p.kc.init.method, inits,
+            "How the starting influences are guessed before they are optimized:\n"
+            "heat-linear: heat spread from the cage outline, linear along its edges (recommended);\n"
+            "heat-impulse: heat spread from the points only;\n"
+            "inverse-distance: nearer points pull harder;\n"
+            "lbc: the local influences of LBC inside the cage (as local as LBC, still paintable; slower Bind).");
+  markWidget(state, "Initialization");
+  if (p.kc.init.method == InitMethod::Lbc) lbcControls(state);
+  if (p.kc.init.method == InitMethod::HeatLinear) {
+    // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
+    bool screened = p.kc.init.locality != 0.0;
+    if (checkbox(state, "Local targets", &screened,
+                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion).\n"
+                 "More local, but far points may get very small influence.\n"
+                 "Off: smooth, global influences. Takes effect at the next Bind."))
+      p.kc.init.locality = screened ? -1.0 : 0.0;
+    if (screened) {
+      ImGui::SameLine();
+      float locality = static_cast<float>(p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.kc.init.locality);
+      ImGui::SetNextItemWidth(100);
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.kc.init.locality = std::max(1.0f, locality);
+      tooltip("How far (pixels, inside the shape) a point's pull reaches.");
+    }
+  }
+  enumCombo("Interpolation", p.kc.interp, interps,
+            "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
+            "thesis: the plain kernel form of the thesis (about 0.1% off).");
+  ImGui::PopItemWidth();
+  drawBindButtons(state);
 }
 
 }  // namespace kc::ui

@@ -68,7 +68,18 @@ void drawDiagnosticsPanel(AppState& state) {
       }
       propertyRow(state, "samples", "At the sample points the weights were computed at.", d.samples);
       propertyRow(state, "inside", "At a grid of points inside the cage.", d.inside);
-      propertyRow(state, "image", "At a grid of points over the whole picture, outside the cage too.", d.image);
+      if (d.outsideWeights) {
+        propertyRow(state, "image", "At a grid of points over the whole picture, outside the cage too.", d.image);
+      } else {
+        // A field without weights outside the cage (LBC): nothing there to measure.
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted("outside");
+        labelled(state, "outside", ("No weights outside the cage: " + state.capabilities.why +
+                                    ". The picture outside is kept or pinned (Outside the cage).").c_str());
+        ImGui::TableNextColumn();
+        ImGui::TextDisabled("none");
+      }
       ImGui::EndTable();
     }
     ImGui::Text("Lagrange %.1e   edge linearity %.1e", d.lagrange, d.edgeLinearity);
@@ -109,8 +120,14 @@ void drawDiagnosticsPanel(AppState& state) {
   ImGui::Text("Mesh: %ld vertices, %zu triangles (%.1f px)", long(state.mesh.restVertices().rows()), state.mesh.triangles().size(),
               state.mesh.options().spacing);
   labelled(state, "Mesh", "The picture is drawn as a grid of small triangles that follow the pose; the grid spacing in pixels.");
-  ImGui::Text("Samples: %ld, controls: %ld", long(state.samples.size()), long(state.boundCage.size()));
-  labelled(state, "Samples", "Sample points the weights were computed at, and the number of cage points.");
+  if (state.reports.lbcMesh > 0) {
+    ImGui::Text("LBC mesh: %ld vertices, controls: %ld", long(state.reports.lbcMesh), long(state.boundCage.size()));
+    labelled(state, "LBC mesh", "Vertices of the triangle mesh of the cage's inside that LBC computed the weights at, "
+                                "and the number of cage points.");
+  } else {
+    ImGui::Text("Samples: %ld, controls: %ld", long(state.samples.size()), long(state.boundCage.size()));
+    labelled(state, "Samples", "Sample points the weights were computed at, and the number of cage points.");
+  }
   ImGui::Separator();
   const Timings& t = state.timings;
   ImGui::Text("Bind: %.2f s", t.bindSeconds);

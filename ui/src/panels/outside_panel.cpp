@@ -1,8 +1,10 @@
 // The outside-the-cage choice: what happens to the picture around the cage, in the view and the export.
 #include <imgui.h>
 
+#include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
+#include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 
@@ -29,21 +31,23 @@ void drawOutsidePanel(AppState& state) {
   int current = 0;
   for (int k = 0; k < 4; ++k)
     if (modes[k].mode == state.outside) current = k;
+  const app::BackendCapabilities caps = shownCapabilities(state);
   const bool busy = state.worker.busy();
   if (busy) ImGui::BeginDisabled();
   ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
   const bool open = ImGui::BeginCombo("Outside the cage", modes[current].label);
   markWidget(state, "outside_mode");
-  if (!open && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", modes[current].tip);
+  if (!open && ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) showTooltip(modes[current].tip);
   if (open) {
     for (int k = 0; k < 4; ++k) {
-      // A bound session without weights outside the cage (LBC) cannot move the whole picture.
-      const bool unavailable = modes[k].mode == OutsideMode::Deform && state.bound && !state.capabilities.outsideCage;
+      // A session (or, before a bind, a backend) without weights outside the cage (LBC) cannot
+      // move the whole picture.
+      const bool unavailable = modes[k].mode == OutsideMode::Deform && !caps.outsideCage;
       const ImGuiSelectableFlags flags = unavailable ? ImGuiSelectableFlags_Disabled : 0;
       if (ImGui::Selectable(modes[k].label, k == current, flags) && k != current) setOutsideMode(state, modes[k].mode);
       markWidget(state, modes[k].id);
       if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
-        ImGui::SetTooltip("%s", unavailable ? state.capabilities.why.c_str() : modes[k].tip);
+        showTooltip(unavailable ? caps.why.c_str() : modes[k].tip);
     }
     ImGui::EndCombo();
   }

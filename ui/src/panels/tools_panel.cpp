@@ -14,10 +14,11 @@ void drawToolsPanel(AppState& state) {
             "Move and turn the cage's points to bend the picture.\nAvailable after Bind."))
     selectTool(state, Tool::Pose);
   ImGui::SameLine();
-  const bool canPaint = !state.bound || state.capabilities.painting;
+  const app::BackendCapabilities caps = shownCapabilities(state);
+  const bool canPaint = caps.painting;
   if (!canPaint) ImGui::BeginDisabled();
   if (radio(state, "Brush (B)", state.tool == Tool::Brush,
-            canPaint ? "Paint how strongly one point pulls on each part of the picture." : state.capabilities.why.c_str()))
+            canPaint ? "Paint how strongly one point pulls on each part of the picture." : caps.why.c_str()))
     selectTool(state, Tool::Brush);
   if (!canPaint) ImGui::EndDisabled();
   ImGui::SameLine();

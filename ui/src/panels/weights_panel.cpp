@@ -5,6 +5,7 @@
 
 #include "kc/app/heatmap.h"
 #include "kc/ui/heat_field.h"
+#include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
@@ -43,7 +44,8 @@ void methodControl(AppState& state) {
   // One control for the method: before a bind it is the bind's method, after it switching
   // re-optimizes the bound session (painted targets are kept) and the next bind uses it too.
   const Method current = state.bound ? state.method : state.bindParams.kc.method;
-  const bool canSwitch = !state.bound || (state.session != nullptr && !state.worker.busy() && state.capabilities.methods);
+  const app::BackendCapabilities caps = shownCapabilities(state);
+  const bool canSwitch = caps.methods && (!state.bound || (state.session != nullptr && !state.worker.busy()));
   const struct {
     const char* label;
     Method method;
@@ -58,7 +60,7 @@ void methodControl(AppState& state) {
   for (const auto& m : methods) {
     ImGui::SameLine();
     if (!canSwitch) ImGui::BeginDisabled();
-    if (radio(state, m.label, current == m.method, state.bound && !state.capabilities.methods ? state.capabilities.why.c_str() : m.tip)) {
+    if (radio(state, m.label, current == m.method, caps.methods ? m.tip : caps.why.c_str())) {
       state.bindParams.kc.method = m.method;
       if (state.bound) switchMethod(state, m.method);
     }

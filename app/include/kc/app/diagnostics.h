@@ -19,12 +19,15 @@ struct PropertyRow {
 struct Diagnostics {
   PropertyRow samples;   ///< W itself, at the samples.
   PropertyRow inside;    ///< w(x) at pixel centres inside the cage.
-  PropertyRow image;     ///< w(x) at pixel centres over the whole image.
+  PropertyRow image;     ///< w(x) at pixel centres over the whole image (empty when !outsideWeights).
+  /// The field has weights outside the cage (BackendCapabilities::outsideCage). A mesh field (LBC)
+  /// has none: its weights there are 0, so `image` would only measure that; it is left empty.
   double lagrange = 0.0;        ///< max |w_i(c_j) − δ_ij|
   double edgeLinearity = 0.0;   ///< max deviation from (4.7) at points along the cage edges
   LocalityStats locality;       ///< inside the cage
   int pixelStep = 1;            ///< evaluation grid step in pixels
   double evalSeconds = 0.0;
+  bool outsideWeights = true;
 };
 
 /// Measures every property of session.field (which must be ready) on a grid of pixel centres

@@ -33,7 +33,13 @@ bool redo(AppState& state);
 /// (WarpMesh::deform, one sparse product). Returns true when it deformed.
 bool updateDeformation(AppState& state);
 
-/// Switches tool, ending any drag in progress.
+/// Switches tool, ending any drag in progress. The brush is refused (with the reason) when
+/// shownCapabilities(state) has no painting.
 void selectTool(AppState& state, Tool tool);
+
+/// What the panels offer: the bound session's capabilities, or before a bind those of the backend
+/// chosen in the Bind panel (state.bindParams.backend). Panels grey out what is missing and show
+/// `why` as the tooltip; they never ask for the backend's name.
+app::BackendCapabilities shownCapabilities(const AppState& state);
 
 }  // namespace kc::ui

@@ -11,6 +11,8 @@ namespace kc::ui {
 
 /// Shows `text` as a tooltip while the last item is hovered (also when it is disabled).
 void tooltip(const char* text);
+/// Shows `text` as a tooltip now, wrapped at about 80 characters (long reasons stay on screen).
+void showTooltip(const char* text);
 
 /// For the last item drawn (a line of text, a table header): tooltip `tip` and mark it as `name`.
 void labelled(AppState& state, const char* name, const char* tip);
