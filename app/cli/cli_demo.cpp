@@ -2,14 +2,17 @@
 // warped PNGs, weight heatmaps, sessions and a short text report (timings, property table).
 
 #include <chrono>
+#include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli_common.h"
+#include "cli_report.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
@@ -17,6 +20,8 @@
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/lbc/cage_mesh.h"
+#include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/outside_motion.h"
 #include "kc/core/warp_mesh.h"
 
@@ -78,6 +83,51 @@ Example loadExample(const std::string& dir, const std::string& name) {
   e.pose = app::loadPose(e.base + ".pose.json", e.cage.C);
   e.source = app::loadImage(e.base + ".png");
   return e;
+}
+
+/// The LBC objective (LBC paper eq. 14, normalized units) of a session's weights on the LBC mesh
+/// of its cage at the session's spacing, with the LBC bind's τ: the weights at the mesh vertices,
+/// linear on its triangles.
+double lbcObjective(const app::Session& s, const app::BindParams& lbcParams) {
+  CageMeshOptions mo;
+  mo.spacing = lbcParams.spacing;
+  const CageMesh mesh = meshCageInterior(s.cage, mo);
+  return LbcSolver(mesh, lbcParams.lbc.tau).objective(s.field->weightsAt(mesh.V));
+}
+
+/// Binds the example again with the LBC backend (defaults) and reports its solver and locality
+/// next to KC's (`kc`, `kcDiag`: the example's KC session and its diagnostics); puts the LBC
+/// heatmap of `control` into `files` (folder `out`).
+void runLbc(const Example& e, const app::Session& kc, const app::Diagnostics& kcDiag, Index control, const std::string& out,
+            const std::function<std::string(const Image&)>& png, app::OutputBatch& files, std::string& report) {
+  app::BindParams params;
+  params.backend = "lbc";
+  params.spacing = kc.params.spacing;
+  const app::Session s = app::bind(e.cage, e.source.width, e.source.height, params);
+  const app::Diagnostics d = app::diagnose(s);
+  app::HeatmapOptions ho;
+  ho.scale = app::HeatScale::Log;
+  files.set((fs::path(out) / (e.name + ".lbc.heatmap-log.png")).string(), png(app::weightHeatmap(s, control, ho)));
+  const double kcObjective = lbcObjective(kc, params);
+  say(report, "-- LBC (local barycentric coordinates) on the same cage, spacing %.3g px, tau %s: bind %.3f s\n", params.spacing,
+      std::string(app::toString(params.lbc.tau)).c_str(), s.timings.total);
+  say(report, "%s\n%s", s.reports.summary().c_str(), lbcSolverText(s, "   ").c_str());
+  say(report, "%-44s %12s %12s\n", "locality inside the cage (LBC eq. 19-21)", "KC", "LBC");
+  const auto P = [](const LocalityStats& l, double t) -> double {  // P(t) as tabulated by diagnose()
+    for (std::size_t k = 0; k < l.t.size(); ++k)
+      if (l.t[k] == t) return l.P[k];
+    return NAN;
+  };
+  say(report, "%-44s %12.3f %12.3f\n", "  P(1e-3), mean fraction where |w_i| <= 1e-3", P(kcDiag.locality, 1e-3), P(d.locality, 1e-3));
+  say(report, "%-44s %12.2f %12.2f\n", "  controls above 1e-3/m per point, mean", kcDiag.locality.meanInfluencing,
+      d.locality.meanInfluencing);
+  say(report, "%-44s %12d %12d\n", "  controls above 1e-3/m per point, max", kcDiag.locality.maxInfluencing, d.locality.maxInfluencing);
+  for (std::size_t k = 2; k < d.locality.Q.size() && k <= 8; k += 2)
+    say(report, "  Q(%zu), fraction with >= %zu controls above%*s %12.3f %12.3f\n", k, k, 4, "", kcDiag.locality.Q[k], d.locality.Q[k]);
+  say(report, "%-44s %11.1f%% %11.1f%%\n", "  compact weights / dense (LBC Table 1)", 100.0 * kcDiag.compactFraction,
+      100.0 * d.compactFraction);
+  say(report, "%-44s %12.4g %12.4g\n", "  objective (LBC eq. 14) on the LBC mesh", kcObjective, s.reports.lbc.objective);
+  say(report, "      heatmap %s.lbc.heatmap-log.png shows LBC's w%ld (log scale)\n", e.name.c_str(), long(control));
 }
 
 /// Binds and warps one example; its output files go into `files` (written at the end).
@@ -151,6 +201,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       std::string(toString(outside)).c_str(), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
       om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
+  runLbc(e, s, d, control, out, png, files, report);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cli_report.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
 
@@ -22,39 +23,67 @@ json rowJson(const app::PropertyRow& r) {
           {"negatives", r.negatives}};
 }
 
-void printText(const app::Session& s, const app::Diagnostics& d, const std::string& path) {
-  const Index m = s.cage.size();
+/// The session's points and parameters: KC's samples and σ, or LBC's mesh and solver options.
+void printHeader(const app::Session& s, const std::string& path) {
   Index counts[5] = {0, 0, 0, 0, 0};
   for (SampleKind k : s.samples.kind) ++counts[static_cast<int>(k)];
   std::printf("session %s\n", path.c_str());
-  std::printf("  %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), image %dx%d\n", static_cast<long>(m),
+  if (s.reports.lbcMesh > 0) {
+    std::printf("  %ld control points, LBC mesh of the cage interior: %ld vertices (%ld on cage edges, %ld interior), image %dx%d\n",
+                static_cast<long>(s.cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(counts[1]),
+                static_cast<long>(counts[3]), s.imageWidth, s.imageHeight);
+    std::printf("  backend lbc, spacing %.4g px, tau %s, tolerance %s, max iterations %d\n\n", s.params.spacing,
+                std::string(app::toString(s.params.lbc.tau)).c_str(), num(s.params.lbc.tolerance).c_str(),
+                s.params.lbc.maxIterations);
+    return;
+  }
+  std::printf("  %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), image %dx%d\n", static_cast<long>(s.cage.size()),
               static_cast<long>(s.samples.size()), static_cast<long>(counts[1]), static_cast<long>(counts[3]),
               static_cast<long>(counts[4]), s.imageWidth, s.imageHeight);
-  std::printf("  spacing %.4g px, sigma %.4g px, init %s, method %s, interp %s\n\n", s.params.spacing, s.sigma,
+  std::printf("  backend kc, spacing %.4g px, sigma %.4g px, init %s, method %s, interp %s\n\n", s.params.spacing, s.sigma,
               std::string(app::toString(s.params.kc.init.method)).c_str(), std::string(app::toString(s.params.kc.method)).c_str(),
               std::string(app::toString(s.params.kc.interp)).c_str());
-  std::printf("%-38s %14s %14s %14s\n", "property", "samples (W)", "inside cage", "whole image");
-  auto row = [](const char* name, double a, double b, double c) { std::printf("%-38s %14.3e %14.3e %14.3e\n", name, a, b, c); };
-  row("partition of unity  max|sum w - 1|", d.samples.partitionOfUnity, d.inside.partitionOfUnity, d.image.partitionOfUnity);
-  row("reproduction        max|sum w c - x| px", d.samples.reproduction, d.inside.reproduction, d.image.reproduction);
-  row("min weight", d.samples.minWeight, d.inside.minWeight, d.image.minWeight);
-  std::printf("%-38s %14ld %14ld %14ld\n", "negative weights    (< -1e-6)", static_cast<long>(d.samples.negatives),
-              static_cast<long>(d.inside.negatives), static_cast<long>(d.image.negatives));
-  std::printf("%-38s %14ld %14ld %14ld\n", "points", static_cast<long>(d.samples.points), static_cast<long>(d.inside.points),
-              static_cast<long>(d.image.points));
+}
+
+/// The property table: at the field's own points, inside the cage and — when the field has
+/// weights there — over the whole image; a field without outside weights says so instead.
+void printProperties(const app::Session& s, const app::Diagnostics& d) {
+  const app::PropertyRow* rows[] = {&d.samples, &d.inside, &d.image};
+  const int columns = d.outsideWeights ? 3 : 2;
+  std::printf("%-38s %14s %14s", "property", s.reports.lbcMesh > 0 ? "mesh vertices" : "samples (W)", "inside cage");
+  if (d.outsideWeights) std::printf(" %14s", "whole image");
+  std::printf("\n");
+  auto row = [&](const char* name, auto field, const char* fmt) {
+    std::printf("%-38s", name);
+    for (int c = 0; c < columns; ++c) std::printf(fmt, field(*rows[c]));
+    std::printf("\n");
+  };
+  row("partition of unity  max|sum w - 1|", [](const app::PropertyRow& r) { return r.partitionOfUnity; }, " %14.3e");
+  row("reproduction        max|sum w c - x| px", [](const app::PropertyRow& r) { return r.reproduction; }, " %14.3e");
+  row("min weight", [](const app::PropertyRow& r) { return r.minWeight; }, " %14.3e");
+  row("negative weights    (< -1e-6)", [](const app::PropertyRow& r) { return static_cast<long>(r.negatives); }, " %14ld");
+  row("points", [](const app::PropertyRow& r) { return static_cast<long>(r.points); }, " %14ld");
+  if (!d.outsideWeights)
+    std::printf("%-38s no weights: the field covers the cage interior only (warps keep or pin the outside;\n"
+                "%-38s --outside deform is refused)\n", "outside the cage", "");
   std::printf("%-38s %14.3e\n", "Lagrange            max|w_i(c_j) - d_ij|", d.lagrange);
   std::printf("%-38s %14.3e\n", "linear precision on edges  max dev.", d.edgeLinearity);
-  std::printf("\nlocality inside the cage (LBC eq. 19-21, every %d px):\n", d.pixelStep);
-  for (std::size_t i = 0; i < d.locality.t.size(); ++i)
-    std::printf("  P(%.0e) = %.3f   (mean fraction of the cage where |w_i| <= t)\n", d.locality.t[i], d.locality.P[i]);
-  std::printf("  control points influencing a point (w > 1e-3/m): mean %.2f, max %d\n", d.locality.meanInfluencing,
-              d.locality.maxInfluencing);
-  for (std::size_t k = 1; k < d.locality.Q.size() && k <= 8; ++k) std::printf("  Q(%zu) = %.3f\n", k, d.locality.Q[k]);
+}
+
+void printText(const app::Session& s, const app::Diagnostics& d, const std::string& path) {
+  printHeader(s, path);
+  printProperties(s, d);
+  std::printf("\nlocality inside the cage (LBC eq. 19-21, every %d px):\n%s", d.pixelStep, localityText(d, "  ").c_str());
   std::printf("\n%s\n", s.reports.summary().c_str());
+  if (s.reports.lbcMesh > 0) std::printf("%s", lbcSolverText(s, "  ").c_str());
   for (const std::string& p : s.reports.problems()) std::printf("  warning: %s\n", p.c_str());
   const app::BindTimings& t = s.timings;
-  std::printf("\ntimings (s): sampling %.3f  kernel %.3f  factor %.3f  init %.3f  optimize %.3f  solve %.3f  bind total %.3f\n",
-              t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
+  if (s.reports.lbcMesh > 0)
+    std::printf("\ntimings (s): mesh %.3f  geodesics %.3f  factor %.3f  ADMM %.3f  bind total %.3f\n", t.sampling, t.init,
+                t.factor, t.optimize, t.total);
+  else
+    std::printf("\ntimings (s): sampling %.3f  kernel %.3f  factor %.3f  init %.3f  optimize %.3f  solve %.3f  bind total %.3f\n",
+                t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
   std::printf("             property evaluation %.3f\n", d.evalSeconds);
 }
 
@@ -77,7 +106,8 @@ void addStatsCommand(CLI::App& app) {
       return;
     }
     const app::BindTimings& t = s.timings;
-    json j = {{"controls", s.cage.size()},
+    json j = {{"backend", s.params.backend},
+              {"controls", s.cage.size()},
               {"samples", s.samples.size()},
               {"sigma", s.sigma},
               {"spacing", s.params.spacing},
@@ -87,7 +117,8 @@ void addStatsCommand(CLI::App& app) {
               {"properties",
                {{"samples", rowJson(d.samples)},
                 {"inside", rowJson(d.inside)},
-                {"image", rowJson(d.image)},
+                {"image", d.outsideWeights ? rowJson(d.image) : json(nullptr)},
+                {"outside_weights", d.outsideWeights},
                 {"lagrange", d.lagrange},
                 {"edge_linearity", d.edgeLinearity}}},
               {"locality",
@@ -95,7 +126,8 @@ void addStatsCommand(CLI::App& app) {
                 {"P", d.locality.P},
                 {"Q", d.locality.Q},
                 {"mean_influencing", d.locality.meanInfluencing},
-                {"max_influencing", d.locality.maxInfluencing}}},
+                {"max_influencing", d.locality.maxInfluencing},
+                {"compact_fraction", d.compactFraction}}},
               {"solver",
                {{"samples_optimized", s.reports.optimize.solved},
                 {"outside_control_hull", s.reports.optimize.infeasible},
@@ -108,6 +140,23 @@ void addStatsCommand(CLI::App& app) {
               {"timings",
                {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                 {"optimize", t.optimize}, {"solve", t.solve}, {"total", t.total}, {"evaluate", d.evalSeconds}}}};
+    if (s.reports.lbcMesh > 0) {
+      const LbcReport& r = s.reports.lbc;
+      j["solver"]["lbc"] = {{"mesh_vertices", s.reports.lbcMesh},
+                            {"converged", r.status == LbcStatus::Converged},
+                            {"iterations", r.iterations},
+                            {"primal_residual", r.primalResidual},
+                            {"dual_residual", r.dualResidual},
+                            {"penalty", r.penalty},
+                            {"objective", r.objective},
+                            {"lower_bound", r.lowerBound},
+                            {"projected_vertices", r.projectedVertices},
+                            {"max_projection", r.maxProjection}};
+      for (const char* kcOnly : {"sigma", "init", "method", "interp"}) j.erase(kcOnly);
+      j["lbc"] = {{"tau", std::string(app::toString(s.params.lbc.tau))},
+                  {"tolerance", s.params.lbc.tolerance},
+                  {"max_iterations", s.params.lbc.maxIterations}};
+    }
     std::cout << j.dump(2) << "\n";
   });
 }

@@ -1,5 +1,6 @@
 #include "kc/app/diagnostics.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -76,6 +77,8 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
   if (!inside.empty()) {
     const Eigen::VectorXd pixelArea = Eigen::VectorXd::Constant(static_cast<Index>(inside.size()), 1.0);
     d.locality = localityStats(Win, pixelArea, {1e-4, 1e-3, 1e-2, 1e-1});
+    // Unit areas: meanInfluencing is the mean count of entries above 10⁻³/m per point.
+    d.compactFraction = (12.0 * d.locality.meanInfluencing + 4.0) / (8.0 * static_cast<double>(std::max<Index>(1, C.rows())));
   }
   d.evalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return d;

@@ -47,6 +47,35 @@ TEST(LbcBackend, BindsAMeshFieldWithItsReportAndCapabilities) {
   EXPECT_THROW(reoptimize(copy, Method::QP, {}, nullptr), std::invalid_argument);
 }
 
+TEST(LbcBackend, CancelStopsTheAdmmIterationsAtTheNextReport) {
+  // The GUI's Cancel makes the next progress report answer false: inside the ADMM loop (reports
+  // every 10 iterations) the bind must stop there, not run on to convergence.
+  BindParams p;
+  p.backend = "lbc";
+  p.spacing = 6.0;
+  int reports = 0, afterCancel = 0;
+  bool cancelled = false, done = false;
+  auto progress = [&](const char* stage, double) {
+    if (cancelled) ++afterCancel;
+    if (std::string(stage) == "done") done = true;
+    if (std::string(stage) != "LBC iterations") return true;
+    if (++reports == 3) cancelled = true;  // the first report is the stage's start, before the loop
+    return !cancelled;
+  };
+  EXPECT_THROW(bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, progress), BindCancelled);
+  EXPECT_TRUE(cancelled);
+  EXPECT_EQ(afterCancel, 0) << "no report after the cancel: the bind stopped at once";
+  EXPECT_FALSE(done);
+  // Uncancelled, the same bind reports many more iterations than the three above.
+  int total = 0;
+  auto count = [&](const char* stage, double) {
+    if (std::string(stage) == "LBC iterations") ++total;
+    return true;
+  };
+  const Session s = bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, count);
+  EXPECT_GT(total, 5) << s.reports.lbc.iterations << " iterations";
+}
+
 TEST(LbcBackend, SessionReloadsWithoutRecomputation) {
   const fs::path dir = test::scratchDir("lbc_round_trip");
   const Session s = bindStar();
@@ -137,6 +166,23 @@ TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   const nlohmann::json st = nlohmann::json::parse(r.out);
   EXPECT_LE(st["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
   EXPECT_LT(st["locality"]["mean_influencing"].get<double>(), 10.0);
+  // No whole-image row (LBC has no weights outside the cage); LBC's own parameters and solver report.
+  EXPECT_TRUE(st["properties"]["image"].is_null());
+  EXPECT_FALSE(st["properties"]["outside_weights"].get<bool>());
+  EXPECT_EQ(st["backend"], "lbc");
+  EXPECT_FALSE(st.contains("method") || st.contains("sigma")) << "KC's parameters mean nothing here";
+  EXPECT_EQ(st["lbc"]["tau"], "linear");
+  const nlohmann::json& lbc = st["solver"]["lbc"];
+  EXPECT_TRUE(lbc["converged"].get<bool>());
+  EXPECT_GE(lbc["objective"].get<double>(), lbc["lower_bound"].get<double>());
+  EXPECT_LE(lbc["objective"].get<double>(), 1.001 * lbc["lower_bound"].get<double>()) << "certified within 0.1%";
+  EXPECT_GT(st["locality"]["compact_fraction"].get<double>(), 0.0);
+  r = test::runCli("stats --session s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.out.find("whole image"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("outside the cage"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("LBC mesh of the cage interior"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("lower bound"), std::string::npos) << r.out;
 
   struct Bad {
     std::string args, says;

@@ -303,6 +303,15 @@ TEST(DemoCli, WritesWarpedImagesHeatmapsAndReport) {
   const std::string report = slurpFile(dir / "demo" / "report.txt");
   EXPECT_NE(report.find("partition of unity"), std::string::npos);
   EXPECT_NE(report.find("flipped triangles"), std::string::npos);
+  // LBC next to KC for every example: solver report, locality and objective.
+  for (const std::string name : {"checker", "star", "figure"})
+    EXPECT_TRUE(fs::exists(dir / "demo" / (name + ".lbc.heatmap-log.png"))) << name;
+  std::size_t lbcSections = 0;
+  for (std::size_t at = report.find("-- LBC"); at != std::string::npos; at = report.find("-- LBC", at + 1)) ++lbcSections;
+  EXPECT_EQ(lbcSections, 3u) << report;
+  EXPECT_NE(report.find("solver: LBC on"), std::string::npos);
+  EXPECT_NE(report.find("P(1e-3)"), std::string::npos);
+  EXPECT_NE(report.find("objective (LBC eq. 14)"), std::string::npos);
 }
 
 }  // namespace

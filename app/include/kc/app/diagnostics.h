@@ -25,6 +25,9 @@ struct Diagnostics {
   double lagrange = 0.0;        ///< max |w_i(c_j) − δ_ij|
   double edgeLinearity = 0.0;   ///< max deviation from (4.7) at points along the cage edges
   LocalityStats locality;       ///< inside the cage
+  /// Memory of the compact weights inside the cage (entries w > 10⁻³/m in CSR: 8 B value + 4 B
+  /// column per entry, 4 B per row) over dense storage (8 B per entry), as in LBC paper Table 1.
+  double compactFraction = 1.0;
   int pixelStep = 1;            ///< evaluation grid step in pixels
   double evalSeconds = 0.0;
   bool outsideWeights = true;

@@ -1,0 +1,43 @@
+// Text of the weight reports shared by `kcwarp-cli stats` and `kcwarp-cli demo`.
+
+#include "cli_report.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace kc::cli {
+namespace {
+
+std::string format(const char* fmt, auto... args) {
+  char text[512];
+  std::snprintf(text, sizeof text, fmt, args...);
+  return text;
+}
+
+}  // namespace
+
+std::string num(double v) { return format("%.3g", v); }
+
+std::string localityText(const app::Diagnostics& d, const char* indent) {
+  const LocalityStats& l = d.locality;
+  std::string out;
+  for (std::size_t i = 0; i < l.t.size(); ++i)
+    out += format("%sP(%.0e) = %.3f   (mean fraction of the cage where |w_i| <= t)\n", indent, l.t[i], l.P[i]);
+  out += format("%scontrol points influencing a point (w > 1e-3/m): mean %.2f, max %d\n", indent, l.meanInfluencing,
+                l.maxInfluencing);
+  out += indent;
+  out += "Q(k), the fraction of the cage influenced by at least k control points:";
+  for (std::size_t k = 1; k < l.Q.size() && k <= 8; ++k) out += format(" Q(%zu) %.3f", k, l.Q[k]);
+  out += format("\n%scompact weights (w > 1e-3/m, CSR) take %.1f%% of dense storage (LBC paper Table 1)\n", indent,
+                100.0 * d.compactFraction);
+  return out;
+}
+
+std::string lbcSolverText(const app::Session& s, const char* indent) {
+  const LbcReport& r = s.reports.lbc;
+  return format("%sLBC solver: stops at residuals <= %s and a certified gap <= %s%%; objective %.6g (LBC eq. 14, picture "
+                "scaled to diameter 1) >= lower bound %.6g; penalty %s; largest change by the projection to w >= 0 %.2e\n",
+                indent, num(s.params.lbc.tolerance).c_str(), num(100.0 * LbcOptions{}.gapTolerance).c_str(), r.objective, r.lowerBound, num(r.penalty).c_str(), r.maxProjection);
+}
+
+}  // namespace kc::cli

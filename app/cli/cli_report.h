@@ -1,0 +1,25 @@
+#pragma once
+// Text of the weight reports that `stats` and `demo` share: locality (LBC paper eq. 19–21, Table 1)
+// and the LBC solver's report.
+
+#include <string>
+
+#include "kc/app/diagnostics.h"
+#include "kc/app/session.h"
+
+namespace kc::cli {
+
+/// One line per item, each starting with `indent`: P(t) for every tabulated t, the mean and
+/// largest number of controls above 10⁻³/m per point, Q(1..8), and the compact weights' memory
+/// over dense storage — all measured inside the cage (Diagnostics::locality, compactFraction).
+std::string localityText(const app::Diagnostics& d, const char* indent);
+
+/// What SolverReports::summary() leaves out of an LBC solve (lbcMesh > 0), one line starting with
+/// `indent`: the stopping rule, the objective (LBC eq. 14) and its certified lower bound, the
+/// penalty, the largest change made by the projection to w ≥ 0.
+std::string lbcSolverText(const app::Session& s, const char* indent);
+
+/// "%.3g" of v.
+std::string num(double v);
+
+}  // namespace kc::cli
