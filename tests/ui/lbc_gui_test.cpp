@@ -149,6 +149,18 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   gui.frame(draw);
   EXPECT_TRUE(s->widgets.count("outside") && s->widgets.count("LBC mesh"));
   EXPECT_FALSE(s->widgets.count("image"));
+  {
+    // Every control of an LBC session says what it does — or, greyed, why it cannot.
+    ImGui::GetIO().DisplaySize = ImVec2(1400, 2000);  // tall enough that every panel is on screen
+    gui.frame(draw);
+    for (const char* label : {"LBC locality", "LBC tolerance", "Max iterations", "outside", "LBC mesh", "QEC", "Brush (B)"})
+      EXPECT_TRUE(s->widgets.count(label)) << label;
+    const std::string missing = gui.widgetsWithoutTooltip(*s, draw);
+    EXPECT_TRUE(missing.empty()) << "no tooltip on" << missing;
+    ImGui::GetIO().DisplaySize = ImVec2(1400, 900);
+    ImGui::GetIO().MousePos = ImVec2(-1, -1);
+    gui.frame(draw);
+  }
 
   // Export: the warped picture, the outside untouched (LBC keeps or pins it).
   const std::string png = (dir / "out.png").string();

@@ -82,14 +82,7 @@ TEST(Window, EveryMarkedControlShowsATooltipWhenHovered) {
                             "Lagrange", "grid step", "Solver", "Flipped triangles", "det J", "Mesh", "Samples", "Bind:",
                             "Re-optimization", "Mesh weights", "Release -> picture", "Frame"})
     EXPECT_TRUE(widgets.count(label)) << label;
-  std::string missing;
-  for (const auto& [label, at] : widgets) {
-    ImGui::GetIO().MousePos = ImVec2(float(at.x()), float(at.y()));
-    gui.frame(draw);
-    gui.frame(draw);
-    const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00");
-    if (!tip || !tip->Active) missing += " '" + label + "'";
-  }
+  const std::string missing = gui.widgetsWithoutTooltip(*s, draw);
   EXPECT_TRUE(missing.empty()) << "no tooltip on" << missing;
 }
 

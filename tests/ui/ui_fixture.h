@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 
+#include <map>
 #include <memory>
 #include <string>
 
@@ -75,6 +77,21 @@ class HeadlessImGui {
     }
     io.MouseDown[button] = false;
     frame(draw);
+  }
+  /// Hovers every widget marked in the last frame of `draw` (AppState::widgets) for two frames and
+  /// returns the labels of those that showed no tooltip, quoted ("" when every one did).
+  template <class F>
+  std::string widgetsWithoutTooltip(ui::AppState& state, F&& draw) {
+    const std::map<std::string, Vec2> widgets = state.widgets;
+    std::string missing;
+    for (const auto& [label, at] : widgets) {
+      ImGui::GetIO().MousePos = ImVec2(float(at.x()), float(at.y()));
+      frame(draw);
+      frame(draw);
+      const ImGuiWindow* tip = ImGui::FindWindowByName("##Tooltip_00");
+      if (!tip || !tip->Active) missing += " '" + label + "'";
+    }
+    return missing;
   }
   /// Clicks the widget whose visible label is `label` (as the panels reported it in the last
   /// frame, AppState::widgets). Fails the test when no widget has that label.
