@@ -48,7 +48,9 @@ void drawHelpWindow(AppState& state) {
   ImGui::TextWrapped("2. Cage: click around the part you want to bend (a character, an arm...). "
                      "Click the first point again to close the outline.");
   ImGui::TextWrapped("3. Bind: press the Bind button (Ctrl+B). kcwarp computes how strongly each cage "
-                     "point pulls on every part of the picture; the progress shows at the bottom.");
+                     "point pulls on every part of the picture; the progress shows at the bottom. "
+                     "Weights KC (the default) are smooth and paintable; LBC makes each point pull only "
+                     "on the part of the shape near it (no brush, and the outside is kept or pinned).");
   ImGui::TextWrapped("4. Pose: drag a point to move it, right-drag to turn it. Select several (Shift-click or a "
                      "rectangle) and right-drag to turn them together about the + pivot.");
   ImGui::TextWrapped("5. Paint (optional): with the Brush, right-click a point, then paint where it should pull "
