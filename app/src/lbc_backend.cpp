@@ -81,7 +81,8 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   if (rep.status == LbcStatus::NotConverged)
     throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
                                 num(rep.primalResidual) + ", " + num(rep.dualResidual) + ", tolerance " + num(lbc.tolerance) +
-                                "); raise --lbc-max-iterations or --lbc-tolerance");
+                                "); raise the iteration cap (--lbc-max-iterations; the Bind panel's Max iterations) or the tolerance "
+                                "(--lbc-tolerance; LBC tolerance)");
   return b;
 }
 

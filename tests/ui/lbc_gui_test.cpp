@@ -189,6 +189,22 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   EXPECT_EQ(s->bindParams.backend, "lbc") << "the panel shows the opened session's backend";
 }
 
+TEST(LbcGui, NoConvergenceIsAMessageWithAdviceAndKeepsTheSession) {
+  test::HeadlessImGui gui;
+  auto s = sceneWithCage(test::scratchDir("ui_lbc_cap"));
+  bindLbc(gui, *s);
+  const app::Session* before = s->session.get();
+  s->bindParams.lbc.maxIterations = 2;
+  ASSERT_TRUE(startBind(*s));
+  pollWorker(*s);
+  EXPECT_EQ(s->session.get(), before) << "a failed bind leaves the session untouched";
+  ASSERT_FALSE(s->messages.empty());
+  const Message& m = s->messages.back();
+  EXPECT_TRUE(m.error);
+  EXPECT_NE(m.text.find("did not converge"), std::string::npos) << m.text;
+  EXPECT_NE(m.text.find("Max iterations"), std::string::npos) << "advice in the panel's words: " << m.text;
+}
+
 TEST(LbcGui, KeepOutsideReplacesMoveEverythingAtAnLbcBind) {
   test::HeadlessImGui gui;
   auto s = sceneWithCage(test::scratchDir("ui_lbc_outside"));
