@@ -2,14 +2,18 @@
 # Builds kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, points CSV, image header)
 # with clang, AddressSanitizer and UndefinedBehaviorSanitizer against the main build in build/,
 # then runs each for SECONDS (default 40) from the committed seed corpus (tests/fuzz/corpus/;
-# new inputs go to a scratch folder). A finding stops with its reproducer in build-fuzz/.
+# new inputs go to a scratch folder), one target per core at a time. A finding fails the run with
+# the target's log and its reproducer in build-fuzz/finding-TARGET-*.
 #   bash scripts/fuzz.sh          # 40 s per target
 #   bash scripts/fuzz.sh 600      # a long run: 10 minutes per target
 #   bash scripts/fuzz.sh 600 session   # one target
+# Reproduce a finding: build-fuzz/fuzz_TARGET build-fuzz/finding-TARGET-crash-...
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-40}"
-targets="${2:-cage pose session points_csv image_header}"
+all_targets="cage pose session points_csv image_header"
+targets="${2:-$all_targets}"
+jobs="${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 if [ ! -f build/core/libkc_core.a ] || [ ! -f build/sampling/libkc_sampling.a ]; then
   echo "fuzz.sh: build kcwarp first (bash scripts/build.sh)" >&2
   exit 1
@@ -17,23 +21,29 @@ fi
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 CXX=clang++ cmake -S tests/fuzz -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKC_MAIN_BUILD="$PWD/build" "${launcher[@]}" > /dev/null
-cmake --build build-fuzz -j"$(nproc 2>/dev/null || echo 2)"
+cmake --build build-fuzz -j"$jobs"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-failed=0
-for t in $targets; do
+
+# One target: its summary line on success, its log on a finding (exit 1).
+run_one() {
+  local t="$1" log="$work/$1.log"
   mkdir -p "$work/$t"
   # OMP_NUM_THREADS=1: the session target factorizes small kernels; threads only add noise.
   if OMP_NUM_THREADS=1 build-fuzz/fuzz_"$t" "$work/$t" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=20 \
-      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-fuzz/finding-$t-" > "$work/$t.log" 2>&1; then
-    runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$work/$t.log" | grep -o '[0-9]*$' || echo "?")
-    rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$work/$t.log" | grep -o '[0-9]*$' || echo "?")
-    cov=$(grep -o 'cov: [0-9]*' "$work/$t.log" | tail -1 | grep -o '[0-9]*' || echo "?")
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-fuzz/finding-$t-" > "$log" 2>&1; then
+    local runs rss cov
+    runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+    rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || echo "?")
     echo "fuzz_$t: ${seconds} s, $runs inputs, coverage $cov edges, peak RSS ${rss} MB: no finding"
   else
     echo "fuzz_$t: FINDING (log below; reproducer in build-fuzz/finding-$t-*)"
-    tail -60 "$work/$t.log"
-    failed=1
+    tail -60 "$log"
+    return 1
   fi
-done
-exit $failed
+}
+export -f run_one
+export seconds work
+# xargs runs `jobs` targets side by side and exits non-zero when any of them had a finding.
+printf '%s\n' $targets | xargs -P "$jobs" -I{} bash -c 'run_one "$@"' _ {}

@@ -35,9 +35,6 @@ struct BackendCase {
   PerExample negativeLobe;        ///< −(min weight of the field inside the cage).
 };
 
-/// gtest prints parameters with this (ctest shows it): the case's name, not raw bytes.
-void PrintTo(const BackendCase& c, std::ostream* os) { *os << c.name; }
-
 /// A bind at h = 8 with the default parameters changed by `configure`.
 std::function<Session(const Cage&, int, int)> binder(std::function<void(BindParams&)> configure) {
   return [configure](const Cage& cage, int w, int h) {
@@ -144,9 +141,11 @@ TEST_P(WeightConformance, PropertiesHold) {
   if (c.nonNegative) {
     // The per-sample QP is feasible inside the control points' hull, which holds the whole cage:
     // every interior sample's weights are ≥ 0.
-    for (Index i = 0; i < s.samples.size(); ++i)
-      if (s.samples.kind[static_cast<std::size_t>(i)] == SampleKind::Interior)
+    for (Index i = 0; i < s.samples.size(); ++i) {
+      if (s.samples.kind[static_cast<std::size_t>(i)] == SampleKind::Interior) {
         ASSERT_GE(s.W.row(i).minCoeff(), -1e-12) << "interior sample " << i;
+      }
+    }
   }
 }
 

@@ -32,7 +32,7 @@ void drawPolygon(ImDrawList* dl, const View& view, const Cage& cage, const Point
 
 /// The point's number next to it (a dark box behind light text).
 void drawPointNumber(ImDrawList* dl, const Vec2& s, Index i, ImU32 color) {
-  char text[16];
+  char text[24];  // any long in decimal
   std::snprintf(text, sizeof text, "%ld", long(i));
   const ImVec2 p(static_cast<float>(s.x()) + 9.0f, static_cast<float>(s.y()) - 20.0f);
   const ImVec2 size = ImGui::CalcTextSize(text);
