@@ -10,6 +10,8 @@
 
 #include "kc/ui/document.h"
 #include "kc/ui/frame.h"
+#include "kc/ui/jobs.h"
+#include "kc/app/pipeline.h"
 #include "kc/ui/panels/panels.h"
 #include "scene_image.h"
 #include "ui_fixture.h"
@@ -237,6 +239,28 @@ TEST(QuitDialog, AsksBeforeDiscardingUnsavedWork) {
   EXPECT_FALSE(s->quitConfirmed);
   gui.clickLabel(*s, "Quit without saving", draw);
   EXPECT_TRUE(s->quitConfirmed);
+}
+
+TEST(BindPanel, AutoSpacingFollowsThePictureAndTheSliderWinsWhenOff) {
+  // A 34-point-like cage over half of the picture: 6 px on a small picture, wider on a 12 MP one
+  // (the CLI's app::automaticSpacing), and the slider's value once Auto spacing is off.
+  AppState state;
+  auto cageOver = [](int w, int h) {
+    Points C(4, 2);
+    C << 0.25 * w, 0.25 * h, 0.75 * w, 0.25 * h, 0.75 * w, 0.75 * h, 0.25 * w, 0.75 * h;
+    return Cage::polygon(C);
+  };
+  ASSERT_TRUE(state.autoSpacing);
+  EXPECT_DOUBLE_EQ(bindParamsFor(state, cageOver(400, 300), 400, 300).spacing, 6.0);
+  app::BindParams defaults;
+  const double big = bindParamsFor(state, cageOver(4000, 3000), 4000, 3000).spacing;
+  EXPECT_DOUBLE_EQ(big, app::automaticSpacing(cageOver(4000, 3000), 4000, 3000, defaults));
+  EXPECT_GT(big, 15.0);
+  state.bindParams.spacing = big;  // what a bind leaves in the panel: the next small picture is 6 px again
+  EXPECT_DOUBLE_EQ(bindParamsFor(state, cageOver(400, 300), 400, 300).spacing, 6.0);
+  state.autoSpacing = false;
+  state.bindParams.spacing = 3.5;
+  EXPECT_DOUBLE_EQ(bindParamsFor(state, cageOver(4000, 3000), 4000, 3000).spacing, 3.5);
 }
 
 }  // namespace

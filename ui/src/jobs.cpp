@@ -126,6 +126,15 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.weightsReproducible = fromOptimizer;
 }
 
+app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height) {
+  app::BindParams params = state.bindParams;
+  if (state.autoSpacing) {
+    params.spacing = app::BindParams{}.spacing;  // the budget starts from the default, not the last choice
+    params.spacing = app::automaticSpacing(cage, width, height, params);
+  }
+  return params;
+}
+
 bool startBind(AppState& state, bool markUnsaved) {
   if (!canStart(state, "bind")) return false;
   if (state.source.empty()) {
@@ -143,7 +152,7 @@ bool startBind(AppState& state, bool markUnsaved) {
   SessionPtr previous = std::move(state.session);
   const Cage cage = state.cage;
   const int w = state.source.width, h = state.source.height;
-  const app::BindParams params = state.bindParams;
+  const app::BindParams params = bindParamsFor(state, cage, w, h);
   const std::string image = state.imagePath;
   WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {

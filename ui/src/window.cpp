@@ -51,7 +51,10 @@ void openStartup(AppState& state, const WindowOptions& o) {
     image = dir + "/figure.png";
     cage = dir + "/figure.cage.json";
   }
-  if (o.spacing > 0.0) state.bindParams.spacing = o.spacing;
+  if (o.spacing > 0.0) {
+    state.bindParams.spacing = o.spacing;
+    state.autoSpacing = false;
+  }
   if (!openPath(state, image) || cage.empty()) return;
   if (loadCageFile(state, cage) && state.cageValid) {
     state.undo.clear();

@@ -100,12 +100,26 @@ void drawBindPanel(AppState& state) {
   backendSwitch(state);
   const bool lbc = p.backend == "lbc";
   ImGui::PushItemWidth(150);
+  if (!lbc) {
+    checkbox(state, "Auto spacing", &state.autoSpacing,
+             "Let kcwarp choose the sample spacing: 6 px, wider on big pictures so that Bind\n"
+             "takes seconds, not minutes (about 30,000 samples at most). Untick to set it yourself.");
+    if (state.autoSpacing && !state.source.empty() && state.cageValid) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("%.1f px", bindParamsFor(state, state.cage, state.source.width, state.source.height).spacing);
+      tooltip("The spacing Bind will use for this picture and cage.");
+    }
+  }
+  const bool spacingFixed = !lbc && state.autoSpacing;
+  ImGui::BeginDisabled(spacingFixed);
   float spacing = static_cast<float>(p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
+  ImGui::EndDisabled();
   tooltip(lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels.\n"
                 "Smaller: finer detail, slower Bind. Larger: faster, coarser."
-              : "Distance between the sample points the weights are computed at, in pixels.\n"
-                "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
+              : spacingFixed ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
+                             : "Distance between the sample points the weights are computed at, in pixels.\n"
+                               "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
   if (lbc) {
     lbcControls(state);
     ImGui::PopItemWidth();

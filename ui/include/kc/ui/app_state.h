@@ -96,6 +96,10 @@ struct AppState {
   /// re-optimization; not for a session file, which may come from another version).
   bool weightsReproducible = false;
   app::BindParams bindParams;              ///< Bind panel values (next bind).
+  /// Bind chooses the spacing from a sample budget (app::automaticSpacing, as kcwarp-cli does
+  /// without --spacing): 6 px up to about a megapixel, wider beyond, so a big picture binds in
+  /// seconds. Off: bindParams.spacing as set by the slider (or --spacing).
+  bool autoSpacing = true;
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).

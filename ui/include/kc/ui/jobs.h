@@ -24,6 +24,9 @@ bool setOutsideMode(AppState& state, OutsideMode mode);
 /// The outside mode a session asks for (its "outside" key), or the default.
 OutsideMode sessionOutsideMode(const app::Session& session);
 
+/// The parameters the next bind of `cage` over width×height uses: the Bind panel's, with the
+/// automatic spacing when state.autoSpacing (app::automaticSpacing from the 6 px default).
+app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
 /// Binds the draft cage over the current image with state.bindParams (progress, Cancel); when it
 /// is done the pose tool is active. `markUnsaved` = false for a bind that only reproduces files
 /// on disk (the picture and cage given at startup), so an untouched document is not "unsaved".
