@@ -79,8 +79,8 @@ Image texture(int n) {
 struct Setup {
   WarpMesh mesh;
   CompactWeightsReport compact;
-  Setup(int size, double spacing, OutsideMode outside = OutsideMode::Deform, bool foldGuard = true)
-      : mesh(size, size, starCage(size), WarpMeshOptions{spacing, 1e-3, outside, foldGuard}) {
+  Setup(int size, double spacing, OutsideMode outside = OutsideMode::Deform, bool foldGuard = true, bool followCage = false)
+      : mesh(size, size, starCage(size), WarpMeshOptions{spacing, 1e-3, outside, foldGuard, followCage}) {
     compact = mesh.setWeights(meanValue(mesh.cage().C, mesh.restVertices()));
   }
 };
@@ -102,11 +102,13 @@ BENCHMARK(BM_DeformWarpMesh1MP)->ArgNames({"threads", "spacing"})->Args({1, 4})-
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Building the warp mesh of a 1024×1024 image (spacing 4: 66k vertices): the grid alone (deform)
-/// vs the grid plus the pinned mode's exterior weights (factorization + 24 right-hand sides).
+/// vs the grid plus the pinned mode's exterior weights (factorization + 24 right-hand sides);
+/// pinned = 2: the mesh that follows the cage (WarpMeshOptions::followCage).
 void BM_BuildWarpMesh1MP(benchmark::State& state) {
   const Cage cage = starCage(1024);
   WarpMeshOptions o;
-  o.outside = state.range(1) == 1 ? OutsideMode::Pinned : OutsideMode::Deform;
+  o.outside = state.range(1) >= 1 ? OutsideMode::Pinned : OutsideMode::Deform;
+  o.followCage = state.range(1) == 2;
   ScopedThreadCount threads(int(state.range(0)));
   for (auto _ : state) {
     WarpMesh mesh(1024, 1024, cage, o);
@@ -118,7 +120,7 @@ void BM_BuildWarpMesh1MP(benchmark::State& state) {
     }
   }
 }
-BENCHMARK(BM_BuildWarpMesh1MP)->ArgNames({"threads", "pinned"})->Args({2, 0})->Args({1, 1})->Args({2, 1})
+BENCHMARK(BM_BuildWarpMesh1MP)->ArgNames({"threads", "pinned"})->Args({2, 0})->Args({1, 1})->Args({2, 1})->Args({2, 2})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// New pose on a 1024×1024 image in the pinned mode (m + 1 columns with the anchor), with and
@@ -142,9 +144,11 @@ void BM_DeformPinned1MP(benchmark::State& state) {
 BENCHMARK(BM_DeformPinned1MP)->ArgNames({"threads", "guard"})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Same, for a pose that pushes the cage over the image border (control 0, 52 px from the right
-/// border, moved 120 px right and turned): the fold guard holds the background back.
+/// border, moved 120 px right and turned): the fold guard holds the background back. follow = 1:
+/// the mesh that follows the cage (WarpMeshOptions::followCage).
 void BM_DeformPinnedOverTheBorder1MP(benchmark::State& state) {
-  static Setup s(1024, 4.0, OutsideMode::Pinned);
+  static Setup grid(1024, 4.0, OutsideMode::Pinned), follow(1024, 4.0, OutsideMode::Pinned, true, true);
+  Setup& s = state.range(1) ? follow : grid;
   ScopedThreadCount threads(int(state.range(0)));
   Pose pose = restPose(s.mesh.cage().size());
   pose[0] = {Vec2(120.0, 10.0), 0.3};
@@ -154,7 +158,7 @@ void BM_DeformPinnedOverTheBorder1MP(benchmark::State& state) {
   state.counters["held_back"] = double(rep.guardVertices);
   state.counters["flipped"] = double(rep.flippedTriangles);
 }
-BENCHMARK(BM_DeformPinnedOverTheBorder1MP)->ArgNames({"threads"})->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DeformPinnedOverTheBorder1MP)->ArgNames({"threads", "follow"})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// Full-resolution export of a 2048×2048 image: rasterize the deformed mesh (spacing 4).
 void BM_Export2048(benchmark::State& state) {

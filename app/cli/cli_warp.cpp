@@ -142,9 +142,12 @@ void runWarp(const WarpArgs& a) {
                   long(dr.guardFolds), long(dr.guardVertices));
   }
   std::printf("outside the cage: corners moved %.2f px; background 50 px from the cage moved mean %.2f max %.2f px "
-              "(%ld vertices), 200 px mean %.2f max %.2f px (%ld); weights in [%.3g, %.3g]; fold-overs outside %ld\n",
+              "(%ld vertices), 200 px mean %.2f max %.2f px (%ld); weights in [%.3g, %.3g]; fold-overs outside %ld",
               om.cornerMax, om.bands[0].mean, om.bands[0].max, long(om.bands[0].vertices), om.bands[1].mean,
               om.bands[1].max, long(om.bands[1].vertices), om.minWeight, om.maxWeight, long(om.flippedOutside));
+  if (mesh.exteriorWeights() && om.flippedOutside > 0)
+    std::printf(" (%ld on the cage, %ld under the deformed inside)", long(om.flippedOnCage), long(om.flippedCovered));
+  std::printf("\n");
   std::printf("render: %dx%d%s in %.1f ms; wrote %s\n", out.width, out.height, a.supersample ? " (2x2 supersampled)" : "",
               rr.seconds * 1e3, a.output.c_str());
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "kc/core/cage_conforming_grid.h"
 #include "kc/core/parallel.h"
 
 namespace kc {
@@ -51,6 +52,10 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   const int nx = static_cast<int>(xs.size()), ny = static_cast<int>(ys.size());
   const auto vid = [nx](int i, int j) { return j * nx + i; };
 
+  if (options.outside == OutsideMode::Pinned && options.followCage) {
+    buildPinned(xs, ys);
+    return;
+  }
   // Which grid vertices can touch the cage region (only needed when culling).
   std::vector<std::uint8_t> near(std::size_t(nx) * ny, 1);
   if (cull) {
@@ -102,6 +107,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     const auto layer = [&](const std::array<int, 3>& t) { const int k = insideCount(t); return k == 0 ? 0 : (k == 3 ? 2 : 1); };
     std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
     m_outsideTriangles = Index(std::count_if(m_triangles.begin(), m_triangles.end(), [&](const auto& t) { return layer(t) == 0; }));
+    m_guardedTriangles = m_outsideTriangles;
     if (options.foldGuard) {
       // The fold guard moves exterior vertices (1), those of triangles across the cage last (2).
       m_guardClass.assign(m_exterior->exterior.begin(), m_exterior->exterior.end());
@@ -113,6 +119,47 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     }
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
+}
+
+void WarpMesh::buildPinned(const std::vector<double>& xs, const std::vector<double>& ys) {
+  ExteriorWeightsOptions eo;
+  eo.keepThreshold = m_options.keepThreshold;
+  ExteriorWeights ext = pinnedExteriorWeights(xs, ys, m_cage, eo);
+  // The mesh follows the cage: every triangle lies wholly outside (drawn first) or wholly inside
+  // (drawn over its stretched background).
+  CageConformingGrid grid = cageConformingGrid(xs, ys, m_cage, ext.exterior);
+  m_rest = std::move(grid.V);
+  m_triangles = std::move(grid.T);
+  m_outsideTriangles = grid.outsideTriangles;
+  const Index nv = m_rest.rows();
+  // Points on the cage take the field's weights (they belong to the inside's triangles too).
+  ext.exterior.resize(std::size_t(nv), 0);
+  ext.H.conservativeResize(nv, ext.H.cols());
+  m_exterior = std::make_shared<const ExteriorWeights>(std::move(ext));
+  // Outside, the triangles with no point on the cage come first: the fold guard's (it holds back
+  // vertices strictly outside the cage; points on the cage follow the field, so the inside is
+  // never touched, and a triangle on the cage folds only where the cage itself passes over it).
+  const auto touches = [&](const std::array<int, 3>& t) {
+    return grid.onCage[std::size_t(t[0])] || grid.onCage[std::size_t(t[1])] || grid.onCage[std::size_t(t[2])];
+  };
+  const auto firstTouching = std::stable_partition(m_triangles.begin(), m_triangles.begin() + m_outsideTriangles,
+                                                   [&](const auto& t) { return !touches(t); });
+  m_guardedTriangles = Index(firstTouching - m_triangles.begin());
+  if (m_options.foldGuard) {
+    // Movable: 1, or 2 next to the cage (moved last: holding such a vertex back folds the
+    // triangles between it and the moving cage).
+    m_guardClass.assign(std::size_t(nv), 0);
+    for (Index t = 0; t < m_guardedTriangles; ++t)
+      for (int v : m_triangles[std::size_t(t)]) m_guardClass[std::size_t(v)] = 1;
+    for (Index t = m_guardedTriangles; t < m_outsideTriangles; ++t)
+      for (int v : m_triangles[std::size_t(t)])
+        if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
+    m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_guardedTriangles, nv));
+  }
+  m_restArea.resize(Index(m_triangles.size()));
+  for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
+  m_deformed = m_rest;
+  m_jacobian = Eigen::VectorXd::Ones(Index(m_triangles.size()));
 }
 
 CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
@@ -240,7 +287,7 @@ DeformReport WarpMesh::deform(const Pose& pose) {
   });
   DeformReport rep;
   if (m_exterior && m_options.foldGuard) {
-    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, *m_guardTopology, m_outsideTriangles,
+    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, *m_guardTopology, m_guardedTriangles,
                                                  m_restArea, m_guardClass);
     rep.guardFolds = g.foldedBefore;
     rep.guardVertices = g.scaledVertices;

@@ -9,6 +9,7 @@
 #include <CGAL/Delaunay_mesher_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
+#include <CGAL/Constrained_triangulation_face_base_2.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -37,6 +38,12 @@ using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
 using Mesher = CGAL::Delaunay_mesher_2<Cdt, Criteria>;
+
+// The plain constrained triangulation of constrainedTriangulation(): vertices carry their row.
+using PlainVb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
+using PlainFb = CGAL::Constrained_triangulation_face_base_2<K>;
+using PlainCdt = CGAL::Constrained_Delaunay_triangulation_2<K, CGAL::Triangulation_data_structure_2<PlainVb, PlainFb>,
+                                                            CGAL::Exact_predicates_tag>;
 
 /// The closed polygon's edges; throws unless the cage is a closed polygon.
 std::vector<std::array<int, 2>> polygonEdges(const Cage& cage) {
@@ -187,6 +194,46 @@ CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options) {
   std::stable_sort(faces.begin(), faces.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   out.T.reserve(faces.size());
   for (const auto& f : faces) out.T.push_back(f.second);
+  return out;
+}
+
+ConstrainedTriangulation constrainedTriangulation(const Points& points, const std::vector<std::array<int, 2>>& segments) {
+  const Index np = points.rows();
+  if (!points.allFinite()) throw std::invalid_argument("constrained triangulation: a point is not finite");
+  for (const auto& [a, b] : segments)
+    if (a < 0 || b < 0 || a >= np || b >= np)
+      throw std::invalid_argument("constrained triangulation: segment (" + std::to_string(a) + ", " + std::to_string(b) +
+                                  ") is out of range for " + std::to_string(np) + " points");
+  std::vector<std::pair<PlainCdt::Point, int>> input;
+  input.reserve(std::size_t(np));
+  for (Index i = 0; i < np; ++i) input.emplace_back(PlainCdt::Point(points(i, 0), points(i, 1)), int(i));
+  PlainCdt cdt;
+  cdt.insert(input.begin(), input.end());  // spatially sorted
+  std::vector<PlainCdt::Vertex_handle> handle(static_cast<std::size_t>(np));
+  std::vector<std::uint8_t> have(static_cast<std::size_t>(np), 0);
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    handle[std::size_t(v->info())] = v;
+    have[std::size_t(v->info())] = 1;
+  }
+  for (Index i = 0; i < np; ++i)  // merged duplicates: the vertex that holds the point
+    if (!have[std::size_t(i)]) handle[std::size_t(i)] = cdt.insert(input[std::size_t(i)].first);
+  ConstrainedTriangulation out;
+  std::vector<Vec2> added;
+  for (const auto& [a, b] : segments)
+    if (handle[std::size_t(a)] != handle[std::size_t(b)]) cdt.insert_constraint(handle[std::size_t(a)], handle[std::size_t(b)]);
+  // Crossings of segments were inserted by CGAL without a row: number them after the points.
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    const bool known = v->info() >= 0 && v->info() < np && have[std::size_t(v->info())] && handle[std::size_t(v->info())] == PlainCdt::Vertex_handle(v);
+    if (known) continue;
+    v->info() = int(np + Index(added.size()));
+    added.emplace_back(v->point().x(), v->point().y());
+  }
+  out.V.resize(np + Index(added.size()), 2);
+  out.V.topRows(np) = points;
+  for (std::size_t k = 0; k < added.size(); ++k) out.V.row(np + Index(k)) = added[k];
+  out.T.reserve(cdt.number_of_faces());
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
+    out.T.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
   return out;
 }
 

@@ -23,11 +23,19 @@ struct OutsideMotion {
   double minWeight = 0.0;          ///< Range of w_i (i < m; the pinned anchor excluded) at vertices
   double maxWeight = 0.0;          ///< outside the cage, as stored by the mesh (compact weights).
   Index verticesOutside = 0;
-  Index flippedOutside = 0;        ///< Flipped triangles (det J ≤ 0) with all three vertices outside the cage.
+  /// Flipped triangles (det J ≤ 0) outside the cage: in Pinned mode the triangles of the mesh's
+  /// outside (WarpMesh::outsideTriangles(), those touching the cage included); else those with all
+  /// three vertices outside the cage.
+  Index flippedOutside = 0;
+  /// Pinned mode: of flippedOutside, those with a vertex on the cage, and those whose deformed
+  /// triangle lies under the deformed inside (its corners and centroid in deformed inside
+  /// triangles), which the inside, drawn on top, hides.
+  Index flippedOnCage = 0, flippedCovered = 0;
   Index flippedTotal = 0;
 };
 
-/// Measures the last deform() of `mesh` (vertices outside a closed cage by the even-odd rule; every
+/// Measures the last deform() of `mesh` (vertices outside: in Pinned mode the mesh's exterior
+/// vertices, points on the cage excluded; else outside a closed cage by the even-odd rule, every
 /// vertex for open cages). Bands of half width `halfWidth` pixels around each of `distances`.
 /// Cost O(#V · #edges). Throws std::invalid_argument when the mesh has no weights.
 OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& distances = {50.0, 200.0},

@@ -52,6 +52,11 @@ struct WarpMeshOptions {
   /// which bends the picture just inside the cage (a rigid rotation of the star example is no
   /// longer rigid there: 26 dB against 56 dB); the folds it removes lie against the border.
   bool foldGuard = false;
+  /// Pinned mode: a mesh whose edges follow the cage (cage_conforming_grid.h): every triangle lies
+  /// wholly inside or outside, points on the cage take the field's weights, and the fold guard
+  /// holds back only vertices of triangles with no point on the cage, so it never changes the
+  /// inside. Off (the default): the regular grid, whose triangles straddle the cage.
+  bool followCage = false;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
@@ -94,12 +99,17 @@ class WarpMesh {
   int height() const { return m_height; }
   const WarpMeshOptions& options() const { return m_options; }
   const Cage& cage() const { return m_cage; }
-  /// #V×2 rest positions: where to evaluate weights.
+  /// #V×2 rest positions: where to evaluate weights. The grid vertices in row-major order (with
+  /// followCage followed by the points on the cage, cage_conforming_grid.h).
   const Points& restVertices() const { return m_rest; }
   /// Triangles that are drawn (#T), in drawing order (later on top): row-major grid order; in
   /// Pinned mode the triangles wholly outside the cage come first, then those across the cage,
-  /// then those inside, so the inside is drawn over the stretched background.
+  /// then those inside, so the inside is drawn over the stretched background (with followCage:
+  /// outside, those with no point on the cage first, then inside; none is across).
   const Triangles& triangles() const { return m_triangles; }
+  /// Pinned mode: triangles()[0..outsideTriangles()) lie wholly outside the cage (all three
+  /// vertices exterior; with followCage, every triangle outside); 0 in the other modes.
+  Index outsideTriangles() const { return m_outsideTriangles; }
 
   /// Stores weights W (#V×m, dense, at restVertices()) compactly: entries with |w| ≤ keepThreshold/m
   /// are dropped and each row is renormalized to sum to 1 (partition of unity). In Pinned mode the
@@ -113,7 +123,7 @@ class WarpMesh {
   /// #V×m compact weights (#V×(m+1) in Pinned mode: column m is the anchor, transform = identity).
   const SparseWeights& weights() const { return m_weights; }
   /// Pinned mode: the exterior classification and harmonic-extension weights (null otherwise).
-  /// Vertices are in grid order (vertex j·nx + i), as restVertices().
+  /// Rows as restVertices() (with followCage the points on the cage are not exterior: empty rows).
   const ExteriorWeights* exteriorWeights() const { return m_exterior.get(); }
 
   /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex (plus a(v)·v for the pinned anchor) — one sparse product, parallel over vertices —
@@ -130,6 +140,10 @@ class WarpMesh {
   Image render(const Image& source, const RasterOptions& options = {}, RasterReport* report = nullptr) const;
 
  private:
+  /// Pinned mode: the cage-conforming mesh over the grid xs × ys, its exterior weights and the
+  /// fold guard's data.
+  void buildPinned(const std::vector<double>& xs, const std::vector<double>& ys);
+
   int m_width = 0, m_height = 0;
   WarpMeshOptions m_options;
   Cage m_cage;
@@ -137,7 +151,8 @@ class WarpMesh {
   Triangles m_triangles;
   SparseWeights m_weights;
   std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
-  Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie wholly outside the cage
+  Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie outside the cage
+  Index m_guardedTriangles = 0;  // Pinned mode: triangles[0..m_guardedTriangles) have no point on the cage
   std::vector<std::uint8_t> m_guardClass;  // Pinned mode: per vertex, movable by the fold guard (exterior_fold_guard.h)
   std::shared_ptr<const FoldGuardTopology> m_guardTopology;  // Pinned mode; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;

@@ -4,6 +4,8 @@
 /// whose other boundary vertices carry the cage edge they lie on and their edge parameter.
 
 #include <Eigen/Core>
+#include <array>
+#include <vector>
 
 #include "kc/core/cage.h"
 #include "kc/core/types.h"
@@ -45,6 +47,18 @@ struct CageMesh {
 /// edge graph that is not the cage polygon, or an invalid cage (validateCage), or a spacing that
 /// is not positive and finite. On status TooManyVertices the mesh is empty.
 CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options = {});
+
+/// A constrained Delaunay triangulation of `points` (#P×2) in which every segment (a pair of
+/// point indices) is a union of triangle edges: the triangles cover the points' convex hull and
+/// none crosses a segment. Vertices: rows 0..#P−1 are `points` (a point equal to an earlier one is
+/// merged into it and used by no triangle); where two segments cross, the crossing is added as a
+/// further row. Triangles are counter-clockwise in the (x, y) axes. Throws std::invalid_argument
+/// for a segment index out of range or a non-finite point.
+struct ConstrainedTriangulation {
+  Points V;     ///< #V×2, #V ≥ #P.
+  Triangles T;  ///< Vertex indices into V.
+};
+ConstrainedTriangulation constrainedTriangulation(const Points& points, const std::vector<std::array<int, 2>>& segments);
 
 /// A spacing h for which meshCageInterior gives about `targetVertices` vertices (for benchmarks
 /// and for binding by vertex count): h from the cage area, corrected once by a trial mesh.
