@@ -59,6 +59,10 @@ void runBind(const BindArgs& a) {
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over %dx%d; --spacing overrides)\n", p.spacing,
                   app::kAutoSpacingSamples, w, h);
   }
+  if (const std::string warning = p.backend == "kc" ? app::narrowFeatureWarning(cage, p.spacing) : ""; !warning.empty()) {
+    std::fflush(stdout);
+    std::fprintf(stderr, "kcwarp-cli: warning: %s\n", warning.c_str());
+  }
 
   app::BindReport r;
   app::BindProgress progress;

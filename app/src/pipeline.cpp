@@ -24,6 +24,34 @@ void checkCommonParams(int width, int height, const BindParams& p) {
   if (!std::isfinite(p.margin) || p.margin > kMaxCoordinate) throw std::invalid_argument("margin must be a finite number of pixels");
 }
 
+/// True when every cage edge is at least `length` long (O(m)). A cage with a shorter edge is
+/// refused by checkCageScale at that spacing; looking for its narrow places within a few spacings
+/// would only cost time (a 40,000-point circle has ~10^7 edge pairs within 2h).
+bool edgesAtLeast(const Cage& cage, double length) {
+  for (const auto& [a, b] : cageEdges(cage))
+    if ((cage.C.row(a) - cage.C.row(b)).norm() < length) return false;
+  return true;
+}
+
+/// %.3g of v.
+std::string shortNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+/// The narrow place g of the cage in words: "cage points A and B are D px apart" or "cage edges
+/// a-b and c-d come within D px of each other".
+std::string describeGap(const Cage& cage, const CageGap& g) {
+  if (g.pointA >= 0)
+    return "cage points " + std::to_string(g.pointA) + " and " + std::to_string(g.pointB) + " are " + shortNumber(g.distance) +
+           " px apart";
+  const auto edges = cageEdges(cage);
+  const auto e = edges[std::size_t(g.edgeA)], f = edges[std::size_t(g.edgeB)];
+  return "cage edges " + std::to_string(e[0]) + "-" + std::to_string(e[1]) + " and " + std::to_string(f[0]) + "-" +
+         std::to_string(f[1]) + " come within " + shortNumber(g.distance) + " px of each other";
+}
+
 /// Refuses a cage with a feature narrower than the sampling can resolve: an edge shorter than
 /// kMinFeatureSpacings·h, or two edges sharing no end point closer than that (a thin sliver, the
 /// turns of a tight spiral). Such cages bind with wrong weights (see kMinFeatureSpacings).
@@ -31,21 +59,9 @@ void checkCageScale(const Cage& cage, double spacing) {
   const double below = kMinFeatureSpacings * spacing;
   const CageGap g = narrowestGap(cage, below);
   if (!std::isfinite(g.distance)) return;
-  char buf[512];
-  const double fits = g.distance / kMinFeatureSpacings;
-  if (g.pointA >= 0)
-    std::snprintf(buf, sizeof buf,
-                  "cage points %d and %d are %.3g px apart, less than the spacing %.3g px: merge them, or use --spacing %.3g or less",
-                  g.pointA, g.pointB, g.distance, below, fits);
-  else {
-    const auto edges = cageEdges(cage);
-    const auto e = edges[std::size_t(g.edgeA)], f = edges[std::size_t(g.edgeB)];
-    std::snprintf(buf, sizeof buf,
-                  "cage edges %d-%d and %d-%d come within %.3g px of each other, less than the spacing %.3g px: widen the gap, "
-                  "or use --spacing %.3g or less",
-                  e[0], e[1], f[0], f[1], g.distance, below, fits);
-  }
-  throw std::invalid_argument(buf);
+  throw std::invalid_argument(describeGap(cage, g) + ", less than the spacing " + shortNumber(below) + " px: " +
+                              (g.pointA >= 0 ? "merge them" : "widen the gap") + ", or use --spacing " +
+                              shortNumber(g.distance / kMinFeatureSpacings) + " or less");
 }
 
 
@@ -84,7 +100,32 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
   BindParams p = params;
   if (estimateBindCost(cage, width, height, p).samples <= budget) return params.spacing;
   for (int step = 0; step < 3; ++step) p.spacing *= std::sqrt(estimateBindCost(cage, width, height, p).samples / budget);
-  return std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
+  double h = std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
+  // A narrow place of the cage keeps about kNarrowFeatureSpacings samples across it, over the
+  // budget if need be, but not past the limits: h grows from there by 5% until the bind fits.
+  const CageGap g = edgesAtLeast(cage, kMinFeatureSpacings * params.spacing) ? narrowestGap(cage, kNarrowFeatureSpacings * h) : CageGap{};
+  if (g.distance > 0.0 && std::isfinite(g.distance)) {
+    double narrow = std::max(params.spacing, std::floor(g.distance / kNarrowFeatureSpacings * 100.0) / 100.0);
+    for (int step = 0; step < 100 && narrow < h; ++step, narrow *= 1.05) {
+      p.spacing = narrow;
+      try {
+        checkBindCost(estimateBindCost(cage, width, height, p), p);
+        return narrow;
+      } catch (const std::invalid_argument&) {
+      }
+    }
+  }
+  return h;
+}
+
+std::string narrowFeatureWarning(const Cage& cage, double spacing) {
+  // Narrower than kMinFeatureSpacings·h is refused by the bind itself (checkCageScale).
+  if (!edgesAtLeast(cage, kMinFeatureSpacings * spacing)) return "";
+  const CageGap g = narrowestGap(cage, kNarrowFeatureSpacings * spacing);
+  if (!std::isfinite(g.distance) || g.distance < kMinFeatureSpacings * spacing) return "";
+  return describeGap(cage, g) + ", less than twice the spacing " + shortNumber(spacing) +
+         " px: the weights there are coarse (spacing " + shortNumber(g.distance / kNarrowFeatureSpacings) +
+         " px or less resolves them)";
 }
 
 void checkBindCost(const BindCost& c, const BindParams& params) {

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
+#include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
 
 namespace kc::app {
@@ -44,6 +46,48 @@ TEST(AutoSpacing, OtherBackendsKeepTheirSpacing) {
   BindParams p;
   p.backend = "lbc";
   EXPECT_EQ(automaticSpacing(quarterCage(4000, 3000), 4000, 3000, p), p.spacing);
+}
+
+/// A rectangle over the middle of a w×h picture with a slot `gap` px wide cut in from its bottom.
+Cage slotCage(int w, int h, double gap) {
+  const double x0 = 0.25 * w, x1 = 0.75 * w, y0 = 0.3 * h, y1 = 0.7 * h, xm = 0.5 * w;
+  Points C(8, 2);
+  C << x0, y0, x1, y0, x1, y1, xm + gap / 2, y1, xm + gap / 2, y0 + 0.1 * h, xm - gap / 2, y0 + 0.1 * h, xm - gap / 2, y1, x0, y1;
+  return Cage::polygon(C);
+}
+
+TEST(AutoSpacing, NarrowPlacesKeepTwoSamplesAcross) {
+  // At 12 MP the budget alone would choose ~21 px; a 30 px slot asks for 15 px, which fits the limits.
+  const BindParams p;
+  const Cage wide = quarterCage(4384, 2736), slot = slotCage(4384, 2736, 30.0);
+  const double hWide = automaticSpacing(wide, 4384, 2736, p), hSlot = automaticSpacing(slot, 4384, 2736, p);
+  EXPECT_GT(hWide, 20.0);
+  EXPECT_LE(hSlot, 15.0);
+  EXPECT_GE(hSlot, 14.9);
+  EXPECT_EQ(narrowFeatureWarning(slot, hSlot), "");
+  EXPECT_NE(narrowFeatureWarning(slot, hWide), "");  // the budget's spacing would be too coarse there
+}
+
+TEST(AutoSpacing, WhenTheLimitsForbidItTheBindWarnsAndStillFits) {
+  // A 12 px slot would need 6 px over 12 MP (above the sample limit): the spacing stops at the
+  // smallest that fits the limits, and the warning names the slot's points and what resolves it.
+  const BindParams p;
+  const Cage slot = slotCage(4384, 2736, 12.0);
+  BindParams q = p;
+  q.spacing = automaticSpacing(slot, 4384, 2736, p);
+  EXPECT_GT(q.spacing, 6.0);
+  EXPECT_LT(q.spacing, 12.0);
+  EXPECT_NO_THROW(checkBindCost(estimateBindCost(slot, 4384, 2736, q), q));
+  const std::string warning = narrowFeatureWarning(slot, q.spacing);
+  EXPECT_NE(warning.find("cage points 4 and 5"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("spacing 6 px or less"), std::string::npos) << warning;
+}
+
+TEST(AutoSpacing, TheBundledExamplesNeedNoWarning) {
+  for (const char* name : {"checker", "star", "figure"}) {
+    const Cage cage = loadCage(std::string(KC_SOURCE_DIR) + "/images/" + name + ".cage.json");
+    EXPECT_EQ(narrowFeatureWarning(cage, BindParams{}.spacing), "") << name;
+  }
 }
 
 }  // namespace

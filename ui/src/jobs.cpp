@@ -153,6 +153,7 @@ bool startBind(AppState& state, bool markUnsaved) {
   const Cage cage = state.cage;
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = bindParamsFor(state, cage, w, h);
+  const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
   const std::string image = state.imagePath;
   WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
@@ -177,11 +178,12 @@ bool startBind(AppState& state, bool markUnsaved) {
       s->outside = toString(meshOptions.outside);
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved](AppState& st) {
+      return [s, display, markUnsaved, narrow](AppState& st) {
         installSession(st, s, display, true);
         st.unsaved = st.unsaved || markUnsaved;
         st.tool = Tool::Pose;
         postMessage(st, bindSummary(*s), false);
+        if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
         for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
       };
     } catch (const app::BindCancelled&) {

@@ -66,6 +66,10 @@ inline constexpr double kBytesPerKernelNonZero = 180.0;
 /// 0.11 / 0.15 at d = h (the bundled figure: −0.11 and 0.08), −0.04 / −0.06 at d = 2h; an edge of
 /// 0.01 px gave weights down to −163.5 (issue 10).
 inline constexpr double kMinFeatureSpacings = 1.0;
+/// A cage feature narrower than this many spacings binds (≥ kMinFeatureSpacings) but coarsely
+/// (at 2h the measurements above are within the bundled figure's): the automatic spacing stays
+/// below narrowest/this where the limits allow, and a bind warns when it cannot.
+inline constexpr double kNarrowFeatureSpacings = 2.0;
 
 /// Throws InputError(where) when width × height is not a usable image size: each side in
 /// 1..kMaxImageSide and the pixel count at most kMaxImagePixels. `what` names the size, e.g.

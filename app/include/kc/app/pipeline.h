@@ -2,6 +2,7 @@
 /// The bind pipeline: cage → (backend) → coordinate field (ARCHITECTURE.md data flow).
 
 #include <functional>
+#include <string>
 #include <span>
 #include <vector>
 
@@ -41,9 +42,16 @@ inline constexpr double kAutoSpacingSamples = 30000.0;
 /// The spacing a bind uses when the user gives none: `params.spacing` (the 6 px default) while the
 /// estimated sample count stays within `budget`, else the h ≥ params.spacing whose estimate
 /// (estimateBindCost, ~ domain area / h²) is about `budget`, found by h ← h·√(#S(h)/budget)
-/// (three steps) and rounded up to 0.01 px. Only the kc backend samples the picture; for others
-/// `params.spacing` is returned.
+/// (three steps) and rounded up to 0.01 px. Where the cage has a feature narrower than
+/// kNarrowFeatureSpacings·h (narrowestGap), h shrinks to narrowest/kNarrowFeatureSpacings (not
+/// below params.spacing), over the budget but never past kcwarp's limits (checkBindCost). Only
+/// the kc backend samples the picture; for others `params.spacing` is returned.
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget = kAutoSpacingSamples);
+
+/// "" when every cage feature is at least kNarrowFeatureSpacings·spacing wide (or narrower than
+/// kMinFeatureSpacings·spacing, which bind() refuses), else a warning naming the narrowest place
+/// (points or edges), its width, and the spacing that resolves it.
+std::string narrowFeatureWarning(const Cage& cage, double spacing);
 
 /// Throws std::invalid_argument when `cost` exceeds kcwarp's limits (kMaxBindSamples,
 /// kMaxKernelNonZeros, kMaxBindBytes), saying what the bind would need and the spacing (or σ)
