@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "cli_common.h"
@@ -28,6 +29,12 @@ Cage blobCage(int m, double size) {
   return Cage::polygon(C);
 }
 
+}  // namespace
+
+void benchLines(const std::string& cagePath, int sets, int repeats);  // cli_bench_lines.cpp
+
+namespace {
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -37,6 +44,9 @@ struct BenchArgs {
   int samples = 10000;
   int repeats = 3;
   int threads = 0;
+  bool lines = false;
+  int lineSets = 10;
+  std::string cage = "images/star.cage.json";
 };
 
 void benchBind(const BenchArgs& a) {
@@ -149,10 +159,18 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--samples", a->samples, "Target sample count of the bind benchmark")->capture_default_str();
   sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  sub->add_flag("--lines", a->lines, "Only the structure-lines table (straightness, parallelism, bind time; issue 13)");
+  sub->add_option("--line-sets", a->lineSets, "--lines: random sets of lines")->capture_default_str();
+  sub->add_option("--cage", a->cage, "--lines: the cage (default: the bundled star)")->capture_default_str();
   sub->callback([a] {
     if (a->samples < 100 || a->samples > 1000000) throw app::InputError("--samples", "must be within 100..1000000");
     if (a->repeats < 1 || a->repeats > 100) throw app::InputError("--repeats", "must be within 1..100");
     const ScopedThreadCount threads(a->threads);
+    if (a->lines) {
+      if (a->lineSets < 1 || a->lineSets > 1000) throw app::InputError("--line-sets", "must be within 1..1000");
+      benchLines(a->cage, a->lineSets, a->repeats);
+      return;
+    }
     benchBind(*a);
     benchOptimizers(*a);
     benchStroke(*a);

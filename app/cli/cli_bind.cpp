@@ -8,6 +8,7 @@
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
 #include "kc/app/file_io.h"
+#include "kc/app/structure.h"
 #include "kc/app/limits.h"
 #include "kc/app/pipeline.h"
 
@@ -15,7 +16,7 @@ namespace kc::cli {
 namespace {
 
 struct BindArgs {
-  std::string cage, image, size, output;
+  std::string cage, image, size, output, structure;
   double spacing = 6.0, sigma = 0.0, margin = -1.0;
   std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
   int heatIterations = 0;
@@ -72,7 +73,14 @@ void runBind(const BindArgs& a) {
       if (f >= 1.0) std::fprintf(stderr, "\n");
       return true;
     };
-  app::Session s = app::bind(cage, w, h, p, &r, progress);
+  app::Structure st;
+  if (!a.structure.empty()) {
+    st = app::loadStructure(a.structure);
+    if (!app::backendFor(p.backend).capabilities().lines)
+      throw app::InputError(a.structure, "lines are supported by the kernel backend (--backend kc), not by '" + p.backend + "'");
+    app::checkStructure(st, cage, p.spacing, a.structure);
+  }
+  app::Session s = app::bind(cage, st, w, h, p, &r, progress);
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
   app::saveSession(a.output, s);
 
@@ -88,6 +96,9 @@ void runBind(const BindArgs& a) {
     std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
   }
   const app::BindTimings& t = s.timings;
+  if (!st.empty())
+    std::printf("lines: %zu, field linear along them to %.2e (was %.2e; %ld samples adjusted, %.3f s)\n", st.lines.size(),
+                r.lines.after, r.lines.before, static_cast<long>(r.lines.adjusted), r.lines.seconds);
   std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",
               t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve, t.total);
   std::printf("wrote %s\n", a.output.c_str());
@@ -132,6 +143,8 @@ void addBindCommand(CLI::App& app) {
   sub->add_option("--sampler", a->sampler, "Sampling: blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
   sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();
+  sub->add_option("--structure", a->structure,
+                  "Structure file (JSON): line segments kept straight, groups kept parallel (kc backend; docs/ARCHITECTURE.md)");
   sub->add_option("-o,--output", a->output, "Session file to write (*.kcw.json)")->required();
   sub->callback([a] {
     if (a->image.empty() && a->size.empty()) throw app::InputError("bind", "give --image I.png or --size W,H");

@@ -11,6 +11,7 @@
 #include "cli_common.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
+#include "kc/app/structure.h"
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
 #include "kc/app/limits.h"
@@ -23,7 +24,7 @@ namespace kc::cli {
 namespace {
 
 struct SampleArgs {
-  std::string cage, image, size, output, png, sampler = "blue-noise";
+  std::string cage, image, size, output, png, sampler = "blue-noise", structure;
   double spacing = 6.0, margin = -1.0;
   std::uint64_t seed = 1;
   int pngCompression = app::kDefaultPngCompression;
@@ -77,6 +78,11 @@ void runSample(const SampleArgs& a) {
   o.margin = a.margin;
   o.seed = a.seed;
   o.kind = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
+  if (!a.structure.empty()) {
+    const app::Structure st = app::loadStructure(a.structure);
+    app::checkStructure(st, cage, a.spacing, a.structure);
+    o.lines = st.lines;
+  }
   if (stderrIsTerminal())
     o.progress = [](double f) {
       std::fprintf(stderr, "\rrelaxing samples %3.0f%%", 100.0 * f);
@@ -88,7 +94,7 @@ void runSample(const SampleArgs& a) {
   }
   sampling::SamplingReport rep;
   const SampleSet S = app::asUserInput("sample", [&] { return sampling::sample(cage, o, &rep); });
-  const Index fixed = rep.controls + rep.edge + rep.frame;
+  const Index fixed = rep.controls + rep.edge + rep.line + rep.frame;
   const sampling::PointSetMetrics q = sampling::pointSetMetrics(S.X, a.spacing, sampling::samplingDomain(o), fixed);
   const double sigma = sampling::suggestSigma(S);
   const nlohmann::json extra = {
@@ -96,7 +102,7 @@ void runSample(const SampleArgs& a) {
       {"sigma", sigma},
       {"image_size", {w, h}},
       {"counts",
-       {{"control", rep.controls}, {"edge", rep.edge}, {"frame", rep.frame}, {"interior", rep.interior}, {"exterior", rep.exterior}}},
+       {{"control", rep.controls}, {"edge", rep.edge}, {"line", rep.line}, {"frame", rep.frame}, {"interior", rep.interior}, {"exterior", rep.exterior}}},
       {"metrics", {{"separation", q.separation}, {"fill", q.fill}, {"nn_mean", q.nnMean}, {"nn_cv", q.nnCv}}},
       {"iterations", rep.iterations}};
   outputs.set(a.output, app::samplesText(S, extra.dump()));
@@ -124,6 +130,7 @@ void addSampleCommand(CLI::App& app) {
   sub->add_option("--sampler", a->sampler, "blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
   sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
+  sub->add_option("--structure", a->structure, "Structure file (JSON): lines sampled and kept fixed (docs/ARCHITECTURE.md)");
   sub->add_option("-o,--output", a->output, "Samples file to write (JSON)")->required();
   sub->add_option("--png", a->png, "Also draw the samples, coloured by kind, into this PNG");
   addPngCompressionOption(sub, a->pngCompression);

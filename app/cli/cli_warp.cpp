@@ -120,6 +120,7 @@ void runWarp(const WarpArgs& a) {
   if (a.overlay) {
     app::drawCage(out, s.cage, app::OverlayStyle{}.restCage);
     app::drawDeformedCage(out, s.cage, posedControls(s.cage.C, pose));
+    app::drawDeformedLines(out, s, pose);
   }
   outputs.set(a.output, app::encodeImage(out, app::imageExtension(a.output), a.pngCompression));
   outputs.commit();
@@ -164,7 +165,7 @@ void addWarpCommand(CLI::App& app) {
   sub->add_option("--heatmap", a->heatmap, "Control point whose weights to draw")->check(CLI::NonNegativeNumber);
   sub->add_option("--out,--heatmap-out", a->heatmapOut, "Heatmap PNG to write (with --heatmap)");
   sub->add_option("--scale", a->scale, "Heatmap colour scale: linear | log")->capture_default_str();
-  sub->add_flag("--overlay", a->overlay, "Draw the rest cage (white) and the deformed cage (orange) on the output");
+  sub->add_flag("--overlay", a->overlay, "Draw the rest cage (white), the deformed cage (orange) and the deformed structure lines (magenta) on the output");
   sub->add_option("--outside", a->outside, std::string(kOutsideHelp) + ". Default: the session's choice, else pinned");
   sub->add_flag("--supersample", a->supersample, "2x2 supersampling");
   sub->add_option("--mesh-spacing", a->meshSpacing, "Warp mesh spacing in pixels")->capture_default_str();

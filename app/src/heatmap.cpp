@@ -187,6 +187,22 @@ void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const Ove
   drawPolygon(image, cage, P, style.deformedCage, style);
 }
 
+void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style) {
+  image.validate();
+  if (session.structure.empty() || !session.hasField()) return;
+  cv::Mat m = wrap(image);
+  constexpr Index kPoints = 65;
+  for (const StructureLine& l : session.structure.lines) {
+    Points P(kPoints, 2);
+    for (Index k = 0; k < kPoints; ++k) {
+      const double t = double(k) / double(kPoints - 1);
+      P.row(k) = ((1.0 - t) * l.a + t * l.b).transpose();
+    }
+    const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
+    cv::polylines(m, polygonPoints(Q), false, scalar(style.line), style.thickness + 1, cv::LINE_AA, kShift);
+  }
+}
+
 void drawSamples(Image& image, const SampleSet& samples, const OverlayStyle& style) {
   image.validate();
   cv::Mat m = wrap(image);

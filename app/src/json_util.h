@@ -7,6 +7,7 @@
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
 #include "kc/core/types.h"
+#include "kc/app/structure.h"
 
 namespace kc::app::detail {
 
@@ -36,5 +37,13 @@ json cageToJson(const Cage& cage);
 /// {"positions": ...} or {"handles": ...} with exactly C.rows() entries.
 Pose parsePose(const json& obj, const Points& C, const std::string& where, const std::string& field);
 json poseToJson(const Pose& pose);
+
+/// A structure file's or session's "lines" array → lines and parallel-group names (entries
+/// named field[k]); null gives none.
+Structure parseStructureLines(const json& arr, const std::string& where, const std::string& field);
+/// InputError when j has a non-empty "rigid" array: rigid regions are not supported yet.
+void refuseRigid(const json& j, const std::string& where);
+/// {"points": [[x0, y0], [x1, y1]], "parallel"?: name} of line k.
+json lineToJson(const Structure& structure, std::size_t k);
 
 }  // namespace kc::app::detail

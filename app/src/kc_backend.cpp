@@ -49,7 +49,7 @@ class KcBackend final : public Backend {
 
   BackendCapabilities capabilities() const override {
     BackendCapabilities c;
-    c.targets = c.methods = c.painting = c.outsideCage = true;
+    c.targets = c.methods = c.painting = c.outsideCage = c.lines = true;
     return c;
   }
 
@@ -60,6 +60,7 @@ class KcBackend final : public Backend {
     step("sampling", 0.0);
     sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
     so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
+    so.lines = s.structure.lines;
     s.samples = sampling::sample(s.cage, so, &r.sampling);
 
     step("kernel", kStageStart[1]);
@@ -105,6 +106,7 @@ class KcBackend final : public Backend {
     step("interpolation", kStageStart[4]);
     const auto ts = std::chrono::steady_clock::now();
     field->update(s.W);
+    r.lines = applyLines(s, *field);
     r.solveSeconds = secondsSince(ts);
     s.field = std::move(field);
     s.reports = {r.sampling, r.init, r.optimize, {}, 0};
@@ -142,7 +144,13 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < subset.size() && !changed; ++k) changed = s.W(subset[k], c) != before(static_cast<Index>(k), c);
       if (changed) columns.push_back(c);
     }
-    if (s.field) {
+    if (!s.structure.empty()) {  // the lines' rows follow their base points again, everywhere
+      auto* kernel = dynamic_cast<KernelField*>(s.field.get());
+      if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines straight");
+      applyLines(s, *kernel);
+      columns.resize(std::size_t(m));
+      std::iota(columns.begin(), columns.end(), Index(0));
+    } else if (s.field) {
       if (whole)
         s.field->update(s.W);
       else if (!columns.empty())

@@ -155,6 +155,11 @@ void checkBindCost(const BindCost& c, const BindParams& params) {
 
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report,
              const BindProgress& progress) {
+  return app::bind(cage, Structure{}, width, height, params, report, progress);
+}
+
+Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params,
+             BindReport* report, const BindProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   // What the user gave (cage, parameters, image size): a lower layer's rejection is bad input.
   const Backend& backend = asUserInput("bind", [&]() -> const Backend& {
@@ -164,6 +169,9 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
       checkBindCost(estimateBindCost(cage, width, height, params), params);
     checkCageScale(cage, params.spacing);
+    if (!structure.empty() && !b.capabilities().lines)
+      throw std::invalid_argument("lines are supported by the kernel backend (--backend kc), not by '" + std::string(b.name()) + "'");
+    validateLines(cage, structure.lines, params.spacing);
     return b;
   });
   BindReport local;
@@ -171,6 +179,7 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
 
   Session s;
   s.cage = cage;
+  s.structure = structure;
   s.params = params;
   s.imageWidth = width;
   s.imageHeight = height;

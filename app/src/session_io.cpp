@@ -56,11 +56,23 @@ std::string samplesText(const SampleSet& samples, const std::string& extraJsonOb
   json j = {{"version", 1}};
   j.update(detail::parseJson(extraJsonObject, "saveSamples"));
   j["samples"] = samplesToJson(samples);
+  if (!samples.lines.empty()) j["samples"]["lines"] = samples.lines;  // each structure line's samples, a → b
   return j.dump() + "\n";
 }
 
 void saveSamples(const std::string& path, const SampleSet& samples, const std::string& extraJsonObject) {
   writeFileAtomic(path, samplesText(samples, extraJsonObject));
+}
+
+/// The session's lines: the structure file's entries plus "samples" (their sample indices).
+static json linesToJson(const Session& s) {
+  json arr = json::array();
+  for (std::size_t k = 0; k < s.structure.lines.size(); ++k) {
+    json e = detail::lineToJson(s.structure, k);
+    if (k < s.samples.lines.size()) e["samples"] = s.samples.lines[k];
+    arr.push_back(e);
+  }
+  return arr;
 }
 
 std::string sessionToJson(const Session& s, WeightsForm form) {
@@ -85,7 +97,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
             {"params", params},
             {"samples", samplesToJson(s.samples)},
             {"weights", json::object()},
-            {"lines", json::array()},
+            {"lines", linesToJson(s)},
             {"rigid", json::array()},
             {"image", s.image}};
   putWeights(j["weights"], "optimized", s.W, form);
@@ -188,6 +200,19 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
       s.samples.edge(i, 1) = static_cast<int>(detail::integerInRange(r[1], -1, m - 1, where, f + "[1]"));
     }
   }
+  if (j.contains("lines")) {
+    s.structure = detail::parseStructureLines(j["lines"], where, "lines");
+    for (std::size_t k = 0; k < s.structure.lines.size(); ++k) {
+      const std::string f = "lines[" + std::to_string(k) + "].samples";
+      const json& idx = detail::require(j["lines"][k], "samples", where);
+      if (!idx.is_array() || idx.size() < 2) throw InputError(where, f + " must list the line's sample indices (at least two)");
+      std::vector<Index> v;
+      for (std::size_t q = 0; q < idx.size(); ++q)
+        v.push_back(static_cast<Index>(detail::integerInRange(idx[q], 0, n - 1, where, f + "[" + std::to_string(q) + "]")));
+      s.samples.lines.push_back(std::move(v));
+    }
+  }
+  detail::refuseRigid(j, where);
   try {
     s.samples.validate(m);
   } catch (const std::invalid_argument& e) {

@@ -25,6 +25,13 @@ void SampleSet::validate(Index m) const {
         throw std::invalid_argument("samples: edge sample " + std::to_string(i) + " names no valid cage edge");
     }
   }
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    if (lines[l].size() < 2) throw std::invalid_argument("samples: line " + std::to_string(l) + " has fewer than two samples");
+    for (Index i : lines[l])
+      if (i < m || i >= n || kind[static_cast<std::size_t>(i)] != SampleKind::Line)
+        throw std::invalid_argument("samples: line " + std::to_string(l) + " names sample " + std::to_string(i) +
+                                    ", which is not a line sample");
+  }
 }
 
 }  // namespace kc

@@ -46,11 +46,11 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea) {
 }
 
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
-                     Index& interiorCount) {
+                     Index& interiorCount, const Cage* obstacles) {
   std::mt19937_64 rng(seed);
   const double c = h * std::sqrt(cellArea);
   const auto candidates = jitteredCells(domain, c, rng);
-  const CageEdgeGrid locator(cage, h);
+  const CageEdgeGrid locator(obstacles ? *obstacles : cage, h);
   const double minDistance = 0.5 * h;
   std::vector<Vec2> inside, outside;
   for (const Vec2& p : candidates) {
@@ -64,16 +64,18 @@ Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cell
 }
 
 BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, std::uint64_t seed,
-                                const BlueNoiseOptions& options) {
+                                const BlueNoiseOptions& options, std::span<const StructureLine> lines) {
   BlueNoiseResult result;
   SampleSet& S = result.samples;
   S = boundarySamples(cage, h);
+  appendLineSamples(S, lines, h);
+  const Cage obstacles = obstacleEdges(cage, lines);
   const Points frame = dropNearCage(cage, framePoints(domain, h), 0.5 * h);
   appendSamples(S, frame, SampleKind::Exterior);
   result.frameCount = frame.rows();
   const Index firstFree = S.size();
 
-  const Points start = jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount);
+  const Points start = jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount, &obstacles);
   result.exteriorCount = start.rows() - result.interiorCount;
   appendSamples(S, start.topRows(result.interiorCount), SampleKind::Interior);
   appendSamples(S, start.bottomRows(result.exteriorCount), SampleKind::Exterior);
@@ -81,7 +83,7 @@ BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, 
   InverseMeanShiftOptions relax = options.relax;
   relax.spacing = h;
   RelaxRegion region;
-  region.cage = &cage;
+  region.cage = &obstacles;
   region.domain = domain;
   result.relax = relaxInverseMeanShift(S.X, firstFree, region, relax);
   return result;

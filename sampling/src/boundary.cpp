@@ -68,6 +68,31 @@ void appendSamples(SampleSet& S, const Points& P, SampleKind kind) {
   S.kind.insert(S.kind.end(), static_cast<std::size_t>(n), kind);
 }
 
+void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, double h) {
+  for (const StructureLine& l : lines) {
+    const Index first = S.X.rows();
+    appendSamples(S, lineSamplePoints(l, h), SampleKind::Line);
+    std::vector<Index> idx(static_cast<std::size_t>(S.X.rows() - first));
+    for (std::size_t k = 0; k < idx.size(); ++k) idx[k] = first + static_cast<Index>(k);
+    S.lines.push_back(std::move(idx));
+  }
+}
+
+Cage obstacleEdges(const Cage& cage, std::span<const StructureLine> lines) {
+  Cage o;
+  o.closed = cage.closed;
+  o.edges = cageEdges(cage);
+  const Index m = cage.size(), n = static_cast<Index>(lines.size());
+  o.C.resize(m + 2 * n, 2);
+  o.C.topRows(m) = cage.C;
+  for (Index k = 0; k < n; ++k) {
+    o.C.row(m + 2 * k) = lines[static_cast<std::size_t>(k)].a.transpose();
+    o.C.row(m + 2 * k + 1) = lines[static_cast<std::size_t>(k)].b.transpose();
+    o.edges.push_back({static_cast<int>(m + 2 * k), static_cast<int>(m + 2 * k + 1)});
+  }
+  return o;
+}
+
 Points dropNearCage(const Cage& cage, const Points& P, double minDistance) {
   const CageEdgeGrid locator(cage, std::max(minDistance, 1e-9));
   std::vector<Index> keep;

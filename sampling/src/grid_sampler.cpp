@@ -19,10 +19,11 @@ double gridPointCount(const Rect& domain, double h) {
   return std::max(0.0, g.i1 - g.i0 + 1.0) * std::max(0.0, g.j1 - g.j0 + 1.0);
 }
 
-SampleSet gridSample(const Cage& cage, const Rect& domain, double h) {
+SampleSet gridSample(const Cage& cage, const Rect& domain, double h, std::span<const StructureLine> lines) {
   SampleSet S = boundarySamples(cage, h);
+  appendLineSamples(S, lines, h);
   const GridRange g = gridRange(domain, h);
-  const CageEdgeGrid locator(cage, h);
+  const CageEdgeGrid locator(obstacleEdges(cage, lines), h);
   const double minDistance = 0.5 * h;
   std::vector<Vec2> inside, outside;
   for (double j = g.j0; j <= g.j1; j += 1.0) {

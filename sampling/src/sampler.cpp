@@ -25,6 +25,7 @@ void validate(const Cage& cage, const SamplingOptions& o) {
     throw std::invalid_argument("sampling: image size must be positive (got " + num(o.width) + " x " + num(o.height) + ")");
   if (!std::isfinite(o.margin)) throw std::invalid_argument("sampling: margin must be finite");
   validateCage(cage);
+  validateLines(cage, o.lines, h);
   const double extent = std::max(cage.C.col(0).maxCoeff() - cage.C.col(0).minCoeff(), cage.C.col(1).maxCoeff() - cage.C.col(1).minCoeff());
   if (h > extent)
     throw std::invalid_argument("sampling: spacing " + num(h) + " is larger than the cage (" + num(extent) +
@@ -52,6 +53,12 @@ double perimeterSamples(const Cage& cage, double h) {
   return n;
 }
 
+double lineSampleCount(const std::vector<StructureLine>& lines, double h) {
+  double n = 0.0;
+  for (const StructureLine& l : lines) n += static_cast<double>(lineSamplePoints(l, h).rows());
+  return n;
+}
+
 }  // namespace
 
 double resolvedMargin(const SamplingOptions& options) {
@@ -68,7 +75,7 @@ double estimateSampleCount(const Cage& cage, const SamplingOptions& options) {
   const Rect domain = samplingDomain(options);
   return (options.kind == SamplerKind::Grid ? gridPointCount(domain, h)
                                             : blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea)) +
-         perimeterSamples(cage, h);
+         perimeterSamples(cage, h) + lineSampleCount(options.lines, h);
 }
 
 SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingReport* report) {
@@ -80,14 +87,14 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
   SampleSet S;
   if (options.kind == SamplerKind::Grid) {
     checkCount(estimateSampleCount(cage, options), h);
-    S = gridSample(cage, domain, h);
+    S = gridSample(cage, domain, h, options.lines);
   } else {
     if (!(options.blueNoise.cellArea > 0.0) || !std::isfinite(options.blueNoise.cellArea))
       throw std::invalid_argument("sampling: blue-noise cell area must be positive");
     checkCount(estimateSampleCount(cage, options), h);
     BlueNoiseOptions bo = options.blueNoise;
     if (options.progress) bo.relax.progress = options.progress;
-    BlueNoiseResult b = blueNoiseSample(cage, domain, h, options.seed, bo);
+    BlueNoiseResult b = blueNoiseSample(cage, domain, h, options.seed, bo, options.lines);
     S = std::move(b.samples);
     r.frame = b.frameCount;
     r.iterations = b.relax.iterations;
@@ -101,7 +108,7 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
       case SampleKind::Edge: ++r.edge; break;
       case SampleKind::Interior: ++r.interior; break;
       case SampleKind::Exterior: ++r.exterior; break;
-      case SampleKind::Line: break;
+      case SampleKind::Line: ++r.line; break;
     }
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "kc/app/session.h"
+#include "kc/core/structure/linear_along.h"
 
 namespace kc::app {
 
@@ -21,7 +22,8 @@ struct BindReport {
   InterpolatorReport factor;
   InitReport init;
   OptimizeReport optimize;
-  double solveSeconds = 0.0;   ///< Coefficients of the field from W.
+  double solveSeconds = 0.0;   ///< Coefficients of the field from W (and the lines' post-processing).
+  LinearityReport lines;       ///< Structure lines (thesis 5.3.3); empty without lines.
   double totalSeconds = 0.0;
 };
 
@@ -40,6 +42,7 @@ struct BackendCapabilities {
   bool methods = false;      ///< The per-sample optimization method can be switched after a bind.
   bool painting = false;     ///< The brush paints targets and re-optimizes the painted samples.
   bool outsideCage = false;  ///< The field has weights outside the cage (`--outside deform`).
+  bool lines = false;        ///< Structure lines are kept straight and parallel (`--structure`, thesis 5.3).
   std::string why;           ///< Why the missing capabilities are missing (tooltip text).
 };
 

@@ -62,6 +62,7 @@ Image colorizeField(const RowMatrix& V, const HeatmapOptions& options, const std
 struct OverlayStyle {
   Rgba restCage{70, 70, 90, 255};
   Rgba deformedCage{255, 140, 0, 255};
+  Rgba line{230, 0, 230, 255};  ///< Structure lines (deformed), magenta like line samples.
   int thickness = 1;
   int pointRadius = 3;       ///< Control points (0 = none).
   int sampleRadius = 1;
@@ -76,6 +77,9 @@ Rgba sampleColor(SampleKind kind);
 void drawCage(Image& image, const Cage& cage, Rgba color, const OverlayStyle& style = {}, Index highlight = -1);
 /// Draws the cage with its control points moved to P (m×2, e.g. posedControls).
 void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const OverlayStyle& style = {});
+/// Draws the session's structure lines as the pose deforms them: each line through 65 points
+/// along it moved by the field (deformPoints), so a bent line shows bent.
+void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style = {});
 /// Draws sample points coloured by kind.
 void drawSamples(Image& image, const SampleSet& samples, const OverlayStyle& style = {});
 

@@ -67,6 +67,10 @@ double automaticSigma(double spacing);
 /// kernel matrix that cannot be factorized with these σ and spacing, with the report's advice).
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report = nullptr,
              const BindProgress& progress = {});
+/// The same with structure lines kept straight and parallel (thesis 5.3): InputError when the
+/// lines do not fit the cage (checkStructure) or the backend has no `lines` capability.
+Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params,
+             BindReport* report = nullptr, const BindProgress& progress = {});
 
 /// Re-optimizes rows `subset` of session.W (all when empty) from session.W0 with `method`, then
 /// updates the coordinate field's columns that changed (all of them when the subset is empty).

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kc/app/structure.h"
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
 #include "kc/core/field/field.h"
@@ -78,6 +79,8 @@ struct Session {
   double sigma = 0.0;          ///< σ actually used (kc).
   int imageWidth = 0, imageHeight = 0;
   SampleSet samples;
+  /// Lines kept straight / parallel (thesis 5.3); their samples are samples.lines[k].
+  Structure structure;
   Weights W0;                  ///< Initial (target) weights, #S×m; empty when the backend has no targets.
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).

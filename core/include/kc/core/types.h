@@ -46,6 +46,9 @@ struct SampleSet {
   std::vector<SampleKind> kind;   ///< #S kinds.
   /// #S×2: for Edge samples the control indices (k, l) of the edge's ends; (-1, -1) otherwise.
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
+  /// Structure lines (thesis 5.3): the indices of each line's samples (kind Line), from its
+  /// start a to its end b; empty when the sampling has no lines.
+  std::vector<std::vector<Index>> lines;
 
   Index size() const { return X.rows(); }
   /// Throws std::invalid_argument when shapes disagree, kinds/edges are inconsistent or X is not finite.

@@ -26,8 +26,10 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea);
 /// cellArea · h² over `domain` (so the count follows h and the region's area), dropping those
 /// closer than h/2 to the cage or to the domain's boundary. Rows are interior points first, then
 /// exterior ones; `interiorCount` receives their split. Deterministic in `seed`.
+/// `obstacles` (obstacleEdges: the cage and the structure lines), when given, is what the h/2
+/// distance is measured to instead of the cage.
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
-                     Index& interiorCount);
+                     Index& interiorCount, const Cage* obstacles = nullptr);
 
 struct BlueNoiseResult {
   SampleSet samples;               ///< controls, edges, frame (Exterior), interior, exterior
@@ -41,8 +43,11 @@ struct BlueNoiseResult {
 /// inverse mean shift with the fixed ones held in place. Free samples keep their region: interior
 /// samples stay inside the cage, exterior ones outside it and inside the domain.
 /// No input checks: `sample` validates.
+/// Structure `lines` (validated by the caller) get fixed samples too (appendLineSamples, stored
+/// right after the edge samples, before the frame) and free samples keep their distance from
+/// them as from the cage (thesis 5.3.3: samples on edges and lines are kept fixed).
 BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, std::uint64_t seed,
-                                const BlueNoiseOptions& options = {});
+                                const BlueNoiseOptions& options = {}, std::span<const StructureLine> lines = {});
 
 /// `count` blue-noise points in `rect` (no cage): jittered start, then inverse mean shift on the
 /// torus (periodic boundary, like Balzer et al.'s point sets used in thesis 3.3.2), spacing

@@ -5,7 +5,10 @@
 #include <array>
 #include <vector>
 
+#include <span>
+
 #include "kc/core/cage.h"
+#include "kc/core/structure/lines.h"
 #include "kc/core/types.h"
 
 namespace kc::sampling {
@@ -38,6 +41,13 @@ Points framePoints(const Rect& domain, double h);
 /// Appends the rows of P to S with kind `kind` and edge (−1, −1).
 void appendSamples(SampleSet& S, const Points& P, SampleKind kind);
 
+/// Appends the samples of every structure line (kind Line, lineSamplePoints at spacing h, ends
+/// included) and records their indices in S.lines (thesis 5.3.3).
+void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, double h);
+/// What free samples keep their distance from: the cage's edges and the structure lines, as one
+/// edge list (a Cage whose points are the cage's then the lines' ends; for distance queries only,
+/// not for inside tests).
+Cage obstacleEdges(const Cage& cage, std::span<const StructureLine> lines);
 /// Keeps the rows of P whose distance to the cage is at least `minDistance`.
 Points dropNearCage(const Cage& cage, const Points& P, double minDistance);
 

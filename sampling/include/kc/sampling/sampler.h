@@ -43,10 +43,13 @@ struct SamplingOptions {
   /// Blue noise: density and inverse mean shift parameters (λ, s, stopping rule); defaults
   /// derive from h. relax.spacing and relax.progress are taken from the fields above.
   BlueNoiseOptions blueNoise;
+  /// Structure lines (thesis 5.3.3): sampled at spacing ≈ h and kept fixed; free samples keep
+  /// their distance from them. Checked with validateLines.
+  std::vector<StructureLine> lines;
 };
 
 struct SamplingReport {
-  Index controls = 0, edge = 0, interior = 0, exterior = 0, frame = 0;
+  Index controls = 0, edge = 0, line = 0, interior = 0, exterior = 0, frame = 0;
   int iterations = 0;        ///< Relaxation iterations (blue noise).
   double seconds = 0.0;
   bool converged = true;     ///< Blue noise: largest move fell below the tolerance.

@@ -1,0 +1,72 @@
+#include <algorithm>
+
+#include "json_util.h"
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+#include "kc/app/limits.h"
+#include "kc/app/structure.h"
+
+namespace kc::app {
+namespace detail {
+
+Structure parseStructureLines(const json& arr, const std::string& where, const std::string& field) {
+  Structure st;
+  if (arr.is_null()) return st;
+  if (!arr.is_array()) throw InputError(where, field + " must be an array of {\"points\": [[x0, y0], [x1, y1]]} entries");
+  if (arr.size() > static_cast<std::size_t>(kMaxCagePoints))
+    throw InputError(where, field + " has " + std::to_string(arr.size()) + " lines, more than kcwarp's limit of " +
+                                std::to_string(kMaxCagePoints));
+  for (std::size_t k = 0; k < arr.size(); ++k) {
+    const std::string f = field + "[" + std::to_string(k) + "]";
+    const json& e = arr[k];
+    if (!e.is_object()) throw InputError(where, f + " must be an object {\"points\": [[x0, y0], [x1, y1]]}");
+    const json& pts = require(e, "points", where);
+    if (!pts.is_array() || pts.size() != 2) throw InputError(where, f + ".points must be two points [[x0, y0], [x1, y1]]");
+    const Points P = parsePoints(pts, where, f + ".points");
+    StructureLine l;
+    l.a = P.row(0).transpose();
+    l.b = P.row(1).transpose();
+    if (e.contains("parallel") && !e["parallel"].is_null()) {
+      if (!e["parallel"].is_string() || e["parallel"].get<std::string>().empty())
+        throw InputError(where, f + ".parallel must be a group name (a non-empty string)");
+      const std::string name = e["parallel"].get<std::string>();
+      auto it = std::find(st.groups.begin(), st.groups.end(), name);
+      l.group = static_cast<int>(it - st.groups.begin());
+      if (it == st.groups.end()) st.groups.push_back(name);
+    }
+    st.lines.push_back(l);
+  }
+  return st;
+}
+
+void refuseRigid(const json& j, const std::string& where) {
+  if (!j.contains("rigid") || j["rigid"].is_null()) return;
+  if (!j["rigid"].is_array()) throw InputError(where, "rigid must be an array");
+  if (!j["rigid"].empty())
+    throw InputError(where, "rigid[0]: rigid regions are not supported yet by this kcwarp (remove the 'rigid' entries; lines work)");
+}
+
+json lineToJson(const Structure& st, std::size_t k) {
+  const StructureLine& l = st.lines[k];
+  json e = {{"points", {{l.a.x(), l.a.y()}, {l.b.x(), l.b.y()}}}};
+  if (l.group >= 0) e["parallel"] = st.groups[static_cast<std::size_t>(l.group)];
+  return e;
+}
+
+}  // namespace detail
+
+Structure structureFromJson(const std::string& text, const std::string& where) {
+  const detail::json j = detail::parseJson(text, where);
+  detail::checkVersion(j, where);
+  Structure st = j.contains("lines") ? detail::parseStructureLines(j["lines"], where, "lines") : Structure{};
+  detail::refuseRigid(j, where);
+  return st;
+}
+
+Structure loadStructure(const std::string& path) { return structureFromJson(readTextFile(path), path); }
+
+void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where) {
+  asUserInput(where, [&] { validateLines(cage, structure.lines, h); });
+}
+
+}  // namespace kc::app

@@ -1,0 +1,182 @@
+// Structure lines in the kernel backend (thesis 5.3): straightness, parallelism, partition of
+// unity and reproduction along random lines in the bundled star; sessions keep the lines.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "cli_run.h"
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+#include "kc/app/line_metrics.h"
+#include "kc/app/pipeline.h"
+#include "kc/app/structure.h"
+#include "kc/core/structure/lines.h"
+
+namespace kc::app {
+namespace {
+
+Cage starCage() { return loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json"); }
+
+/// n points from a to b, ends included.
+Points along(const StructureLine& l, Index n) {
+  Points P(n, 2);
+  for (Index k = 0; k < n; ++k) {
+    const double t = double(k) / double(n - 1);
+    P.row(k) = ((1.0 - t) * l.a + t * l.b).transpose();
+  }
+  return P;
+}
+
+LineFigures measure(const Session& s, const std::vector<StructureLine>& lines, int trials) {
+  return measureLines(s, lines, trials);
+}
+
+TEST(StructureLines, RandomLinesStayStraightAndParallelUnderTranslations) {
+  const Cage cage = starCage();
+  BindParams p;
+  Structure st;
+  st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 11, /*parallelPair=*/true);
+  st.groups = {"pair"};
+  const Session plain = bind(cage, 320, 320, p);
+  const Session lined = bind(cage, st, 320, 320, p);
+  ASSERT_EQ(lined.samples.lines.size(), 3u);
+
+  const LineFigures before = measure(plain, st.lines, 20);
+  const LineFigures after = measure(lined, st.lines, 20);
+  // The measure can fail: without the structure the same lines bend by pixels.
+  EXPECT_GT(before.deviation, 1.0);
+  EXPECT_LE(after.deviation, 0.1) << "bent by " << after.deviation << " px (without lines: " << before.deviation << ")";
+  EXPECT_LE(after.angle, 0.05) << "parallel pair at " << after.angle << " degrees (without: " << before.angle << ")";
+  EXPECT_LE(after.unity, 1e-9);
+  EXPECT_LE(after.reproduction, 1e-9);
+  std::printf("lines: deviation %.3g px (without %.3g), parallel angle %.3g deg (without %.3g), unity %.2g, reproduction %.2g\n",
+              after.deviation, before.deviation, after.angle, before.angle, after.unity, after.reproduction);
+
+  // Partition of unity and reproduction everywhere inside the cage, not only on the lines.
+  Points G(0, 2);
+  for (double y = 20; y < 300; y += 7)
+    for (double x = 20; x < 300; x += 7)
+      if (insideCage(cage, Vec2(x, y))) {
+        G.conservativeResize(G.rows() + 1, 2);
+        G.row(G.rows() - 1) << x, y;
+      }
+  const Weights WG = lined.field->weightsAt(G);
+  EXPECT_LE((WG.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
+  EXPECT_LE((WG * cage.C - G).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(StructureLines, SessionKeepsTheLinesAndTheirWeights) {
+  const auto dir = test::scratchDir("lines_session");
+  const Cage cage = starCage();
+  BindParams p;
+  Structure st;
+  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5, true);
+  st.groups = {"g"};
+  const Session s = bind(cage, st, 320, 320, p);
+  const std::string path = (dir / "lines.kcw.json").string();
+  saveSession(path, s);
+  const Session t = loadSession(path);
+  ASSERT_EQ(t.structure.lines.size(), 2u);
+  EXPECT_EQ(t.structure.groups, st.groups);
+  EXPECT_EQ(t.samples.lines, s.samples.lines);
+  EXPECT_EQ(t.structure.lines[1].group, 0);
+  const Points P = along(st.lines[0], 50);
+  EXPECT_LE((t.field->weightsAt(P) - s.field->weightsAt(P)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LE(measure(t, st.lines, 5).deviation, 0.1);
+}
+
+TEST(StructureLines, ParallelCouplingKeepsUnityAndReproductionOnRandomProblems) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 100.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Index m = 5 + trial % 4;
+    Points C(m, 2);
+    for (Index i = 0; i < m; ++i) C.row(i) << u(rng), u(rng);
+    Eigen::MatrixXd M(m, 3);
+    M.col(0).setOnes();
+    M.rightCols(2) = C;
+    const Eigen::MatrixXd pinv = M * (M.transpose() * M).inverse();
+    // Two nearly parallel lines (the second turned by up to 3 degrees, either orientation).
+    const double angle = u(rng), turn = (u(rng) / 100.0 - 0.5) * 6.0 * std::numbers::pi / 180.0;
+    StructureLine l1{Vec2(20, 30), Vec2(20, 30) + 40.0 * Vec2(std::cos(angle), std::sin(angle)), 0};
+    const Vec2 d2 = (trial % 2 ? -30.0 : 30.0) * Vec2(std::cos(angle + turn), std::sin(angle + turn));
+    StructureLine l2{Vec2(60, 50), Vec2(60, 50) + d2, 0};
+    const std::vector<StructureLine> lines{l1, l2};
+    Weights W(4, m);
+    const Vec2 pts[4] = {l1.a, l1.b, l2.a, l2.b};
+    for (int k = 0; k < 4; ++k) {  // weights with unity and reproduction plus a random null-space part
+      Eigen::VectorXd w = pinv * Eigen::Vector3d(1.0, pts[k].x(), pts[k].y());
+      Eigen::VectorXd z = Eigen::VectorXd::Random(m);
+      z -= pinv * (M.transpose() * z);
+      W.row(k) = (w + 0.3 * z).transpose();
+    }
+    const std::vector<std::array<Index, 2>> ends{{0, 1}, {2, 3}};
+    coupleParallelLines(C, lines, ends, W);
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_NEAR(W.row(k).sum(), 1.0, 1e-12);
+      EXPECT_LE((W.row(k) * C - pts[k].transpose()).cwiseAbs().maxCoeff(), 1e-10);
+    }
+    if (turn == 0.0 || std::abs(turn) < 1e-15) continue;
+    // Variation vectors agree up to sign except for the part that carries the lines' angle.
+    const Eigen::RowVectorXd d1 = (W.row(1) - W.row(0)) / l1.length(), d2w = (W.row(3) - W.row(2)) / l2.length();
+    const double s = (l1.b - l1.a).dot(l2.b - l2.a) < 0 ? -1.0 : 1.0;
+    EXPECT_LE((d2w - s * d1).norm(), 2.0 * std::abs(turn) * (pinv.norm() + 1.0)) << "trial " << trial;
+  }
+}
+
+TEST(StructureLines, ExactlyParallelLinesGetEqualVariationVectors) {
+  Points C(4, 2);
+  C << 0, 0, 100, 0, 100, 100, 0, 100;
+  const std::vector<StructureLine> lines{{Vec2(20, 30), Vec2(80, 30), 0}, {Vec2(70, 60), Vec2(30, 60), 0}};
+  Weights W(4, 4);
+  W << 0.5, 0.2, 0.1, 0.2,  0.1, 0.6, 0.2, 0.1,  0.2, 0.3, 0.3, 0.2,  0.3, 0.1, 0.2, 0.4;
+  // Make each row reproduce its point exactly first (the projection onto the affine constraints).
+  Eigen::MatrixXd M(4, 3);
+  M.col(0).setOnes();
+  M.rightCols(2) = C;
+  const Eigen::MatrixXd pinv = M * (M.transpose() * M).inverse();
+  const Vec2 pts[4] = {lines[0].a, lines[0].b, lines[1].a, lines[1].b};
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::VectorXd w = W.row(k).transpose();
+    W.row(k) = (w - pinv * (M.transpose() * w - Eigen::Vector3d(1.0, pts[k].x(), pts[k].y()))).transpose();
+  }
+  const std::vector<std::array<Index, 2>> ends{{0, 1}, {2, 3}};
+  coupleParallelLines(C, lines, ends, W);
+  const Eigen::RowVectorXd d1 = (W.row(1) - W.row(0)) / 60.0, d2 = (W.row(3) - W.row(2)) / 40.0;
+  EXPECT_LE((d2 + d1).cwiseAbs().maxCoeff(), 1e-14);  // opposite orientations: d2 = −d1 (5.11)
+}
+
+TEST(StructureLines, BadStructureFilesNameTheEntry) {
+  const Cage cage = starCage();
+  auto refused = [&](const std::string& text) -> std::string {
+    try {
+      checkStructure(structureFromJson(text, "s.json"), cage, 6.0, "s.json");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]], "parallel": "a"}]})").find("lines[0]: its parallel group"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [110, 160]]}]})").find("lines[0]: the line has zero length"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [115, 160]]}]})").find("shorter than"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[10, 160], [200, 160]]}]})").find("not inside the cage"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}, {"points": [[160, 120], [160, 200]]}]})")
+                .find("lines[1]: the line crosses lines[0]"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, "x"]]}]})").find("lines[0].points[1][1]"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [], "rigid": [{"polygon": [[1, 2], [3, 4], [5, 6]]}]})").find("not supported yet"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160]]}]})").find("lines[0].points must be two points"), std::string::npos);
+  EXPECT_EQ(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}], "rigid": []})"), "");
+  BindParams lbc;
+  lbc.backend = "lbc";
+  Structure st = structureFromJson(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}]})", "s.json");
+  EXPECT_THROW(bind(cage, st, 320, 320, lbc), InputError);
+}
+
+}  // namespace
+}  // namespace kc::app
