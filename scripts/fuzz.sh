@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, points CSV, image header)
+# Builds kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, structure, points CSV, image header)
 # with clang, AddressSanitizer and UndefinedBehaviorSanitizer against the main build in build/,
 # then runs each for SECONDS (default 40) from the committed seed corpus (tests/fuzz/corpus/;
 # new inputs go to a scratch folder), one target per core at a time. A finding fails the run with
@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-40}"
-all_targets="cage pose session points_csv image_header"
+all_targets="cage pose session structure points_csv image_header"
 targets="${2:-$all_targets}"
 jobs="${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
 if [ ! -f build/core/libkc_core.a ] || [ ! -f build/sampling/libkc_sampling.a ]; then

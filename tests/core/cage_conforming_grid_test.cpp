@@ -75,9 +75,11 @@ TEST(CageConformingGrid, FoldGuardLeavesTheInsideAndTheCageAlone) {
     EXPECT_EQ(om.cornerMax, 0.0);
     EXPECT_GE(om.minWeight, 0.0);
     EXPECT_LE(om.maxWeight, 1.0 + 1e-12);
-    for (Index v = 0; v < guarded.restVertices().rows(); ++v)
-      if (!E.exterior[std::size_t(v)])
+    for (Index v = 0; v < guarded.restVertices().rows(); ++v) {
+      if (!E.exterior[std::size_t(v)]) {
         ASSERT_EQ(Vec2(guarded.deformedVertices().row(v)), Vec2(plain.deformedVertices().row(v))) << "vertex " << v;
+      }
+    }
   }
   EXPECT_GT(held, 0) << "the poses should make the guard act, or the test shows nothing";
   std::printf("30 random poses: folded triangles with no point on the cage: %ld plain, %ld guarded\n", long(plainFolds),
