@@ -5,18 +5,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "kc/app/text.h"
+
 namespace kc::cli {
-namespace {
 
-std::string format(const char* fmt, auto... args) {
-  char text[512];
-  std::snprintf(text, sizeof text, fmt, args...);
-  return text;
-}
+using app::format;
+using app::shortNumber;
 
-}  // namespace
-
-std::string num(double v) { return format("%.3g", v); }
 
 std::string localityText(const app::Diagnostics& d, const char* indent) {
   const LocalityStats& l = d.locality;
@@ -37,7 +32,7 @@ std::string lbcSolverText(const app::Session& s, const char* indent) {
   const LbcReport& r = s.reports.lbc;
   return format("%sLBC solver: stops at residuals <= %s and a certified gap <= %s%%; objective %.6g (LBC eq. 14, picture "
                 "scaled to diameter 1) >= lower bound %.6g; penalty %s; largest change by the projection to w >= 0 %.2e\n",
-                indent, num(s.params.lbc.tolerance).c_str(), num(100.0 * LbcOptions{}.gapTolerance).c_str(), r.objective, r.lowerBound, num(r.penalty).c_str(), r.maxProjection);
+                indent, shortNumber(s.params.lbc.tolerance).c_str(), shortNumber(100.0 * LbcOptions{}.gapTolerance).c_str(), r.objective, r.lowerBound, shortNumber(r.penalty).c_str(), r.maxProjection);
 }
 
 }  // namespace kc::cli

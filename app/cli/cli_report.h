@@ -19,7 +19,4 @@ std::string localityText(const app::Diagnostics& d, const char* indent);
 /// penalty, the largest change made by the projection to w ≥ 0.
 std::string lbcSolverText(const app::Session& s, const char* indent);
 
-/// "%.3g" of v.
-std::string num(double v);
-
 }  // namespace kc::cli

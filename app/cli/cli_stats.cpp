@@ -7,6 +7,7 @@
 
 #include "cli_common.h"
 #include "cli_report.h"
+#include "kc/app/text.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
 
@@ -33,7 +34,7 @@ void printHeader(const app::Session& s, const std::string& path) {
                 static_cast<long>(s.cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(counts[1]),
                 static_cast<long>(counts[3]), s.imageWidth, s.imageHeight);
     std::printf("  backend lbc, spacing %.4g px, tau %s, tolerance %s, max iterations %d\n\n", s.params.spacing,
-                std::string(app::toString(s.params.lbc.tau)).c_str(), num(s.params.lbc.tolerance).c_str(),
+                std::string(app::toString(s.params.lbc.tau)).c_str(), app::shortNumber(s.params.lbc.tolerance).c_str(),
                 s.params.lbc.maxIterations);
     return;
   }

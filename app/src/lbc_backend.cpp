@@ -10,6 +10,7 @@
 #include <string>
 
 #include "backends.h"
+#include "kc/app/text.h"
 #include "kc/core/field/mesh_field.h"
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/lbc/lbc_solver.h"
@@ -27,11 +28,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-std::string num(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", v);
-  return text;
-}
 
 }  // namespace
 
@@ -43,8 +39,8 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   // About 1.2 vertices per h² of cage area (Delaunay refinement to edges ≤ h): refuse before meshing.
   const double estimate = 1.2 * std::abs(signedArea(cage.C)) / (params.spacing * params.spacing);
   if (estimate > double(kMaxLbcVertices))
-    throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have about " +
-                                num(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
+    throw std::invalid_argument("the LBC mesh of this cage at spacing " + shortNumber(params.spacing) + " px would have about " +
+                                shortNumber(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
                                 "; use a larger --spacing");
   step("mesh", 0.0);
   LbcBind b;
@@ -54,7 +50,7 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   mo.maxVertices = kMaxLbcVertices;
   b.mesh = meshCageInterior(cage, mo);
   if (b.mesh.status != CageMeshStatus::Ok)
-    throw std::invalid_argument("the LBC mesh of this cage at spacing " + num(params.spacing) + " px would have more than " +
+    throw std::invalid_argument("the LBC mesh of this cage at spacing " + shortNumber(params.spacing) + " px would have more than " +
                                 std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
   b.meshSeconds = secondsSince(t0);
 
@@ -80,7 +76,7 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
                                 "try another --spacing");
   if (rep.status == LbcStatus::NotConverged)
     throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
-                                num(rep.primalResidual) + ", " + num(rep.dualResidual) + ", tolerance " + num(lbc.tolerance) +
+                                shortNumber(rep.primalResidual) + ", " + shortNumber(rep.dualResidual) + ", tolerance " + shortNumber(lbc.tolerance) +
                                 "); raise the iteration cap (--lbc-max-iterations; the Bind panel's Max iterations) or the tolerance "
                                 "(--lbc-tolerance; LBC tolerance)");
   return b;

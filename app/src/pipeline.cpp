@@ -1,4 +1,5 @@
 #include "kc/app/pipeline.h"
+#include "kc/app/text.h"
 #include "kc/app/errors.h"
 #include "kc/core/kernel/gaussian_kernel.h"
 
@@ -31,13 +32,6 @@ bool edgesAtLeast(const Cage& cage, double length) {
   for (const auto& [a, b] : cageEdges(cage))
     if ((cage.C.row(a) - cage.C.row(b)).norm() < length) return false;
   return true;
-}
-
-/// %.3g of v.
-std::string shortNumber(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
 }
 
 /// The narrow place g of the cage in words: "cage points A and B are D px apart" or "cage edges
@@ -103,17 +97,13 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
   double h = std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
   // A narrow place of the cage keeps about kNarrowFeatureSpacings samples across it, over the
   // budget if need be, but not past the limits: h grows from there by 5% until the bind fits.
-  const CageGap g = edgesAtLeast(cage, kMinFeatureSpacings * params.spacing) ? narrowestGap(cage, kNarrowFeatureSpacings * h) : CageGap{};
-  if (g.distance > 0.0 && std::isfinite(g.distance)) {
-    double narrow = std::max(params.spacing, std::floor(g.distance / kNarrowFeatureSpacings * 100.0) / 100.0);
-    for (int step = 0; step < 100 && narrow < h; ++step, narrow *= 1.05) {
-      p.spacing = narrow;
-      try {
-        checkBindCost(estimateBindCost(cage, width, height, p), p);
-        return narrow;
-      } catch (const std::invalid_argument&) {
-      }
-    }
+  if (!edgesAtLeast(cage, kMinFeatureSpacings * params.spacing)) return h;  // bind() refuses it anyway
+  const CageGap g = narrowestGap(cage, kNarrowFeatureSpacings * h);
+  if (!std::isfinite(g.distance)) return h;
+  for (double narrow = std::max(params.spacing, std::floor(g.distance / kNarrowFeatureSpacings * 100.0) / 100.0); narrow < h;
+       narrow *= 1.05) {
+    p.spacing = narrow;
+    if (bindLimitFactor(estimateBindCost(cage, width, height, p)) <= 1.0) return narrow;
   }
   return h;
 }
@@ -128,28 +118,27 @@ std::string narrowFeatureWarning(const Cage& cage, double spacing) {
          " px or less resolves them)";
 }
 
-void checkBindCost(const BindCost& c, const BindParams& params) {
-  auto num = [](double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.3g", v);
-    return std::string(buf);
-  };
-  const std::string needs = "this bind would need about " + num(c.samples) + " samples, " + num(c.kernelNonZeros) +
-                            " kernel non-zeros and " + byteText(c.bytes) + " of memory";
+double bindLimitFactor(const BindCost& c) {
   // Samples and non-zeros grow like 1/h², the dense weights like m/h².
-  double factor = std::max({c.samples / double(kMaxBindSamples), c.kernelNonZeros / double(kMaxKernelNonZeros), c.bytes / double(kMaxBindBytes)});
+  return std::max({c.samples / double(kMaxBindSamples), c.kernelNonZeros / double(kMaxKernelNonZeros), c.bytes / double(kMaxBindBytes)});
+}
+
+void checkBindCost(const BindCost& c, const BindParams& params) {
+  const std::string needs = "this bind would need about " + shortNumber(c.samples) + " samples, " + shortNumber(c.kernelNonZeros) +
+                            " kernel non-zeros and " + byteText(c.bytes) + " of memory";
+  const double factor = bindLimitFactor(c);
   if (factor <= 1.0) return;
   const double sigmaShare = params.kc.sigma > 0.0 ? c.kernelNonZeros / std::max(c.samples, 1.0) : 0.0;
-  std::string advice = "use --spacing " + num(params.spacing * std::sqrt(factor) * 1.05) + " or more";
+  std::string advice = "use --spacing " + shortNumber(params.spacing * std::sqrt(factor) * 1.05) + " or more";
   if (params.kc.sigma > 0.0 && c.samples <= double(kMaxBindSamples) && sigmaShare > 1000.0)
-    advice = "sigma " + num(params.kc.sigma) + " px is very wide for spacing " + num(params.spacing) +
-             " px (each sample would touch " + num(sigmaShare) + " others): use --sigma 0 (automatic, about " +
-             num(automaticSigma(params.spacing)) + " px) or a larger --spacing";
+    advice = "sigma " + shortNumber(params.kc.sigma) + " px is very wide for spacing " + shortNumber(params.spacing) +
+             " px (each sample would touch " + shortNumber(sigmaShare) + " others): use --sigma 0 (automatic, about " +
+             shortNumber(automaticSigma(params.spacing)) + " px) or a larger --spacing";
   if (kDenseBytesPerWeight * c.samples * c.controls > double(kMaxBindBytes))
-    advice += ", or a cage with fewer points (" + num(c.controls) + " now; the weights alone take " +
+    advice += ", or a cage with fewer points (" + shortNumber(c.controls) + " now; the weights alone take " +
               byteText(kDenseBytesPerWeight * c.samples * c.controls) + ")";
-  throw std::invalid_argument(needs + ", above kcwarp's limits (" + num(double(kMaxBindSamples)) + " samples, " +
-                              num(double(kMaxKernelNonZeros)) + " non-zeros, " + byteText(double(kMaxBindBytes)) + "): " + advice);
+  throw std::invalid_argument(needs + ", above kcwarp's limits (" + shortNumber(double(kMaxBindSamples)) + " samples, " +
+                              shortNumber(double(kMaxKernelNonZeros)) + " non-zeros, " + byteText(double(kMaxBindBytes)) + "): " + advice);
 }
 
 

@@ -6,15 +6,10 @@
 #include <vector>
 
 #include "kc/app/session.h"
+#include "kc/app/text.h"
 
 namespace kc::app {
 namespace {
-
-std::string format(const char* fmt, auto... args) {
-  char text[256];
-  std::snprintf(text, sizeof text, fmt, args...);
-  return text;
-}
 
 }  // namespace
 

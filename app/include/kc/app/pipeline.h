@@ -53,6 +53,10 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
 /// (points or edges), its width, and the spacing that resolves it.
 std::string narrowFeatureWarning(const Cage& cage, double spacing);
 
+/// The largest of cost / limit over kcwarp's bind limits (kMaxBindSamples, kMaxKernelNonZeros,
+/// kMaxBindBytes): ≤ 1 when the bind fits.
+double bindLimitFactor(const BindCost& cost);
+
 /// Throws std::invalid_argument when `cost` exceeds kcwarp's limits (kMaxBindSamples,
 /// kMaxKernelNonZeros, kMaxBindBytes), saying what the bind would need and the spacing (or σ)
 /// that would fit.
