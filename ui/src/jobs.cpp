@@ -135,6 +135,20 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
   return params;
 }
 
+double autoSpacingShown(AppState& state) {
+  auto& shown = state.shownSpacing;
+  const app::BindParams& p = state.bindParams;
+  const bool same = shown.width == state.source.width && shown.height == state.source.height &&
+                    shown.params.backend == p.backend && shown.params.sampler == p.sampler && shown.params.margin == p.margin &&
+                    shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
+                    shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C;
+  if (!same) {
+    shown = {state.cage.C, state.source.width, state.source.height, p,
+             bindParamsFor(state, state.cage, state.source.width, state.source.height).spacing};
+  }
+  return shown.spacing;
+}
+
 bool startBind(AppState& state, bool markUnsaved) {
   if (!canStart(state, "bind")) return false;
   if (state.source.empty()) {

@@ -106,7 +106,7 @@ void drawBindPanel(AppState& state) {
              "takes seconds, not minutes (about 30,000 samples at most). Untick to set it yourself.");
     if (state.autoSpacing && !state.source.empty() && state.cageValid) {
       ImGui::SameLine();
-      ImGui::TextDisabled("%.1f px", bindParamsFor(state, state.cage, state.source.width, state.source.height).spacing);
+      ImGui::TextDisabled("%.1f px", autoSpacingShown(state));
       tooltip("The spacing Bind will use for this picture and cage.");
     }
   }

@@ -100,6 +100,15 @@ struct AppState {
   /// without --spacing): 6 px up to about a megapixel, wider beyond, so a big picture binds in
   /// seconds. Off: bindParams.spacing as set by the slider (or --spacing).
   bool autoSpacing = true;
+  /// The automatic spacing the Bind panel shows and what it was computed from (cage, picture size,
+  /// the parameters the estimate reads), so that the narrowest-place search over the cage runs
+  /// when one of them changes, not every frame (autoSpacingShown()).
+  struct ShownSpacing {
+    Points cage;
+    int width = 0, height = 0;
+    app::BindParams params;
+    double spacing = 0.0;
+  } shownSpacing;
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).

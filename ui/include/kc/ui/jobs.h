@@ -27,6 +27,9 @@ OutsideMode sessionOutsideMode(const app::Session& session);
 /// The parameters the next bind of `cage` over width×height uses: the Bind panel's, with the
 /// automatic spacing when state.autoSpacing (app::automaticSpacing from the 6 px default).
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
+/// bindParamsFor(state, state.cage, picture size).spacing, recomputed only when the draft cage,
+/// the picture size or the parameters it depends on changed since the last call.
+double autoSpacingShown(AppState& state);
 /// Binds the draft cage over the current image with state.bindParams (progress, Cancel); when it
 /// is done the pose tool is active. `markUnsaved` = false for a bind that only reproduces files
 /// on disk (the picture and cage given at startup), so an untouched document is not "unsaved".
