@@ -11,6 +11,7 @@
 #include "kc/app/file_io.h"
 #include "kc/app/image_header.h"
 #include "kc/app/limits.h"
+#include "png_codec.h"
 
 namespace kc::app {
 namespace {
@@ -38,6 +39,14 @@ ImageHeader readImageFileHeader(const std::string& path) {
 Image loadImage(const std::string& path) {
   const std::string bytes = readTextFile(path, kMaxImageFileBytes);
   const ImageHeader header = checkImageFile(bytes, path);
+  if (header.format == "PNG") {  // libpng directly: OpenCV's codecs are loaded only for other formats
+    Image img;
+    std::string problem;
+    if (!detail::decodePng(bytes, img, problem)) throw InputError(path, "cannot decode the PNG image: " + problem);
+    if (img.width != header.width || img.height != header.height)  // one IHDR, read twice: cannot differ
+      throw std::logic_error("libpng and the header check disagree on the size of " + path);
+    return img;
+  }
   cv::Mat m;
   try {
     m = detail::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
@@ -68,18 +77,12 @@ std::string encodeImage(const Image& image, const std::string& ext, int pngCompr
     throw std::invalid_argument("PNG compression must be 0..9, got " + std::to_string(pngCompression));
   image.validate();
   if (image.empty()) throw std::invalid_argument("cannot encode an empty image");
+  if (ext == ".png") return detail::encodePng(image, pngCompression);
+  if (ext != ".jpg" && ext != ".jpeg") throw std::invalid_argument("unknown image format '" + ext + "' (use .png or .jpg)");
   const cv::Mat rgba(image.height, image.width, CV_8UC4, const_cast<std::uint8_t*>(image.rgba.data()));
   cv::Mat bgr;
-  std::vector<int> params;
-  if (ext == ".png") {
-    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGRA);
-    params = {cv::IMWRITE_PNG_COMPRESSION, pngCompression};
-  } else if (ext == ".jpg" || ext == ".jpeg") {
-    cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-    params = {cv::IMWRITE_JPEG_QUALITY, 92};
-  } else {
-    throw std::invalid_argument("unknown image format '" + ext + "' (use .png or .jpg)");
-  }
+  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
+  const std::vector<int> params = {cv::IMWRITE_JPEG_QUALITY, 92};
   std::vector<uchar> buf;
   if (!detail::imencode(ext, bgr, buf, params)) throw std::runtime_error("OpenCV could not encode the image as " + ext);
   return std::string(buf.begin(), buf.end());

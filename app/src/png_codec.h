@@ -1,0 +1,26 @@
+#pragma once
+/// PNG ↔ RGBA8 through libpng directly. PNG is kcwarp's own format (examples, exports, heatmaps),
+/// and libpng with zlib loads in about a millisecond, where OpenCV's image codecs pull in ~140
+/// shared libraries (0.2 s CPU, 0.5 s wall on a busy machine) on first use: with this, a command or
+/// a test that only reads and writes PNG never loads them. Other formats go through OpenCV
+/// (image_codecs.h).
+
+#include <string>
+
+#include "kc/core/rasterize.h"
+
+namespace kc::app::detail {
+
+/// Decodes PNG file content `bytes` to RGBA8. Every PNG kind is converted the way OpenCV's
+/// IMREAD_UNCHANGED followed by kcwarp's conversion did: palette and grey expand to RGB, a tRNS
+/// chunk becomes alpha, images without alpha get alpha 255, 16-bit samples scale to 8 bit
+/// (v·255/65535, rounded), interlaced images are de-interlaced; gamma and colour chunks are
+/// ignored. Returns false with `problem` set (libpng's message, e.g. a CRC error or truncated data)
+/// when the content cannot be decoded; `out` is then unspecified.
+bool decodePng(const std::string& bytes, Image& out, std::string& problem);
+
+/// Encodes an RGBA8 image (non-empty, validated by the caller) as an 8-bit RGBA PNG with zlib
+/// level `level` (0..9, checked by the caller). Throws std::runtime_error if libpng fails.
+std::string encodePng(const Image& image, int level);
+
+}  // namespace kc::app::detail
