@@ -1,0 +1,245 @@
+#include "kc/core/structure/rigidity.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "kc/core/spatial_grid.h"
+
+namespace kc {
+namespace {
+
+std::string regionName(std::size_t k) { return "rigid[" + std::to_string(k) + "]"; }
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Indices of the samples within `radius` of any sample in `from` (sorted), marking them in `mark`.
+std::vector<Index> within(const SpatialGrid& grid, const Points& X, std::span<const Index> from, double radius) {
+  std::vector<char> mark(static_cast<std::size_t>(X.rows()), 0);
+  for (Index i : from) grid.forEachWithin(X.row(i).transpose(), radius, [&](Index j, double) { mark[std::size_t(j)] = 1; });
+  std::vector<Index> out;
+  for (Index j = 0; j < X.rows(); ++j)
+    if (mark[std::size_t(j)]) out.push_back(j);
+  return out;
+}
+
+Points rowsOf(const Points& X, std::span<const Index> idx) {
+  Points P(Index(idx.size()), 2);
+  for (std::size_t k = 0; k < idx.size(); ++k) P.row(Index(k)) = X.row(idx[k]);
+  return P;
+}
+
+/// Columns 3 + N of a field operator E (#P×(3 + #S)) as a #P×|N| matrix (node = position in N).
+SparseMatrix nodeColumns(const SparseRowMatrix& E, const std::vector<Index>& nodeOf, Index nodes) {
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(std::size_t(E.nonZeros()));
+  for (Index p = 0; p < E.rows(); ++p)
+    for (SparseRowMatrix::InnerIterator it(E, p); it; ++it) {
+      const Index s = it.col() - KernelField::kPolynomialNodes;
+      if (s >= 0 && nodeOf[std::size_t(s)] >= 0) t.emplace_back(p, nodeOf[std::size_t(s)], it.value());
+    }
+  SparseMatrix M(E.rows(), nodes);
+  M.setFromTriplets(t.begin(), t.end());
+  return M;
+}
+
+}  // namespace
+
+bool insidePolygon(const Points& polygon, const Vec2& p) {
+  const Index n = polygon.rows();
+  bool in = false;
+  for (Index i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2 a = polygon.row(j).transpose(), b = polygon.row(i).transpose();
+    if (pointSegmentDistance(p, a, b) <= 1e-12 * (1.0 + p.cwiseAbs().maxCoeff())) return true;
+    if ((b.y() > p.y()) != (a.y() > p.y()) && p.x() < (a.x() - b.x()) * (p.y() - b.y()) / (a.y() - b.y()) + b.x()) in = !in;
+  }
+  return in;
+}
+
+void validateRigidRegions(const Cage& cage, std::span<const RigidRegion> regions) {
+  if (!regions.empty() && !cage.closed && cage.edges.empty())
+    throw std::invalid_argument("rigid[0]: an open cage has no interior for a rigid region");
+  for (std::size_t k = 0; k < regions.size(); ++k) {
+    const std::string name = regionName(k);
+    const Points& P = regions[k].polygon;
+    const double s = regions[k].strength;
+    if (!std::isfinite(s) || s < 0.0 || s > 1.0)
+      throw std::invalid_argument(name + ": strength must be a number in [0, 1] (got " + std::to_string(s) + ")");
+    if (P.rows() < 3) throw std::invalid_argument(name + ": the polygon needs at least 3 points (got " + std::to_string(P.rows()) + ")");
+    if (!P.allFinite()) throw std::invalid_argument(name + ": the polygon has a coordinate that is not a finite number");
+    const Index n = P.rows();
+    for (Index i = 0; i < n; ++i)
+      if ((P.row(i) - P.row((i + 1) % n)).norm() == 0.0)
+        throw std::invalid_argument(name + ": polygon points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) + " are the same point");
+    if (std::abs(signedArea(P)) <= 1e-9 * (1.0 + P.cwiseAbs().maxCoeff()))
+      throw std::invalid_argument(name + ": the polygon has no area");
+    for (Index i = 0; i < n; ++i)
+      if (!insideCage(cage, P.row(i).transpose()))
+        throw std::invalid_argument(name + ": polygon point " + std::to_string(i) + " is outside the cage");
+    for (Index i = 0; i < n; ++i) {
+      const Vec2 a = P.row(i).transpose(), b = P.row((i + 1) % n).transpose();
+      for (Index j = i + 1; j < n; ++j) {
+        const Vec2 c = P.row(j).transpose(), d = P.row((j + 1) % n).transpose();
+        const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
+        if (!adjacent && segmentSegmentDistance(a, b, c, d) == 0.0)
+          throw std::invalid_argument(name + ": the polygon intersects itself (edges " + std::to_string(i) + " and " + std::to_string(j) + ")");
+        if (adjacent) {  // folding back along the previous edge
+          const Vec2 shared = j == i + 1 ? b : a, u = (j == i + 1 ? a : b) - shared, v = (j == i + 1 ? d : c) - shared;
+          if (std::abs(cross(u, v)) <= 1e-12 * u.norm() * v.norm() && u.dot(v) > 0.0)
+            throw std::invalid_argument(name + ": the polygon intersects itself (edges " + std::to_string(i) + " and " + std::to_string(j) + " overlap)");
+        }
+      }
+      if (segmentCrossesCage(cage, a, b))
+        throw std::invalid_argument(name + ": polygon edge " + std::to_string(i) + " crosses a cage edge");
+    }
+  }
+}
+
+std::vector<double> rigidityOfRegions(const Points& X, std::span<const RigidRegion> regions) {
+  std::vector<double> rho(static_cast<std::size_t>(X.rows()), 0.0);
+  for (const RigidRegion& r : regions) {
+    const Eigen::Vector2d lo = r.polygon.colwise().minCoeff().transpose(), hi = r.polygon.colwise().maxCoeff().transpose();
+    for (Index i = 0; i < X.rows(); ++i) {
+      const Vec2 p = X.row(i).transpose();
+      if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+      if (insidePolygon(r.polygon, p)) rho[std::size_t(i)] = std::max(rho[std::size_t(i)], r.strength);
+    }
+  }
+  return rho;
+}
+
+std::vector<Index> rigidityZone(const KernelField& field, std::span<const double> rho, const RigidityOptions& options) {
+  const Points& X = field.interpolator().samples();
+  if (Index(rho.size()) != X.rows()) throw std::invalid_argument("rigidityZone: rho needs one entry per sample");
+  std::vector<Index> region;
+  for (Index i = 0; i < X.rows(); ++i)
+    if (rho[std::size_t(i)] > 0.0) region.push_back(i);
+  if (region.empty()) return {};
+  const GaussianKernel& k = field.interpolator().kernel();
+  const double radius = options.reach * k.sigma + k.cutoff();
+  return within(SpatialGrid(X, radius), X, region, radius);
+}
+
+RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const double> rho, const std::vector<char>& keep,
+                         Weights& W, const RigidityOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RigidityReport rep;
+  const KernelInterpolator& interp = field.interpolator();
+  const Points& X = interp.samples();
+  const Index n = X.rows(), m = W.cols();
+  if (Index(rho.size()) != n || Index(keep.size()) != n || W.rows() != n || C.rows() != m || C.cols() != 2)
+    throw std::invalid_argument("makeRigid: rho, keep and W need one entry per sample and C one row per control");
+  std::vector<Index> region;
+  for (Index i = 0; i < n; ++i) {
+    const double r = rho[std::size_t(i)];
+    if (!(r >= 0.0 && r <= 1.0)) throw std::invalid_argument("makeRigid: rigidity must lie in [0, 1]");
+    if (r > 0.0) region.push_back(i);
+  }
+  rep.region = Index(region.size());
+  if (region.empty()) return rep;
+  const GaussianKernel& kernel = interp.kernel();
+  const double sigma = kernel.sigma, s2 = sigma * sigma, theta = kernel.cutoff();
+
+  // Nodes N (coefficients that change) and changed samples Ch (within θ of a node).
+  const SpatialGrid grid(X, theta);
+  const std::vector<Index> N = within(grid, X, region, options.reach * sigma);
+  const std::vector<Index> Ch = within(grid, X, N, theta);
+  std::vector<Index> nodeOf(static_cast<std::size_t>(n), -1);
+  for (std::size_t k = 0; k < N.size(); ++k) nodeOf[std::size_t(N[k])] = Index(k);
+  const Index nN = Index(N.size()), nCh = Index(Ch.size());
+  rep.nodes = nN;
+
+  // Active controls and Z: an orthonormal basis of {v : 1ᵀv = 0, Cᵀv = 0} on them (the rows of ΔU).
+  std::vector<Index> active;
+  for (Index c = 0; c < m; ++c) {
+    double most = 0.0;
+    for (Index j : N) most = std::max(most, W(j, c));
+    if (most > options.activeWeight) active.push_back(c);
+  }
+  rep.controls = Index(active.size());
+  Eigen::MatrixXd P1(active.size(), 3);
+  for (std::size_t k = 0; k < active.size(); ++k) P1.row(Index(k)) << 1.0, C(active[k], 0) / sigma, C(active[k], 1) / sigma;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(P1, Eigen::ComputeFullU);
+  const Index rank = svd.rank();
+  if (Index(active.size()) <= rank) {
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return rep;  // no freedom: the active controls' weights are fixed by reproduction
+  }
+  RigidityQp qp;
+  qp.Z = RowMatrix::Zero(m, Index(active.size()) - rank);
+  for (std::size_t k = 0; k < active.size(); ++k) qp.Z.row(active[k]) = svd.matrixU().row(Index(k)).tail(qp.Z.cols());
+
+  // Operators: K(Ch, N), ∂E/∂x and ∂E/∂y at the region's samples restricted to the nodes.
+  const Points XI = rowsOf(X, region), XCh = rowsOf(X, Ch);
+  const SparseMatrix Kr = nodeColumns(field.evaluationOperator(XCh), nodeOf, nN);
+  SparseRowMatrix Ex, Ey;
+  field.gradientOperators(XI, Ex, Ey);
+  const SparseMatrix Gx = nodeColumns(Ex, nodeOf, nN), Gy = nodeColumns(Ey, nodeOf, nN);
+  Weights dWdx, dWdy;
+  field.gradientsAt(XI, dWdx, dWdy);
+
+  // Objective (docs/rigidity.md): H = σ² (GxᵀDρGx + GyᵀDρGy) + Krᵀ D(1−ρ) Kr, G = σ² (GxᵀDρ∂xW + GyᵀDρ∂yW).
+  Eigen::VectorXd rhoI(region.size()), fid(nCh);
+  for (std::size_t k = 0; k < region.size(); ++k) rhoI(Index(k)) = rho[region[k]];
+  for (Index k = 0; k < nCh; ++k) fid(k) = 1.0 - rho[std::size_t(Ch[std::size_t(k)])];
+  const SparseMatrix DGx = rhoI.asDiagonal() * Gx, DGy = rhoI.asDiagonal() * Gy, DKr = fid.asDiagonal() * Kr;
+  const double kappa = options.rigidityWeight * s2;
+  qp.H = kappa * (SparseMatrix(Gx.transpose()) * DGx + SparseMatrix(Gy.transpose()) * DGy) + SparseMatrix(Kr.transpose()) * DKr;
+  qp.G = kappa * (SparseMatrix(DGx.transpose()) * dWdx + SparseMatrix(DGy.transpose()) * dWdy);
+  rep.energyBefore = s2 * (rhoI.asDiagonal() * (dWdx.rowwise().squaredNorm() + dWdy.rowwise().squaredNorm())).sum();
+
+  // Equalities: the polynomial side condition (exact mode) and the held samples, rows scaled to unit length.
+  std::vector<Eigen::RowVectorXd> eq;
+  if (interp.mode() == InterpMode::Exact) {
+    Eigen::MatrixXd Pn(3, nN);
+    for (Index k = 0; k < nN; ++k) Pn.col(k) << 1.0, X(N[std::size_t(k)], 0) / sigma, X(N[std::size_t(k)], 1) / sigma;
+    for (int r = 0; r < 3; ++r) eq.push_back(Pn.row(r));
+  }
+  const SparseRowMatrix KrRows = Kr;
+  std::vector<Index> constrained;  // rows of Kr: region and node samples
+  for (Index k = 0; k < nCh; ++k) {
+    const Index i = Ch[std::size_t(k)];
+    if (keep[std::size_t(i)]) {
+      eq.push_back(Eigen::RowVectorXd(KrRows.row(k)));
+      ++rep.held;
+    } else if (rho[std::size_t(i)] > 0.0 || nodeOf[std::size_t(i)] >= 0) {
+      constrained.push_back(k);
+    }
+  }
+  qp.A.resize(Index(eq.size()), nN);
+  for (std::size_t r = 0; r < eq.size(); ++r) {
+    const double norm = eq[r].norm();
+    qp.A.row(Index(r)) = norm > 0.0 ? Eigen::RowVectorXd(eq[r] / norm) : eq[r];
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  qp.L.resize(Index(constrained.size()), m);
+  for (std::size_t r = 0; r < constrained.size(); ++r) {
+    for (SparseRowMatrix::InnerIterator it(KrRows, constrained[r]); it; ++it) t.emplace_back(Index(r), it.col(), it.value());
+    qp.L.row(Index(r)) = -W.row(Ch[std::size_t(constrained[r])]).cwiseMax(0.0);
+  }
+  qp.Kc.resize(Index(constrained.size()), nN);
+  qp.Kc.setFromTriplets(t.begin(), t.end());
+
+  const RowMatrix dU = solveRigidityQp(qp, options.solver, &rep.solver);
+
+  // Apply: W(Ch) += K(Ch, N) ΔU; re-solve the active columns.
+  const RowMatrix dW = Kr * dU;
+  rep.minWeight = std::numeric_limits<double>::infinity();
+  for (Index k = 0; k < nCh; ++k) {
+    const Index i = Ch[std::size_t(k)];
+    if (dW.row(k).cwiseAbs().maxCoeff() > 0.0) ++rep.changedRows;
+    W.row(i) += dW.row(k);
+  }
+  for (Index k : constrained) rep.minWeight = std::min(rep.minWeight, W.row(Ch[std::size_t(k)]).minCoeff());
+  const RowMatrix gx = dWdx + Gx * dU, gy = dWdy + Gy * dU;
+  rep.energyAfter = s2 * (rhoI.asDiagonal() * (gx.rowwise().squaredNorm() + gy.rowwise().squaredNorm())).sum();
+  field.update(W, active);
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+}  // namespace kc
