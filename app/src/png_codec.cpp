@@ -23,6 +23,8 @@ struct Io {
   char message[256] = "";
 };
 
+constexpr int kFixedFilterMaxLevel = 3;
+
 void onError(png_structp png, png_const_charp msg) {
   auto* io = static_cast<Io*>(png_get_error_ptr(png));
   std::snprintf(io->message, sizeof io->message, "%s", msg ? msg : "libpng error");
@@ -96,6 +98,11 @@ bool encodeFrom(Io& io, const Image& image, int level) {
   png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGBA,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_compression_level(png, level);
+  // Fast levels: the Up filter for every row instead of libpng's per-row choice among five (which
+  // filters each row five ways). Level 1 on 12 MP, one run: photo 1.14 s / 7.7 MB against 2.75 s /
+  // 8.6 MB, noisy 2.0 s / 10.4 MB against 4.0 s / 10.1 MB, flat illustration 0.36 s against 1.13 s
+  // (same size). Levels 4..9 ask for small files: libpng's choice.
+  if (level <= kFixedFilterMaxLevel) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
   png_write_info(png, info);
   png_write_image(png, io.rows.data());
   png_write_end(png, nullptr);
