@@ -147,6 +147,7 @@ class KcBackend final : public Backend {
     if (!s.structure.empty()) {  // the lines' rows follow their base points again, everywhere
       auto* kernel = dynamic_cast<KernelField*>(s.field.get());
       if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines straight");
+      if (whole) kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
       applyLines(s, *kernel);
       columns.resize(std::size_t(m));
       std::iota(columns.begin(), columns.end(), Index(0));

@@ -18,7 +18,7 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["busy"] = busy;
   j["bound"] = state.bound;
   j["idle"] = !busy && state.canvasDrag.button < 0;
-  j["tool"] = state.tool == Tool::Pose ? "pose" : state.tool == Tool::Brush ? "brush" : "cage";
+  j["tool"] = state.tool == Tool::Pose ? "pose" : state.tool == Tool::Brush ? "brush" : state.tool == Tool::Lines ? "lines" : "cage";
   j["method"] = std::string(app::toString(state.method));
   j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
   j["lbc_mesh"] = state.reports.lbcMesh;         // LBC mesh vertices of the bound session, 0 when not LBC
@@ -39,6 +39,14 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   }
   j["cage"] = cage;
   j["cage_valid"] = state.cageValid;
+  json lines = json::array();  // the document's lines: ends on screen (rest picture) and group
+  for (const StructureLine& l : state.lines.lines) {
+    const Vec2 a = state.view.toScreen(l.a), b = state.view.toScreen(l.b);
+    lines.push_back({{"a", {a.x(), a.y()}}, {"b", {b.x(), b.y()}}, {"group", l.group >= 0 ? state.lines.groups[static_cast<std::size_t>(l.group)] : ""}});
+  }
+  j["lines"] = lines;
+  j["bound_lines"] = state.boundLines.size();
+  j["line_selection"] = state.lineSelection;
   j["cage_status"] = state.cageStatus;
   json widgets = json::object();
   for (const auto& [name, c] : state.widgets) widgets[name] = {c.x(), c.y()};

@@ -38,6 +38,11 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
       else if (phase == 1) state.brushTool.drag(state, e);
       else state.brushTool.release(state, e);
       break;
+    case Tool::Lines:
+      if (phase == 0) state.lineTool.press(state, e);
+      else if (phase == 1) state.lineTool.drag(state, e);
+      else state.lineTool.release(state, e);
+      break;
     case Tool::Cage:
       if (phase == 0) state.cageTool.press(state, e);
       else if (phase == 1) state.cageTool.drag(state, e);
@@ -49,7 +54,7 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
 }  // namespace
 
 bool showsWarp(const AppState& state) {
-  return state.bound && state.tool != Tool::Cage && !state.showOriginal && state.mesh.hasWeights() && state.mesh.width() == state.source.width &&
+  return state.bound && state.tool != Tool::Cage && state.tool != Tool::Lines && !state.showOriginal && state.mesh.hasWeights() && state.mesh.width() == state.source.width &&
          state.mesh.height() == state.source.height;
 }
 

@@ -168,11 +168,15 @@ void drawCanvasOverlay(AppState& state) {
     dl->AddText(p, rgba(255, 220, 120), text);
   } else if (state.tool == Tool::Cage) {
     drawCageToolOverlay(state, dl);
+  } else if (state.tool == Tool::Lines) {
+    if (state.bound) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 200), 2.0f);
+    else drawCageToolOverlay(state, dl);
   } else if (state.bound) {
     drawPoseOverlay(state, dl);
     if (state.tool == Tool::Brush) drawBrushRing(state, dl);
   }
   dl->PopClipRect();
+  if (!state.showOriginal && state.tool != Tool::Cage) drawLinesOverlay(state);
 }
 
 }  // namespace kc::ui

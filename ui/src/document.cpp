@@ -38,6 +38,10 @@ void clearDocument(AppState& state) {
   state.bound = false;
   state.boundCage = Cage{};
   state.samples = SampleSet{};
+  state.lines = {};
+  state.boundLines.clear();
+  state.lineSelection.clear();
+  state.lineTool.cancel(state);
   state.mesh = WarpMesh{};
   ++state.meshRevision;
   state.pose.clear();

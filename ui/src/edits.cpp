@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "kc/ui/jobs.h"
+#include "kc/ui/line_edits.h"
 
 namespace kc::ui {
 
@@ -76,6 +77,8 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
           setPose(state, p);
         } else if constexpr (std::is_same_v<T, CageEdit>) {
           setDraftCage(state, forward ? edit.after : edit.before);
+        } else if constexpr (std::is_same_v<T, LinesEdit>) {
+          return applyLines(state, forward ? edit.after : edit.before);
         } else if constexpr (std::is_same_v<T, MethodEdit>) {
           if (!state.session) return false;
           if (forward || edit.WBefore.rows() == 0) return startMethod(state, forward ? edit.after : edit.before, false);
@@ -99,6 +102,7 @@ bool endInteractions(AppState& state) {
   state.poseTool.cancel(state);
   state.brushTool.cancel(state);
   state.cageTool.cancel(state);
+  state.lineTool.cancel(state);
   return true;
 }
 
@@ -169,6 +173,10 @@ void selectTool(AppState& state, Tool tool) {
   if (state.tool == tool) return;
   if (tool == Tool::Brush && !shownCapabilities(state).painting) {
     postMessage(state, "The brush is not available: " + shownCapabilities(state).why, false);
+    return;
+  }
+  if (tool == Tool::Lines && !shownCapabilities(state).lines) {
+    postMessage(state, "The line tool needs KC weights: lines are kept straight by the kernel backend (choose KC in the Bind panel).", false);
     return;
   }
   endInteractions(state);

@@ -9,6 +9,7 @@
 #include "kc/app/export.h"
 #include "kc/app/pipeline.h"
 #include "kc/ui/edits.h"
+#include "kc/ui/line_edits.h"
 
 namespace kc::ui {
 namespace {
@@ -32,6 +33,7 @@ void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePt
     ++state.meshRevision;
   }
   if (source) state.meshSource = std::move(source);
+  refreshBoundLines(state, *state.session);
   state.diagnostics.reset();
 }
 
@@ -83,6 +85,40 @@ bool canStart(AppState& state, const char* what) {
   return true;
 }
 
+/// After a cancelled or failed re-bind for `tried` lines: the line edit that asked for them goes
+/// back to the stack it came from (a new edit or a redo becomes redoable, an undo undoable again).
+void restoreLineEdit(AppState& st, const app::Structure& tried) {
+  const UndoEntry* u = st.undo.nextUndo();
+  const UndoEntry* r = st.undo.nextRedo();
+  if (u && std::holds_alternative<LinesEdit>(u->edit) && sameLines(std::get<LinesEdit>(u->edit).after, tried)) st.undo.popUndo();
+  else if (r && std::holds_alternative<LinesEdit>(r->edit) && sameLines(std::get<LinesEdit>(r->edit).before, tried)) st.undo.popRedo();
+}
+
+/// Installs the session of a re-bind after a line edit, keeping the pose (when the cage kept its
+/// points), the tool, the line selection and the undo history without the edits tied to the old
+/// samples (paint strokes, weights from a file).
+void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
+  const Pose pose = st.pose;
+  const Cage cageBefore = st.boundCage;
+  const Tool tool = st.tool;
+  const std::vector<int> selection = st.lineSelection;
+  UndoStack history = std::move(st.undo);
+  installSession(st, s, std::move(display), true);
+  if (cageBefore.C.rows() == s->cage.C.rows() && cageBefore.C == s->cage.C && pose.size() == static_cast<std::size_t>(s->cage.size()))
+    setPose(st, pose);
+  st.tool = tool;
+  for (int k : selection)
+    if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
+  const std::size_t dropped = history.removeIf([](const UndoEntry& e) {
+    if (std::holds_alternative<WeightEdit>(e.edit)) return true;
+    const auto* m = std::get_if<MethodEdit>(&e.edit);
+    return m && m->WBefore.rows() > 0;
+  });
+  st.undo = std::move(history);
+  if (dropped > 0)
+    postMessage(st, "The lines changed the sampling: the weights were computed anew, and earlier paint strokes can no longer be undone.", false);
+}
+
 }  // namespace
 
 WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside) {
@@ -111,6 +147,9 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
   state.reports = s.reports;
   state.bindParams = s.params;
+  state.lines = s.structure;
+  state.lineSelection.clear();
+  refreshBoundLines(state, s);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
@@ -149,7 +188,7 @@ double autoSpacingShown(AppState& state) {
   return shown.spacing;
 }
 
-bool startBind(AppState& state, bool markUnsaved) {
+bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   if (!canStart(state, "bind")) return false;
   if (state.source.empty()) {
     postMessage(state, "Open an image before binding.", true);
@@ -165,6 +204,8 @@ bool startBind(AppState& state, bool markUnsaved) {
   }
   SessionPtr previous = std::move(state.session);
   const Cage cage = state.cage;
+  const app::Structure lines = state.lines;
+  const app::Structure boundLines = previous ? previous->structure : app::Structure{};
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = bindParamsFor(state, cage, w, h);
   const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
@@ -179,23 +220,35 @@ bool startBind(AppState& state, bool markUnsaved) {
   // stop half way, so Cancel abandons the bind (Worker): the previous session comes back at once
   // and the bind's result is dropped when it ends. The job only reads its own copies (cage,
   // params), never `previous`, so handing `previous` back early is safe.
-  auto cancelled = [previous](AppState& st) {
+  // A re-bind after a line edit that does not happen leaves the bound session's lines.
+  auto restoreLines = [keepPoseAndHistory, lines, boundLines](AppState& st) {
+    if (!keepPoseAndHistory) return;
+    st.lines = boundLines;
+    st.lineSelection.clear();
+    restoreLineEdit(st, lines);
+  };
+  auto cancelled = [previous, restoreLines](AppState& st) {
     st.session = previous;
+    restoreLines(st);
     postMessage(st, "Bind cancelled.", false);
   };
   state.worker.submit("Binding", [=](JobContext& ctx) -> Worker::Apply {
     try {
       app::BindReport report;
       auto s = std::make_shared<app::Session>(
-          app::bind(cage, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
+          app::bind(cage, lines, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
       s->image = image;
       s->outside = toString(meshOptions.outside);
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow](AppState& st) {
-        installSession(st, s, display, true);
+      return [s, display, markUnsaved, narrow, keepPoseAndHistory](AppState& st) {
+        if (keepPoseAndHistory) {
+          installKeepingPose(st, s, display);
+        } else {
+          installSession(st, s, display, true);
+          st.tool = Tool::Pose;
+        }
         st.unsaved = st.unsaved || markUnsaved;
-        st.tool = Tool::Pose;
         postMessage(st, bindSummary(*s), false);
         if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
         for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
@@ -203,7 +256,12 @@ bool startBind(AppState& state, bool markUnsaved) {
     } catch (const app::BindCancelled&) {
       return cancelled;
     } catch (const std::exception& e) {
-      return failure(previous, std::string("Bind failed: ") + e.what());
+      const std::string text = std::string("Bind failed: ") + e.what();
+      return [previous, text, restoreLines](AppState& st) {
+        if (previous) st.session = previous;
+        restoreLines(st);
+        postMessage(st, text, true);
+      };
     }
   }, cancelled);
   return true;

@@ -6,6 +6,7 @@
 #include "kc/ui/document.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
+#include "kc/ui/line_edits.h"
 #include "kc/ui/panels/panels.h"
 
 namespace kc::ui {
@@ -31,17 +32,21 @@ void handleShortcuts(AppState& state) {
     state.poseTool.cancel(state);
     state.brushTool.cancel(state);
     state.cageTool.cancel(state);
+    state.lineTool.cancel(state);
     state.canvasDrag.button = -1;
     return;
   }
+  if (state.lineTool.drawing() && pressed(GLFW_KEY_ESCAPE)) state.lineTool.cancel(state);
   if (pressed(GLFW_KEY_P)) selectTool(state, Tool::Pose);
   if (pressed(GLFW_KEY_B)) selectTool(state, Tool::Brush);
   if (pressed(GLFW_KEY_C)) selectTool(state, Tool::Cage);
+  if (pressed(GLFW_KEY_L)) selectTool(state, Tool::Lines);
   if (pressed(GLFW_KEY_F)) state.fitPending = true;
   if (pressed(GLFW_KEY_1)) state.view.zoomTo(1.0);
   if (pressed(GLFW_KEY_F1)) state.helpOpen = true;
   state.showOriginal = state.bound && ImGui::IsKeyDown(GLFW_KEY_O);
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Cage) state.cageTool.deleteSelected(state);
+  if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Lines) deleteSelectedLines(state);
 }
 
 }  // namespace kc::ui

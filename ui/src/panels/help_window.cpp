@@ -23,6 +23,7 @@ constexpr Shortcut kShortcuts[] = {
     {"C", "Cage tool: draw the outline"},
     {"P", "Pose tool: move and turn points"},
     {"B", "Brush tool: paint a point's influence"},
+    {"L", "Line tool: draw lines kept straight; Delete removes the selected lines"},
     {"F / 1", "Fit the picture in the window / show it at 100%"},
     {"hold O", "See the original picture (before/after)"},
     {"Space+drag, middle-drag, wheel", "Pan and zoom"},
@@ -55,6 +56,9 @@ void drawHelpWindow(AppState& state) {
                      "rectangle) and right-drag to turn them together about the + pivot.");
   ImGui::TextWrapped("5. Paint (optional): with the Brush, right-click a point, then paint where it should pull "
                      "harder (Ctrl: less).");
+  ImGui::TextWrapped("Lines (optional, L): draw lines that must stay straight (a horizon, a sword); select several "
+                     "and press Make parallel to keep them parallel. They stay straight when you move points; "
+                     "turning points can bend them. Each change binds again.");
   ImGui::TextWrapped("6. Export: File > Export PNG (Ctrl+E). Save the session (Ctrl+S) to come back later.");
   ImGui::Spacing();
   ImGui::TextUnformatted("Shortcuts");

@@ -77,6 +77,8 @@ float drawMainMenu(AppState& state) {
     tooltip("Show the cage (its outline and points) over the picture.");
     ImGui::MenuItem("Rest cage", nullptr, &state.show.restCage);
     tooltip("Also show where the cage was before you moved its points.");
+    ImGui::MenuItem("Lines", nullptr, &state.show.lines);
+    tooltip("Show the lines kept straight (line tool, L) over the warped picture; each parallel group has its own colour.");
     ImGui::MenuItem("Samples (by kind)", nullptr, &state.show.samples);
     tooltip("Show the points the weights were computed at, coloured by kind (cage point, edge, inside, outside).");
     ImGui::MenuItem("Warp mesh", nullptr, &state.show.mesh);

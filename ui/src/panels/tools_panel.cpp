@@ -1,13 +1,70 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "kc/ui/edits.h"
+#include "kc/ui/line_edits.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
+namespace {
+
+constexpr const char* kWhatHolds =
+    "What holds: when you move points, each line stays straight and the lines of a parallel group stay "
+    "parallel. Turning points (right-drag) can bend them, and lines stretch with the picture.";
+
+/// The line tool's options: how to draw, what holds, the list of lines, parallel groups, delete.
+void drawLinesSection(AppState& state) {
+  ImGui::TextWrapped("Drag across the picture (or click at both ends) to draw a line kcwarp keeps straight. Click a "
+                     "line to select it (Shift: several); right-click or Delete removes it. Adding or removing a "
+                     "line binds again.");
+  ImGui::TextDisabled("What holds? (hover)");
+  labelled(state, "What holds? (hover)", kWhatHolds);
+  const app::Structure& L = state.lines;
+  if (L.lines.empty()) ImGui::TextDisabled("No lines yet.");
+  for (std::size_t k = 0; k < L.lines.size(); ++k) {
+    const StructureLine& l = L.lines[k];
+    const std::string group = l.group >= 0 ? " - parallel: " + L.groups[static_cast<std::size_t>(l.group)] : "";
+    const std::string label = "line " + std::to_string(k) + group + "##line" + std::to_string(k);
+    auto& sel = state.lineSelection;
+    const auto it = std::find(sel.begin(), sel.end(), static_cast<int>(k));
+    if (ImGui::Selectable(label.c_str(), it != sel.end())) {
+      if (!ImGui::GetIO().KeyShift) sel = {static_cast<int>(k)};
+      else if (it == sel.end()) sel.push_back(static_cast<int>(k));
+      else sel.erase(it);
+    }
+    char tip[160];
+    std::snprintf(tip, sizeof tip, "%.0f px long. Click to select it, Shift-click to select several.", l.length());
+    labelled(state, label.c_str(), tip);
+  }
+  const bool busy = state.bound && state.worker.busy();
+  const std::size_t n = state.lineSelection.size();
+  char name[64];
+  std::snprintf(name, sizeof name, "%s", state.lineGroupName.c_str());
+  ImGui::SetNextItemWidth(140);
+  if (ImGui::InputText("Group name", name, sizeof name)) state.lineGroupName = name;
+  labelled(state, "Group name", "The name of the parallel group \"Make parallel\" puts the selected lines in (an existing "
+                                "name adds them to that group).");
+  if (busy || n < 2) ImGui::BeginDisabled();
+  if (button(state, "Make parallel", n < 2 ? "Select two or more lines (Shift-click) to keep them parallel."
+                                           : "Keep the selected lines parallel to each other when you move points. They must "
+                                             "be drawn within 5 degrees of each other."))
+    groupSelectedLines(state, state.lineGroupName);
+  if (busy || n < 2) ImGui::EndDisabled();
+  ImGui::SameLine();
+  if (busy || n == 0) ImGui::BeginDisabled();
+  if (button(state, "Not parallel", "The selected lines leave their parallel group (they still stay straight)."))
+    ungroupSelectedLines(state);
+  ImGui::SameLine();
+  if (button(state, "Delete line", "Remove the selected lines (Delete key); kcwarp binds again without them."))
+    deleteSelectedLines(state);
+  if (busy || n == 0) ImGui::EndDisabled();
+}
+
+}  // namespace
 
 void drawToolsPanel(AppState& state) {
   if (radio(state, "Pose (P)", state.tool == Tool::Pose,
@@ -25,6 +82,12 @@ void drawToolsPanel(AppState& state) {
   if (radio(state, "Cage (C)", state.tool == Tool::Cage,
             "Draw or edit the outline (cage) around the part of the picture you want to bend."))
     selectTool(state, Tool::Cage);
+  if (!caps.lines) ImGui::BeginDisabled();
+  if (radio(state, "Lines (L)", state.tool == Tool::Lines,
+            caps.lines ? "Draw lines that stay straight when you move points (a horizon, a sword, a table edge)."
+                       : "Lines are kept straight by KC weights only: choose KC in the Bind panel."))
+    selectTool(state, Tool::Lines);
+  if (!caps.lines) ImGui::EndDisabled();
   ImGui::Spacing();
   switch (state.tool) {
     case Tool::Pose:
@@ -53,8 +116,11 @@ void drawToolsPanel(AppState& state) {
                          "to move it, right-click (or Delete) removes it; click an edge of a closed cage to insert a point.");
       ImGui::Text("%ld points, %s", long(state.cage.size()), state.cage.closed ? "closed" : "open");
       break;
+    case Tool::Lines:
+      drawLinesSection(state);
+      break;
   }
-  if (state.bound && state.tool != Tool::Cage) {
+  if (state.bound && state.tool != Tool::Cage && state.tool != Tool::Lines) {
     int active = static_cast<int>(state.activeControl);
     ImGui::SetNextItemWidth(120);
     if (ImGui::InputInt("Active point", &active)) {

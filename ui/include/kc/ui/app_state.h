@@ -20,6 +20,7 @@
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/cage_tool.h"
+#include "kc/ui/tools/line_tool.h"
 #include "kc/ui/tools/pose_tool.h"
 #include "kc/ui/undo.h"
 #include "kc/ui/view.h"
@@ -27,7 +28,7 @@
 
 namespace kc::ui {
 
-enum class Tool { Pose, Brush, Cage };
+enum class Tool { Pose, Brush, Cage, Lines };
 
 struct BrushSettings {
   double radius = 30.0;     ///< Image pixels.
@@ -44,6 +45,7 @@ struct HeatmapSettings {
 };
 
 struct ViewOptions {
+  bool lines = true;  ///< Structure lines over the picture (always shown in the line tool).
   bool cage = true, samples = false, mesh = false, foldovers = true, restCage = false;
 };
 
@@ -112,6 +114,17 @@ struct AppState {
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).
+  /// Structure lines kept straight / parallel (thesis 5.3): the next bind's lines; after a bind or
+  /// open, the bound session's. Edited by the line tool (editLines), which re-binds.
+  app::Structure lines;
+  /// Display copy of the bound session's lines: each line's sample positions X (#n×2, a → b) and
+  /// their weights W (#n×m), so the pose view draws the deformed lines while a job holds the session.
+  struct BoundLine {
+    Points X;
+    Weights W;
+    int group = -1;
+  };
+  std::vector<BoundLine> boundLines;
   Pose pose;                               ///< Current pose, one handle per bound control point.
   std::uint64_t poseRevision = 0;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").
@@ -140,6 +153,8 @@ struct AppState {
   bool fitPending = true;                  ///< Fit the view at the next frame (new image).
   bool showOriginal = false;               ///< Before/after: the original picture while O is held.
   std::vector<Index> selection;            ///< Selected control points (pose tool).
+  std::vector<int> lineSelection;          ///< Selected structure lines (line tool), indices into `lines`.
+  std::string lineGroupName = "parallel 1";  ///< The line tool's name for the next parallel group.
   /// Pivot of a multi-selection's rotation where the user dragged it (posed image pixels);
   /// empty = the selection's centre. Forgotten when the selection changes.
   std::optional<Vec2> pivot;
@@ -150,6 +165,7 @@ struct AppState {
   PoseTool poseTool;
   BrushTool brushTool;
   CageTool cageTool;
+  LineTool lineTool;
   Worker worker;
   std::vector<Message> messages;
   Timings timings;

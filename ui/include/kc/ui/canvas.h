@@ -16,7 +16,12 @@ void handleCanvasInput(AppState& state);
 /// Draws the overlays of the canvas.
 void drawCanvasOverlay(AppState& state);
 
-/// True when the picture is shown deformed (a bound session, not in the cage tool).
+/// The structure lines over the picture: in the line tool at rest, with the selection and the
+/// line being drawn; else deformed with the pose (each line through its deformed samples).
+/// Parallel groups have their own colour and name.
+void drawLinesOverlay(AppState& state);
+
+/// True when the picture is shown deformed (a bound session, not in the cage or line tool).
 bool showsWarp(const AppState& state);
 
 /// Rest position of a point of the deformed picture: the deformed warp-mesh triangle containing

@@ -30,11 +30,15 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
 /// bindParamsFor(state, state.cage, picture size).spacing, recomputed only when the draft cage,
 /// the picture size or the parameters it depends on changed since the last call.
 double autoSpacingShown(AppState& state);
-/// Binds the draft cage over the current image with state.bindParams (progress, Cancel); when it
-/// is done the pose tool is active. `markUnsaved` = false for a bind that only reproduces files
-/// on disk (the picture and cage given at startup), so an untouched document is not "unsaved".
+/// Binds the draft cage with the document's lines (state.lines) over the current image with
+/// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =
+/// false for a bind that only reproduces files on disk (the picture and cage given at startup),
+/// so an untouched document is not "unsaved". `keepPoseAndHistory` (a re-bind after a line edit):
+/// the pose (when the cage kept its points), the tool, the line selection and the undo history
+/// stay — except paint strokes, whose rows belong to the old samples; a cancelled or failed
+/// re-bind puts the bound session's lines back and the line edit back on its stack.
 /// Returns false (with a message) when the cage is invalid or a job is running.
-bool startBind(AppState& state, bool markUnsaved = true);
+bool startBind(AppState& state, bool markUnsaved = true, bool keepPoseAndHistory = false);
 
 /// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
 /// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to

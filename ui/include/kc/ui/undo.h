@@ -1,12 +1,13 @@
 #pragma once
-/// Undo/redo history of the document: cage edits, pose changes, and weight edits (paint strokes,
-/// method switches). Entries store what restores the state bit for bit: exact before/after
+/// Undo/redo history of the document: cage edits, pose changes, weight edits (paint strokes,
+/// method switches) and line edits. Entries store what restores the state bit for bit: exact before/after
 /// values, or for a method switch the two methods.
 
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "kc/app/structure.h"
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
 #include "kc/core/types.h"
@@ -41,7 +42,13 @@ struct MethodEdit {
   Weights WBefore;
 };
 
-using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit>;
+/// The structure lines (kept straight / parallel, thesis 5.3) before and after a line-tool edit.
+/// Applying either side re-binds a bound session with those lines.
+struct LinesEdit {
+  app::Structure before, after;
+};
+
+using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit, LinesEdit>;
 
 struct UndoEntry {
   std::string label;  ///< Shown in the Edit menu, e.g. "paint w3".
@@ -61,6 +68,16 @@ class UndoStack {
   /// Moves the newest redo entry back to the undo stack and returns it (only when canRedo()).
   UndoEntry& popRedo();
   void clear();
+  /// Drops the entries (undo and redo) for which `drop` is true, keeping the others in order.
+  template <class Pred>
+  std::size_t removeIf(Pred drop) {
+    std::size_t n = 0;
+    for (auto* v : {&m_undo, &m_redo})
+      for (auto it = v->begin(); it != v->end();)
+        if (drop(*it)) it = v->erase(it), ++n;
+        else ++it;
+    return n;
+  }
   std::size_t undoCount() const { return m_undo.size(); }
   std::size_t redoCount() const { return m_redo.size(); }
 
