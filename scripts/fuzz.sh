@@ -1,27 +1,21 @@
 #!/usr/bin/env bash
-# Builds kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, structure, points CSV, image header)
-# with clang, AddressSanitizer and UndefinedBehaviorSanitizer against the main build in build/,
-# then runs each for SECONDS (default 40) from the committed seed corpus (tests/fuzz/corpus/;
-# new inputs go to a scratch folder), one target per core at a time. A finding fails the run with
-# the target's log and its reproducer in build-fuzz/finding-TARGET-*.
+# Runs kcwarp's libFuzzer targets (tests/fuzz: cage, pose, session, structure, points CSV, image
+# header) from the sanitized build (scripts/sanitized_build.sh builds build-asan/ when needed:
+# clang, AddressSanitizer, UndefinedBehaviorSanitizer), each for SECONDS (default 40) from the
+# committed seed corpus (tests/fuzz/corpus/; new inputs go to a scratch folder), one target per
+# core at a time. A finding fails the run with the target's log and its reproducer in
+# build-asan/finding-TARGET-*.
 #   bash scripts/fuzz.sh          # 40 s per target
 #   bash scripts/fuzz.sh 600      # a long run: 10 minutes per target
 #   bash scripts/fuzz.sh 600 session   # one target
-# Reproduce a finding: build-fuzz/fuzz_TARGET build-fuzz/finding-TARGET-crash-...
+# Reproduce a finding: build-asan/tests/fuzz/fuzz_TARGET build-asan/finding-TARGET-crash-...
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-40}"
 all_targets="cage pose session structure points_csv image_header"
 targets="${2:-$all_targets}"
 jobs="${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
-if [ ! -f build/core/libkc_core.a ] || [ ! -f build/sampling/libkc_sampling.a ]; then
-  echo "fuzz.sh: build kcwarp first (bash scripts/build.sh)" >&2
-  exit 1
-fi
-launcher=()
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-CXX=clang++ cmake -S tests/fuzz -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DKC_MAIN_BUILD="$PWD/build" "${launcher[@]}" > /dev/null
-cmake --build build-fuzz -j"$jobs"
+bash scripts/sanitized_build.sh kc_fuzz_targets
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
@@ -30,15 +24,15 @@ run_one() {
   local t="$1" log="$work/$1.log"
   mkdir -p "$work/$t"
   # OMP_NUM_THREADS=1: the session target factorizes small kernels; threads only add noise.
-  if OMP_NUM_THREADS=1 build-fuzz/fuzz_"$t" "$work/$t" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=20 \
-      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-fuzz/finding-$t-" > "$log" 2>&1; then
+  if OMP_NUM_THREADS=1 build-asan/tests/fuzz/fuzz_"$t" "$work/$t" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=20 \
+      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-asan/finding-$t-" > "$log" 2>&1; then
     local runs rss cov
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
     rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
     cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*' || echo "?")
     echo "fuzz_$t: ${seconds} s, $runs inputs, coverage $cov edges, peak RSS ${rss} MB: no finding"
   else
-    echo "fuzz_$t: FINDING (log below; reproducer in build-fuzz/finding-$t-*)"
+    echo "fuzz_$t: FINDING (log below; reproducer in build-asan/finding-$t-*)"
     tail -60 "$log"
     return 1
   fi

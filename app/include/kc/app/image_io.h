@@ -23,7 +23,7 @@ ImageHeader checkImageFile(const std::string& bytes, const std::string& path);
 
 /// PNG compression (zlib level) when none is asked for: the fastest level that compresses (with
 /// the Up filter, app/src/png_codec.h). A 12 MP photo: 1.1 s, 7.7 MB at level 1; level 9 is 4–40×
-/// slower for files 10–40% smaller (docs/ARCHITECTURE.md has the measurements).
+/// slower for files 6–40% smaller (docs/ARCHITECTURE.md has the measurements).
 inline constexpr int kDefaultPngCompression = 1;
 
 /// Saves an RGBA8 image; the format follows the extension (.png keeps alpha, .jpg/.jpeg drop it).
