@@ -20,6 +20,7 @@
 #include "kc/app/heatmap.h"
 #include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/app/structure.h"
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/outside_motion.h"
@@ -73,6 +74,7 @@ struct Example {
   Cage cage;
   Pose pose;
   Image source;
+  app::Structure structure;  ///< NAME.structure.json when the example has one (lines kept straight).
 };
 
 Example loadExample(const std::string& dir, const std::string& name) {
@@ -82,7 +84,62 @@ Example loadExample(const std::string& dir, const std::string& name) {
   e.cage = app::loadCage(e.base + ".cage.json");
   e.pose = app::loadPose(e.base + ".pose.json", e.cage.C);
   e.source = app::loadImage(e.base + ".png");
+  if (fs::exists(e.base + ".structure.json")) e.structure = app::loadStructure(e.base + ".structure.json");
   return e;
+}
+
+/// Largest distance (px) of a line's points, moved by the session's field with `pose`, from the
+/// chord of the moved ends: 0 for a line that stays straight.
+double lineBend(const app::Session& s, const StructureLine& l, const Pose& pose) {
+  constexpr Index kPoints = 201;
+  Points P(kPoints, 2);
+  for (Index k = 0; k < kPoints; ++k) P.row(k) = (l.a + (l.b - l.a) * (double(k) / double(kPoints - 1))).transpose();
+  const Points Q = deformPoints(s.field->weightsAt(P), P, s.cage.C, pose);
+  const Vec2 a = Q.row(0).transpose(), b = Q.row(kPoints - 1).transpose();
+  double worst = 0.0;
+  for (Index k = 0; k < kPoints; ++k) worst = std::max(worst, pointSegmentDistance(Q.row(k).transpose(), a, b));
+  return worst;
+}
+
+/// `left` and `right` side by side (same height) with a 4 px gap of `gap` colour.
+Image sideBySide(const Image& left, const Image& right, Rgba gap = {255, 255, 255, 255}) {
+  Image out(left.width + 4 + right.width, std::max(left.height, right.height), gap);
+  for (int y = 0; y < out.height; ++y) {
+    if (y < left.height) std::copy_n(const_cast<Image&>(left).pixel(0, y), 4 * left.width, out.pixel(0, y));
+    if (y < right.height) std::copy_n(const_cast<Image&>(right).pixel(0, y), 4 * right.width, out.pixel(left.width + 4, y));
+  }
+  return out;
+}
+
+/// The example bound again with its structure lines: NAME.structure.png shows the warp without
+/// (left) and with (right) the lines, the lines drawn where the warp puts them, for the example's
+/// pose without its rotations (lines are kept straight under translations; rotations may bend
+/// them, thesis 5.3); the report gives each line's bend under both poses. `plain`: the example's
+/// session without structure.
+void runStructure(const Example& e, const app::Session& plain, const std::string& out, OutsideMode outside,
+                  const std::function<std::string(const Image&)>& png, app::OutputBatch& files, std::string& report) {
+  app::Session s = app::bind(e.cage, e.structure, e.source.width, e.source.height, app::BindParams{});
+  Pose moved = e.pose;
+  for (HandlePose& h : moved) h.rotate = 0.0;
+  WarpMeshOptions meshOptions;
+  meshOptions.outside = outside;
+  Image halves[2];
+  const app::Session* sessions[2] = {&plain, &s};
+  for (int k = 0; k < 2; ++k) {
+    WarpMesh mesh = app::buildWarpMesh(*sessions[k], meshOptions);
+    mesh.deform(moved);
+    halves[k] = mesh.render(e.source);
+    app::drawDeformedLines(halves[k], *sessions[k], e.structure.lines, moved);
+  }
+  files.set((fs::path(out) / (e.name + ".structure.png")).string(), png(sideBySide(halves[0], halves[1])));
+  say(report, "structure: %zu lines (%s.structure.json), bind %.3f s with them against %.3f s without (%.2fx)\n",
+      e.structure.lines.size(), e.name.c_str(), s.timings.total, plain.timings.total, s.timings.total / plain.timings.total);
+  for (std::size_t k = 0; k < e.structure.lines.size(); ++k) {
+    const StructureLine& l = e.structure.lines[k];
+    say(report, "      line %zu (%.0f px): bend without / with the lines %.3f / %.4f px (pose without rotations), "
+                "%.3f / %.3f px (the pose, which turns points)\n",
+        k, l.length(), lineBend(plain, l, moved), lineBend(s, l, moved), lineBend(plain, l, e.pose), lineBend(s, l, e.pose));
+  }
 }
 
 /// The LBC objective (LBC paper eq. 14, normalized units) of a session's weights on the LBC mesh
@@ -201,6 +258,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       std::string(toString(outside)).c_str(), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
       om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
+  if (!e.structure.empty()) runStructure(e, s, out, outside, png, files, report);
   runLbc(e, s, d, control, out, png, files, report);
 }
 

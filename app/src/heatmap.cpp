@@ -188,11 +188,16 @@ void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const Ove
 }
 
 void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style) {
+  drawDeformedLines(image, session, session.structure.lines, pose, style);
+}
+
+void drawDeformedLines(Image& image, const Session& session, std::span<const StructureLine> lines, const Pose& pose,
+                       const OverlayStyle& style) {
   image.validate();
-  if (session.structure.empty() || !session.hasField()) return;
+  if (lines.empty() || !session.hasField()) return;
   cv::Mat m = wrap(image);
   constexpr Index kPoints = 65;
-  for (const StructureLine& l : session.structure.lines) {
+  for (const StructureLine& l : lines) {
     Points P(kPoints, 2);
     for (Index k = 0; k < kPoints; ++k) {
       const double t = double(k) / double(kPoints - 1);

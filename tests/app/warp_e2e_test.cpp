@@ -312,6 +312,19 @@ TEST(DemoCli, WritesWarpedImagesHeatmapsAndReport) {
   EXPECT_NE(report.find("solver: LBC on"), std::string::npos);
   EXPECT_NE(report.find("P(1e-3)"), std::string::npos);
   EXPECT_NE(report.find("objective (LBC eq. 14)"), std::string::npos);
+  // The figure's structure lines (images/figure.structure.json): the side-by-side warp, and each
+  // line straight with them (under the pose's translations) where it bends without them.
+  EXPECT_TRUE(fs::exists(dir / "demo" / "figure.structure.png"));
+  ASSERT_NE(report.find("structure: 2 lines"), std::string::npos) << report;
+  std::size_t lines = 0;
+  for (std::size_t at = report.find("bend without / with the lines "); at != std::string::npos;
+       at = report.find("bend without / with the lines ", at + 1), ++lines) {
+    double without = -1.0, with = -1.0;
+    ASSERT_EQ(std::sscanf(report.c_str() + at, "bend without / with the lines %lf / %lf px", &without, &with), 2);
+    EXPECT_LT(with, 0.01) << report.substr(at, 120);
+    EXPECT_GT(without, 0.1) << report.substr(at, 120);
+  }
+  EXPECT_EQ(lines, 2u);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 /// bar (like thesis Figs 6.1–6.2), and overlays of the cage, the deformed cage and the samples.
 
 #include <functional>
+#include <span>
 #include <string>
 
 #include "kc/app/session.h"
@@ -80,6 +81,9 @@ void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const Ove
 /// Draws the session's structure lines as the pose deforms them: each line through 65 points
 /// along it moved by the field (deformPoints), so a bent line shows bent.
 void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style = {});
+/// The same for `lines` (the session's own or others, e.g. to show how a session without them bends them).
+void drawDeformedLines(Image& image, const Session& session, std::span<const StructureLine> lines, const Pose& pose,
+                       const OverlayStyle& style = {});
 /// Draws sample points coloured by kind.
 void drawSamples(Image& image, const SampleSet& samples, const OverlayStyle& style = {});
 
