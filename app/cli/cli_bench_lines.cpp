@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <vector>
 
 #include "cli_common.h"
@@ -22,27 +23,42 @@ void benchLines(const std::string& cagePath, int sets, int repeats) {
   std::printf("lines: %s, %d random sets of 3 lines (100-150 px, one parallel pair), 50 random translations of every\n"
               "control by up to +-40 px each; bind times median of %d runs\n",
               cagePath.c_str(), sets, repeats);
-  std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %10s\n", "set", "bend px", "without px", "angle deg", "without",
-              "bind ms", "plain ms", "ratio", "unity");
+  std::printf("  (ratio: bind wall time with lines / without; cpu: the same in process CPU time, steadier on a shared\n"
+              "   machine; iterations: the blue-noise relaxation's, with / without lines)\n");
+  std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %7s %11s %10s\n", "set", "bend px", "without px", "angle deg", "without",
+              "bind ms", "plain ms", "ratio", "cpu", "iterations", "unity");
   double worstDev = 0.0, worstAngle = 0.0, worstRatio = 0.0, worstUnity = 0.0, worstRepro = 0.0;
+  double sumRatio = 0.0, sumCpu = 0.0, sumSamplingLines = 0.0, sumSamplingPlain = 0.0, sumTotalLines = 0.0, sumTotalPlain = 0.0;
   for (int set = 0; set < sets; ++set) {
     app::Structure st;
     st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 1000 + std::uint64_t(set), true);
     st.groups = {"pair"};
-    std::vector<double> tLines, tPlain;
+    std::vector<double> tLines, tPlain, cLines, cPlain;
     app::Session lined, plain;
+    const auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };
     for (int r = 0; r < repeats; ++r) {
+      double c0 = cpu();
       plain = app::bind(cage, w, h, p);
+      cPlain.push_back(cpu() - c0);
       tPlain.push_back(plain.timings.total);
+      c0 = cpu();
       lined = app::bind(cage, st, w, h, p);
+      cLines.push_back(cpu() - c0);
       tLines.push_back(lined.timings.total);
     }
-    std::sort(tLines.begin(), tLines.end());
-    std::sort(tPlain.begin(), tPlain.end());
+    for (auto* v : {&tLines, &tPlain, &cLines, &cPlain}) std::sort(v->begin(), v->end());
+    const double cpuRatio = cLines[cLines.size() / 2] / cPlain[cPlain.size() / 2];
+    sumCpu += cpuRatio;
+    sumSamplingLines += lined.timings.sampling, sumSamplingPlain += plain.timings.sampling;
+    sumTotalLines += lined.timings.total, sumTotalPlain += plain.timings.total;
     const app::LineFigures with = app::measureLines(lined, st.lines, 50), without = app::measureLines(plain, st.lines, 50);
     const double ratio = tLines[tLines.size() / 2] / tPlain[tPlain.size() / 2];
-    std::printf("  %4d %14.3g %14.3g %12.3g %12.3g %10.1f %10.1f %7.2f %10.2g\n", set, with.deviation, without.deviation, with.angle,
-                without.angle, 1e3 * tLines[tLines.size() / 2], 1e3 * tPlain[tPlain.size() / 2], ratio, with.unity);
+    sumRatio += ratio;
+    char iterations[32];
+    std::snprintf(iterations, sizeof iterations, "%d / %d", lined.reports.sampling.iterations, plain.reports.sampling.iterations);
+    std::printf("  %4d %14.3g %14.3g %12.3g %12.3g %10.1f %10.1f %7.2f %7.2f %11s %10.2g\n", set, with.deviation, without.deviation,
+                with.angle, without.angle, 1e3 * tLines[tLines.size() / 2], 1e3 * tPlain[tPlain.size() / 2], ratio, cpuRatio,
+                iterations, with.unity);
     worstDev = std::max(worstDev, with.deviation);
     worstAngle = std::max(worstAngle, with.angle);
     worstRatio = std::max(worstRatio, ratio);
@@ -52,6 +68,11 @@ void benchLines(const std::string& cagePath, int sets, int repeats) {
   std::printf("  worst: bend %.3g px (goal 0.1), parallel angle %.3g deg (goal 0.05), bind time x%.2f (goal 1.2),\n"
               "         partition of unity %.2g, reproduction %.2g px on the lines\n",
               worstDev, worstAngle, worstRatio, worstUnity, worstRepro);
+  std::printf("  mean over the sets: bind time x%.2f (wall), x%.2f (CPU); the last runs' sampling took %.0f%% of the lines'\n"
+              "         extra wall time (sampling %.0f ms against %.0f ms, whole bind %.0f ms against %.0f ms, summed over the sets)\n",
+              sumRatio / sets, sumCpu / sets,
+              sumTotalLines > sumTotalPlain ? 100.0 * (sumSamplingLines - sumSamplingPlain) / (sumTotalLines - sumTotalPlain) : 0.0,
+              1e3 * sumSamplingLines, 1e3 * sumSamplingPlain, 1e3 * sumTotalLines, 1e3 * sumTotalPlain);
 }
 
 }  // namespace kc::cli
