@@ -274,3 +274,33 @@ TEST(LinesPanel, TheLineToolIsGreyedForLbc) {
 
 }  // namespace
 }  // namespace kc::ui
+
+namespace kc::ui {
+namespace {
+
+TEST(LineTool, LinesDrawnBeforeTheBindAreBoundWithTheCage) {
+  auto s = std::make_unique<AppState>();
+  s->worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  s->source = app::loadImage(dir + "checker.png");
+  s->autoSpacing = false;
+  s->bindParams.spacing = kSpacing;
+  setDraftCage(*s, app::loadCage(dir + "checker.cage.json"));
+  ASSERT_TRUE(s->cageValid);
+  selectTool(*s, Tool::Lines);
+  ASSERT_EQ(s->tool, Tool::Lines);
+  drawLine(*s, Vec2(60, 70), Vec2(190, 110));
+  ASSERT_EQ(s->lines.lines.size(), 1u) << lastMessage(*s);
+  EXPECT_FALSE(s->bound) << "no bind before the user asks for one";
+  drawLine(*s, Vec2(100, 40), Vec2(140, 150));  // crosses it: refused against the draft cage too
+  EXPECT_EQ(s->lines.lines.size(), 1u);
+  ASSERT_TRUE(startBind(*s));
+  finish(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->session->structure.lines.size(), 1u);
+  EXPECT_EQ(s->boundLines.size(), 1u);
+  EXPECT_LT(app::measureLines(*s->session, s->session->structure.lines, 20).deviation, 0.1);
+}
+
+}  // namespace
+}  // namespace kc::ui
