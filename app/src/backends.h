@@ -48,6 +48,10 @@ inline constexpr double kLineBlendLength = 0.25, kLineBlendSigmas = 4.0;
 /// reproduction stay exact; control, edge and line samples are not changed.
 void blendLineNeighbourhoods(Session& s, const CoordinateField& field);
 
+/// The samples applyLines may change: within max(blend reach, (2.5 + 5)σ) of a line (the blend,
+/// and the post-processing's kernels with their reach). Sorted.
+std::vector<Index> lineNeighbourhoodRows(const Session& s);
+
 LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
 
 }  // namespace kc::app

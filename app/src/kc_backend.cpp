@@ -134,7 +134,17 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < subset.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(subset[k]);
     OptimizeOptions oo;
     oo.method = method;
-    const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, whole ? std::span<const Index>{} : subset);
+    // With lines, the samples near them are re-derived from W0 too, so that the lines' blend and
+    // post-processing start again from the optimizer's weights (as at the bind), not from their
+    // own earlier result.
+    std::vector<Index> rows(subset.begin(), subset.end());
+    if (!whole && !s.structure.empty()) {
+      const std::vector<Index> near = lineNeighbourhoodRows(s);
+      rows.insert(rows.end(), near.begin(), near.end());
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    }
+    const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, whole ? std::span<const Index>{} : std::span<const Index>(rows));
     s.params.kc.method = method;
     if (whole) s.reports.optimize = r;
 
@@ -147,7 +157,7 @@ class KcBackend final : public Backend {
     if (!s.structure.empty()) {  // the lines' rows follow their base points again, everywhere
       auto* kernel = dynamic_cast<KernelField*>(s.field.get());
       if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines straight");
-      if (whole) kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
+      kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
       applyLines(s, *kernel);
       columns.resize(std::size_t(m));
       std::iota(columns.begin(), columns.end(), Index(0));

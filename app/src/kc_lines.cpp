@@ -56,6 +56,21 @@ void blendLineNeighbourhoods(Session& s, const CoordinateField& field) {
   }
 }
 
+std::vector<Index> lineNeighbourhoodRows(const Session& s) {
+  std::vector<Index> rows;
+  for (Index i = 0; i < s.samples.size(); ++i) {
+    const Vec2 x = s.samples.X.row(i).transpose();
+    for (const StructureLine& l : s.structure.lines) {
+      const double reach = std::max(blendReach(s.cage, l, s.sigma), (LinearityOptions{}.reach + 5.0) * s.sigma);
+      if (pointSegmentDistance(x, l.a, l.b) <= reach) {
+        rows.push_back(i);
+        break;
+      }
+    }
+  }
+  return rows;
+}
+
 LinearityReport applyLines(Session& s, KernelField& field) {
   const std::vector<StructureLine>& lines = s.structure.lines;
   if (lines.empty()) return {};
