@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -32,6 +33,7 @@ Cage blobCage(int m, double size) {
 }  // namespace
 
 void benchLines(const std::string& cagePath, int sets, int repeats);  // cli_bench_lines.cpp
+void benchEdges(const std::string& folder, int repeats);                // cli_bench_lines.cpp
 
 namespace {
 
@@ -44,7 +46,7 @@ struct BenchArgs {
   int samples = 10000;
   int repeats = 3;
   int threads = 0;
-  bool lines = false;
+  bool lines = false, edges = false;
   int lineSets = 10;
   std::string cage = "images/star.cage.json";
 };
@@ -160,12 +162,18 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
   sub->add_flag("--lines", a->lines, "Only the structure-lines table (straightness, parallelism, bind time; issue 13)");
+  sub->add_flag("--edges", a->edges,
+                "Only the linear-edges table: the bundled examples (the folder of --cage) with and without --linear-edges");
   sub->add_option("--line-sets", a->lineSets, "--lines: random sets of lines")->capture_default_str();
   sub->add_option("--cage", a->cage, "--lines: the cage (default: the bundled star)")->capture_default_str();
   sub->callback([a] {
     if (a->samples < 100 || a->samples > 1000000) throw app::InputError("--samples", "must be within 100..1000000");
     if (a->repeats < 1 || a->repeats > 100) throw app::InputError("--repeats", "must be within 1..100");
     const ScopedThreadCount threads(a->threads);
+    if (a->edges) {
+      benchEdges(std::filesystem::path(a->cage).parent_path().string(), a->repeats);
+      return;
+    }
     if (a->lines) {
       if (a->lineSets < 1 || a->lineSets > 1000) throw app::InputError("--line-sets", "must be within 1..1000");
       benchLines(a->cage, a->lineSets, a->repeats);

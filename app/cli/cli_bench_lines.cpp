@@ -1,13 +1,17 @@
 // kcwarp-cli bench --lines: straight and parallel lines (issue 13's goals) on a cage, by default the
 // bundled star — random lines of 100–150 px inside it, random translations of every control by up
 // to ±40 px; deviation from straight, parallel-group angle, bind time with and without lines.
+// kcwarp-cli bench --edges: the bundled examples bound with and without --linear-edges; linearity
+// along the edges, negative lobes, Lagrange, bind time.
 
 #include <algorithm>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <vector>
 
 #include "cli_common.h"
+#include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
@@ -73,6 +77,39 @@ void benchLines(const std::string& cagePath, int sets, int repeats) {
               sumRatio / sets, sumCpu / sets,
               sumTotalLines > sumTotalPlain ? 100.0 * (sumSamplingLines - sumSamplingPlain) / (sumTotalLines - sumTotalPlain) : 0.0,
               1e3 * sumSamplingLines, 1e3 * sumSamplingPlain, 1e3 * sumTotalLines, 1e3 * sumTotalPlain);
+}
+
+void benchEdges(const std::string& folder, int repeats) {
+  std::printf("linear edges: the bundled examples in %s, default bind with and without --linear-edges; bind times median\n"
+              "of %d runs; linearity every h/8 along every edge (sticks: edges on no loop); min w inside the cage\n",
+              folder.c_str(), repeats);
+  std::printf("  %-8s %11s %11s %11s %11s %11s %11s %10s %10s %7s\n", "example", "edges", "plain", "sticks", "plain",
+              "min w in", "plain", "bind ms", "plain ms", "ratio");
+  for (const char* name : {"checker", "star", "figure", "stick"}) {
+    const std::filesystem::path base = std::filesystem::path(folder) / name;
+    if (!std::filesystem::exists(base.string() + ".cage.json")) continue;
+    const Cage cage = app::loadCage(base.string() + ".cage.json");
+    const auto [w, h] = imageSize(base.string() + ".png");
+    app::BindParams plainParams, edgeParams;
+    edgeParams.kc.linearEdges = true;
+    std::vector<double> tEdges, tPlain;
+    app::Session lined, plain;
+    for (int r = 0; r < repeats; ++r) {
+      plain = app::bind(cage, w, h, plainParams);
+      tPlain.push_back(plain.timings.total);
+      lined = app::bind(cage, w, h, edgeParams);
+      tEdges.push_back(lined.timings.total);
+    }
+    std::sort(tEdges.begin(), tEdges.end());
+    std::sort(tPlain.begin(), tPlain.end());
+    const app::Diagnostics dl = app::diagnose(lined), dp = app::diagnose(plain);
+    const double ratio = tEdges[tEdges.size() / 2] / tPlain[tPlain.size() / 2];
+    std::printf("  %-8s %11.3g %11.3g %11s %11s %11.3g %11.3g %10.1f %10.1f %7.2f\n", name, dl.edgeLinearity, dp.edgeLinearity,
+                dl.sticks ? std::to_string(dl.stickLinearity).c_str() : "-", dp.sticks ? std::to_string(dp.stickLinearity).c_str() : "-",
+                dl.inside.minWeight, dp.inside.minWeight, 1e3 * tEdges[tEdges.size() / 2], 1e3 * tPlain[tPlain.size() / 2], ratio);
+    std::printf("  %-8s Lagrange %.2g, partition of unity %.2g, reproduction %.2g px (whole image, with linear edges)\n", "",
+                dl.lagrange, dl.image.partitionOfUnity, dl.image.reproduction);
+  }
 }
 
 }  // namespace kc::cli

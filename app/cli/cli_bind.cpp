@@ -20,6 +20,7 @@ struct BindArgs {
   double spacing = 6.0, sigma = 0.0, margin = -1.0;
   std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
   int heatIterations = 0;
+  bool linearEdges = false;
   double locality = 0.0;  // unscreened
   std::uint64_t seed = 1;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
@@ -47,6 +48,7 @@ void runBind(const BindArgs& a) {
   p.kc.init.locality = a.locality;
   p.kc.method = parseOption<Method>(a.method, "--method");
   p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
+  p.kc.linearEdges = a.linearEdges;
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
   requireFinite(a.lbcTolerance, "--lbc-tolerance");
@@ -129,6 +131,9 @@ void addBindCommand(CLI::App& app) {
                   "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
+  sub->add_flag("--linear-edges", a->linearEdges,
+                "Post-process the samples near every edge of the cage's loops (not sticks) so that the field is linear "
+                "along it, not only at its samples (thesis 5.3.3; deepens the negative lobes near the controls)");
   sub->add_option("--backend", a->backend,
                   "Weight backend: kc (kernel coordinates) | lbc (local barycentric coordinates on a mesh of the cage interior, "
                   "edge length --spacing; no weights outside the cage: warps default to --outside fixed)")

@@ -245,6 +245,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       d.inside.reproduction, d.image.reproduction);
   say(report, "%-34s %12.3f %12.3f %12.3f\n", "min weight", d.samples.minWeight, d.inside.minWeight, d.image.minWeight);
   say(report, "%-34s %12.2e\n", "Lagrange max|w_i(c_j)-d_ij|", d.lagrange);
+  say(report, "%-34s %12.2e\n", "linearity along edges and sticks", d.edgeLinearity);
   say(report, "locality: %.2f controls influence a point on average (max %d)\n", d.locality.meanInfluencing,
       d.locality.maxInfluencing);
   say(report, "warp: mesh %ld vertices / %ld triangles, weights at vertices %.1f ms, compact %.0f KB vs dense %.0f KB "
@@ -259,7 +260,10 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
   if (!e.structure.empty()) runStructure(e, s, out, outside, png, files, report);
-  runLbc(e, s, d, control, out, png, files, report);
+  if (cage.closed)
+    runLbc(e, s, d, control, out, png, files, report);
+  else  // LBC meshes a closed cage's interior: sticks have none
+    say(report, "-- LBC: not run (open sticks have no interior to mesh; the LBC backend needs a closed cage)\n");
 }
 
 }  // namespace
@@ -281,7 +285,7 @@ void addDemoCommand(CLI::App& app) {
     std::error_code ec;
     if (fs::exists(a->out, ec) && !fs::is_directory(a->out, ec)) throw app::InputError(a->out, "exists and is not a folder");
     std::vector<Example> examples;
-    for (const char* name : {"checker", "star", "figure"}) examples.push_back(loadExample(dir, name));
+    for (const char* name : {"checker", "star", "figure", "stick"}) examples.push_back(loadExample(dir, name));
     std::string report = "kcwarp demo: bundled examples from " + dir + "\n";
     std::fputs(report.c_str(), stdout);
     // Outputs are checked as they are produced and written together once every example worked.

@@ -69,6 +69,7 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
                 "%-38s --outside deform is refused)\n", "outside the cage", "");
   std::printf("%-38s %14.3e\n", "Lagrange            max|w_i(c_j) - d_ij|", d.lagrange);
   std::printf("%-38s %14.3e\n", "linear precision on edges  max dev.", d.edgeLinearity);
+  if (d.sticks) std::printf("%-38s %14.3e\n", "  on the sticks alone       max dev.", d.stickLinearity);
 }
 
 void printText(const app::Session& s, const app::Diagnostics& d, const std::string& path) {
@@ -121,7 +122,8 @@ void addStatsCommand(CLI::App& app) {
                 {"image", d.outsideWeights ? rowJson(d.image) : json(nullptr)},
                 {"outside_weights", d.outsideWeights},
                 {"lagrange", d.lagrange},
-                {"edge_linearity", d.edgeLinearity}}},
+                {"edge_linearity", d.edgeLinearity},
+                {"stick_linearity", d.sticks ? json(d.stickLinearity) : json(nullptr)}}},
               {"locality",
                {{"t", d.locality.t},
                 {"P", d.locality.P},

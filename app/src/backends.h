@@ -27,12 +27,15 @@ struct LbcBind {
 /// std::invalid_argument with advice for a mesh above kcwarp's vertex limit, a failed
 /// factorization or no convergence within the iteration cap. Shared by the "lbc" backend and the
 /// kc backend's `--init lbc`.
-/// Structure lines in a kernel session (thesis 5.3.3), after the per-sample optimization: couples
-/// the base points (the line ends) of parallel groups (5.11), blends the neighbourhoods toward the
-/// lines (blendLineNeighbourhoods), sets the intermediate line samples' weights linear between
-/// them (5.6), re-solves `field` and post-processes the neighbouring samples so that the field is
-/// linear along each whole line (makeLinearAlong). `field` must hold s.W on entry (the weights
-/// before the lines). Does nothing without lines. Returns the post-processing's report.
+/// Structure lines and cage edges in a kernel session (thesis 5.3.3), after the per-sample
+/// optimization: with params.kc.linearEdges, first post-processes the samples near each edge of the
+/// cage's loops so that the field is linear along it from one control's Lagrange weights to the
+/// other's (4.7); then couples the base points (the line ends) of parallel groups (5.11), blends the
+/// neighbourhoods toward the lines (blendLineNeighbourhoods), sets the intermediate line samples'
+/// weights linear between them (5.6), re-solves `field` and post-processes the neighbouring samples
+/// so that the field is linear along each whole line (makeLinearAlong). `field` must hold s.W on
+/// entry (the weights before the lines). Does nothing without lines and linear edges. Returns the
+/// post-processing's report (lines and edges together).
 LinearityReport applyLines(Session& s, KernelField& field);
 
 /// A line's neighbourhood reaches kLineBlendLength × its length from it, at least kLineBlendSigmas σ

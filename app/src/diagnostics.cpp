@@ -61,18 +61,30 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
 
   d.lagrange = lagrangeError(s.field->weightsAt(C));
 
-  // 16 points strictly inside every cage edge.
-  std::vector<std::array<int, 2>> ends;
-  const Cage poly = s.cage.edges.empty() ? Cage::polygon(C) : s.cage;
-  Points E(static_cast<Index>(poly.edges.size()) * 16, 2);
-  Index k = 0;
-  for (const auto& [a, b] : poly.edges)
-    for (int t = 1; t <= 16; ++t, ++k) {
-      const double u = t / 17.0;
-      E.row(k) = (1 - u) * C.row(a) + u * C.row(b);
-      ends.push_back({a, b});
+  // Points strictly inside every cage edge, every h/8 (at least 16 per edge): the field between
+  // the edge samples, not only at them. Edges off the loops (sticks) are measured on their own too.
+  const double step = (s.params.spacing > 0.0 ? s.params.spacing : 1.0) / 8.0;
+  const auto edges = cageEdges(s.cage);
+  const std::vector<char> onLoop = loopEdgeFlags(s.cage);
+  for (const bool sticks : {false, true}) {
+    std::vector<std::array<int, 2>> ends;
+    std::vector<Vec2> along;
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      if (sticks && onLoop[e]) continue;
+      const auto [a, b] = edges[e];
+      const int n = std::max(16, static_cast<int>(std::ceil((C.row(b) - C.row(a)).norm() / step)));
+      for (int t = 1; t <= n; ++t) {
+        const double u = t / (n + 1.0);
+        along.push_back((1 - u) * C.row(a).transpose() + u * C.row(b).transpose());
+        ends.push_back({a, b});
+      }
     }
-  d.edgeLinearity = edgeLinearityError(s.field->weightsAt(E), C, E, ends);
+    if (along.empty()) continue;
+    Points E(static_cast<Index>(along.size()), 2);
+    for (std::size_t k = 0; k < along.size(); ++k) E.row(static_cast<Index>(k)) = along[k].transpose();
+    (sticks ? d.stickLinearity : d.edgeLinearity) = edgeLinearityError(s.field->weightsAt(E), C, E, ends);
+    d.sticks = sticks;
+  }
 
   if (!inside.empty()) {
     const Eigen::VectorXd pixelArea = Eigen::VectorXd::Constant(static_cast<Index>(inside.size()), 1.0);

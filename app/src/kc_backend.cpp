@@ -154,9 +154,9 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < subset.size() && !changed; ++k) changed = s.W(subset[k], c) != before(static_cast<Index>(k), c);
       if (changed) columns.push_back(c);
     }
-    if (!s.structure.empty()) {  // the lines' rows follow their base points again, everywhere
+    if (!s.structure.empty() || s.params.kc.linearEdges) {  // lines and edges made linear again, everywhere
       auto* kernel = dynamic_cast<KernelField*>(s.field.get());
-      if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines straight");
+      if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines and edges linear");
       kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
       applyLines(s, *kernel);
       columns.resize(std::size_t(m));

@@ -85,6 +85,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"locality", p.kc.init.locality},
                  {"method", std::string(toString(p.kc.method))},
                  {"interp", std::string(toString(p.kc.interp))},
+                 {"linear_edges", p.kc.linearEdges},
                  {"backend", p.backend},
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
@@ -165,6 +166,11 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   }
   p.kc.method = parseEnum(params, "method", Method::QP, where);
   p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, where);
+  p.kc.linearEdges = false;  // sessions written before the option: their edges were not post-processed
+  if (params.contains("linear_edges")) {
+    if (!params["linear_edges"].is_boolean()) throw InputError(where, "params.linear_edges must be true or false");
+    p.kc.linearEdges = params["linear_edges"].get<bool>();
+  }
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, where);
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {

@@ -6,6 +6,8 @@
 // checker  256×256 checkerboard with distinguishable corners, 4-point cage (thesis 6.3.2)
 // star     five-pointed star with a checker texture, 10-point cage (thesis 6.2.1, 6.3.3)
 // figure   a gingerbread man with a non-convex 30-point cage (in the spirit of the butterfly, 6.3.4)
+// stick    a stick figure with a round head: an 8-point loop around the head and six open sticks
+//          (neck, arms, torso, legs), 14 control points (thesis 6.2.2, Fig 6.17)
 
 #include <cmath>
 #include <filesystem>
@@ -178,6 +180,57 @@ void makeFigure(const std::string& dir) {
   write(dir, "figure", img, cage, pose);
 }
 
+// --- stick figure ----------------------------------------------------------------------------
+
+void makeStick(const std::string& dir) {
+  const int w = 320, h = 400;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(246, 238, 228));
+  cv::rectangle(img, cv::Rect(0, 372, w, h - 372), cv::Scalar(120, 190, 140), cv::FILLED);  // grass
+  const Vec2 head(160, 72);
+  const double ring = 52;  // the head's loop of control points; the drawn head (r 42) lies inside it
+  std::vector<Vec2> pts;
+  for (int k = 0; k < 8; ++k) {  // 0 at the top, clockwise on screen, every 45°
+    const double a = -std::numbers::pi / 2 + k * std::numbers::pi / 4;
+    pts.emplace_back(head.x() + ring * std::cos(a), head.y() + ring * std::sin(a));
+  }
+  const Vec2 shoulders(160, 168), handR(252, 226), handL(68, 226), hips(160, 270), footR(214, 360), footL(106, 360);
+  for (const Vec2& p : {shoulders, handR, handL, hips, footR, footL}) pts.push_back(p);  // 8..13
+  const cv::Scalar ink(70, 50, 40), shirt(60, 80, 200), trousers(140, 80, 40), skin(150, 190, 240);
+  auto pt = [](const Vec2& p) { return cv::Point(int(std::lround(p.x())), int(std::lround(p.y()))); };
+  auto stick = [&](const Vec2& a, const Vec2& b, const cv::Scalar& c) {
+    cv::line(img, pt(a), pt(b), c, 14, cv::LINE_AA);
+    cv::circle(img, pt(b), 7, c, cv::FILLED, cv::LINE_AA);
+  };
+  stick(pts[4], shoulders, skin);  // neck
+  stick(shoulders, hips, shirt);   // torso
+  stick(shoulders, handR, shirt);
+  stick(shoulders, handL, shirt);
+  stick(hips, footR, trousers);
+  stick(hips, footL, trousers);
+  for (const Vec2& hand : {handR, handL}) cv::circle(img, pt(hand), 9, skin, cv::FILLED, cv::LINE_AA);
+  for (const Vec2& foot : {footR, footL}) cv::ellipse(img, pt(foot + Vec2(foot.x() > 160 ? 6 : -6, 4)), {14, 7}, 0, 0, 360, ink, cv::FILLED, cv::LINE_AA);
+  // The head: face, eyes, smile, hair.
+  cv::circle(img, pt(head), 42, skin, cv::FILLED, cv::LINE_AA);
+  cv::ellipse(img, pt(head), {42, 42}, 0, 200, 340, ink, 9, cv::LINE_AA);
+  cv::circle(img, pt(head + Vec2(-15, -4)), 5, ink, cv::FILLED, cv::LINE_AA);
+  cv::circle(img, pt(head + Vec2(15, -4)), 5, ink, cv::FILLED, cv::LINE_AA);
+  cv::ellipse(img, pt(head + Vec2(0, 10)), {18, 12}, 0, 20, 160, ink, 3, cv::LINE_AA);
+  cv::circle(img, pt(head), 42, ink, 2, cv::LINE_AA);
+
+  Cage cage;
+  cage.C = toPoints(pts);
+  cage.closed = false;
+  for (int k = 0; k < 8; ++k) cage.edges.push_back({k, (k + 1) % 8});  // the head's loop: an interior
+  for (const auto& e : std::vector<std::array<int, 2>>{{4, 8}, {8, 9}, {8, 10}, {8, 11}, {11, 12}, {11, 13}})
+    cage.edges.push_back(e);  // sticks: neck, arms, torso, legs
+  Pose pose = kc::restPose(cage.size());
+  // The right arm waves (about the shoulders), the left leg steps out, the head tilts.
+  pose[9] = rotateAbout(handR, shoulders, 0.9);
+  pose[13].translate = Vec2(-26, -10);
+  for (int k = 0; k < 8; ++k) pose[std::size_t(k)] = rotateAbout(pts[std::size_t(k)], pts[4], 0.2);
+  write(dir, "stick", img, cage, pose);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -187,6 +240,7 @@ int main(int argc, char** argv) {
     makeChecker(dir);
     makeStar(dir);
     makeFigure(dir);
+    makeStick(dir);
   } catch (const std::exception& e) {
     std::cerr << "kc_make_examples: " << e.what() << "\n";
     return 1;

@@ -217,10 +217,69 @@ double signedArea(const Points& C) {
   return 0.5 * a;
 }
 
+std::vector<char> loopEdgeFlags(const Cage& cage) {
+  const std::vector<std::array<int, 2>> edges = cageEdges(cage);
+  if (cage.closed && cage.edges.empty()) return std::vector<char>(edges.size(), 1);  // a polygon: one loop
+  const int m = static_cast<int>(cage.size()), ne = static_cast<int>(edges.size());
+  std::vector<std::vector<std::pair<int, int>>> adj(std::size_t(std::max(0, m)));  // (neighbour, edge)
+  for (int e = 0; e < ne; ++e) {
+    const auto [a, b] = edges[std::size_t(e)];
+    if (a < 0 || b < 0 || a >= m || b >= m) continue;  // validateCage reports it
+    adj[std::size_t(a)].emplace_back(b, e);
+    adj[std::size_t(b)].emplace_back(a, e);
+  }
+  // Iterative DFS: low[v] = the earliest discovery time reachable from v's subtree by one back
+  // edge; the tree edge parent→v is a bridge when low[v] > disc[parent].
+  std::vector<int> disc(std::size_t(m), -1), low(std::size_t(m), 0);
+  std::vector<char> bridge(std::size_t(ne), 0);
+  int time = 0;
+  struct Frame { int v, viaEdge; std::size_t next; };
+  for (int root = 0; root < m; ++root) {
+    if (disc[std::size_t(root)] >= 0) continue;
+    std::vector<Frame> stack{{root, -1, 0}};
+    disc[std::size_t(root)] = low[std::size_t(root)] = time++;
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const auto& nb = adj[std::size_t(f.v)];
+      if (f.next < nb.size()) {
+        const auto [u, e] = nb[f.next++];
+        if (e == f.viaEdge) continue;
+        if (disc[std::size_t(u)] < 0) {
+          disc[std::size_t(u)] = low[std::size_t(u)] = time++;
+          stack.push_back({u, e, 0});
+        } else {
+          low[std::size_t(f.v)] = std::min(low[std::size_t(f.v)], disc[std::size_t(u)]);
+        }
+      } else {
+        const Frame done = f;
+        stack.pop_back();
+        if (!stack.empty()) {
+          const int p = stack.back().v;
+          low[std::size_t(p)] = std::min(low[std::size_t(p)], low[std::size_t(done.v)]);
+          if (low[std::size_t(done.v)] > disc[std::size_t(p)]) bridge[std::size_t(done.viaEdge)] = 1;
+        }
+      }
+    }
+  }
+  for (char& b : bridge) b = !b;
+  return bridge;
+}
+
+std::vector<std::array<int, 2>> loopEdges(const Cage& cage) {
+  const std::vector<std::array<int, 2>> edges = cageEdges(cage);
+  if (cage.closed && cage.edges.empty()) return edges;
+  const std::vector<char> onLoop = loopEdgeFlags(cage);
+  std::vector<std::array<int, 2>> loops;
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (onLoop[e]) loops.push_back(edges[e]);
+  return loops;
+}
+
+bool hasInterior(const Cage& cage) { return cage.closed || !loopEdges(cage).empty(); }
+
 bool insideCage(const Cage& cage, const Vec2& x) {
-  if (!cage.closed) return false;
   bool inside = false;
-  for (const auto& [a, b] : cageEdges(cage)) {
+  for (const auto& [a, b] : loopEdges(cage)) {
     const Vec2 A = cage.C.row(a), B = cage.C.row(b);
     if ((A.y() > x.y()) != (B.y() > x.y())) {
       const double xc = A.x() + (x.y() - A.y()) * (B.x() - A.x()) / (B.y() - A.y());

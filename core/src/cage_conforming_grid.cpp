@@ -113,7 +113,7 @@ CageConformingGrid cageConformingGrid(const std::vector<double>& xs, const std::
     const auto grid = std::find_if(m.begin(), m.end(), [&](int v) { return v < ng; });
     bool in = false;
     if (grid != m.end()) in = !gridExterior[std::size_t(*grid)];
-    else if (cage.closed) in = insideCage(cage, (out.V.row(m[0]) + out.V.row(m[1]) + out.V.row(m[2])) / 3.0);
+    else if (hasInterior(cage)) in = insideCage(cage, (out.V.row(m[0]) + out.V.row(m[1]) + out.V.row(m[2])) / 3.0);
     (in ? inside : outside).push_back(m);
   }
   out.outsideTriangles = Index(outside.size());

@@ -40,14 +40,17 @@ struct GridEdgeCuts {
 /// crossings along rows give the same even-odd classification.
 struct LineCrossings {
   std::vector<GridEdgeCuts> cuts;            ///< (lines)×(along−1) grid edges, line-major.
-  std::vector<std::vector<double>> at;       ///< Per line: positions of all crossings (parity).
+  std::vector<std::vector<double>> at;       ///< Per line: positions of the crossings with loop edges (parity).
 
+  /// onLoop: per edge, whether it bounds the interior (loopEdges); open sticks cut grid edges but
+  /// do not count for the parity.
   LineCrossings(const std::vector<double>& lines, const std::vector<double>& along, const Cage& cage,
-                const std::vector<std::array<int, 2>>& edges, int axis)
+                const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop, int axis)
       : cuts(lines.size() * (along.size() - 1)), at(lines.size()) {
     const int other = 1 - axis;
     const std::size_t nAlong = along.size();
-    for (const auto& [a, b] : edges) {
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      const auto [a, b] = edges[e];
       const Vec2 A = cage.C.row(a), B = cage.C.row(b);
       const double lo = std::min(A(axis), B(axis)), hi = std::max(A(axis), B(axis));
       auto first = std::lower_bound(lines.begin(), lines.end(), lo);
@@ -57,7 +60,7 @@ struct LineCrossings {
         const double x = A(other) + (y - A(axis)) * (B(other) - A(other)) / (B(axis) - A(axis));
         const double s = (y - A(axis)) / (B(axis) - A(axis));
         const std::size_t line = std::size_t(it - lines.begin());
-        at[line].push_back(x);
+        if (onLoop[e]) at[line].push_back(x);
         if (x < along.front() || x > along.back()) continue;
         std::size_t k = std::size_t(std::upper_bound(along.begin(), along.end(), x) - along.begin()) - 1;
         k = std::min(k, nAlong - 2);
@@ -96,9 +99,10 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
   ExteriorWeightsReport& rep = out.report;
 
   // Crossings along rows (y = ys[j]) and columns (x = xs[i]); even-odd interior along rows.
-  const LineCrossings rows(ys, xs, cage, edges, 1), cols(xs, ys, cage, edges, 0);
+  const std::vector<char> onLoop = loopEdgeFlags(cage);
+  const LineCrossings rows(ys, xs, cage, edges, onLoop, 1), cols(xs, ys, cage, edges, onLoop, 0);
   out.exterior.assign(std::size_t(nv), 1);
-  if (cage.closed)
+  if (hasInterior(cage))
     parallelFor(ny, [&](Index j) {
       std::vector<double> at = rows.at[std::size_t(j)];
       std::sort(at.begin(), at.end());

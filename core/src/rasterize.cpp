@@ -305,9 +305,9 @@ Rgba sampleBilinear(const Image& image, double x, double y) {
 
 std::vector<std::uint8_t> cageMask(const Cage& cage, int width, int height) {
   std::vector<std::uint8_t> mask(static_cast<std::size_t>(std::max(0, width)) * std::max(0, height), 0);
-  if (!cage.closed) return mask;
+  if (!hasInterior(cage)) return mask;
   const Points& C = cage.C;
-  const auto edges = cageEdges(cage);
+  const auto edges = loopEdges(cage);  // even-odd over the loops; sticks have no inside
   parallelFor(height, [&](Index yy) {
     const double y = static_cast<double>(yy);
     std::vector<double> xs;

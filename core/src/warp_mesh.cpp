@@ -44,9 +44,9 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     throw std::invalid_argument("warp mesh: keep threshold must be in [0, 1)");
   validateCage(cage);
   const bool cull = options.outside == OutsideMode::Fixed || options.outside == OutsideMode::Transparent;
-  if (cull && !cage.closed)
+  if (cull && !hasInterior(cage))
     throw std::invalid_argument("warp mesh: outside mode '" + std::string(toString(options.outside)) +
-                                "' needs a closed cage");
+                                "' needs a cage with an inside (a closed loop)");
 
   const std::vector<double> xs = gridAxis(width, options.spacing), ys = gridAxis(height, options.spacing);
   const int nx = static_cast<int>(xs.size()), ny = static_cast<int>(ys.size());

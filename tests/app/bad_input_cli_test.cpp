@@ -227,6 +227,19 @@ TEST_F(BadInput, CageEdgeIndexWraps) {
   EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
 }
 
+// A stick figure (a loop for the head, open sticks; thesis 6.2.2) with a bad edge list.
+TEST_F(BadInput, StickGraphWithBadEdges) {
+  const std::string points = R"("points":[[40,10],[60,10],[60,30],[40,30],[60,50],[20,60],[100,60],[60,90]],"closed":false)";
+  const std::string head = "[0,1],[1,2],[2,3],[3,0]";
+  writeText(m_dir / "dangling.json", "{\"version\":1," + points + R"(,"edges":[)" + head + ",[2,4],[4,9]]}");
+  expectRefused("bind --cage dangling.json --size 120,120 -o out.kcw.json", "dangling.json: edges[5][1] = 9 is out of range");
+  writeText(m_dir / "repeated.json", "{\"version\":1," + points + R"(,"edges":[)" + head + ",[2,4],[4,7],[7,4]]}");
+  expectRefused("bind --cage repeated.json --size 120,120 -o out.kcw.json", "repeated.json: cage edges 5 and 6 are the same edge");
+  writeText(m_dir / "crossing.json", "{\"version\":1," + points + R"(,"edges":[)" + head + ",[2,4],[4,7],[5,6]]}");
+  expectRefused("bind --cage crossing.json --size 120,120 -o out.kcw.json", "crossing.json: cage is self-intersecting: edge 5");
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
 TEST_F(BadInput, CageCoordinateTooLarge) {
   writeText(m_dir / "far.json", R"({"version":1,"points":[[10,10],[1e300,10],[50,50]],"closed":true})");
   expectRefused("bind --cage far.json --size 64,64 -o out.kcw.json", "points[1][0] = 1e+300 is out of range");

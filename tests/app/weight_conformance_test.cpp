@@ -31,6 +31,7 @@ struct BackendCase {
   bool exact = true;              ///< Partition of unity and reproduction to round-off everywhere.
   bool nonNegative = false;       ///< w ≥ 0 at interior samples (inside the control hull).
   bool outsideCage = true;        ///< The field has weights outside the cage (else only inside is checked).
+  double sampleUnity = 1e-12;     ///< Partition of unity at the samples (round-off of the rows' sums).
   PerExample edgeLinearity;       ///< max deviation from linear weights along cage edges (4.7).
   PerExample negativeLobe;        ///< −(min weight of the field inside the cage).
 };
@@ -58,6 +59,17 @@ BackendCase kc(std::string name, Method method, InterpMode interp, InitMethod in
   c.nonNegative = method == Method::QP;
   c.edgeLinearity = std::move(edge);
   c.negativeLobe = std::move(lobe);
+  return c;
+}
+
+/// The default bind with `--linear-edges` (the field post-processed to be linear along every cage
+/// edge, thesis 5.3.3): linearity ≤ 1e-3 everywhere along the edges is the goal it is held to.
+BackendCase kcLinearEdges(PerExample lobe) {
+  BackendCase c = kc("kc_qp_exact_linear_edges", Method::QP, InterpMode::Exact, InitMethod::HeatLinear,
+                     {{"checker", 1e-3}, {"star", 1e-3}, {"figure", 1e-3}}, std::move(lobe));
+  c.bind = binder([](BindParams& p) { p.kc.linearEdges = true; });
+  c.nonNegative = false;  // the post-processing changes the weights of samples near the edges
+  c.sampleUnity = 1e-11;  // it adds K·ΔU, entries of order 1, to those rows: their sums carry that round-off
   return c;
 }
 
@@ -106,7 +118,7 @@ TEST_P(WeightConformance, PropertiesHold) {
   ASSERT_TRUE(std::isfinite(d.image.partitionOfUnity) && std::isfinite(d.image.reproduction) && std::isfinite(d.image.minWeight));
 
   // At the samples the optimizers enforce the constraints exactly; controls are Lagrange (3.18).
-  EXPECT_LT(d.samples.partitionOfUnity, 1e-12);
+  EXPECT_LT(d.samples.partitionOfUnity, c.sampleUnity);
   EXPECT_LT(d.samples.reproduction, 1e-9);  // pixels
   for (Index i = 0; i < m; ++i)
     for (Index k = 0; k < m; ++k) EXPECT_EQ(s.W(i, k), i == k ? 1.0 : 0.0) << "Lagrange at sample " << i;
@@ -132,7 +144,9 @@ TEST_P(WeightConformance, PropertiesHold) {
     EXPECT_LT(d.lagrange, 1e-6);
   }
 
-  // Linearity along the cage edges (4.7), in the field between samples: pinned upper bounds.
+  // Linearity along the cage edges (4.7), in the field between samples (every h/8): pinned upper bounds.
+  std::printf("[measured] %s %s: edge linearity %.3g, min w inside %.3g\n", caseName.c_str(), example.c_str(), d.edgeLinearity,
+              d.inside.minWeight);
   EXPECT_LE(d.edgeLinearity, c.edgeLinearity.at(example)) << "edge linearity regressed";
 
   // Negative lobes of the field inside the cage: pinned upper bound on −min w.
@@ -150,20 +164,24 @@ TEST_P(WeightConformance, PropertiesHold) {
 }
 
 // Edge linearity and negative-lobe bounds per example (checker, star, figure) at h = 8: the values
-// measured when the suite was written, times 1.05 rounded up to two digits.
+// measured when the suite was written, times 1.05 rounded up to two digits. Edge linearity is
+// measured every h/8 along every edge since 2026-11-30 (16 points per edge before: the star's
+// 0.021 was 0.040 measured densely).
+
 const BackendCase kCases[] = {
-    kc("kc_qp_exact", Method::QP, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.00039}, {"star", 0.022}, {"figure", 0.11}},
+    kc("kc_qp_exact", Method::QP, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0018}, {"star", 0.043}, {"figure", 0.12}},
        {{"checker", 0.0017}, {"star", 0.011}, {"figure", 0.14}}),
-    kc("kc_qec_exact", Method::QEC, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0011}, {"star", 0.021}, {"figure", 0.091}},
+    kc("kc_qec_exact", Method::QEC, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0086}, {"star", 0.042}, {"figure", 0.091}},
        {{"checker", 0.0095}, {"star", 0.011}, {"figure", 0.042}}),
-    kc("kc_l1_exact", Method::L1, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0035}, {"star", 0.021}, {"figure", 0.091}},
+    kc("kc_l1_exact", Method::L1, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.011}, {"star", 0.042}, {"figure", 0.091}},
        {{"checker", 0.013}, {"star", 0.011}, {"figure", 0.042}}),
-    kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear, {{"checker", 0.0006}, {"star", 0.021}, {"figure", 0.13}},
+    kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear, {{"checker", 0.0018}, {"star", 0.042}, {"figure", 0.14}},
        {{"checker", 0.0014}, {"star", 0.011}, {"figure", 0.16}}),
-    kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse, {{"checker", 0.00042}, {"star", 0.025}, {"figure", 0.13}},
+    kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse, {{"checker", 0.0018}, {"star", 0.052}, {"figure", 0.13}},
        {{"checker", 0.0021}, {"star", 0.015}, {"figure", 0.11}}),
-    kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance, {{"checker", 0.0012}, {"star", 0.061}, {"figure", 0.41}},
+    kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance, {{"checker", 0.0056}, {"star", 0.11}, {"figure", 0.41}},
        {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
+    kcLinearEdges({{"checker", 0.024}, {"star", 0.13}, {"figure", 1.2}}),
     lbc("lbc_square", LbcTau::Square),
 };
 

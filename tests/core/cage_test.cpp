@@ -130,5 +130,54 @@ TEST(Cage, NarrowestGapFindsShortEdgesAndSlivers) {
   EXPECT_TRUE(std::isinf(narrowestGap(Cage::polygon(pts({{0, 0}, {10, 0}, {10, 10}, {0, 10}})), 3.0).distance));
 }
 
+/// A stick figure (thesis 6.2.2): a square "head" loop 0-1-2-3, a neck 2→4, arms 4→5, 4→6, a
+/// torso 4→7, and a stick 1→8 off the head that crosses the head's middle row to its right.
+Cage stickFigure() {
+  Cage c;
+  c.C = pts({{40, 0}, {60, 0}, {60, 20}, {40, 20}, {60, 40}, {20, 50}, {100, 50}, {60, 80}, {100, 15}});
+  c.closed = false;
+  c.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {2, 4}, {4, 5}, {4, 6}, {4, 7}, {1, 8}};
+  return c;
+}
+
+TEST(Cage, LoopsOfAnEdgeGraphBoundItsInside) {
+  const Cage c = stickFigure();
+  ASSERT_NO_THROW(validateCage(c));
+  const auto loops = loopEdges(c);
+  EXPECT_EQ(loops, (std::vector<std::array<int, 2>>{{0, 1}, {1, 2}, {2, 3}, {3, 0}}));
+  EXPECT_TRUE(hasInterior(c));
+  EXPECT_TRUE(insideCage(c, Vec2(50, 10)));    // in the head
+  EXPECT_FALSE(insideCage(c, Vec2(70, 10)));   // beside it: the stick 1→8 crosses the row to its right
+  EXPECT_FALSE(insideCage(c, Vec2(60, 60)));   // between the sticks
+  // Pure sticks (a tree) bound nothing; a polygon is all loop.
+  Cage tree = c;
+  tree.edges.erase(tree.edges.begin() + 3);  // open the head
+  EXPECT_TRUE(loopEdges(tree).empty());
+  EXPECT_FALSE(hasInterior(tree));
+  EXPECT_FALSE(insideCage(tree, Vec2(50, 10)));
+  const Cage square = Cage::polygon(pts({{0, 0}, {10, 0}, {10, 10}, {0, 10}}));
+  EXPECT_EQ(loopEdges(square).size(), 4u);
+  // Two loops joined by a stick (a bridge between them): both loops, not the stick.
+  Cage twin;
+  twin.C = pts({{0, 0}, {10, 0}, {10, 10}, {0, 10}, {30, 0}, {40, 0}, {40, 10}, {30, 10}});
+  twin.closed = false;
+  twin.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {1, 4}, {4, 5}, {5, 6}, {6, 7}, {7, 4}};
+  EXPECT_EQ(loopEdges(twin).size(), 8u);
+  EXPECT_TRUE(insideCage(twin, Vec2(35, 5)));
+  EXPECT_FALSE(insideCage(twin, Vec2(20, 5)));
+}
+
+TEST(Cage, StickGraphsWithBadEdgesAreRefused) {
+  Cage c = stickFigure();
+  c.edges.push_back({8, 1});  // the stick 1→8 again
+  EXPECT_NE(rejectReason(c).find("same edge"), std::string::npos) << rejectReason(c);
+  c = stickFigure();
+  c.edges.push_back({5, 6});  // hand to hand: crosses the torso 4→7 at (60, 50)
+  EXPECT_NE(rejectReason(c).find("crosses"), std::string::npos) << rejectReason(c);
+  c = stickFigure();
+  c.edges.push_back({4, 9});  // no point 9
+  EXPECT_NE(rejectReason(c).find("does not exist"), std::string::npos) << rejectReason(c);
+}
+
 }  // namespace
 }  // namespace kc

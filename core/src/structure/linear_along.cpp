@@ -58,7 +58,12 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   Weights e = field.weightsAt(F) - target;
   report.before = e.cwiseAbs().maxCoeff();
 
+  std::vector<Index> keptRows;  // their rows are put back exactly at the end
+  for (Index i = 0; i < n; ++i)
+    if (keep[std::size_t(i)]) keptRows.push_back(i);
+  const Weights kept = W(keptRows, Eigen::all);
   std::vector<char> changed(static_cast<std::size_t>(n), 0), adjusted(static_cast<std::size_t>(n), 0);
+  for (int sweep = 0; sweep < std::max(1, options.sweeps); ++sweep)
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec2 a = segments[s].a, b = segments[s].b;
     std::vector<Index> nodes, held, onLine, own, others;  // onLine: held samples on the segment (fit, not held)
@@ -127,6 +132,9 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     report.changedRows += changed[i];
     report.adjusted += adjusted[i];
   }
+  // The held rows moved by about rankTolerance; their exact values back (the field interpolates
+  // them: Lagrange and the linear edge samples to round-off), which moves the fit by as little.
+  W(keptRows, Eigen::all) = kept;
   field.update(W);
   report.after = (field.weightsAt(F) - target).cwiseAbs().maxCoeff();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -37,7 +37,7 @@ double angleDegrees(const Vec2& u, const Vec2& v) {
 
 void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h) {
   if (lines.empty()) return;
-  if (!cage.closed) throw std::invalid_argument(lineName(0) + ": lines need a closed cage (an open cage has no inside)");
+  if (!hasInterior(cage)) throw std::invalid_argument(lineName(0) + ": lines need a closed cage (an open cage has no inside)");
   std::map<int, std::vector<std::size_t>> groups;
   for (std::size_t k = 0; k < lines.size(); ++k) {
     const StructureLine& l = lines[k];

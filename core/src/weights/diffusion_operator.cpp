@@ -48,7 +48,7 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
       reach = std::max(reach, (X.row(it.row()) - X.row(c)).cwiseAbs().maxCoeff());
   const double extent = std::max(1e-300, (hi - lo).norm()), tol = 1e-9 * extent;
   const CageEdgeGrid grid(cage, std::max(reach, 1e-6 * extent));
-  const bool closed = cage.closed;
+  const bool closed = hasInterior(cage);  // open sticks alone: one region
 
   std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
   parallelFor(n, [&](Index i) {

@@ -149,7 +149,7 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
 
   // Two stages: inside/on-cage samples first, then exterior ones (which depend on the former,
   // never the reverse). Each stage's unknowns with no path to a known sample fall back.
-  const bool closed = cage.closed;
+  const bool closed = hasInterior(cage);
   std::vector<Index> stages[2];
   for (Index i = 0; i < n; ++i)
     if (!known[static_cast<std::size_t>(i)])

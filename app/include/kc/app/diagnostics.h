@@ -23,7 +23,9 @@ struct Diagnostics {
   /// The field has weights outside the cage (BackendCapabilities::outsideCage). A mesh field (LBC)
   /// has none: its weights there are 0, so `image` would only measure that; it is left empty.
   double lagrange = 0.0;        ///< max |w_i(c_j) − δ_ij|
-  double edgeLinearity = 0.0;   ///< max deviation from (4.7) at points along the cage edges
+  double edgeLinearity = 0.0;   ///< max deviation from (4.7) at points along every cage edge and stick, every h/8
+  double stickLinearity = 0.0;  ///< the same along the sticks only (edges on no closed loop; thesis Table 6.6)
+  bool sticks = false;          ///< the cage has sticks (stickLinearity is measured)
   LocalityStats locality;       ///< inside the cage
   /// Memory of the compact weights inside the cage (entries w > 10⁻³/m in CSR: 8 B value + 4 B
   /// column per entry, 4 B per row) over dense storage (8 B per entry), as in LBC paper Table 1.

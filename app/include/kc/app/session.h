@@ -26,6 +26,11 @@ struct KcParams {
   InitOptions init;        ///< W0: method, diffusion iterations, locality.
   Method method = Method::QP;
   InterpMode interp = InterpMode::Exact;
+  /// `--linear-edges`: the field is made linear along every edge of the cage's loops (not the
+  /// sticks) by the post-processing of the lines (thesis 5.3.3, makeLinearAlong), not only at the
+  /// edge samples; deepens the negative lobes near the controls (docs/ARCHITECTURE.md). Sessions
+  /// written before the option (no `params.linear_edges`) read false.
+  bool linearEdges = false;
 };
 
 /// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is

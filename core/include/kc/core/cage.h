@@ -30,6 +30,17 @@ void validateCage(const Cage& cage);
 /// structures, edge graphs), else the closed polygon's i → i+1 (mod m).
 std::vector<std::array<int, 2>> cageEdges(const Cage& cage);
 
+/// The edges that lie on a closed loop of the edge graph (those that are not bridges, Tarjan's
+/// O(V + E) search): the boundary of the cage's interior regions. A closed polygon: all edges; a
+/// stick figure: its head's loop, not its sticks (open edges bound nothing). Order as cageEdges.
+std::vector<std::array<int, 2>> loopEdges(const Cage& cage);
+/// The same as one flag per edge of cageEdges(cage) (1: on a loop).
+std::vector<char> loopEdgeFlags(const Cage& cage);
+
+/// True when the cage bounds an interior: a closed cage, or an edge graph with a closed loop
+/// (a stick figure with a round head; thesis 6.2.2).
+bool hasInterior(const Cage& cage);
+
 /// The narrowest place of a cage: two control points joined by an edge (pointA, pointB), or two
 /// edges that share no end point (edgeA, edgeB), closer than a distance. Unused indices are −1;
 /// distance is +∞ when nothing is that close.
@@ -46,8 +57,9 @@ CageGap narrowestGap(const Cage& cage, double below);
 /// Signed area of the closed polygon C (positive = counter-clockwise in x-right/y-up axes).
 double signedArea(const Points& C);
 
-/// True when x lies inside the closed cage (even-odd rule; orientation does not matter).
-/// Points exactly on an edge may go either way: callers treat edges separately.
+/// True when x lies inside the cage: even-odd rule over loopEdges (orientation does not matter),
+/// so a stick crossing the ray does not count and open sticks have no inside. Points exactly on
+/// an edge may go either way: callers treat edges separately.
 bool insideCage(const Cage& cage, const Vec2& x);
 
 /// True when the segment a–b properly crosses a cage edge: the two meet at a point that is

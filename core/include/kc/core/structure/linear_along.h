@@ -21,6 +21,8 @@ struct LinearityOptions {
   double fitSpacing = 0.25;  ///< Fit points along a segment every fitSpacing·σ.
   double reach = 2.5;        ///< Samples within reach·σ of a segment are adjusted.
   double rankTolerance = 1e-6;   ///< Relative pivot threshold of the least-norm fit (larger: smaller changes, looser fit).
+  int sweeps = 1;                ///< Passes over all segments (a second pass settles what later segments
+                                 ///< moved at the fit points of earlier ones, as at the corners of a cage).
   double holdWeight = 1.0;       ///< Weight of the side conditions (held samples, other lines, PᵀΔU = 0) against the fit
                                  ///< (larger weights make the COD drop fit directions: 10 gave a 40× looser fit on the star).
 };
@@ -47,7 +49,9 @@ struct LinearityReport {
 /// since each row of ΔU is a combination of rows w(F) − linear(F), which satisfy 1ᵀe = 0 and
 /// Cᵀe = 0, partition of unity and reproduction stay exact. `keep` has #S entries (non-zero:
 /// held). The fit and the side conditions are met to about rankTolerance (relative): measured
-/// on the star with three lines, fit 7e-6 and held samples (Lagrange) 1.5e-6.
+/// on the star with three lines, fit 7e-6; the held rows are then put back to their exact values
+/// (W(keep) as given) and the field re-solved, so Lagrange and the held samples' weights are
+/// exact to round-off while the fit loosens by about as much.
 LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegment> segments, const std::vector<char>& keep,
                                 Weights& W, const LinearityOptions& options = {});
 
