@@ -89,6 +89,7 @@ void benchEdges(const std::string& folder, int repeats) {
     const std::filesystem::path base = std::filesystem::path(folder) / name;
     if (!std::filesystem::exists(base.string() + ".cage.json")) continue;
     const Cage cage = app::loadCage(base.string() + ".cage.json");
+    if (loopEdges(cage).size() != cageEdges(cage).size()) continue;  // --linear-edges refuses sticks
     const auto [w, h] = imageSize(base.string() + ".png");
     app::BindParams plainParams, edgeParams;
     edgeParams.kc.linearEdges = true;

@@ -263,7 +263,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   if (cage.closed)
     runLbc(e, s, d, control, out, png, files, report);
   else  // LBC meshes a closed cage's interior: sticks have none
-    say(report, "-- LBC: not run (open sticks have no interior to mesh; the LBC backend needs a closed cage)\n");
+    say(report, "LBC is not run on this example: its open sticks have no interior to mesh (the LBC backend needs a closed cage)\n");
 }
 
 }  // namespace

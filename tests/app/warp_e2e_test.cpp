@@ -297,13 +297,15 @@ TEST(DemoCli, WritesWarpedImagesHeatmapsAndReport) {
   const fs::path dir = scratch("demo");
   const CliRun r = cli("demo --out demo --images '" + std::string(KC_SOURCE_DIR) + "/images'", dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  for (const std::string name : {"checker", "star", "figure"})
+  for (const std::string name : {"checker", "star", "figure", "stick"})
     for (const std::string kind : {".warped.png", ".overlay.png", ".heatmap.png", ".heatmap-log.png", ".kcw.json"})
       EXPECT_TRUE(fs::exists(dir / "demo" / (name + kind))) << name + kind;
   const std::string report = slurpFile(dir / "demo" / "report.txt");
   EXPECT_NE(report.find("partition of unity"), std::string::npos);
   EXPECT_NE(report.find("flipped triangles"), std::string::npos);
-  // LBC next to KC for every example: solver report, locality and objective.
+  // LBC next to KC for every example with a closed cage (not the stick figure): solver report,
+  // locality and objective.
+  EXPECT_NE(report.find("LBC is not run on this example"), std::string::npos) << report;
   for (const std::string name : {"checker", "star", "figure"})
     EXPECT_TRUE(fs::exists(dir / "demo" / (name + ".lbc.heatmap-log.png"))) << name;
   std::size_t lbcSections = 0;
