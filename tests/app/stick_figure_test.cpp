@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "kc/app/diagnostics.h"
+#include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
 
@@ -70,6 +72,29 @@ TEST_P(StickFigureMethods, TableSixSixPropertiesHold) {
               "linearity along sticks %.3g, all edges %.3g\n",
               std::string(toString(GetParam())).c_str(), long(head), d.image.partitionOfUnity, d.image.reproduction, d.lagrange,
               d.inside.minWeight, d.image.minWeight, d.stickLinearity, d.edgeLinearity);
+}
+
+TEST(LinearEdges, SessionKeepsTheOptionAndSticksAreRefused) {
+  const Cage star = loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json");
+  BindParams p;
+  p.spacing = 8.0;
+  p.kc.linearEdges = true;
+  const Session s = bind(star, 320, 320, p);
+  const std::string text = sessionToJson(s);
+  const Session back = sessionFromJson(text, "s.kcw.json");
+  EXPECT_TRUE(back.params.kc.linearEdges);
+  EXPECT_LE(diagnose(back, 20000).edgeLinearity, 1e-3);  // the reloaded field is the post-processed one
+  // A session written before the option (no params.linear_edges) was not post-processed.
+  nlohmann::json j = nlohmann::json::parse(text);
+  j["params"].erase("linear_edges");
+  EXPECT_FALSE(sessionFromJson(j.dump(), "old.kcw.json").params.kc.linearEdges);
+  // The stick figure's sticks get worse with it (docs/ARCHITECTURE.md): refused, naming the option.
+  try {
+    bind(stickCage(), 320, 400, p);
+    ADD_FAILURE() << "a cage with sticks was bound with linear edges";
+  } catch (const InputError& e) {  // bad input (CLI: exit 2, one line)
+    EXPECT_NE(std::string(e.what()).find("--linear-edges needs a cage without sticks"), std::string::npos) << e.what();
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, StickFigureMethods, ::testing::Values(Method::QP, Method::QEC, Method::L1),
