@@ -79,7 +79,7 @@ void runBind(const BindArgs& a) {
   if (!a.structure.empty()) {
     st = app::loadStructure(a.structure);
     if (!app::backendFor(p.backend).capabilities().lines)
-      throw app::InputError(a.structure, "lines are supported by the kernel backend (--backend kc), not by '" + p.backend + "'");
+      throw app::InputError(a.structure, "lines and rigid regions are supported by the kernel backend (--backend kc), not by '" + p.backend + "'");
     app::checkStructure(st, cage, p.spacing, a.structure);
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);
@@ -98,7 +98,12 @@ void runBind(const BindArgs& a) {
     std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
   }
   const app::BindTimings& t = s.timings;
-  if (!st.empty())
+  if (!st.rigid.empty())
+    std::printf("rigid: %zu regions, %ld samples, rigidity energy %.4g -> %.4g (%ld nodes, %ld controls, %d ADMM iterations%s, %.3f s)\n",
+                st.rigid.size(), static_cast<long>(r.rigidity.region), r.rigidity.energyBefore, r.rigidity.energyAfter,
+                static_cast<long>(r.rigidity.nodes), static_cast<long>(r.rigidity.controls), r.rigidity.solver.iterations,
+                r.rigidity.solver.converged ? "" : ", NOT converged", r.rigidity.seconds);
+  if (!st.lines.empty())
     std::printf("lines: %zu, field linear along them to %.2e (was %.2e; %ld samples adjusted, %.3f s)\n", st.lines.size(),
                 r.lines.after, r.lines.before, static_cast<long>(r.lines.adjusted), r.lines.seconds);
   std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",

@@ -7,6 +7,7 @@
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/structure/linear_along.h"
+#include "kc/core/structure/rigidity.h"
 
 namespace kc::app {
 
@@ -54,6 +55,14 @@ void blendLineNeighbourhoods(Session& s, const CoordinateField& field);
 /// The samples applyLines may change: within max(blend reach, (2.5 + 5)σ) of a line (the blend,
 /// and the post-processing's kernels with their reach). Sorted.
 std::vector<Index> lineNeighbourhoodRows(const Session& s);
+/// Rigid regions in a kernel session (docs/rigidity.md), after the lines: kc::makeRigid with
+/// s.rigidity, holding controls and line samples. Does nothing without a positive ρ.
+/// Throws std::invalid_argument when s.rigidity does not have one entry per sample.
+RigidityReport applyRigidity(Session& s, KernelField& field);
+/// Gives rows `rows` of s.W their unconstrained weights again (per-sample optimization from W0
+/// with the session's method; lines re-applied when there are lines) and re-solves the field's
+/// changed columns, which are appended to `columns`.
+void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rows, std::vector<Index>& columns);
 
 LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
 

@@ -206,6 +206,18 @@ void drawDeformedLines(Image& image, const Session& session, std::span<const Str
     const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
     cv::polylines(m, polygonPoints(Q), false, scalar(style.line), style.thickness + 1, cv::LINE_AA, kShift);
   }
+  constexpr Index kPerEdge = 16;
+  for (const RigidRegion& r : session.structure.rigid) {
+    const Index n = r.polygon.rows();
+    Points P(n * kPerEdge, 2);
+    for (Index e = 0; e < n; ++e)
+      for (Index k = 0; k < kPerEdge; ++k) {
+        const double t = double(k) / double(kPerEdge);
+        P.row(e * kPerEdge + k) = (1.0 - t) * r.polygon.row(e) + t * r.polygon.row((e + 1) % n);
+      }
+    const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
+    cv::polylines(m, polygonPoints(Q), true, scalar(style.rigid), style.thickness + 1, cv::LINE_AA, kShift);
+  }
 }
 
 void drawSamples(Image& image, const SampleSet& samples, const OverlayStyle& style) {

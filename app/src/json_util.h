@@ -41,8 +41,11 @@ json poseToJson(const Pose& pose);
 /// A structure file's or session's "lines" array → lines and parallel-group names (entries
 /// named field[k]); null gives none.
 Structure parseStructureLines(const json& arr, const std::string& where, const std::string& field);
-/// InputError when j has a non-empty "rigid" array: rigid regions are not supported yet.
-void refuseRigid(const json& j, const std::string& where);
+/// A structure file's or session's "rigid" array → regions (entries named field[k]: "polygon" of
+/// ≥ 3 finite points, optional "strength" in [0, 1], default 1); null gives none.
+std::vector<RigidRegion> parseRigidRegions(const json& arr, const std::string& where, const std::string& field);
+/// [{"polygon": [[x, y], ...], "strength": s}, ...] of the structure's regions.
+json rigidToJson(const Structure& structure);
 /// {"points": [[x0, y0], [x1, y1]], "parallel"?: name} of line k.
 json lineToJson(const Structure& structure, std::size_t k);
 

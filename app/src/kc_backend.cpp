@@ -107,6 +107,8 @@ class KcBackend final : public Backend {
     const auto ts = std::chrono::steady_clock::now();
     field->update(s.W);
     r.lines = applyLines(s, *field);
+    s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
+    r.rigidity = applyRigidity(s, *field);
     r.solveSeconds = secondsSince(ts);
     s.field = std::move(field);
     s.reports = {r.sampling, r.init, r.optimize, {}, 0};
@@ -127,6 +129,15 @@ class KcBackend final : public Backend {
       throw std::invalid_argument("this session has no target weights (weights.initial) to optimize from");
     const WeightOptimizer optimizer(s.cage.C);
     const bool whole = subset.empty() || s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols();
+    auto* kernel = dynamic_cast<KernelField*>(s.field.get());
+    const bool rigid = std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; });
+    std::vector<Index> rows(subset.begin(), subset.end());
+    if (rigid && !whole && kernel) {  // the rigid zone's rows get their unconstrained weights back first
+      const std::vector<Index> zone = rigidityZone(*kernel, s.rigidity);
+      rows.insert(rows.end(), zone.begin(), zone.end());
+      std::sort(rows.begin(), rows.end());
+      rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+    }
     if (s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols()) s.W = s.W0;
     const Index m = s.W0.cols();
     RowMatrix before(static_cast<Index>(subset.size()), m);
@@ -137,8 +148,7 @@ class KcBackend final : public Backend {
     // With lines, the samples near them are re-derived from W0 too, so that the lines' blend and
     // post-processing start again from the optimizer's weights (as at the bind), not from their
     // own earlier result.
-    std::vector<Index> rows(subset.begin(), subset.end());
-    if (!whole && !s.structure.empty()) {
+    if (!whole && !s.structure.lines.empty()) {
       const std::vector<Index> near = lineNeighbourhoodRows(s);
       rows.insert(rows.end(), near.begin(), near.end());
       std::sort(rows.begin(), rows.end());
@@ -154,11 +164,11 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < subset.size() && !changed; ++k) changed = s.W(subset[k], c) != before(static_cast<Index>(k), c);
       if (changed) columns.push_back(c);
     }
-    if (!s.structure.empty() || s.params.kc.linearEdges) {  // lines and edges made linear again, everywhere
-      auto* kernel = dynamic_cast<KernelField*>(s.field.get());
-      if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines and edges linear");
+    if (!s.structure.lines.empty() || s.params.kc.linearEdges || rigid) {  // lines and edges made linear again, then rigidity
+      if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines and edges linear or its regions rigid");
       kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
-      applyLines(s, *kernel);
+      if (!s.structure.lines.empty() || s.params.kc.linearEdges) applyLines(s, *kernel);
+      applyRigidity(s, *kernel);
       columns.resize(std::size_t(m));
       std::iota(columns.begin(), columns.end(), Index(0));
     } else if (s.field) {

@@ -159,11 +159,13 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
       checkBindCost(estimateBindCost(cage, width, height, params), params);
     checkCageScale(cage, params.spacing);
     if (!structure.empty() && !b.capabilities().lines)
-      throw std::invalid_argument("lines are supported by the kernel backend (--backend kc), not by '" + std::string(b.name()) + "'");
+      throw std::invalid_argument("lines and rigid regions are supported by the kernel backend (--backend kc), not by '" +
+                                  std::string(b.name()) + "'");
     validateLines(cage, structure.lines, params.spacing);
     if (params.kc.linearEdges && loopEdges(cage).size() != cageEdges(cage).size())
       throw std::invalid_argument("--linear-edges needs a cage without sticks (measured on the stick figure: the sticks' "
                                   "linearity went from 0.031 to 0.089 and the head's lobe from -0.05 to -0.83)");
+    validateRigidRegions(cage, structure.rigid);
     return b;
   });
   BindReport local;

@@ -99,12 +99,18 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
             {"samples", samplesToJson(s.samples)},
             {"weights", json::object()},
             {"lines", linesToJson(s)},
-            {"rigid", json::array()},
+            {"rigid", detail::rigidToJson(s.structure)},
             {"image", s.image}};
   putWeights(j["weights"], "optimized", s.W, form);
   if (s.W0.rows() > 0) putWeights(j["weights"], "initial", s.W0, form);  // a backend without targets has none
   if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.reports);
+  if (std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) {
+    json idx = json::array(), rho = json::array();
+    for (std::size_t i = 0; i < s.rigidity.size(); ++i)
+      if (s.rigidity[i] > 0.0) idx.push_back(i), rho.push_back(s.rigidity[i]);
+    j["rigidity"] = {{"samples", idx}, {"rho", rho}};
+  }
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
   if (!s.outside.empty()) j["outside"] = s.outside;
   const BindTimings& t = s.timings;
@@ -218,7 +224,25 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
       s.samples.lines.push_back(std::move(v));
     }
   }
-  detail::refuseRigid(j, where);
+  if (j.contains("rigid")) s.structure.rigid = detail::parseRigidRegions(j["rigid"], where, "rigid");
+  if (j.contains("rigidity") && !j["rigidity"].is_null()) {
+    const json& r = j["rigidity"];
+    if (!r.is_object()) throw InputError(where, "rigidity must be {\"samples\": [i, ...], \"rho\": [r, ...]}");
+    const json& idx = detail::require(r, "samples", where);
+    const json& rho = detail::require(r, "rho", where);
+    if (!idx.is_array() || !rho.is_array() || idx.size() != rho.size())
+      throw InputError(where, "rigidity.samples and rigidity.rho must be arrays of the same length");
+    s.rigidity.assign(static_cast<std::size_t>(n), 0.0);
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      const std::string f = "rigidity.rho[" + std::to_string(k) + "]";
+      const Index i = static_cast<Index>(detail::integerInRange(idx[k], 0, n - 1, where, "rigidity.samples[" + std::to_string(k) + "]"));
+      if (!rho[k].is_number() || !(rho[k].get<double>() >= 0.0 && rho[k].get<double>() <= 1.0))
+        throw InputError(where, f + " must be a number in [0, 1]");
+      s.rigidity[std::size_t(i)] = rho[k].get<double>();
+    }
+  } else if (!s.structure.rigid.empty()) {
+    s.rigidity = rigidityOfRegions(s.samples.X, s.structure.rigid);  // older writers: ρ from the polygons
+  }
   try {
     s.samples.validate(m);
   } catch (const std::invalid_argument& e) {

@@ -39,11 +39,32 @@ Structure parseStructureLines(const json& arr, const std::string& where, const s
   return st;
 }
 
-void refuseRigid(const json& j, const std::string& where) {
-  if (!j.contains("rigid") || j["rigid"].is_null()) return;
-  if (!j["rigid"].is_array()) throw InputError(where, "rigid must be an array");
-  if (!j["rigid"].empty())
-    throw InputError(where, "rigid[0]: rigid regions are not supported yet by this kcwarp (remove the 'rigid' entries; lines work)");
+std::vector<RigidRegion> parseRigidRegions(const json& arr, const std::string& where, const std::string& field) {
+  std::vector<RigidRegion> out;
+  if (arr.is_null()) return out;
+  if (!arr.is_array()) throw InputError(where, field + " must be an array of {\"polygon\": [[x, y], ...], \"strength\": s} entries");
+  if (arr.size() > static_cast<std::size_t>(kMaxCagePoints))
+    throw InputError(where, field + " has " + std::to_string(arr.size()) + " regions, more than kcwarp's limit of " +
+                                std::to_string(kMaxCagePoints));
+  for (std::size_t k = 0; k < arr.size(); ++k) {
+    const std::string f = field + "[" + std::to_string(k) + "]";
+    const json& e = arr[k];
+    if (!e.is_object()) throw InputError(where, f + " must be an object {\"polygon\": [[x, y], ...], \"strength\": s}");
+    const json& pts = require(e, "polygon", where);
+    if (!pts.is_array() || pts.size() < 3) throw InputError(where, f + ".polygon must be at least 3 points [[x, y], ...]");
+    if (pts.size() > static_cast<std::size_t>(kMaxCagePoints))
+      throw InputError(where, f + ".polygon has more than " + std::to_string(kMaxCagePoints) + " points");
+    RigidRegion r;
+    r.polygon = parsePoints(pts, where, f + ".polygon");
+    if (e.contains("strength") && !e["strength"].is_null()) {
+      const json& s = e["strength"];
+      if (!s.is_number() || !(s.get<double>() >= 0.0 && s.get<double>() <= 1.0))
+        throw InputError(where, f + ".strength must be a number in [0, 1] (got " + s.dump() + ")");
+      r.strength = s.get<double>();
+    }
+    out.push_back(std::move(r));
+  }
+  return out;
 }
 
 json lineToJson(const Structure& st, std::size_t k) {
@@ -53,20 +74,33 @@ json lineToJson(const Structure& st, std::size_t k) {
   return e;
 }
 
+json rigidToJson(const Structure& st) {
+  json arr = json::array();
+  for (const RigidRegion& r : st.rigid) {
+    json poly = json::array();
+    for (Index i = 0; i < r.polygon.rows(); ++i) poly.push_back({r.polygon(i, 0), r.polygon(i, 1)});
+    arr.push_back({{"polygon", poly}, {"strength", r.strength}});
+  }
+  return arr;
+}
+
 }  // namespace detail
 
 Structure structureFromJson(const std::string& text, const std::string& where) {
   const detail::json j = detail::parseJson(text, where);
   detail::checkVersion(j, where);
   Structure st = j.contains("lines") ? detail::parseStructureLines(j["lines"], where, "lines") : Structure{};
-  detail::refuseRigid(j, where);
+  if (j.contains("rigid")) st.rigid = detail::parseRigidRegions(j["rigid"], where, "rigid");
   return st;
 }
 
 Structure loadStructure(const std::string& path) { return structureFromJson(readTextFile(path), path); }
 
 void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where) {
-  asUserInput(where, [&] { validateLines(cage, structure.lines, h); });
+  asUserInput(where, [&] {
+    validateLines(cage, structure.lines, h);
+    validateRigidRegions(cage, structure.rigid);
+  });
 }
 
 }  // namespace kc::app

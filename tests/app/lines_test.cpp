@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "structure_refusal.h"
+
 #include <Eigen/Dense>
 
 #include <chrono>
@@ -180,14 +182,7 @@ TEST(StructureLines, ExactlyParallelLinesGetEqualVariationVectors) {
 
 TEST(StructureLines, BadStructureFilesNameTheEntry) {
   const Cage cage = starCage();
-  auto refused = [&](const std::string& text) -> std::string {
-    try {
-      checkStructure(structureFromJson(text, "s.json"), cage, 6.0, "s.json");
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
+  auto refused = [&](const std::string& text) { return test::structureRefusal(text, cage); };
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]], "parallel": "a"}]})").find("lines[0]: its parallel group"), std::string::npos);
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [110, 160]]}]})").find("lines[0]: the line has zero length"), std::string::npos);
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [115, 160]]}]})").find("shorter than"), std::string::npos);
@@ -195,7 +190,7 @@ TEST(StructureLines, BadStructureFilesNameTheEntry) {
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}, {"points": [[160, 120], [160, 200]]}]})")
                 .find("lines[1]: the line crosses lines[0]"), std::string::npos);
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, "x"]]}]})").find("lines[0].points[1][1]"), std::string::npos);
-  EXPECT_NE(refused(R"({"version": 1, "lines": [], "rigid": [{"polygon": [[1, 2], [3, 4], [5, 6]]}]})").find("not supported yet"), std::string::npos);
+  EXPECT_NE(refused(R"({"version": 1, "lines": [], "rigid": [{"polygon": [[1, 2], [30, 4], [5, 60]]}]})").find("rigid[0]: polygon point 0 is outside the cage"), std::string::npos);
   EXPECT_NE(refused(R"({"version": 1, "lines": [{"points": [[110, 160]]}]})").find("lines[0].points must be two points"), std::string::npos);
   EXPECT_EQ(refused(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}], "rigid": []})"), "");
   BindParams lbc;

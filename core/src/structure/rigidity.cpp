@@ -60,6 +60,18 @@ bool insidePolygon(const Points& polygon, const Vec2& p) {
   return in;
 }
 
+Vec2 polygonCentroid(const Points& P) {
+  double a = 0.0;
+  Vec2 c = Vec2::Zero();
+  for (Index i = 0, n = P.rows(); i < n; ++i) {
+    const Vec2 p = P.row(i).transpose(), q = P.row((i + 1) % n).transpose();
+    const double cr = cross(p, q);
+    a += cr;
+    c += cr * (p + q);
+  }
+  return c / (3.0 * a);
+}
+
 void validateRigidRegions(const Cage& cage, std::span<const RigidRegion> regions) {
   if (!regions.empty() && !cage.closed && cage.edges.empty())
     throw std::invalid_argument("rigid[0]: an open cage has no interior for a rigid region");
@@ -200,15 +212,13 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
     for (int r = 0; r < 3; ++r) eq.push_back(Pn.row(r));
   }
   const SparseRowMatrix KrRows = Kr;
-  std::vector<Index> constrained;  // rows of Kr: region and node samples
+  std::vector<Index> constrained;  // rows of Kr: held samples (ΔW = 0), then region and node samples (ΔW ≥ −W⁺)
+  for (Index k = 0; k < nCh; ++k)
+    if (keep[std::size_t(Ch[std::size_t(k)])]) constrained.push_back(k);
+  rep.held = Index(constrained.size());
   for (Index k = 0; k < nCh; ++k) {
     const Index i = Ch[std::size_t(k)];
-    if (keep[std::size_t(i)]) {
-      eq.push_back(Eigen::RowVectorXd(KrRows.row(k)));
-      ++rep.held;
-    } else if (rho[std::size_t(i)] > 0.0 || nodeOf[std::size_t(i)] >= 0) {
-      constrained.push_back(k);
-    }
+    if (!keep[std::size_t(i)] && (rho[std::size_t(i)] > 0.0 || nodeOf[std::size_t(i)] >= 0)) constrained.push_back(k);
   }
   qp.A.resize(Index(eq.size()), nN);
   for (std::size_t r = 0; r < eq.size(); ++r) {
@@ -217,9 +227,17 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
   }
   std::vector<Eigen::Triplet<double>> t;
   qp.L.resize(Index(constrained.size()), m);
+  qp.Up.setConstant(Index(constrained.size()), m, std::numeric_limits<double>::infinity());
   for (std::size_t r = 0; r < constrained.size(); ++r) {
-    for (SparseRowMatrix::InnerIterator it(KrRows, constrained[r]); it; ++it) t.emplace_back(Index(r), it.col(), it.value());
-    qp.L.row(Index(r)) = -W.row(Ch[std::size_t(constrained[r])]).cwiseMax(0.0);
+    // Held rows are scaled to unit length like the equalities (the split sees them at the same scale).
+    const double scale = Index(r) < rep.held ? 1.0 / std::max(KrRows.row(constrained[r]).norm(), 1e-300) : 1.0;
+    for (SparseRowMatrix::InnerIterator it(KrRows, constrained[r]); it; ++it) t.emplace_back(Index(r), it.col(), scale * it.value());
+    if (Index(r) < rep.held) {
+      qp.L.row(Index(r)).setZero();
+      qp.Up.row(Index(r)).setZero();
+    } else {
+      qp.L.row(Index(r)) = -W.row(Ch[std::size_t(constrained[r])]).cwiseMax(0.0);
+    }
   }
   qp.Kc.resize(Index(constrained.size()), nN);
   qp.Kc.setFromTriplets(t.begin(), t.end());
@@ -234,10 +252,11 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
     if (dW.row(k).cwiseAbs().maxCoeff() > 0.0) ++rep.changedRows;
     W.row(i) += dW.row(k);
   }
-  for (Index k : constrained) rep.minWeight = std::min(rep.minWeight, W.row(Ch[std::size_t(k)]).minCoeff());
+  for (std::size_t r = std::size_t(rep.held); r < constrained.size(); ++r) rep.minWeight = std::min(rep.minWeight, W.row(Ch[std::size_t(constrained[r])]).minCoeff());
   const RowMatrix gx = dWdx + Gx * dU, gy = dWdy + Gy * dU;
   rep.energyAfter = s2 * (rhoI.asDiagonal() * (gx.rowwise().squaredNorm() + gy.rowwise().squaredNorm())).sum();
   field.update(W, active);
+  rep.columns = active;
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
 }

@@ -58,7 +58,8 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
   rep = {};
   const Index n = qp.H.rows(), m = qp.G.cols(), r = qp.Z.cols(), c = qp.Kc.rows();
   if (qp.H.cols() != n || qp.G.rows() != n || qp.Z.rows() != m || (qp.A.rows() > 0 && qp.A.cols() != n) ||
-      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)))
+      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)) ||
+      (qp.Up.size() > 0 && (qp.Up.rows() != c || qp.Up.cols() != m)))
     throw std::invalid_argument("solveRigidityQp: inconsistent shapes");
   RowMatrix dU = RowMatrix::Zero(n, m);
   if (n == 0 || r == 0) {
@@ -110,18 +111,21 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
     KY = (qp.Kc * Y) * qp.Z.transpose();
     V = alpha * KY + (1.0 - alpha) * S;
     Snew = (V + Lambda).cwiseMax(qp.L);
+    if (qp.Up.size() > 0) Snew = Snew.cwiseMin(qp.Up);
     Lambda += V - Snew;
     rep.primalResidual = (KY - Snew).cwiseAbs().maxCoeff();
     rep.dualResidual = mu * (KcT * ((Snew - S) * qp.Z)).cwiseAbs().maxCoeff();
     S.swap(Snew);
     rep.iterations = it;
-    if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance * dualScale) {
+    if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.dualTolerance * dualScale) {
       rep.converged = true;
       break;
     }
   }
   dU = Y * qp.Z.transpose();
-  rep.violation = std::max(0.0, (qp.L - qp.Kc * dU).maxCoeff());
+  const RowMatrix KdU = qp.Kc * dU;
+  rep.violation = std::max(0.0, (qp.L - KdU).maxCoeff());
+  if (qp.Up.size() > 0) rep.violation = std::max(rep.violation, (KdU - qp.Up).maxCoeff());
   rep.objective = rigidityObjective(qp, dU);
   rep.seconds = secondsSince(t0);
   return dU;

@@ -13,6 +13,7 @@
 
 #include "kc/app/session.h"
 #include "kc/core/structure/linear_along.h"
+#include "kc/core/structure/rigidity.h"
 
 namespace kc::app {
 
@@ -24,6 +25,7 @@ struct BindReport {
   OptimizeReport optimize;
   double solveSeconds = 0.0;   ///< Coefficients of the field from W (and the lines' post-processing).
   LinearityReport lines;       ///< Structure lines (thesis 5.3.3); empty without lines.
+  RigidityReport rigidity;     ///< Rigid regions (thesis 5.4, docs/rigidity.md); empty without them.
   double totalSeconds = 0.0;
 };
 
@@ -42,7 +44,7 @@ struct BackendCapabilities {
   bool methods = false;      ///< The per-sample optimization method can be switched after a bind.
   bool painting = false;     ///< The brush paints targets and re-optimizes the painted samples.
   bool outsideCage = false;  ///< The field has weights outside the cage (`--outside deform`).
-  bool lines = false;        ///< Structure lines are kept straight and parallel (`--structure`, thesis 5.3).
+  bool lines = false;        ///< Structures: lines kept straight and parallel, rigid regions (`--structure`, thesis 5.3–5.4).
   std::string why;           ///< Why the missing capabilities are missing (tooltip text).
 };
 

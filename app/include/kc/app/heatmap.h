@@ -64,6 +64,7 @@ struct OverlayStyle {
   Rgba restCage{70, 70, 90, 255};
   Rgba deformedCage{255, 140, 0, 255};
   Rgba line{230, 0, 230, 255};  ///< Structure lines (deformed), magenta like line samples.
+  Rgba rigid{0, 200, 220, 255}; ///< Rigid regions' outlines (deformed), cyan.
   int thickness = 1;
   int pointRadius = 3;       ///< Control points (0 = none).
   int sampleRadius = 1;
@@ -78,8 +79,9 @@ Rgba sampleColor(SampleKind kind);
 void drawCage(Image& image, const Cage& cage, Rgba color, const OverlayStyle& style = {}, Index highlight = -1);
 /// Draws the cage with its control points moved to P (m×2, e.g. posedControls).
 void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const OverlayStyle& style = {});
-/// Draws the session's structure lines as the pose deforms them: each line through 65 points
-/// along it moved by the field (deformPoints), so a bent line shows bent.
+/// Draws the session's structure as the pose deforms it: each line through 65 points along it,
+/// and each rigid region's polygon through 16 points per edge, moved by the field
+/// (deformPoints), so a bent line or a squeezed region shows as it is.
 void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style = {});
 /// The same for `lines` (the session's own or others, e.g. to show how a session without them bends them).
 void drawDeformedLines(Image& image, const Session& session, std::span<const StructureLine> lines, const Pose& pose,

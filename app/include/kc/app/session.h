@@ -84,8 +84,13 @@ struct Session {
   double sigma = 0.0;          ///< σ actually used (kc).
   int imageWidth = 0, imageHeight = 0;
   SampleSet samples;
-  /// Lines kept straight / parallel (thesis 5.3); their samples are samples.lines[k].
+  /// Lines kept straight / parallel (thesis 5.3); their samples are samples.lines[k]. Rigid
+  /// regions (structure.rigid) are where `rigidity` came from.
   Structure structure;
+  /// Per-sample rigidity ρ ∈ [0, 1] (#S, or empty: none), thesis 5.4 / docs/rigidity.md: what the
+  /// rigid regions give at bind and what a rigidity brush paints (app::setRigidity). W holds
+  /// the weights with it applied.
+  std::vector<double> rigidity;
   Weights W0;                  ///< Initial (target) weights, #S×m; empty when the backend has no targets.
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).

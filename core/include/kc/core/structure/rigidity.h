@@ -30,6 +30,9 @@ void validateRigidRegions(const Cage& cage, std::span<const RigidRegion> regions
 /// True when p lies inside the polygon (even-odd rule; points on the boundary count as inside).
 bool insidePolygon(const Points& polygon, const Vec2& p);
 
+/// Area centroid of the closed polygon P (n×2, n ≥ 3, non-zero area).
+Vec2 polygonCentroid(const Points& P);
+
 /// Per-sample rigidity ρ (#S) of regions: ρ_i = the largest strength of a region containing x_i
 /// (0 outside every region). X #S×2.
 std::vector<double> rigidityOfRegions(const Points& X, std::span<const RigidRegion> regions);
@@ -45,6 +48,7 @@ struct RigidityReport {
   Index region = 0;          ///< Samples with ρ > 0.
   Index nodes = 0;           ///< Samples whose kernel coefficients may change.
   Index controls = 0;        ///< Controls whose weights may change (active).
+  std::vector<Index> columns;  ///< Those controls' indices: the field columns re-solved (empty when nothing changed).
   Index held = 0;            ///< Held samples (controls, cage-edge and line samples) whose weights are kept.
   Index changedRows = 0;     ///< Samples whose data weights changed.
   double energyBefore = 0.0; ///< Σ_i ρ_i σ² ‖∇w(x_i)‖²_F over the region's samples, before.

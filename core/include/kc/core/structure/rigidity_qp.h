@@ -4,7 +4,7 @@
 ///   min_ΔU  tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G)
 ///   s.t.    ΔU = Y Zᵀ            (every row of ΔU in span Z: partition of unity and reproduction)
 ///           A ΔU = 0             (polynomial side condition PᵀΔU = 0, held samples unchanged)
-///           Kc ΔU ≥ L            (non-negativity of the constrained samples' weights)
+///           L ≤ Kc ΔU ≤ Up       (non-negativity of the constrained samples' weights; held samples: L = Up = 0)
 /// solved by ADMM (Boyd et al. 2011, §3; OSQP's splitting) on one CHOLMOD factorization of
 /// 2H + μ KcᵀKc shared by all columns of Y.
 
@@ -21,13 +21,14 @@ struct RigidityQp {
   RowMatrix A;      ///< a×n equality rows A ΔU = 0 (may be empty).
   SparseMatrix Kc;  ///< c×n constraint operator (may be empty).
   RowMatrix L;      ///< c×m lower bounds of Kc ΔU, ≤ 0 (ΔU = 0 is feasible).
+  RowMatrix Up;     ///< c×m upper bounds, ≥ 0 (+∞ allowed); empty: all +∞.
 };
 
 struct RigidityQpOptions {
   double penalty = 0.0;        ///< ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
   double relaxation = 1.6;     ///< Over-relaxation α ∈ (0, 2).
   double tolerance = 1e-8;     ///< Stop when the largest constraint violation (weights) ≤ tolerance and the
-                               ///< dual residual ≤ tolerance · max|2 G Z|.
+  double dualTolerance = 1e-6; ///< dual residual ≤ dualTolerance · max|2 G Z|.
   int maxIterations = 20000;
   double rankTolerance = 1e-12;  ///< Relative eigenvalue below which A's Schur complement is treated as singular.
 };
@@ -37,7 +38,7 @@ struct RigidityQpReport {
   int iterations = 0;
   double primalResidual = 0.0;  ///< max |Kc ΔU − S| (S the projected split variable).
   double dualResidual = 0.0;
-  double violation = 0.0;       ///< max(0, max(L − Kc ΔU)): how far the constraints are missed.
+  double violation = 0.0;       ///< max(0, L − Kc ΔU, Kc ΔU − Up): how far the bounds are missed.
   double objective = 0.0;       ///< tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G) at the returned ΔU.
   double penalty = 0.0;
   double factorSeconds = 0.0, seconds = 0.0;
@@ -50,7 +51,7 @@ double rigidityObjective(const RigidityQp& qp, const RowMatrix& dU);
 /// Solves the QP above; returns ΔU (n×m). Throws std::invalid_argument for inconsistent shapes.
 /// Each ADMM iteration: Y ← argmin tr(YᵀHY) + 2tr(YᵀGZ) + μ/2‖Kc Y − (S − Λ)Z‖² s.t. A Y = 0
 /// (the factorization plus A's a×a Schur complement), V = α Kc Y Zᵀ + (1 − α) S,
-/// S ← max(V + Λ, L), Λ ← Λ + V − S.
+/// S ← clamp(V + Λ, L, Up), Λ ← Λ + V − S.
 RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options = {}, RigidityQpReport* report = nullptr);
 
 }  // namespace kc

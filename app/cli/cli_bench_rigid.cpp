@@ -1,0 +1,119 @@
+// kcwarp-cli bench --rigid: rigid regions (issue 13's goals). Quality on the thesis's Fig 6.37
+// set-up (the bundled star; rigid region = the inner part of the bottom-right leg; that leg's tip
+// moved 40 px toward the star's centre) at several strengths; speed of a brush release
+// (app::setRigidity) for a 500-sample region on the star and a 2,000-sample region on the figure.
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "cli_common.h"
+#include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
+#include "kc/app/pipeline.h"
+#include "kc/app/rigidity.h"
+
+namespace kc::cli {
+namespace {
+
+app::Session bindExample(const std::string& dir, const std::string& name, Cage& cage) {
+  cage = app::loadCage(dir + "/" + name + ".cage.json");
+  const app::ImageHeader h = app::readImageFileHeader(dir + "/" + name + ".png");
+  return app::bind(cage, int(h.width), int(h.height), app::BindParams{});
+}
+
+/// A copy of a bound session (through its file text: the field is rebuilt as when loading).
+app::Session copyOf(const app::Session& s) { return app::sessionFromJson(app::sessionToJson(s), "bench"); }
+
+/// Largest weight change between two fields at grid points (step 4 px over the image) farther
+/// than `far` from every sample with ρ > 0.
+double farChange(const app::Session& a, const app::Session& b, const std::vector<double>& rho, double far) {
+  std::vector<Vec2> pts;
+  for (double y = 2.0; y < a.imageHeight; y += 4.0)
+    for (double x = 2.0; x < a.imageWidth; x += 4.0) {
+      bool isFar = true;
+      for (Index i = 0; i < a.samples.size() && isFar; ++i)
+        isFar = rho[std::size_t(i)] == 0.0 || (a.samples.X.row(i).transpose() - Vec2(x, y)).norm() > far;
+      if (isFar) pts.emplace_back(x, y);
+    }
+  Points P(Index(pts.size()), 2);
+  for (std::size_t k = 0; k < pts.size(); ++k) P.row(Index(k)) = pts[k].transpose();
+  return (a.field->weightsAt(P) - b.field->weightsAt(P)).cwiseAbs().maxCoeff();
+}
+
+/// ρ = 1 at the `count` samples inside the cage nearest to the cage's centroid.
+std::vector<double> discRegion(const app::Session& s, Index count) {
+  const Vec2 c = polygonCentroid(s.cage.C);
+  std::vector<std::pair<double, Index>> d;
+  for (Index i = 0; i < s.samples.size(); ++i)
+    if (s.samples.kind[std::size_t(i)] != SampleKind::Exterior) d.emplace_back((s.samples.X.row(i).transpose() - c).norm(), i);
+  std::sort(d.begin(), d.end());
+  std::vector<double> rho(std::size_t(s.samples.size()), 0.0);
+  for (Index k = 0; k < std::min<Index>(count, Index(d.size())); ++k) rho[std::size_t(d[std::size_t(k)].second)] = 1.0;
+  return rho;
+}
+
+void benchSpeed(const std::string& dir, const std::string& name, Index count, double goalMs, int repeats) {
+  Cage cage;
+  const app::Session plain = bindExample(dir, name, cage);
+  const std::vector<double> rho = discRegion(plain, count);
+  std::vector<double> ms;
+  app::RigidityUpdate u;
+  for (int r = 0; r < repeats; ++r) {
+    app::Session s = copyOf(plain);
+    u = app::setRigidity(s, rho);
+    ms.push_back(1e3 * u.seconds);
+  }
+  std::sort(ms.begin(), ms.end());
+  std::printf("  %-7s %7ld %8ld %7ld %9ld %9ld %11.1f %10.1f %9d %9.1f  (goal %.0f ms)\n", name.c_str(), long(u.report.region),
+              long(u.report.nodes), long(u.report.controls), long(cage.size()), long(u.rows.size()), ms[ms.size() / 2],
+              1e3 * u.report.solver.seconds, u.report.solver.iterations, 1e3 * u.report.solver.factorSeconds, goalMs);
+}
+
+}  // namespace
+
+void benchRigid(const std::string& dir, int repeats) {
+  Cage cage;
+  const app::Session plain = bindExample(dir, "star", cage);
+  if (cage.size() != 10) throw app::InputError(dir + "/star.cage.json", "bench --rigid expects the bundled 10-point star");
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // line by line: each row as it is measured
+  const app::StarLegSetup leg = app::starLegSetup(cage);
+  const Points& poly = leg.polygon;
+  const Pose& pose = leg.pose;
+  const Vec2 centre = leg.centroid;
+  const double sigma = plain.sigma;
+  std::printf("rigid: thesis Fig 6.37 set-up on %s/star (%dx%d, defaults, sigma %.3g px): region = the triangle (%.1f,%.1f) "
+              "(%.1f,%.1f) (%.1f,%.1f),\n  the inner part of the bottom-right leg; control 4 (its tip) moved 40 px toward the "
+              "centroid (%.1f,%.1f); grid of 1 px in the region\n",
+              dir.c_str(), plain.imageWidth, plain.imageHeight, sigma, poly(0, 0), poly(0, 1), poly(1, 0), poly(1, 1), poly(2, 0),
+              poly(2, 1), centre.x(), centre.y());
+  std::printf("  %8s %8s %10s %10s %12s %10s %12s %9s %7s %8s\n", "strength", "samples", "mean|J-R|", "unity", "reproduction",
+              "min w", "far change", "solve ms", "ADMM it", "energy");
+  const app::RigidityFigures none = app::measureRigidity(plain, poly, pose);
+  std::printf("  %8s %8s %10.4f %10.2g %12.2g %10.3g %12s %9s %7s %8s\n", "none", "-", none.distortion, none.unity, none.reproduction,
+              none.minWeight, "-", "-", "-", "-");
+  double atOne = 0.0, unity = 0.0, repro = 0.0, far = 0.0;
+  for (double strength : {0.25, 0.5, 0.75, 1.0}) {
+    app::Session s = copyOf(plain);
+    const RigidRegion region{poly, strength};
+    const std::vector<double> rho = rigidityOfRegions(s.samples.X, std::span(&region, 1));
+    const app::RigidityUpdate u = app::setRigidity(s, rho);
+    const app::RigidityFigures f = app::measureRigidity(s, poly, pose);
+    const double change = farChange(s, plain, rho, 6.0 * sigma);
+    std::printf("  %8.2f %8ld %10.4f %10.2g %12.2g %10.3g %12.2g %9.1f %7d %8.3g\n", strength, long(u.report.region), f.distortion,
+                f.unity, f.reproduction, f.minWeight, change, 1e3 * u.seconds, u.report.solver.iterations,
+                u.report.energyAfter / std::max(u.report.energyBefore, 1e-300));
+    if (strength == 1.0) atOne = f.distortion, unity = f.unity, repro = f.reproduction, far = change;
+  }
+  std::printf("  strength 1: mean |J-R| %.4f = %.2f of none (goal <= 0.5), unity %.2g, reproduction %.2g px (goal <= 1e-9),\n"
+              "  largest weight change farther than 6 sigma %.2g (goal <= 1e-4)\n",
+              atOne, atOne / none.distortion, unity, repro, far);
+  std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
+  std::printf("  %-7s %7s %8s %7s %9s %9s %11s %10s %9s %9s\n", "example", "region", "nodes", "active", "controls", "rows",
+              "release ms", "QP ms", "ADMM it", "factor ms");
+  benchSpeed(dir, "star", 500, 200.0, repeats);
+  benchSpeed(dir, "figure", 2000, 2000.0, repeats);
+}
+
+}  // namespace kc::cli
