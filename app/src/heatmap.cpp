@@ -189,6 +189,20 @@ void drawDeformedCage(Image& image, const Cage& cage, const Points& P, const Ove
 
 void drawDeformedLines(Image& image, const Session& session, const Pose& pose, const OverlayStyle& style) {
   drawDeformedLines(image, session, session.structure.lines, pose, style);
+  if (session.structure.rigid.empty() || !session.hasField()) return;
+  cv::Mat m = wrap(image);
+  constexpr Index kPerEdge = 16;
+  for (const RigidRegion& r : session.structure.rigid) {
+    const Index n = r.polygon.rows();
+    Points P(n * kPerEdge, 2);
+    for (Index e = 0; e < n; ++e)
+      for (Index k = 0; k < kPerEdge; ++k) {
+        const double t = double(k) / double(kPerEdge);
+        P.row(e * kPerEdge + k) = (1.0 - t) * r.polygon.row(e) + t * r.polygon.row((e + 1) % n);
+      }
+    const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
+    cv::polylines(m, polygonPoints(Q), true, scalar(style.rigid), style.thickness + 1, cv::LINE_AA, kShift);
+  }
 }
 
 void drawDeformedLines(Image& image, const Session& session, std::span<const StructureLine> lines, const Pose& pose,
@@ -205,18 +219,6 @@ void drawDeformedLines(Image& image, const Session& session, std::span<const Str
     }
     const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
     cv::polylines(m, polygonPoints(Q), false, scalar(style.line), style.thickness + 1, cv::LINE_AA, kShift);
-  }
-  constexpr Index kPerEdge = 16;
-  for (const RigidRegion& r : session.structure.rigid) {
-    const Index n = r.polygon.rows();
-    Points P(n * kPerEdge, 2);
-    for (Index e = 0; e < n; ++e)
-      for (Index k = 0; k < kPerEdge; ++k) {
-        const double t = double(k) / double(kPerEdge);
-        P.row(e * kPerEdge + k) = (1.0 - t) * r.polygon.row(e) + t * r.polygon.row((e + 1) % n);
-      }
-    const Points Q = pose.empty() ? P : deformPoints(session.field->weightsAt(P), P, session.cage.C, pose);
-    cv::polylines(m, polygonPoints(Q), true, scalar(style.rigid), style.thickness + 1, cv::LINE_AA, kShift);
   }
 }
 
