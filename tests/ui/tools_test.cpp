@@ -233,6 +233,42 @@ TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {
   EXPECT_FALSE(s.worker.busy());
 }
 
+TEST(CageTool, AStickFigureFromAFileBindsAndKeepsItsEdges) {
+  // A cage file with an edge graph (a round head and open sticks, images/stick.cage.json) is a
+  // finished cage: valid, bindable; its points move, but clicks do not add or remove any.
+  AppState s;
+  s.worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  s.source = app::loadImage(dir + "stick.png");
+  s.autoSpacing = false;
+  s.bindParams.spacing = 10.0;
+  const Cage stick = app::loadCage(dir + "stick.cage.json");
+  ASSERT_FALSE(stick.closed);
+  ASSERT_FALSE(stick.edges.empty());
+  setDraftCage(s, stick);
+  ASSERT_TRUE(s.cageValid) << s.cageStatus;
+  s.cageTool.press(s, at(3, 3));  // empty space, far from every point
+  s.cageTool.release(s, at(3, 3));
+  const Vec2 p0 = stick.C.row(0).transpose();
+  s.cageTool.press(s, at(p0.x(), p0.y(), MouseButton::Right));  // would delete a polygon's point
+  EXPECT_EQ(s.cage.size(), stick.size());
+  EXPECT_EQ(s.cage.edges, stick.edges);
+  s.cageTool.press(s, at(p0.x(), p0.y()));  // drag a point by 3 px
+  s.cageTool.release(s, at(p0.x() + 3, p0.y()));
+  EXPECT_DOUBLE_EQ(s.cage.C(0, 0), p0.x() + 3);
+  EXPECT_EQ(s.cage.edges, stick.edges);
+  ASSERT_TRUE(s.cageValid) << s.cageStatus;
+  ASSERT_TRUE(startBind(s));
+  s.worker.waitFinished();
+  pollWorker(s);
+  ASSERT_TRUE(s.bound) << (s.messages.empty() ? "" : s.messages.back().text);
+  ASSERT_TRUE(s.session);
+  EXPECT_EQ(s.session->cage.edges, stick.edges);
+  Index interior = 0;
+  for (const auto kind : s.session->samples.kind) interior += kind == SampleKind::Interior;
+  EXPECT_GT(interior, 0) << "the head's loop has an inside";
+}
+
 TEST(MethodSwitch, KeepsWeightsThatDidNotComeFromTheOptimizer) {
   auto s = test::boundState();
   // As after opening a session file written by another version: W is not optimize(W0, QP).

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "kc/app/heatmap.h"
+#include "kc/ui/edits.h"
 #include "kc/ui/canvas.h"
 #include "kc/ui/tools/pose_tool.h"
 
@@ -126,16 +127,17 @@ void drawBrushRing(AppState& state, ImDrawList* dl) {
 void drawCageToolOverlay(AppState& state, ImDrawList* dl) {
   const View& view = state.view;
   const Cage& cage = state.cage;
-  const bool invalid = cage.closed && !state.cageValid;
-  const ImU32 color = invalid ? rgba(255, 60, 60) : cage.closed ? rgba(80, 230, 140) : rgba(120, 200, 255);
+  const bool complete = cageComplete(cage);
+  const bool invalid = complete && !state.cageValid;
+  const ImU32 color = invalid ? rgba(255, 60, 60) : complete ? rgba(80, 230, 140) : rgba(120, 200, 255);
   drawPolygon(dl, view, cage, cage.C, rgba(20, 20, 28, 200), 4.0f);
   drawPolygon(dl, view, cage, cage.C, color, 2.0f);
-  if (!cage.closed && cage.size() > 0 && state.canvasHovered)  // rubber band to the mouse
+  if (!complete && cage.size() > 0 && state.canvasHovered)  // rubber band to the mouse
     dl->AddLine(im(view.toScreen(cage.C.row(cage.size() - 1).transpose())), im(view.toScreen(state.mouseImage)),
                 rgba(120, 200, 255, 120), 1.0f);
   for (Index i = 0; i < cage.size(); ++i) {
     const ImVec2 s = im(view.toScreen(cage.C.row(i).transpose()));
-    const bool first = i == 0 && !cage.closed;
+    const bool first = i == 0 && !complete;
     dl->AddCircleFilled(s, first ? 8.0f : 6.0f, rgba(20, 20, 28));
     dl->AddCircleFilled(s, first ? 6.5f : 4.5f, i == state.cageTool.selected() ? rgba(255, 150, 30) : color);
   }

@@ -43,7 +43,7 @@ void resetPose(AppState& state) {
 
 void setDraftCage(AppState& state, Cage cage) {
   state.cage = std::move(cage);
-  if (!state.cage.closed) {
+  if (!cageComplete(state.cage)) {
     state.cageValid = false;
     state.cageStatus = state.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
                                              : "The cage is open: click its first point to close it.";

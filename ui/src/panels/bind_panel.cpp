@@ -5,6 +5,7 @@
 #include <string>
 
 #include "kc/app/pipeline.h"
+#include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
@@ -69,10 +70,10 @@ void lbcControls(AppState& state) {
 /// The cage's status, Bind (with the cage-edited hint), Load / Save cage.
 void drawBindButtons(AppState& state) {
   if (!state.cageStatus.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, state.cage.closed ? ImVec4(1.0f, 0.42f, 0.42f, 1.0f) : ImVec4(0.75f, 0.85f, 1.0f, 1.0f));
+    ImGui::PushStyleColor(ImGuiCol_Text, cageComplete(state.cage) ? ImVec4(1.0f, 0.42f, 0.42f, 1.0f) : ImVec4(0.75f, 0.85f, 1.0f, 1.0f));
     ImGui::TextWrapped("%s", state.cageStatus.c_str());
     ImGui::PopStyleColor();
-    if (state.cage.closed) ImGui::TextDisabled("Point numbers are shown on the picture (Cage tool).");
+    if (cageComplete(state.cage)) ImGui::TextDisabled("Point numbers are shown on the picture (Cage tool).");
   } else {
     ImGui::TextDisabled("Cage: %ld points, valid.", long(state.cage.size()));
   }

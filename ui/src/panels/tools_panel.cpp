@@ -114,7 +114,12 @@ void drawToolsPanel(AppState& state) {
     case Tool::Cage:
       ImGui::TextWrapped("Click to add points; click the first point to close the cage, then press Bind. Drag a point "
                          "to move it, right-click (or Delete) removes it; click an edge of a closed cage to insert a point.");
-      ImGui::Text("%ld points, %s", long(state.cage.size()), state.cage.closed ? "closed" : "open");
+      if (cageIsEdgeGraph(state.cage))
+        ImGui::TextWrapped("%ld points, %zu edges: an edge graph from a cage file (closed loops and sticks). Drag "
+                           "points to move them; its edges are edited in the file.",
+                           long(state.cage.size()), state.cage.edges.size());
+      else
+        ImGui::Text("%ld points, %s", long(state.cage.size()), state.cage.closed ? "closed" : "open");
       break;
     case Tool::Lines:
       drawLinesSection(state);

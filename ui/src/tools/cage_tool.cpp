@@ -55,8 +55,9 @@ Index nearestEdge(const Cage& cage, const Vec2& p, double radius) {
 void CageTool::press(AppState& state, const PointerEvent& e) {
   if (m_dragging >= 0) return;
   const Index hit = pickPoint(state.cage.C, e.position, e.pickRadius);
+  const bool graph = cageIsEdgeGraph(state.cage);  // points move; adding or removing would lose its edges
   if (e.button == MouseButton::Right) {
-    if (hit >= 0) {
+    if (hit >= 0 && !graph) {
       const Cage before = state.cage;
       setDraftCage(state, cageWithout(state.cage, hit));
       commitCage(state, before, "delete cage point");
@@ -66,7 +67,7 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
   }
   if (e.button != MouseButton::Left) return;
   if (hit >= 0) {
-    if (!state.cage.closed && hit == 0 && state.cage.size() >= 3) {  // close the polygon
+    if (!cageComplete(state.cage) && hit == 0 && state.cage.size() >= 3) {  // close the polygon
       const Cage before = state.cage;
       setDraftCage(state, withPoints(state.cage.C, true));
       commitCage(state, before, "close cage");
@@ -79,6 +80,7 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
     m_moved = false;
     return;
   }
+  if (graph) return;
   const Cage before = state.cage;
   if (!state.cage.closed) {
     setDraftCage(state, cageWithInserted(state.cage, state.cage.size(), e.position));
@@ -118,7 +120,7 @@ void CageTool::cancel(AppState& state) {
 }
 
 void CageTool::deleteSelected(AppState& state) {
-  if (m_selected < 0 || m_selected >= state.cage.size()) return;
+  if (m_selected < 0 || m_selected >= state.cage.size() || cageIsEdgeGraph(state.cage)) return;
   const Cage before = state.cage;
   setDraftCage(state, cageWithout(state.cage, m_selected));
   commitCage(state, before, "delete cage point");

@@ -18,6 +18,13 @@ void commitPose(AppState& state, const Pose& before, std::string label);
 /// Back to the rest pose (undoable).
 void resetPose(AppState& state);
 
+/// A cage the user has finished: a closed polygon, or an edge graph from a cage file (closed loops
+/// and open sticks, e.g. a stick figure). Anything else is a polyline still being drawn.
+inline bool cageComplete(const Cage& cage) { return cage.closed || !cage.edges.empty(); }
+/// An edge graph (sticks): its points can be moved but not added or removed in the GUI, whose
+/// cage tool draws polygons; the edges come from the cage file.
+inline bool cageIsEdgeGraph(const Cage& cage) { return !cage.closed && !cage.edges.empty(); }
+
 /// Sets the draft cage and re-validates it (cageValid, cageStatus).
 void setDraftCage(AppState& state, Cage cage);
 /// Records the change from `before` to the current draft cage as one undo entry.
