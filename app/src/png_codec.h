@@ -20,9 +20,8 @@ namespace kc::app::detail {
 bool decodePng(const std::string& bytes, Image& out, std::string& problem);
 
 /// Encodes an RGBA8 image (non-empty, validated by the caller) as an 8-bit RGBA PNG with zlib
-/// level `level` (0..9, checked by the caller): levels 0..3 filter every row with Up (fast),
-/// 4..9 let libpng choose a filter per row (smaller, slower). Throws std::runtime_error if libpng
-/// fails.
+/// level `level` (0..9, checked by the caller), every row filtered with Up (fast; as small as
+/// libpng's per-row choice on photos and drawings). Throws std::runtime_error if libpng fails.
 std::string encodePng(const Image& image, int level);
 
 }  // namespace kc::app::detail
