@@ -8,18 +8,31 @@
 
 namespace kc::app {
 namespace detail {
+namespace {
 
-Structure parseStructureLines(const json& arr, const std::string& where, const std::string& field) {
-  Structure st;
-  if (arr.is_null()) return st;
-  if (!arr.is_array()) throw InputError(where, field + " must be an array of {\"points\": [[x0, y0], [x1, y1]]} entries");
+/// Calls each(entry, "field[k]") for the objects of the structure file's array `arr` (null: no
+/// entries), after checking it is an array of at most kMaxCagePoints objects shaped like `shape`;
+/// `noun` counts them in the message ("lines", "regions").
+template <class F>
+void forEachEntry(const json& arr, const std::string& where, const std::string& field, const char* noun,
+                  const std::string& shape, F&& each) {
+  if (arr.is_null()) return;
+  if (!arr.is_array()) throw InputError(where, field + " must be an array of " + shape + " entries");
   if (arr.size() > static_cast<std::size_t>(kMaxCagePoints))
-    throw InputError(where, field + " has " + std::to_string(arr.size()) + " lines, more than kcwarp's limit of " +
+    throw InputError(where, field + " has " + std::to_string(arr.size()) + " " + noun + ", more than kcwarp's limit of " +
                                 std::to_string(kMaxCagePoints));
   for (std::size_t k = 0; k < arr.size(); ++k) {
     const std::string f = field + "[" + std::to_string(k) + "]";
-    const json& e = arr[k];
-    if (!e.is_object()) throw InputError(where, f + " must be an object {\"points\": [[x0, y0], [x1, y1]]}");
+    if (!arr[k].is_object()) throw InputError(where, f + " must be an object " + shape);
+    each(arr[k], f);
+  }
+}
+
+}  // namespace
+
+Structure parseStructureLines(const json& arr, const std::string& where, const std::string& field) {
+  Structure st;
+  forEachEntry(arr, where, field, "lines", "{\"points\": [[x0, y0], [x1, y1]]}", [&](const json& e, const std::string& f) {
     const json& pts = require(e, "points", where);
     if (!pts.is_array() || pts.size() != 2) throw InputError(where, f + ".points must be two points [[x0, y0], [x1, y1]]");
     const Points P = parsePoints(pts, where, f + ".points");
@@ -35,21 +48,13 @@ Structure parseStructureLines(const json& arr, const std::string& where, const s
       if (it == st.groups.end()) st.groups.push_back(name);
     }
     st.lines.push_back(l);
-  }
+  });
   return st;
 }
 
 std::vector<RigidRegion> parseRigidRegions(const json& arr, const std::string& where, const std::string& field) {
   std::vector<RigidRegion> out;
-  if (arr.is_null()) return out;
-  if (!arr.is_array()) throw InputError(where, field + " must be an array of {\"polygon\": [[x, y], ...], \"strength\": s} entries");
-  if (arr.size() > static_cast<std::size_t>(kMaxCagePoints))
-    throw InputError(where, field + " has " + std::to_string(arr.size()) + " regions, more than kcwarp's limit of " +
-                                std::to_string(kMaxCagePoints));
-  for (std::size_t k = 0; k < arr.size(); ++k) {
-    const std::string f = field + "[" + std::to_string(k) + "]";
-    const json& e = arr[k];
-    if (!e.is_object()) throw InputError(where, f + " must be an object {\"polygon\": [[x, y], ...], \"strength\": s}");
+  forEachEntry(arr, where, field, "regions", "{\"polygon\": [[x, y], ...], \"strength\": s}", [&](const json& e, const std::string& f) {
     const json& pts = require(e, "polygon", where);
     if (!pts.is_array() || pts.size() < 3) throw InputError(where, f + ".polygon must be at least 3 points [[x, y], ...]");
     if (pts.size() > static_cast<std::size_t>(kMaxCagePoints))
@@ -63,7 +68,7 @@ std::vector<RigidRegion> parseRigidRegions(const json& arr, const std::string& w
       r.strength = s.get<double>();
     }
     out.push_back(std::move(r));
-  }
+  });
   return out;
 }
 
