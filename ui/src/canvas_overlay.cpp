@@ -4,18 +4,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "kc/app/heatmap.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/canvas.h"
 #include "kc/ui/tools/pose_tool.h"
+#include "overlay_draw.h"
 
 namespace kc::ui {
 namespace {
 
-ImVec2 im(const Vec2& v) { return {static_cast<float>(v.x()), static_cast<float>(v.y())}; }
-ImU32 rgba(int r, int g, int b, int a = 255) { return IM_COL32(r, g, b, a); }
+using overlay::im;
+using overlay::rgba;
 
 void drawPolygon(ImDrawList* dl, const View& view, const Cage& cage, const Points& P, ImU32 color, float thickness) {
   const Index m = P.rows();
@@ -33,12 +33,7 @@ void drawPolygon(ImDrawList* dl, const View& view, const Cage& cage, const Point
 
 /// The point's number next to it (a dark box behind light text).
 void drawPointNumber(ImDrawList* dl, const Vec2& s, Index i, ImU32 color) {
-  char text[24];  // any long in decimal
-  std::snprintf(text, sizeof text, "%ld", long(i));
-  const ImVec2 p(static_cast<float>(s.x()) + 9.0f, static_cast<float>(s.y()) - 20.0f);
-  const ImVec2 size = ImGui::CalcTextSize(text);
-  dl->AddRectFilled({p.x - 3, p.y - 1}, {p.x + size.x + 3, p.y + size.y + 1}, rgba(20, 20, 28, 210), 3.0f);
-  dl->AddText(p, color, text);
+  overlay::drawTag(dl, ImVec2(static_cast<float>(s.x()) + 9.0f, static_cast<float>(s.y()) - 20.0f), std::to_string(i), color);
 }
 
 /// Numbers of the points of P (#P×2, image pixels) near the mouse, or of all of them.

@@ -5,11 +5,12 @@
 #include <algorithm>
 
 #include "kc/ui/canvas.h"
+#include "overlay_draw.h"
 
 namespace kc::ui {
 namespace {
 
-ImVec2 im(const Vec2& v) { return {static_cast<float>(v.x()), static_cast<float>(v.y())}; }
+using overlay::im;
 
 /// Colour of a line: ungrouped lines cyan, each parallel group its own colour.
 ImU32 lineColor(int group) {
@@ -33,11 +34,7 @@ void drawStroke(ImDrawList* dl, const std::vector<ImVec2>& s, ImU32 color, bool 
 
 /// The group's name (or the line's number in the line tool) beside the middle of the line.
 void drawLabel(ImDrawList* dl, const ImVec2& at, const std::string& text, ImU32 color) {
-  if (text.empty()) return;
-  const ImVec2 p(at.x + 8.0f, at.y + 4.0f);
-  const ImVec2 size = ImGui::CalcTextSize(text.c_str());
-  dl->AddRectFilled({p.x - 3, p.y - 1}, {p.x + size.x + 3, p.y + size.y + 1}, IM_COL32(20, 20, 28, 200), 3.0f);
-  dl->AddText(p, color, text.c_str());
+  overlay::drawTag(dl, ImVec2(at.x + 8.0f, at.y + 4.0f), text, color);
 }
 
 std::string groupName(const app::Structure& s, int group) {
