@@ -41,7 +41,7 @@ LineFigures measure(const Session& s, const std::vector<StructureLine>& lines, i
   return measureLines(s, lines, trials);
 }
 
-TEST(StructureLines, RandomLinesStayStraightAndParallelUnderTranslations) {
+TEST(StructureLinesSlow, RandomLinesStayStraightAndParallelUnderTranslations) {
   const Cage cage = starCage();
   BindParams p;
   Structure st;
@@ -75,7 +75,7 @@ TEST(StructureLines, RandomLinesStayStraightAndParallelUnderTranslations) {
   EXPECT_LE((WG * cage.C - G).cwiseAbs().maxCoeff(), 1e-9);
 }
 
-TEST(StructureLines, SessionKeepsTheLinesAndTheirWeights) {
+TEST(StructureLinesSlow, SessionKeepsTheLinesAndTheirWeights) {
   const auto dir = test::scratchDir("lines_session");
   const Cage cage = starCage();
   BindParams p;
@@ -95,7 +95,7 @@ TEST(StructureLines, SessionKeepsTheLinesAndTheirWeights) {
   EXPECT_LE(measure(t, st.lines, 5).deviation, 0.1);
 }
 
-TEST(StructureLines, ReoptimizingSamplesNearALineGivesTheBindsWeightsBack) {
+TEST(StructureLinesSlow, ReoptimizingSamplesNearALineGivesTheBindsWeightsBack) {
   // A brush stroke re-optimizes a subset of samples; with unchanged targets the session must come
   // back to the bind's weights, also next to a line (the neighbourhood blend starts again from the
   // optimizer's weights, not from its own earlier result).

@@ -92,7 +92,7 @@ double acrossNotch(const SampleSet& S, const Weights& W, int c) {
   return worst;
 }
 
-TEST(HeatDiffusion, NeverLeaksAcrossTheCage) {
+TEST(HeatDiffusionSlow, NeverLeaksAcrossTheCage) {
   const Cage cage = uCage();
   const double h = 1.5;
   const SampleSet S = sampleCage(cage, h, 0.0);
@@ -197,7 +197,7 @@ TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
   EXPECT_LT(farLocal, 0.05 * farGlobal) << "global " << farGlobal << ", screened " << farLocal;
 }
 
-TEST(HeatDiffusion, ScreeningUnderflowFallsBackPerSample) {
+TEST(HeatDiffusionSlow, ScreeningUnderflowFallsBackPerSample) {
   // A locality so short that heat underflows (row sums < 1e-200) a few samples into the square:
   // only those rows take the unscreened steady state; rows near the cage stay screened (local).
   const Cage cage = squareWithMidpoints(60.0);
@@ -286,7 +286,7 @@ TEST(HeatDiffusion, InverseDistanceFollowsTheFormula) {
     }
 }
 
-TEST(HeatDiffusion, ThreadCountDoesNotChangeResults) {
+TEST(HeatDiffusionSlow, ThreadCountDoesNotChangeResults) {
   const Cage cage = uCage();
   const SampleSet S = sampleCage(cage, 1.5, 5.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.5));

@@ -51,7 +51,7 @@ bool expectMatchesGlpk(const Problem& p, const std::string& what, std::mt19937& 
   return true;
 }
 
-TEST(SampleL1, MatchesGlpkOnRandomProblems) {
+TEST(SampleL1Slow, MatchesGlpkOnRandomProblems) {
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int unique = 0;

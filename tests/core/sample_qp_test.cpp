@@ -249,7 +249,7 @@ bool clpObjective(const Problem& p, double& objective) {
 /// objective; at a vertex the only feasible point is e_k.
 /// Before the incremental evaluation and the null-space step, 1–20% of such samples failed
 /// (more with larger m) and fell back to QEC weights.
-TEST(SampleQp, SolvesSamplesOnHullEdgesAndVertices) {
+TEST(SampleQpSlow, SolvesSamplesOnHullEdgesAndVertices) {
   struct Size {
     int m, problems;
   };

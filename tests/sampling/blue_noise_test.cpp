@@ -114,7 +114,7 @@ TEST(BlueNoise, FixedSamplesNeverMove) {
   EXPECT_EQ(S.X.middleRows(B.size(), F.rows()), F);
 }
 
-TEST(BlueNoise, SameSeedGivesIdenticalSamplesOnAnyThreadCount) {
+TEST(BlueNoiseSlow, SameSeedGivesIdenticalSamplesOnAnyThreadCount) {
   const Cage cage = test::starCage();
   SampleSet one, two, three;
   {
@@ -151,7 +151,7 @@ TEST(BlueNoise, FreeCountFollowsRegionArea) {
   EXPECT_NEAR(static_cast<double>(report.interior), expected, 0.1 * expected);
 }
 
-TEST(BlueNoise, RandomCagesMeetQualityBounds) {
+TEST(BlueNoiseSlow, RandomCagesMeetQualityBounds) {
   // A few random star-shaped polygons with 5-34 vertices, some with short edges and sharp spikes.
   int tried = 0;
   for (std::uint64_t t = 0; t < 12 && tried < 6; ++t) {
