@@ -23,7 +23,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 
-#include "../sparse_cholesky.h"
+#include "row_block_cholesky.h"
 #include "kc/core/lbc/heat_geodesic.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qp.h"
@@ -65,16 +65,26 @@ struct LbcSolver::Impl {
   Weights Wb;                               // nb×m Dirichlet data
   Eigen::MatrixXd K;                        // m×3: [Ĉ 1] (normalized controls)
   Points Vn;                                // #V×2 normalized positions
-  RowMatrix Mn;                             // r×m, orthonormal rows, Mn K = 0
+  Eigen::Matrix<double, Eigen::Dynamic, 3> Q1;  // m×3 orthonormal basis of range(K): I − Q1 Q1ᵀ = MnᵀMn
   RowMatrix H;                              // n×m least-norm solution of H K = B (interior rows)
   RowMatrix GtAJ;                           // n×m: Gᵀ A ∇[Wb; H] = L_IB Wb + L_II H (constant part of step 2)
   std::vector<Index> adjStart;              // interior vertex v → (triangle, corner) pairs
   std::vector<std::pair<int, int>> adj;
   SparseMatrix Lib;                         // n×nb block of the stiffness matrix
-  detail::SupernodalCholesky system;        // L_II + M_II
-  detail::SupernodalCholesky laplace;       // L_II (harmonic warm start)
+  detail::RowBlockCholesky system;          // L_II + M_II
+  detail::RowBlockCholesky laplace;         // L_II (harmonic warm start)
   bool ok = true;
   double geodesicSeconds = 0.0, factorSeconds = 0.0;
+
+  /// out = y (I − Q1 Q1ᵀ) + H_v = y MᵀM + H_v for interior vertex v and a row y (length m): the
+  /// affine iterate's row from the Y-system's solution (H's rows lie in range(K), so y may
+  /// include them).
+  void projectRow(Index v, const double* y, double* out) const {
+    double c[3] = {0.0, 0.0, 0.0};
+    for (Index i = 0; i < m; ++i)
+      for (int j = 0; j < 3; ++j) c[j] += y[i] * Q1(i, j);
+    for (Index i = 0; i < m; ++i) out[i] = y[i] - (c[0] * Q1(i, 0) + c[1] * Q1(i, 1) + c[2] * Q1(i, 2)) + H(v, i);
+  }
 
   /// Weight i of (full) vertex v given the interior rows Z.
   double w(const RowMatrix& Z, int v, Index i) const { return v < nb ? Wb(v, i) : Z(v - nb, i); }
@@ -220,7 +230,7 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   d.K.col(2).setOnes();
   const Eigen::MatrixXd& K = d.K;
   const Eigen::MatrixXd Q = K.householderQr().householderQ();
-  d.Mn = Q.rightCols(d.r).transpose();
+  d.Q1 = Q.leftCols(3);
   const Eigen::MatrixXd Kpinv = (K.transpose() * K).ldlt().solve(K.transpose());  // 3×m
   d.H.resize(d.n, d.m);
   for (Index v = 0; v < d.n; ++v) {
@@ -248,9 +258,7 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
     d.GtAJ = RowMatrix(d.Lib * d.Wb) + RowMatrix(Lii * d.H);
     SparseMatrix S = Lii;
     for (Index v = 0; v < d.n; ++v) S.coeffRef(v, v) += d.g.vertexMass[std::size_t(d.nb + v)];
-    d.system.compute(S);
-    d.laplace.compute(Lii);
-    d.ok = d.ok && d.system.info() == Eigen::Success && d.laplace.info() == Eigen::Success;
+    d.ok = d.system.compute(S) && d.laplace.compute(Lii) && d.ok;
   }
   d.factorSeconds = secondsSince(t0);
 }
@@ -293,9 +301,11 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   // Start: harmonic coordinates (L_II W_I = −L_IB W_B) projected to the affine set, or Y = 0.
   RowMatrix Z = d.H;  // interior rows of the affine iterate Y M + H
   if (options.harmonicStart && n > 0 && d.r > 0) {
-    const Eigen::MatrixXd harmonic = d.laplace.solve(Eigen::MatrixXd(-(d.Lib * d.Wb)));
-    const RowMatrix Y = (RowMatrix(harmonic) - d.H) * d.Mn.transpose();
-    Z = Y * d.Mn + d.H;
+    RowMatrix harmonic = -(d.Lib * d.Wb);
+    d.laplace.solveInPlace(harmonic);
+    parallelForRange(n, 64, [&](Index begin, Index end) {
+      for (Index v = begin; v < end; ++v) d.projectRow(v, &harmonic(v, 0), &Z(v, 0));
+    });
   }
   RowMatrix G(nt, 2 * m);
   parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
@@ -336,8 +346,6 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   if (n > 0 && d.r > 0) {
     RowMatrix X(nt, 2 * m), F(nt, 3 * m);
     RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), Qm(n, m);
-    Eigen::MatrixXd R(n, d.r);
-    const Eigen::MatrixXd MnT = d.Mn.transpose();
     std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
     const double norm = 1.0 / (double(m) * d.domainArea);
     int nextGapCheck = 0;
@@ -360,8 +368,10 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           for (int c = 0; c < 3; ++c) F(s, c * m + i) = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
         }
       }, 256);
-      // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side (Gᵀ A P + M Q) Mᵀ per
-      // interior vertex (Q = W̃ + U2 − H), gathered from its triangles.
+      // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side Gᵀ A P + M Q per interior
+      // vertex (Q = W̃ + U2 − H), gathered from its triangles. With MᵀM = I − Q1 Q1ᵀ the
+      // Y-system's solution enters only as (L_II + M_II)⁻¹ (Gᵀ A P + M Q) MᵀM: solve for all m
+      // columns, then project each row (no dense products with M).
       parallelForRange(n, 64, [&](Index begin, Index end) {
         Eigen::RowVectorXd q(m);
         for (Index v = begin; v < end; ++v) {
@@ -376,17 +386,16 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           }
           Qm.row(v) = q;
         }
-        // (Fixed row blocks, whatever the thread count: the products round the same way.)
-        R.middleRows(begin, end - begin).noalias() = Qm.middleRows(begin, end - begin) * MnT;
       });
-      const Eigen::MatrixXd Y = d.system.solve(R);
+      d.system.solveInPlace(Qm);
       // Step 3: new affine iterate Y M + H, multipliers and residuals (eq. 26–27), row by row.
       parallelForRange(n, 64, [&](Index begin, Index end) {
-        RowMatrix Znew = Y.middleRows(begin, end - begin) * d.Mn;
+        std::vector<double> znew(static_cast<std::size_t>(m));
         for (Index v = begin; v < end; ++v) {
+          d.projectRow(v, &Qm(v, 0), znew.data());
           double p = 0.0, q = 0.0;
           for (Index i = 0; i < m; ++i) {
-            const double z = Znew(v - begin, i) + d.H(v, i);
+            const double z = znew[std::size_t(i)];
             const double relaxed = alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i);
             U2(v, i) += relaxed - z;
             p += (Wc(v, i) - z) * (Wc(v, i) - z);

@@ -1,0 +1,73 @@
+#include "row_block_cholesky.h"
+
+#include <algorithm>
+
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+
+#include "kc/core/parallel.h"
+
+namespace kc::detail {
+
+bool RowBlockCholesky::compute(const SparseMatrix& A) {
+  m_ok = false;
+  Eigen::SimplicialLLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> llt(A);
+  if (llt.info() != Eigen::Success) return false;
+  const Index n = A.rows();
+  // Eigen solves P A Pᵀ = L Lᵀ with (P b)(p(i)) = b(i).
+  const auto& p = llt.permutationP().indices();
+  m_perm.assign(std::size_t(n), 0);
+  for (Index i = 0; i < n; ++i) m_perm[std::size_t(i)] = p(i);
+  const auto& L = llt.matrixL().nestedExpression();  // column-major, lower, diagonal first
+  m_start.assign(L.outerIndexPtr(), L.outerIndexPtr() + n + 1);
+  m_row.assign(L.innerIndexPtr(), L.innerIndexPtr() + L.nonZeros());
+  m_value.assign(L.valuePtr(), L.valuePtr() + L.nonZeros());
+  for (Index j = 0; j < n; ++j) {
+    const int first = m_start[std::size_t(j)];
+    if (first >= m_start[std::size_t(j + 1)] || m_row[std::size_t(first)] != j || !(m_value[std::size_t(first)] > 0.0))
+      return false;
+  }
+  m_ok = true;
+  return true;
+}
+
+void RowBlockCholesky::solveInPlace(RowMatrix& B) const {
+  const Index n = size(), k = B.cols();
+  if (k == 0) return;
+  // Blocks of at most kBlock columns, as even as k allows (k alone decides, not the threads).
+  const Index blocks = (k + kBlock - 1) / kBlock, width = (k + blocks - 1) / blocks;
+  parallelFor(blocks, [&](Index b) {
+    const Index c0 = b * width, w = std::min(width, k - c0);
+    std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
+    for (Index i = 0; i < n; ++i)
+      for (Index c = 0; c < w; ++c) y[std::size_t(m_perm[std::size_t(i)] * w + c)] = B(i, c0 + c);
+    // L y = P b: column j divides y_j by L_jj, then subtracts L_ij y_j from the rows below.
+    for (Index j = 0; j < n; ++j) {
+      double* yj = &y[std::size_t(j * w)];
+      const int s0 = m_start[std::size_t(j)], s1 = m_start[std::size_t(j + 1)];
+      const double d = m_value[std::size_t(s0)];
+      for (Index c = 0; c < w; ++c) yj[c] /= d;
+      for (int s = s0 + 1; s < s1; ++s) {
+        double* yi = &y[std::size_t(m_row[std::size_t(s)] * w)];
+        const double l = m_value[std::size_t(s)];
+        for (Index c = 0; c < w; ++c) yi[c] -= l * yj[c];
+      }
+    }
+    // Lᵀ x = y: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj, from the last row up.
+    for (Index j = n - 1; j >= 0; --j) {
+      double* yj = &y[std::size_t(j * w)];
+      const int s0 = m_start[std::size_t(j)], s1 = m_start[std::size_t(j + 1)];
+      for (int s = s0 + 1; s < s1; ++s) {
+        const double* yi = &y[std::size_t(m_row[std::size_t(s)] * w)];
+        const double l = m_value[std::size_t(s)];
+        for (Index c = 0; c < w; ++c) yj[c] -= l * yi[c];
+      }
+      const double d = m_value[std::size_t(s0)];
+      for (Index c = 0; c < w; ++c) yj[c] /= d;
+    }
+    for (Index i = 0; i < n; ++i)
+      for (Index c = 0; c < w; ++c) B(i, c0 + c) = y[std::size_t(m_perm[std::size_t(i)] * w + c)];
+  }, 1);
+}
+
+}  // namespace kc::detail
