@@ -42,6 +42,38 @@ double sum(const std::vector<double>& parts) {
   return s;
 }
 
+/// Runs the ADMM iterations on all threads or on the calling thread alone, whichever was measured
+/// faster. Each iteration has a few parallel loops of about a millisecond; on a machine shared with
+/// other work, every loop waits for all threads to be scheduled, and measured on 2 cores at load
+/// 8 that made 2 threads 7× slower than 1. Results do not depend on the choice (every loop writes
+/// its own rows, sums are reduced in a fixed order), so it is made by timing: in every period of
+/// kPeriod iterations, kProbe run in parallel, kProbe serially, the rest the faster way.
+class ThreadChoice {
+ public:
+  explicit ThreadChoice(bool canParallel) : m_can(canParallel) {}
+  /// Whether iteration k (1-based) runs in parallel.
+  bool parallel(int k) const {
+    if (!m_can) return false;
+    const int phase = (k - 1) % kPeriod;
+    if (phase < kProbe) return true;
+    if (phase < 2 * kProbe) return false;
+    return m_parallelFaster;
+  }
+  /// Records the wall time of iteration k.
+  void record(int k, double seconds) {
+    const int phase = (k - 1) % kPeriod;
+    if (phase == 0) m_time[0] = m_time[1] = 0.0;
+    if (phase < 2 * kProbe) m_time[phase < kProbe ? 0 : 1] += seconds;
+    if (phase == 2 * kProbe - 1) m_parallelFaster = m_time[0] <= m_time[1];
+  }
+
+ private:
+  static constexpr int kPeriod = 100, kProbe = 4;
+  bool m_can;
+  bool m_parallelFaster = true;
+  double m_time[2] = {0.0, 0.0};
+};
+
 }  // namespace
 
 double lbcTau(LbcTau tau, double x) {
@@ -350,7 +382,11 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     const double norm = 1.0 / (double(m) * d.domainArea);
     int nextGapCheck = 0;
     rep.status = LbcStatus::NotConverged;
+    ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
+      const auto iterationStart = std::chrono::steady_clock::now();
+      const bool parallel = threads.parallel(k);
+      auto grain = [&](Index count, Index g) { return parallel ? g : count; };
       // Step 1: group shrinkage of ∇W − U1 (eq. 30); per triangle also its share of step 2's
       // right-hand side, F(s, c·m + i) = a_s ∇λ_c · P_s,i with P = X̃ + U1 (J = ∇[Wb; H] enters
       // through the constant Gᵀ A J).
@@ -367,12 +403,12 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           const double py = area * (alpha * X(s, m + i) + (1.0 - alpha) * G(s, m + i) + U1(s, m + i));
           for (int c = 0; c < 3; ++c) F(s, c * m + i) = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
         }
-      }, 256);
+      }, grain(nt, 256));
       // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side Gᵀ A P + M Q per interior
       // vertex (Q = W̃ + U2 − H), gathered from its triangles. With MᵀM = I − Q1 Q1ᵀ the
       // Y-system's solution enters only as (L_II + M_II)⁻¹ (Gᵀ A P + M Q) MᵀM: solve for all m
       // columns, then project each row (no dense products with M).
-      parallelForRange(n, 64, [&](Index begin, Index end) {
+      parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
         Eigen::RowVectorXd q(m);
         for (Index v = begin; v < end; ++v) {
           const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
@@ -387,9 +423,9 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           Qm.row(v) = q;
         }
       });
-      d.system.solveInPlace(Qm);
+      d.system.solveInPlace(Qm, parallel);
       // Step 3: new affine iterate Y M + H, multipliers and residuals (eq. 26–27), row by row.
-      parallelForRange(n, 64, [&](Index begin, Index end) {
+      parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
         std::vector<double> znew(static_cast<std::size_t>(m));
         for (Index v = begin; v < end; ++v) {
           d.projectRow(v, &Qm(v, 0), znew.data());
@@ -407,7 +443,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           dualV[std::size_t(v)] = mass * q;
         }
       });
-      parallelForRange(nt, 256, [&](Index begin, Index end) {
+      parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
         std::vector<double> buffer(std::size_t(2 * m));
         double* nx = buffer.data();
         double* ny = buffer.data() + m;
@@ -428,6 +464,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
         }
       });
+      threads.record(k, secondsSince(iterationStart));
       rep.iterations = k;
       rep.primalResidual = std::sqrt((sum(primalT) + sum(primalV)) * norm);
       rep.dualResidual = mu * std::sqrt((sum(dualT) + sum(dualV)) * norm);

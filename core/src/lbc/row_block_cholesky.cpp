@@ -31,7 +31,7 @@ bool RowBlockCholesky::compute(const SparseMatrix& A) {
   return true;
 }
 
-void RowBlockCholesky::solveInPlace(RowMatrix& B) const {
+void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   const Index n = size(), k = B.cols();
   if (k == 0) return;
   // Blocks of at most kBlock columns, as even as k allows (k alone decides, not the threads).
@@ -67,7 +67,7 @@ void RowBlockCholesky::solveInPlace(RowMatrix& B) const {
     }
     for (Index i = 0; i < n; ++i)
       for (Index c = 0; c < w; ++c) B(i, c0 + c) = y[std::size_t(m_perm[std::size_t(i)] * w + c)];
-  }, 1);
+  }, parallel ? 1 : blocks);
 }
 
 }  // namespace kc::detail

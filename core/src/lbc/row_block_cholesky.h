@@ -25,8 +25,9 @@ class RowBlockCholesky {
   /// Non-zeros of L (the cost of one solve is 4·nnz·k flops for k columns).
   Index factorNonZeros() const { return Index(m_value.size()); }
 
-  /// B ← A⁻¹ B in place for a row-major n×k B (k any), columns in blocks of kBlock in parallel.
-  void solveInPlace(RowMatrix& B) const;
+  /// B ← A⁻¹ B in place for a row-major n×k B (k any), columns in blocks of at most kBlock, the
+  /// blocks in parallel (parallel = true) or one after another; the result is the same.
+  void solveInPlace(RowMatrix& B, bool parallel = true) const;
 
  private:
   bool m_ok = false;
