@@ -2,6 +2,8 @@
 
 #include <GL/gl.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "kc/app/file_io.h"
@@ -18,7 +20,11 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["busy"] = busy;
   j["bound"] = state.bound;
   j["idle"] = !busy && state.canvasDrag.button < 0;
-  j["tool"] = state.tool == Tool::Pose ? "pose" : state.tool == Tool::Brush ? "brush" : state.tool == Tool::Lines ? "lines" : "cage";
+  j["tool"] = state.tool == Tool::Pose    ? "pose"
+              : state.tool == Tool::Brush ? "brush"
+              : state.tool == Tool::Lines ? "lines"
+              : state.tool == Tool::Rigid ? "rigid"
+                                          : "cage";
   j["method"] = std::string(app::toString(state.method));
   j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
   j["lbc_mesh"] = state.reports.lbcMesh;         // LBC mesh vertices of the bound session, 0 when not LBC
@@ -47,6 +53,8 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["lines"] = lines;
   j["bound_lines"] = state.boundLines.size();
   j["line_selection"] = state.lineSelection;
+  j["rigid_samples"] = std::count_if(state.rigidity.begin(), state.rigidity.end(), [](double r) { return r > 0.0; });
+  j["rigid_regions"] = state.lines.rigid.size();
   j["cage_status"] = state.cageStatus;
   json widgets = json::object();
   for (const auto& [name, c] : state.widgets) widgets[name] = {c.x(), c.y()};

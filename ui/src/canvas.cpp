@@ -12,9 +12,9 @@ namespace {
 
 Vec2 toVec(const ImVec2& v) { return {v.x, v.y}; }
 
-/// The image-space position a tool works with: rest positions for the brush on a warped picture.
+/// The image-space position a tool works with: rest positions for the brushes on a warped picture.
 Vec2 toolPosition(const AppState& state, const Vec2& image) {
-  if (state.tool == Tool::Brush && showsWarp(state)) {
+  if ((state.tool == Tool::Brush || state.tool == Tool::Rigid) && showsWarp(state)) {
     Vec2 rest;
     if (restPositionOf(state.mesh, image, rest)) return rest;
   }
@@ -37,6 +37,11 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
       if (phase == 0) state.brushTool.press(state, e);
       else if (phase == 1) state.brushTool.drag(state, e);
       else state.brushTool.release(state, e);
+      break;
+    case Tool::Rigid:
+      if (phase == 0) state.rigidTool.press(state, e);
+      else if (phase == 1) state.rigidTool.drag(state, e);
+      else state.rigidTool.release(state, e);
       break;
     case Tool::Lines:
       if (phase == 0) state.lineTool.press(state, e);

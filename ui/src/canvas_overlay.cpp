@@ -102,15 +102,21 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
   }
 }
 
-void drawBrushRing(AppState& state, ImDrawList* dl) {
-  if (!state.canvasHovered && !state.brushTool.active()) return;
+/// A brush's outline at the mouse (radius in image pixels; `core` > 0 also draws the inner ring
+/// where a soft brush starts to fade); a minus sign when it takes away.
+void drawRing(const AppState& state, ImDrawList* dl, double radius, double core, bool subtract) {
   const ImVec2 c = im(state.view.toScreen(state.mouseImage));
-  const float r = static_cast<float>(state.brush.radius * state.view.zoom);
-  const bool subtract = state.brush.subtract != ImGui::GetIO().KeyCtrl;
+  const float r = static_cast<float>(radius * state.view.zoom);
   dl->AddCircle(c, r, rgba(0, 0, 0, 160), 48, 3.0f);
   dl->AddCircle(c, r, subtract ? rgba(120, 190, 255) : rgba(255, 255, 255), 48, 1.5f);
+  if (core > 0.0 && core < radius) dl->AddCircle(c, static_cast<float>(core * state.view.zoom), rgba(255, 255, 255, 110), 48, 1.0f);
   dl->AddLine({c.x - 4, c.y}, {c.x + 4, c.y}, rgba(255, 255, 255));
   if (!subtract) dl->AddLine({c.x, c.y - 4}, {c.x, c.y + 4}, rgba(255, 255, 255));
+}
+
+void drawBrushRing(AppState& state, ImDrawList* dl) {
+  if (!state.canvasHovered && !state.brushTool.active()) return;
+  drawRing(state, dl, state.brush.radius, 0.0, state.brush.subtract != ImGui::GetIO().KeyCtrl);
   if (state.brushTool.active() && state.session) {  // samples touched by this stroke
     const auto& painted = state.brushTool.painted();
     const SampleSet& S = state.session->samples;
@@ -169,8 +175,14 @@ void drawCanvasOverlay(AppState& state) {
     if (state.bound) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 200), 2.0f);
     else drawCageToolOverlay(state, dl);
   } else if (state.bound) {
+    dl->PopClipRect();
+    drawRigidityOverlay(state);  // under the cage and the handles
+    dl->PushClipRect(im(view.canvasMin), im(view.canvasMin + view.canvasSize), true);
     drawPoseOverlay(state, dl);
     if (state.tool == Tool::Brush) drawBrushRing(state, dl);
+    if (state.tool == Tool::Rigid && (state.canvasHovered || state.rigidTool.active()))
+      drawRing(state, dl, state.rigidBrush.radius, (1.0 - state.rigidBrush.softness) * state.rigidBrush.radius,
+               state.rigidBrush.erase != ImGui::GetIO().KeyCtrl);
   }
   dl->PopClipRect();
   if (!state.showOriginal && state.tool != Tool::Cage) drawLinesOverlay(state);

@@ -6,6 +6,7 @@
 
 #include "kc/ui/jobs.h"
 #include "kc/ui/line_edits.h"
+#include "kc/ui/rigidity_edits.h"
 
 namespace kc::ui {
 
@@ -77,6 +78,9 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
           setPose(state, p);
         } else if constexpr (std::is_same_v<T, CageEdit>) {
           setDraftCage(state, forward ? edit.after : edit.before);
+        } else if constexpr (std::is_same_v<T, RigidityEdit>) {
+          if (!state.session) return false;
+          return startRestoreRigidity(state, edit, forward);
         } else if constexpr (std::is_same_v<T, LinesEdit>) {
           return applyLines(state, forward ? edit.after : edit.before);
         } else if constexpr (std::is_same_v<T, MethodEdit>) {
@@ -95,14 +99,17 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
       entry.edit);
 }
 
-/// Weight edits and method switches run on the worker with the session.
-bool needsSession(const Edit& e) { return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e); }
+/// Weight edits, method switches and rigidity strokes run on the worker with the session.
+bool needsSession(const Edit& e) {
+  return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e) || std::holds_alternative<RigidityEdit>(e);
+}
 
 bool endInteractions(AppState& state) {
   state.poseTool.cancel(state);
   state.brushTool.cancel(state);
   state.cageTool.cancel(state);
   state.lineTool.cancel(state);
+  state.rigidTool.cancel(state);
   return true;
 }
 
@@ -174,6 +181,13 @@ void selectTool(AppState& state, Tool tool) {
   if (tool == Tool::Brush && !shownCapabilities(state).painting) {
     postMessage(state, "The brush is not available: " + shownCapabilities(state).why, false);
     return;
+  }
+  if (tool == Tool::Rigid) {
+    const std::string problem = rigidityProblem(state);
+    if (!problem.empty()) {
+      postMessage(state, "The rigidity brush is not available: " + problem + ".", false);
+      return;
+    }
   }
   if (tool == Tool::Lines && !shownCapabilities(state).lines) {
     postMessage(state, "The line tool needs KC weights: lines are kept straight by the kernel backend (choose KC in the Bind panel).", false);

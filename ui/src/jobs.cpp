@@ -10,20 +10,16 @@
 #include "kc/app/pipeline.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/line_edits.h"
+#include "kc/ui/rigidity_edits.h"
+#include "job_support.h"
 
 namespace kc::ui {
-namespace {
+namespace detail {
 
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-using SessionPtr = std::shared_ptr<app::Session>;
-using MeshPtr = std::shared_ptr<WarpMesh>;
-using SourcePtr = std::shared_ptr<AppState::MeshSource>;
-
-/// Installs a new display mesh (after a weight change) and hands the session and the mesh's
-/// weight source back.
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
   state.method = state.session->params.kc.method;
@@ -34,11 +30,11 @@ void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePt
   }
   if (source) state.meshSource = std::move(source);
   refreshBoundLines(state, *state.session);
+  refreshBoundRigidity(state, *state.session);
   state.diagnostics.reset();
 }
 
-/// A closure that hands the session (and the borrowed mesh source) back and reports `text` as an error.
-Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source = nullptr) {
+Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source) {
   return [session, text, source](AppState& st) {
     if (session) st.session = session;
     if (source) st.meshSource = source;
@@ -46,7 +42,6 @@ Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source = n
   };
 }
 
-/// Restores the session's field and the vertex weights from W after a failed job (they may be half updated).
 void rebuildFromW(app::Session& s, AppState::MeshSource& source) {
   try {
     if (s.field) {
@@ -85,6 +80,12 @@ bool canStart(AppState& state, const char* what) {
   return true;
 }
 
+}  // namespace detail
+
+using namespace detail;
+
+namespace {
+
 /// After a cancelled or failed re-bind for `tried` lines: the line edit that asked for them goes
 /// back to the stack it came from (a new edit or a redo becomes redoable, an undo undoable again).
 void restoreLineEdit(AppState& st, const app::Structure& tried) {
@@ -110,7 +111,7 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
   const std::size_t dropped = history.removeIf([](const UndoEntry& e) {
-    if (std::holds_alternative<WeightEdit>(e.edit)) return true;
+    if (std::holds_alternative<WeightEdit>(e.edit) || std::holds_alternative<RigidityEdit>(e.edit)) return true;
     const auto* m = std::get_if<MethodEdit>(&e.edit);
     return m && m->WBefore.rows() > 0;
   });
@@ -145,11 +146,14 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.method = s.params.kc.method;
   state.capabilities = app::sessionCapabilities(s);
   if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
+  if (state.tool == Tool::Rigid && !state.capabilities.lines) state.tool = Tool::Pose;
   state.reports = s.reports;
   state.bindParams = s.params;
   state.lines = s.structure;
   state.lineSelection.clear();
   refreshBoundLines(state, s);
+  refreshBoundRigidity(state, s);
+  state.boundSpacing = s.params.spacing;
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));

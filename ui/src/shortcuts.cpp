@@ -33,6 +33,7 @@ void handleShortcuts(AppState& state) {
     state.brushTool.cancel(state);
     state.cageTool.cancel(state);
     state.lineTool.cancel(state);
+    state.rigidTool.cancel(state);
     state.canvasDrag.button = -1;
     return;
   }
@@ -41,6 +42,7 @@ void handleShortcuts(AppState& state) {
   if (pressed(GLFW_KEY_B)) selectTool(state, Tool::Brush);
   if (pressed(GLFW_KEY_C)) selectTool(state, Tool::Cage);
   if (pressed(GLFW_KEY_L)) selectTool(state, Tool::Lines);
+  if (pressed(GLFW_KEY_R)) selectTool(state, Tool::Rigid);
   if (pressed(GLFW_KEY_F)) state.fitPending = true;
   if (pressed(GLFW_KEY_1)) state.view.zoomTo(1.0);
   if (pressed(GLFW_KEY_F1)) state.helpOpen = true;

@@ -24,6 +24,7 @@ constexpr Shortcut kShortcuts[] = {
     {"P", "Pose tool: move and turn points"},
     {"B", "Brush tool: paint a point's influence"},
     {"L", "Line tool: draw lines kept straight; Delete removes the selected lines"},
+    {"R", "Rigidity brush: paint parts that keep their shape (Ctrl erases)"},
     {"F / 1", "Fit the picture in the window / show it at 100%"},
     {"hold O", "See the original picture (before/after)"},
     {"Space+drag, middle-drag, wheel", "Pan and zoom"},
@@ -59,6 +60,8 @@ void drawHelpWindow(AppState& state) {
   ImGui::TextWrapped("Lines (optional, L): draw lines that must stay straight (a horizon, a sword); select several "
                      "and press Make parallel to keep them parallel. They stay straight when you move points; "
                      "turning points can bend them. Each change binds again.");
+  ImGui::TextWrapped("Rigid parts (optional, R): paint over a part that should keep its shape (a head, a wheel); it "
+                     "turns cyan, and on release kcwarp computes the weights around it again. Ctrl erases.");
   ImGui::TextWrapped("6. Export: File > Export PNG (Ctrl+E). Save the session (Ctrl+S) to come back later.");
   ImGui::Spacing();
   ImGui::TextUnformatted("Shortcuts");

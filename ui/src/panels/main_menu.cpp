@@ -79,6 +79,8 @@ float drawMainMenu(AppState& state) {
     tooltip("Also show where the cage was before you moved its points.");
     ImGui::MenuItem("Lines", nullptr, &state.show.lines);
     tooltip("Show the lines kept straight (line tool, L) over the warped picture; each parallel group has its own colour.");
+    ImGui::MenuItem("Rigid regions", nullptr, &state.show.rigid);
+    tooltip("Tint the parts painted rigid (rigidity brush, R) in cyan and outline the rigid shapes of a structure file.");
     ImGui::MenuItem("Samples (by kind)", nullptr, &state.show.samples);
     tooltip("Show the points the weights were computed at, coloured by kind (cage point, edge, inside, outside).");
     ImGui::MenuItem("Warp mesh", nullptr, &state.show.mesh);

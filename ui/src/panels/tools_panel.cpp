@@ -6,6 +6,7 @@
 
 #include "kc/ui/edits.h"
 #include "kc/ui/line_edits.h"
+#include "kc/ui/rigidity_edits.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
 
@@ -64,6 +65,42 @@ void drawLinesSection(AppState& state) {
   if (busy || n == 0) ImGui::EndDisabled();
 }
 
+/// The rigidity brush's options: radius, softness, strength, paint or erase, clear, the last time.
+void drawRigiditySection(AppState& state) {
+  ImGui::TextWrapped("Paint over a part that should keep its shape (a head, a wheel): it turns cyan. Ctrl or Erase "
+                     "takes it away. Releasing the mouse computes the weights again around the painted part only.");
+  RigidBrushSettings& b = state.rigidBrush;
+  float radius = static_cast<float>(b.radius), softness = static_cast<float>(b.softness), strength = static_cast<float>(b.strength);
+  if (ImGui::SliderFloat("Radius##rigid", &radius, 2.0f, 200.0f, "%.0f px", ImGuiSliderFlags_Logarithmic)) b.radius = radius;
+  labelled(state, "Radius", "Size of the rigidity brush, in pixels of the picture.");
+  if (ImGui::SliderFloat("Softness##rigid", &softness, 0.0f, 1.0f, "%.2f")) b.softness = softness;
+  labelled(state, "Softness", "How gradually the brush fades out towards its rim: 0 paints a hard-edged disc, 1 fades from the "
+                              "centre. The inner ring shows where the fading starts.");
+  if (ImGui::SliderFloat("Strength##rigid", &strength, 0.05f, 1.0f, "%.2f")) b.strength = strength;
+  labelled(state, "Strength", "How rigid the painted part becomes: 1 keeps its shape as well as the moved points allow, lower "
+                              "values let it bend part of the way. When erasing, how much of the rigidity is taken away.");
+  if (radio(state, "Paint##rigid", !b.erase, "Painting makes the part under the brush keep its shape.")) b.erase = false;
+  ImGui::SameLine();
+  if (radio(state, "Erase##rigid", b.erase, "Painting lets the part under the brush bend freely again (Ctrl does this too).")) b.erase = true;
+  const bool any = anyRigid(state.rigidity);
+  const bool busy = !state.session;
+  if (!any || busy) ImGui::BeginDisabled();
+  if (button(state, "Clear rigidity", !any ? "Nothing is rigid yet." : "Let the whole picture bend freely again (undoable)."))
+    clearRigidity(state);
+  if (!any || busy) ImGui::EndDisabled();
+  const long rigid = std::count_if(state.rigidity.begin(), state.rigidity.end(), [](double r) { return r > 0.0; });
+  char text[160];
+  if (state.timings.releaseToPictureMs > 0.0)
+    std::snprintf(text, sizeof text, "%ld samples rigid. Last change: %.0f ms to the picture.", rigid, state.timings.releaseToPictureMs);
+  else
+    std::snprintf(text, sizeof text, "%ld samples rigid.", rigid);
+  ImGui::TextDisabled("%s", text);
+  labelled(state, "Rigid samples", "How many of the points the weights are computed at are painted rigid, and the time from the last "
+                                   "release of the mouse (or re-computation) to the updated picture.");
+  if (!state.lines.rigid.empty())
+    ImGui::TextWrapped("%zu rigid shape(s) from the structure file are outlined in cyan.", state.lines.rigid.size());
+}
+
 }  // namespace
 
 void drawToolsPanel(AppState& state) {
@@ -88,6 +125,14 @@ void drawToolsPanel(AppState& state) {
                        : "Lines are kept straight by KC weights only: choose KC in the Bind panel."))
     selectTool(state, Tool::Lines);
   if (!caps.lines) ImGui::EndDisabled();
+  ImGui::SameLine();
+  const std::string rigidProblem = rigidityProblem(state);
+  if (!rigidProblem.empty()) ImGui::BeginDisabled();
+  const std::string rigidTip = rigidProblem.empty() ? std::string("Paint the parts that should keep their shape when you move points "
+                                                                  "(a head, a wheel); they bend as little as the points allow.")
+                                                    : "Not available: " + rigidProblem + ".";
+  if (radio(state, "Rigid (R)", state.tool == Tool::Rigid, rigidTip.c_str())) selectTool(state, Tool::Rigid);
+  if (!rigidProblem.empty()) ImGui::EndDisabled();
   ImGui::Spacing();
   switch (state.tool) {
     case Tool::Pose:
@@ -124,8 +169,11 @@ void drawToolsPanel(AppState& state) {
     case Tool::Lines:
       drawLinesSection(state);
       break;
+    case Tool::Rigid:
+      drawRigiditySection(state);
+      break;
   }
-  if (state.bound && state.tool != Tool::Cage && state.tool != Tool::Lines) {
+  if (state.bound && state.tool != Tool::Cage && state.tool != Tool::Lines && state.tool != Tool::Rigid) {
     int active = static_cast<int>(state.activeControl);
     ImGui::SetNextItemWidth(120);
     if (ImGui::InputInt("Active point", &active)) {

@@ -65,15 +65,10 @@ void BrushTool::press(AppState& state, const PointerEvent& e) {
 }
 
 void BrushTool::dabsTo(AppState& state, const Vec2& p) {
-  const double step = std::max(1.0, 0.25 * state.brush.radius);
-  const double length = (p - m_last).norm();
-  const int n = static_cast<int>(std::floor(length / step));
   const double amount = m_subtract ? -state.brush.strength : state.brush.strength;
-  for (int k = 1; k <= n; ++k) {
-    const Vec2 c = m_last + (p - m_last) * (k * step / length);
+  m_last = dabsAlong(m_last, p, state.brush.radius, [&](const Vec2& c) {
     paintDab(state.session->W0, state.session->samples, state.activeControl, c, state.brush.radius, amount, m_painted);
-  }
-  if (n > 0) m_last = m_last + (p - m_last) * (n * step / length);
+  });
 }
 
 void BrushTool::drag(AppState& state, const PointerEvent& e) {

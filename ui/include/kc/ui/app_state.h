@@ -22,18 +22,27 @@
 #include "kc/ui/tools/cage_tool.h"
 #include "kc/ui/tools/line_tool.h"
 #include "kc/ui/tools/pose_tool.h"
+#include "kc/ui/tools/rigidity_tool.h"
 #include "kc/ui/undo.h"
 #include "kc/ui/view.h"
 #include "kc/ui/worker.h"
 
 namespace kc::ui {
 
-enum class Tool { Pose, Brush, Cage, Lines };
+enum class Tool { Pose, Brush, Cage, Lines, Rigid };
 
 struct BrushSettings {
   double radius = 30.0;     ///< Image pixels.
   double strength = 0.25;   ///< Change of the target weight per dab at the centre.
   bool subtract = false;    ///< Ctrl inverts while painting.
+};
+
+/// The rigidity brush (tools/rigidity_tool.h).
+struct RigidBrushSettings {
+  double radius = 25.0;     ///< Image pixels.
+  double softness = 0.5;    ///< Share of the radius over which the brush fades out (0 hard edge, 1 all soft).
+  double strength = 1.0;    ///< The ρ the brush's centre paints (1: as rigid as the moved points allow).
+  bool erase = false;       ///< Erase mode (Ctrl inverts while painting).
 };
 
 struct HeatmapSettings {
@@ -46,6 +55,7 @@ struct HeatmapSettings {
 
 struct ViewOptions {
   bool lines = true;  ///< Structure lines over the picture (always shown in the line tool).
+  bool rigid = true;  ///< Rigid regions (tint and polygon outlines; always shown in the rigidity tool).
   bool cage = true, samples = false, mesh = false, foldovers = true, restCage = false;
 };
 
@@ -125,6 +135,14 @@ struct AppState {
     int group = -1;
   };
   std::vector<BoundLine> boundLines;
+  /// Display copy of the bound session's per-sample rigidity ρ (#S, or empty: none); while a
+  /// rigidity job runs, the ρ it is solving for.
+  std::vector<double> rigidity;
+  std::uint64_t rigidityRevision = 0;      ///< Bumped when `rigidity` or the stroke being painted changes.
+  /// The rigid regions' polygons (structure.rigid) as outlines: points along each edge and their
+  /// weights (#n×m), drawn deformed with the pose like boundLines.
+  std::vector<BoundLine> boundRigid;
+  double boundSpacing = 0.0;               ///< The bound session's sample spacing h (pixels).
   Pose pose;                               ///< Current pose, one handle per bound control point.
   std::uint64_t poseRevision = 0;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").
@@ -160,12 +178,20 @@ struct AppState {
   std::optional<Vec2> pivot;
   Index activeControl = -1;                ///< Control whose weights are painted and shown.
   BrushSettings brush;
+  RigidBrushSettings rigidBrush;
   HeatmapSettings heat;
   ViewOptions show;
   PoseTool poseTool;
   BrushTool brushTool;
   CageTool cageTool;
   LineTool lineTool;
+  RigidityTool rigidTool;
+  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), recomputed when the mesh
+  /// or ρ changes.
+  struct RigidityTint {
+    std::uint64_t meshRevision = ~0ull, rhoRevision = ~0ull;
+    std::vector<float> vertexRho;
+  } rigidTint;
   Worker worker;
   std::vector<Message> messages;
   Timings timings;

@@ -21,6 +21,12 @@ void drawCanvasOverlay(AppState& state);
 /// Parallel groups have their own colour and name.
 void drawLinesOverlay(AppState& state);
 
+/// The rigid regions over the picture (in the rigidity tool, else when View > Rigid regions is on):
+/// the per-sample rigidity ρ (the stroke being painted, else the session's) as a cyan tint carried
+/// by the display mesh, and the rigid polygons of a structure file or session outlined; both
+/// follow the warp where the picture is shown deformed.
+void drawRigidityOverlay(AppState& state);
+
 /// True when the picture is shown deformed (a bound session, not in the cage or line tool).
 bool showsWarp(const AppState& state);
 

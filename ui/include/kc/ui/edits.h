@@ -41,7 +41,7 @@ bool redo(AppState& state);
 bool updateDeformation(AppState& state);
 
 /// Switches tool, ending any drag in progress. The brush is refused (with the reason) when
-/// shownCapabilities(state) has no painting.
+/// shownCapabilities(state) has no painting, the rigidity brush when rigidityProblem() names one.
 void selectTool(AppState& state, Tool tool);
 
 /// What the panels offer: the bound session's capabilities, or before a bind those of the backend

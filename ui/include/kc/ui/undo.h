@@ -1,6 +1,6 @@
 #pragma once
 /// Undo/redo history of the document: cage edits, pose changes, weight edits (paint strokes,
-/// method switches) and line edits. Entries store what restores the state bit for bit: exact before/after
+/// method switches), line edits and rigidity strokes. Entries store what restores the state bit for bit: exact before/after
 /// values, or for a method switch the two methods.
 
 #include <string>
@@ -48,7 +48,17 @@ struct LinesEdit {
   app::Structure before, after;
 };
 
-using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit, LinesEdit>;
+/// A rigidity-brush stroke (or Clear rigidity): the per-sample rigidity ρ (#S each) before and
+/// after, and the rows of W that app::setRigidity changed (#R indices, `WBefore` / `WAfter` #R×m)
+/// with the controls whose columns changed. Undo and redo write these back bit for bit and
+/// re-solve only those field columns (no QP).
+struct RigidityEdit {
+  std::vector<double> before, after;
+  std::vector<Index> rows, columns;
+  Weights WBefore, WAfter;
+};
+
+using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit, LinesEdit, RigidityEdit>;
 
 struct UndoEntry {
   std::string label;  ///< Shown in the Edit menu, e.g. "paint w3".

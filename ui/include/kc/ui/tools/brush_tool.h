@@ -3,6 +3,8 @@
 /// samples under it with a smooth falloff; on release only those samples are re-optimized with
 /// the current method (kc::app::reoptimize with the subset), on the worker thread.
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "kc/core/types.h"
@@ -21,6 +23,18 @@ double brushFalloff(double distance, double radius);
 /// Marks touched samples in `painted` (#S flags). Returns the number of samples touched.
 Index paintDab(Weights& W0, const SampleSet& samples, Index control, const Vec2& centre, double radius, double amount,
                std::vector<char>& painted);
+
+/// The dabs of a stroke segment, shared by the weight and rigidity brushes: calls dab(c) at every
+/// max(1, radius/4) pixels from `from` toward `to` (not at `from`, which had its dab) and returns
+/// the last centre (`from` when the segment is shorter than one step).
+template <class Dab>
+Vec2 dabsAlong(const Vec2& from, const Vec2& to, double radius, Dab&& dab) {
+  const double step = std::max(1.0, 0.25 * radius);
+  const double length = (to - from).norm();
+  const int n = static_cast<int>(std::floor(length / step));
+  for (int k = 1; k <= n; ++k) dab(Vec2(from + (to - from) * (k * step / length)));
+  return n > 0 ? Vec2(from + (to - from) * (n * step / length)) : from;
+}
 
 class BrushTool {
  public:

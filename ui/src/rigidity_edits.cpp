@@ -1,0 +1,200 @@
+#include "kc/ui/rigidity_edits.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "job_support.h"
+#include "kc/app/rigidity.h"
+#include "kc/ui/edits.h"
+#include "kc/ui/jobs.h"
+
+namespace kc::ui {
+
+using namespace detail;
+
+namespace {
+
+/// The rows where A and B (same shape) differ, and the columns where any of them differs.
+void changedRowsAndColumns(const Weights& A, const Weights& B, std::vector<Index>& rows, std::vector<Index>& columns) {
+  std::vector<char> col(static_cast<std::size_t>(A.cols()), 0);
+  for (Index i = 0; i < A.rows(); ++i) {
+    bool row = false;
+    for (Index c = 0; c < A.cols(); ++c)
+      if (A(i, c) != B(i, c)) row = true, col[static_cast<std::size_t>(c)] = 1;
+    if (row) rows.push_back(i);
+  }
+  for (std::size_t c = 0; c < col.size(); ++c)
+    if (col[c]) columns.push_back(static_cast<Index>(c));
+}
+
+/// Re-weights the display mesh in `columns` from the session's field (worker thread).
+void reweightMesh(const app::Session& s, AppState::MeshSource& source, WarpMesh& mesh, const std::vector<Index>& columns) {
+  if (columns.empty()) return;  // (an empty list would mean every column)
+  source.sampler.updateColumns(*s.field, columns, source.W);
+  mesh.setWeights(source.W);
+}
+
+/// The display ρ after a job: the session's, and the tint follows.
+void showSessionRigidity(AppState& st) {
+  if (st.session) refreshBoundRigidity(st, *st.session);
+  ++st.rigidityRevision;
+}
+
+}  // namespace
+
+bool anyRigid(const std::vector<double>& rho) {
+  return std::any_of(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
+}
+
+std::string rigidityProblem(const AppState& state) {
+  const app::BackendCapabilities caps = shownCapabilities(state);
+  if (!caps.lines)
+    return "rigid regions are kept by KC weights only (choose KC in the Bind panel and bind again)" +
+           (caps.why.empty() ? std::string() : ": " + caps.why);
+  if (!state.bound) return "bind a cage first: the brush paints the samples of a bound picture";
+  if (!caps.targets) return caps.why;
+  return {};
+}
+
+void refreshBoundRigidity(AppState& state, const app::Session& s) {
+  state.rigidity = s.rigidity;
+  state.boundRigid.clear();
+  if (!s.hasField()) return;
+  constexpr int kPerEdge = 16;
+  for (const RigidRegion& r : s.structure.rigid) {
+    const Index n = r.polygon.rows();
+    if (n < 3) continue;
+    AppState::BoundLine outline;
+    outline.X.resize(n * kPerEdge + 1, 2);
+    for (Index k = 0; k < n; ++k)
+      for (int j = 0; j < kPerEdge; ++j)
+        outline.X.row(k * kPerEdge + j) = r.polygon.row(k) + (r.polygon.row((k + 1) % n) - r.polygon.row(k)) * (double(j) / kPerEdge);
+    outline.X.row(n * kPerEdge) = r.polygon.row(0);
+    try {
+      outline.W = s.field->weightsAt(outline.X);
+    } catch (const std::exception&) {
+      continue;
+    }
+    state.boundRigid.push_back(std::move(outline));
+  }
+}
+
+bool startRigidity(AppState& state, std::vector<double> rho, std::string label) {
+  const std::string problem = rigidityProblem(state);
+  if (!problem.empty()) {
+    postMessage(state, "Cannot change the rigidity: " + problem + ".", false);
+    return false;
+  }
+  if (!state.session || !state.meshSource || !canStart(state, "change the rigidity")) return false;
+  SessionPtr s = std::move(state.session);
+  SourcePtr source = std::move(state.meshSource);
+  auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
+  std::vector<double> before = s->rigidity;
+  before.resize(static_cast<std::size_t>(s->samples.size()), 0.0);
+  state.rigidity = rho;  // the tint shows the stroke while it is solved
+  ++state.rigidityRevision;
+  const auto t0 = std::chrono::steady_clock::now();
+  state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, t0](JobContext& ctx) -> Worker::Apply {
+    const Weights W = s->W;
+    const std::vector<double> stored = s->rigidity;
+    try {
+      if (!ctx.progress("rigidity: solving around the painted region", 0.05)) {
+        return [s, source](AppState& st) {
+          takeBack(st, s, nullptr, source);
+          showSessionRigidity(st);
+          postMessage(st, "Rigidity cancelled: the stroke was taken back.", false);
+        };
+      }
+      const app::RigidityUpdate u = app::setRigidity(*s, rho);
+      auto edit = std::make_shared<RigidityEdit>();
+      edit->before = before;
+      edit->after = rho;
+      changedRowsAndColumns(W, s->W, edit->rows, edit->columns);
+      edit->WBefore = gatherRows(W, edit->rows);
+      edit->WAfter = gatherRows(s->W, edit->rows);
+      if (!ctx.progress("warp mesh", 0.8)) {  // cancelled during the solve: put everything back
+        scatterRows(s->W, edit->rows, edit->WBefore);
+        s->rigidity = stored;
+        if (!edit->columns.empty()) s->field->update(s->W, edit->columns);
+        return [s, source](AppState& st) {
+          takeBack(st, s, nullptr, source);
+          showSessionRigidity(st);
+          postMessage(st, "Rigidity cancelled: the stroke was taken back.", false);
+        };
+      }
+      const auto t2 = std::chrono::steady_clock::now();
+      reweightMesh(*s, *source, *mesh, edit->columns);
+      const double meshMs = msSince(t2);
+      return [s, source, mesh, edit, label, u, meshMs, t0](AppState& st) {
+        takeBack(st, s, edit->columns.empty() ? nullptr : mesh, source);
+        showSessionRigidity(st);
+        st.undo.push({label, std::move(*edit)});
+        st.unsaved = true;
+        st.timings.reoptimizeMs = 1e3 * u.seconds;
+        st.timings.reoptimizeSamples = static_cast<Index>(u.rows.size());
+        st.timings.meshWeightsMs = meshMs;
+        st.timings.releaseToPictureMs = msSince(t0);  // + this frame's deform and upload
+        if (u.report.nodes > 0 && !u.report.solver.converged) {
+          char text[200];
+          std::snprintf(text, sizeof text, "Rigidity: the solver stopped after %d iterations without converging (weights kept as far as it got).",
+                        u.report.solver.iterations);
+          postMessage(st, text, true);
+        }
+      };
+    } catch (const std::exception& ex) {
+      s->W = W;
+      s->rigidity = stored;
+      rebuildFromW(*s, *source);
+      const std::string text = std::string("Rigidity failed: ") + ex.what();
+      return [s, source, text](AppState& st) {
+        st.session = s;
+        st.meshSource = source;
+        showSessionRigidity(st);
+        postMessage(st, text, true);
+      };
+    }
+  });
+  return true;
+}
+
+bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forward) {
+  if (!state.session || !state.meshSource || !canStart(state, "undo")) return false;
+  if (edit.before.size() != static_cast<std::size_t>(state.session->samples.size()) || edit.before.size() != edit.after.size())
+    return false;
+  SessionPtr s = std::move(state.session);
+  SourcePtr source = std::move(state.meshSource);
+  auto mesh = std::make_shared<WarpMesh>(state.mesh);
+  const std::vector<double> rho = forward ? edit.after : edit.before;
+  const Weights R = forward ? edit.WAfter : edit.WBefore;
+  state.rigidity = rho;
+  ++state.rigidityRevision;
+  state.worker.submit("Restoring rigidity", [s, source, mesh, rho, R, rows = edit.rows, columns = edit.columns](JobContext&) -> Worker::Apply {
+    try {
+      scatterRows(s->W, rows, R);
+      s->rigidity = rho;
+      if (!columns.empty()) s->field->update(s->W, columns);
+      reweightMesh(*s, *source, *mesh, columns);
+      return [s, source, mesh, columns](AppState& st) {
+        takeBack(st, s, columns.empty() ? nullptr : mesh, source);
+        showSessionRigidity(st);
+      };
+    } catch (const std::exception& ex) {
+      rebuildFromW(*s, *source);
+      return [s, source, text = std::string("Restoring the rigidity failed: ") + ex.what()](AppState& st) {
+        st.session = s;
+        st.meshSource = source;
+        showSessionRigidity(st);
+        postMessage(st, text, true);
+      };
+    }
+  });
+  return true;
+}
+
+bool clearRigidity(AppState& state) {
+  if (!anyRigid(state.rigidity)) return false;
+  return startRigidity(state, std::vector<double>(state.rigidity.size(), 0.0), "clear rigidity");
+}
+
+}  // namespace kc::ui

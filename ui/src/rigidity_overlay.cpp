@@ -1,0 +1,121 @@
+// The rigid regions over the canvas (canvas.h, drawRigidityOverlay): the per-sample rigidity ρ as a
+// cyan tint carried by the display mesh (so it follows the warp), and the rigid polygons of a
+// structure file or session outlined, deformed with the pose.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "kc/ui/canvas.h"
+#include "kc/ui/rigidity_edits.h"
+#include "overlay_draw.h"
+
+namespace kc::ui {
+namespace {
+
+using overlay::im;
+using overlay::rgba;
+
+/// The tint's colour (the cyan of `warp --overlay`'s rigid outlines) and its opacity at ρ = 1.
+constexpr int kTint[3] = {0, 200, 220};
+constexpr double kTintAlpha = 150.0;
+
+/// ρ as the canvas shows it: the stroke being painted, else the session's.
+const std::vector<double>& shownRigidity(const AppState& state) {
+  return state.rigidTool.active() ? state.rigidTool.stroke() : state.rigidity;
+}
+
+/// ρ at the display mesh's rest vertices: a smooth average of the samples' ρ within R = 1.5 h,
+/// ρ(v) = Σ_s ρ_s φ_s / Σ_s φ_s with φ_s = (1 − (|v − x_s| / R)²)² (every sample counts, so the
+/// tint fades out where the painted samples end). Recomputed when the mesh or ρ changes.
+void updateTint(AppState& state) {
+  AppState::RigidityTint& tint = state.rigidTint;
+  if (tint.meshRevision == state.meshRevision && tint.rhoRevision == state.rigidityRevision) return;
+  tint.meshRevision = state.meshRevision;
+  tint.rhoRevision = state.rigidityRevision;
+  tint.vertexRho.clear();
+  const std::vector<double>& rho = shownRigidity(state);
+  const Points& X = state.samples.X;
+  if (!anyRigid(rho) || rho.size() != static_cast<std::size_t>(X.rows())) return;
+  const Points& V = state.mesh.restVertices();
+  const double R = 1.5 * (state.boundSpacing > 0.0 ? state.boundSpacing : 6.0);
+  // A uniform grid of cells of size R over the samples; a cell knows whether it holds a rigid sample.
+  const Vec2 lo = X.colwise().minCoeff().transpose();
+  const Vec2 hi = X.colwise().maxCoeff().transpose();
+  const int nx = static_cast<int>((hi.x() - lo.x()) / R) + 1, ny = static_cast<int>((hi.y() - lo.y()) / R) + 1;
+  std::vector<std::vector<Index>> cells(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
+  std::vector<char> rigidCell(cells.size(), 0);
+  auto cellOf = [&](double v, double origin, int n) { return std::clamp(static_cast<int>(std::floor((v - origin) / R)), -1, n); };
+  for (Index s = 0; s < X.rows(); ++s) {
+    const std::size_t c = static_cast<std::size_t>(cellOf(X(s, 1), lo.y(), ny - 1)) * nx + static_cast<std::size_t>(cellOf(X(s, 0), lo.x(), nx - 1));
+    cells[c].push_back(s);
+    if (rho[static_cast<std::size_t>(s)] > 0.0) rigidCell[c] = 1;
+  }
+  tint.vertexRho.assign(static_cast<std::size_t>(V.rows()), 0.0f);
+  for (Index v = 0; v < V.rows(); ++v) {
+    const int cx = cellOf(V(v, 0), lo.x(), nx), cy = cellOf(V(v, 1), lo.y(), ny);
+    double num = 0.0, den = 0.0;
+    bool near = false;
+    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1) && !near; ++y)
+      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x)
+        near = near || rigidCell[static_cast<std::size_t>(y) * nx + static_cast<std::size_t>(x)];
+    if (!near) continue;
+    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
+      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x)
+        for (Index s : cells[static_cast<std::size_t>(y) * nx + static_cast<std::size_t>(x)]) {
+          const double d = std::hypot(V(v, 0) - X(s, 0), V(v, 1) - X(s, 1)) / R;
+          if (d >= 1.0) continue;
+          const double phi = (1.0 - d * d) * (1.0 - d * d);
+          num += phi * rho[static_cast<std::size_t>(s)];
+          den += phi;
+        }
+    if (den > 0.0) tint.vertexRho[static_cast<std::size_t>(v)] = static_cast<float>(num / den);
+  }
+}
+
+/// The tint: the display mesh's triangles where ρ > 0, each vertex's opacity ∝ its ρ.
+void drawTint(AppState& state, ImDrawList* dl) {
+  updateTint(state);
+  const std::vector<float>& r = state.rigidTint.vertexRho;
+  const Points& rest = state.mesh.restVertices();
+  if (r.empty() || static_cast<Index>(r.size()) != rest.rows()) return;
+  const bool warped = showsWarp(state) && state.mesh.deformedVertices().rows() == rest.rows();
+  const Points& P = warped ? state.mesh.deformedVertices() : rest;
+  const ImVec2 uv = ImGui::GetFontTexUvWhitePixel();
+  for (const auto& t : state.mesh.triangles()) {
+    if (std::max({r[static_cast<std::size_t>(t[0])], r[static_cast<std::size_t>(t[1])], r[static_cast<std::size_t>(t[2])]}) < 0.01f) continue;
+    dl->PrimReserve(3, 3);
+    for (int k = 0; k < 3; ++k) {
+      const int a = static_cast<int>(std::lround(kTintAlpha * std::clamp(r[static_cast<std::size_t>(t[k])], 0.0f, 1.0f)));
+      dl->PrimVtx(im(state.view.toScreen(P.row(t[k]).transpose())), uv, rgba(kTint[0], kTint[1], kTint[2], a));
+    }
+  }
+}
+
+/// The rigid polygons' outlines, through their points moved by the field.
+void drawOutlines(const AppState& state, ImDrawList* dl) {
+  const bool rest = !showsWarp(state) || isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.boundCage.size());
+  for (const AppState::BoundLine& o : state.boundRigid) {
+    if (o.W.cols() != state.boundCage.size()) continue;
+    const Points P = rest ? o.X : deformPoints(o.W, o.X, state.boundCage.C, state.pose);
+    std::vector<ImVec2> s;
+    for (Index i = 0; i < P.rows(); ++i) s.push_back(im(state.view.toScreen(P.row(i).transpose())));
+    const int n = static_cast<int>(s.size());
+    dl->AddPolyline(s.data(), n, rgba(20, 20, 28, 200), 0, 4.0f);
+    dl->AddPolyline(s.data(), n, rgba(kTint[0], kTint[1], kTint[2]), 0, 2.0f);
+  }
+}
+
+}  // namespace
+
+void drawRigidityOverlay(AppState& state) {
+  if (state.source.empty() || !state.bound || state.showOriginal) return;
+  if (state.tool != Tool::Rigid && !state.show.rigid) return;
+  ImDrawList* dl = ImGui::GetBackgroundDrawList();
+  dl->PushClipRect(im(state.view.canvasMin), im(state.view.canvasMin + state.view.canvasSize), true);
+  drawTint(state, dl);
+  drawOutlines(state, dl);
+  dl->PopClipRect();
+}
+
+}  // namespace kc::ui
