@@ -10,6 +10,9 @@
 //   step 2: (L_II + M_II) Y = (Gᵀ A P + M_II Q) Mᵀ, P = X̃ + U1 − J, Q = W̃ + U2 − H
 //           (L the cotangent stiffness matrix: GᵀAG; X̃, W̃ over-relaxed as in Appendix B)
 //   step 3: U1 += X̃ − ∇W_new, U2 += W̃ − (Y_new M + H)   (scaled multipliers U = λ/μ)
+//   Since M has orthonormal rows, MᵀM = I − Q1 Q1ᵀ (Q1: orthonormal basis of range(K)), so
+//   Y M = (L_II + M_II)⁻¹ (Gᵀ A P + M_II Q) (I − Q1 Q1ᵀ): step 2 solves for all m columns and
+//   projects each row; Y itself is never formed.
 // so the Y-system matrix is the same for every μ (adaptive μ costs nothing) and the residuals are
 // discretized L² norms, comparable across mesh sizes.
 #include "kc/core/lbc/lbc_solver.h"
@@ -118,8 +121,8 @@ struct LbcSolver::Impl {
     for (Index i = 0; i < m; ++i) out[i] = y[i] - (c[0] * Q1(i, 0) + c[1] * Q1(i, 1) + c[2] * Q1(i, 2)) + H(v, i);
   }
 
-  /// Weight i of (full) vertex v given the interior rows Z.
-  double w(const RowMatrix& Z, int v, Index i) const { return v < nb ? Wb(v, i) : Z(v - nb, i); }
+  /// The m weights of (full) vertex v given the interior rows Z.
+  const double* row(const RowMatrix& Z, int v) const { return v < nb ? &Wb(v, 0) : &Z(v - nb, 0); }
 
   /// Lower bound on the optimum of (15) by weak duality. With Λ = −μ a_s U1 (the multiplier of
   /// X = ∇W in the unweighted inner product) scaled per group into |Λ_s,i| ≤ φ_i^s a_s,
@@ -132,11 +135,11 @@ struct LbcSolver::Impl {
   void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
     const auto& t = T[std::size_t(s)];
     const auto& gr = g.gradient[std::size_t(s)];
-    for (Index i = 0; i < m; ++i) {
-      const double f0 = w(Z, t[0], i), f1 = w(Z, t[1], i), f2 = w(Z, t[2], i);
-      gx[i] = gr[0].x() * f0 + gr[1].x() * f1 + gr[2].x() * f2;
-      gy[i] = gr[0].y() * f0 + gr[1].y() * f1 + gr[2].y() * f2;
-    }
+    const double* f0 = row(Z, t[0]);
+    const double* f1 = row(Z, t[1]);
+    const double* f2 = row(Z, t[2]);
+    for (Index i = 0; i < m; ++i) gx[i] = gr[0].x() * f0[i] + gr[1].x() * f1[i] + gr[2].x() * f2[i];
+    for (Index i = 0; i < m; ++i) gy[i] = gr[0].y() * f0[i] + gr[1].y() * f1[i] + gr[2].y() * f2[i];
   }
 };
 
@@ -382,28 +385,37 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     const double norm = 1.0 / (double(m) * d.domainArea);
     int nextGapCheck = 0;
     rep.status = LbcStatus::NotConverged;
+    // Step 1 of triangle s: group shrinkage of ∇W − U1 (eq. 30) into X, and the triangle's share
+    // of step 2's right-hand side, F(s, c·m + i) = a_s ∇λ_c · P_s,i with P = X̃ + U1 (J = ∇[Wb; H]
+    // enters through the constant Gᵀ A J). It runs right after the triangle's step 3 (one pass
+    // over the triangles per iteration), and over all triangles at the start and when μ changes.
+    auto shrink = [&](Index s) {
+      const auto& gr = d.g.gradient[std::size_t(s)];
+      const double area = d.g.area[std::size_t(s)];
+      const double* gs = &G(s, 0);
+      const double* us = &U1(s, 0);
+      const double* phis = &d.phi(s, 0);
+      double* xs = &X(s, 0);
+      double* fs = &F(s, 0);
+      for (Index i = 0; i < m; ++i) {
+        const double ax = gs[i] - us[i], ay = gs[m + i] - us[m + i];
+        const double len = std::sqrt(ax * ax + ay * ay), thr = phis[i] / mu;
+        const double f = len > thr ? 1.0 - thr / len : 0.0;
+        xs[i] = f * ax;
+        xs[m + i] = f * ay;
+      }
+      for (Index i = 0; i < m; ++i) {
+        const double px = area * (alpha * xs[i] + (1.0 - alpha) * gs[i] + us[i]);
+        const double py = area * (alpha * xs[m + i] + (1.0 - alpha) * gs[m + i] + us[m + i]);
+        for (int c = 0; c < 3; ++c) fs[c * m + i] = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
+      }
+    };
+    parallelFor(nt, shrink, 256);
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
       const bool parallel = threads.parallel(k);
       auto grain = [&](Index count, Index g) { return parallel ? g : count; };
-      // Step 1: group shrinkage of ∇W − U1 (eq. 30); per triangle also its share of step 2's
-      // right-hand side, F(s, c·m + i) = a_s ∇λ_c · P_s,i with P = X̃ + U1 (J = ∇[Wb; H] enters
-      // through the constant Gᵀ A J).
-      parallelFor(nt, [&](Index s) {
-        const auto& gr = d.g.gradient[std::size_t(s)];
-        const double area = d.g.area[std::size_t(s)];
-        for (Index i = 0; i < m; ++i) {
-          const double ax = G(s, i) - U1(s, i), ay = G(s, m + i) - U1(s, m + i);
-          const double len = std::sqrt(ax * ax + ay * ay), thr = d.phi(s, i) / mu;
-          const double f = len > thr ? 1.0 - thr / len : 0.0;
-          X(s, i) = f * ax;
-          X(s, m + i) = f * ay;
-          const double px = area * (alpha * X(s, i) + (1.0 - alpha) * G(s, i) + U1(s, i));
-          const double py = area * (alpha * X(s, m + i) + (1.0 - alpha) * G(s, m + i) + U1(s, m + i));
-          for (int c = 0; c < 3; ++c) F(s, c * m + i) = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
-        }
-      }, grain(nt, 256));
       // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side Gᵀ A P + M Q per interior
       // vertex (Q = W̃ + U2 − H), gathered from its triangles. With MᵀM = I − Q1 Q1ᵀ the
       // Y-system's solution enters only as (L_II + M_II)⁻¹ (Gᵀ A P + M Q) MᵀM: solve for all m
@@ -449,19 +461,21 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         double* ny = buffer.data() + m;
         for (Index s = begin; s < end; ++s) {
           d.gradientRow(Z, s, nx, ny);
-          double p = 0.0, q = 0.0;
+          const double* xs = &X(s, 0);
+          double* gs = &G(s, 0);
+          double* us = &U1(s, 0);
+          double p = 0.0, q = 0.0;  // (sums in index order; the loops below vectorize)
           for (Index i = 0; i < m; ++i) {
-            const double rx = alpha * X(s, i) + (1.0 - alpha) * G(s, i);
-            const double ry = alpha * X(s, m + i) + (1.0 - alpha) * G(s, m + i);
-            U1(s, i) += rx - nx[i];
-            U1(s, m + i) += ry - ny[i];
-            p += (X(s, i) - nx[i]) * (X(s, i) - nx[i]) + (X(s, m + i) - ny[i]) * (X(s, m + i) - ny[i]);
-            q += (nx[i] - G(s, i)) * (nx[i] - G(s, i)) + (ny[i] - G(s, m + i)) * (ny[i] - G(s, m + i));
-            G(s, i) = nx[i];
-            G(s, m + i) = ny[i];
+            p += (xs[i] - nx[i]) * (xs[i] - nx[i]) + (xs[m + i] - ny[i]) * (xs[m + i] - ny[i]);
+            q += (nx[i] - gs[i]) * (nx[i] - gs[i]) + (ny[i] - gs[m + i]) * (ny[i] - gs[m + i]);
+          }
+          for (Index j = 0; j < 2 * m; ++j) {  // nx, ny are contiguous like a row of G
+            us[j] += (alpha * xs[j] + (1.0 - alpha) * gs[j]) - nx[j];
+            gs[j] = nx[j];
           }
           primalT[std::size_t(s)] = d.g.area[std::size_t(s)] * p;
           dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
+          shrink(s);  // step 1 of the next iteration
         }
       });
       threads.record(k, secondsSince(iterationStart));
@@ -499,6 +513,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           mu *= factor;
           U1 /= factor;
           U2 /= factor;
+          parallelFor(nt, shrink, 256);
         }
       }
     }

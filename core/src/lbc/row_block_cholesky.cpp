@@ -1,6 +1,7 @@
 #include "row_block_cholesky.h"
 
 #include <algorithm>
+#include <utility>
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -31,6 +32,47 @@ bool RowBlockCholesky::compute(const SparseMatrix& A) {
   return true;
 }
 
+namespace {
+
+/// The two triangular solves on one block y (n rows of W values, row-major, permuted order); W
+/// a compile-time width so the row updates are short fixed-length loops the compiler unrolls.
+template <int W>
+void solveBlock(const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value,
+                Index n, double* y) {
+  // L y = P b: column j divides y_j by L_jj, then subtracts L_ij y_j from the rows below.
+  for (Index j = 0; j < n; ++j) {
+    double* yj = y + j * W;
+    const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
+    const double d = value[std::size_t(s0)];
+    for (int c = 0; c < W; ++c) yj[c] /= d;
+    for (int s = s0 + 1; s < s1; ++s) {
+      double* yi = y + Index(row[std::size_t(s)]) * W;
+      const double l = value[std::size_t(s)];
+      for (int c = 0; c < W; ++c) yi[c] -= l * yj[c];
+    }
+  }
+  // Lᵀ x = y: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj, from the last row up.
+  for (Index j = n - 1; j >= 0; --j) {
+    double* yj = y + j * W;
+    const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
+    for (int s = s0 + 1; s < s1; ++s) {
+      const double* yi = y + Index(row[std::size_t(s)]) * W;
+      const double l = value[std::size_t(s)];
+      for (int c = 0; c < W; ++c) yj[c] -= l * yi[c];
+    }
+    const double d = value[std::size_t(s0)];
+    for (int c = 0; c < W; ++c) yj[c] /= d;
+  }
+}
+
+template <int... W>
+void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vector<int>& start,
+                       const std::vector<int>& row, const std::vector<double>& value, Index n, double* y) {
+  ((w == W + 1 ? solveBlock<W + 1>(start, row, value, n, y) : void()), ...);
+}
+
+}  // namespace
+
 void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   const Index n = size(), k = B.cols();
   if (k == 0) return;
@@ -41,30 +83,7 @@ void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
     std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
     for (Index i = 0; i < n; ++i)
       for (Index c = 0; c < w; ++c) y[std::size_t(m_perm[std::size_t(i)] * w + c)] = B(i, c0 + c);
-    // L y = P b: column j divides y_j by L_jj, then subtracts L_ij y_j from the rows below.
-    for (Index j = 0; j < n; ++j) {
-      double* yj = &y[std::size_t(j * w)];
-      const int s0 = m_start[std::size_t(j)], s1 = m_start[std::size_t(j + 1)];
-      const double d = m_value[std::size_t(s0)];
-      for (Index c = 0; c < w; ++c) yj[c] /= d;
-      for (int s = s0 + 1; s < s1; ++s) {
-        double* yi = &y[std::size_t(m_row[std::size_t(s)] * w)];
-        const double l = m_value[std::size_t(s)];
-        for (Index c = 0; c < w; ++c) yi[c] -= l * yj[c];
-      }
-    }
-    // Lᵀ x = y: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj, from the last row up.
-    for (Index j = n - 1; j >= 0; --j) {
-      double* yj = &y[std::size_t(j * w)];
-      const int s0 = m_start[std::size_t(j)], s1 = m_start[std::size_t(j + 1)];
-      for (int s = s0 + 1; s < s1; ++s) {
-        const double* yi = &y[std::size_t(m_row[std::size_t(s)] * w)];
-        const double l = m_value[std::size_t(s)];
-        for (Index c = 0; c < w; ++c) yj[c] -= l * yi[c];
-      }
-      const double d = m_value[std::size_t(s0)];
-      for (Index c = 0; c < w; ++c) yj[c] /= d;
-    }
+    solveBlockOfWidth(w, std::make_integer_sequence<int, int(kBlock)>{}, m_start, m_row, m_value, n, y.data());
     for (Index i = 0; i < n; ++i)
       for (Index c = 0; c < w; ++c) B(i, c0 + c) = y[std::size_t(m_perm[std::size_t(i)] * w + c)];
   }, parallel ? 1 : blocks);
