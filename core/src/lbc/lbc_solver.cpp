@@ -26,6 +26,7 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 
+#include "barycentric_lp.h"
 #include "row_block_cholesky.h"
 #include "kc/core/lbc/heat_geodesic.h"
 #include "kc/core/parallel.h"
@@ -108,6 +109,7 @@ struct LbcSolver::Impl {
   SparseMatrix Lib;                         // n×nb block of the stiffness matrix
   detail::RowBlockCholesky system;          // L_II + M_II
   detail::RowBlockCholesky laplace;         // L_II (harmonic warm start)
+  std::unique_ptr<detail::BarycentricLp> lp;  // the certificate's inner LP over the normalized controls
   bool ok = true;
   double geodesicSeconds = 0.0, factorSeconds = 0.0;
 
@@ -127,8 +129,8 @@ struct LbcSolver::Impl {
   /// Lower bound on the optimum of (15) by weak duality. With Λ = −μ a_s U1 (the multiplier of
   /// X = ∇W in the unweighted inner product) scaled per group into |Λ_s,i| ≤ φ_i^s a_s,
   ///   min_W F(∇W) ≥ ⟨Λ, E⟩ + Σ_v min_{w ≥ 0, wK = b_v} (GᵀΛ)_v · w,
-  /// E = ∇ of the Dirichlet data; the inner minimum is a 3-constraint LP whose optimum has at
-  /// most three non-zeros: the minimum over triangles of controls that contain v.
+  /// E = ∇ of the Dirichlet data; the inner minimum is a 3-constraint LP (BarycentricLp: the
+  /// simplex method over triangles of controls containing v, a valid bound at every pivot).
   double dualBound(const RowMatrix& U1, double mu) const;
 
   /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
@@ -168,42 +170,25 @@ double LbcSolver::Impl::dualBound(const RowMatrix& U1, double mu) const {
     }
     edgePart[std::size_t(s)] = e;
   }, 256);
-  // Triangles of controls (normalized positions, as in K) with their barycentric inverse.
-  struct Triple {
-    int i, j, k;
-    Eigen::Matrix2d inv;
-    Vec2 origin;
-  };
-  std::vector<Triple> triples;
-  const Eigen::MatrixXd& Kc = K;
-  for (int i = 0; i < m; ++i)
-    for (int j = i + 1; j < m; ++j)
-      for (int k = j + 1; k < m; ++k) {
-        const Vec2 ci(Kc(i, 0), Kc(i, 1)), cj(Kc(j, 0), Kc(j, 1)), ck(Kc(k, 0), Kc(k, 1));
-        Eigen::Matrix2d A;
-        A.col(0) = cj - ci;
-        A.col(1) = ck - ci;
-        if (std::abs(A.determinant()) < 1e-14) continue;
-        triples.push_back({i, j, k, A.inverse(), ci});
-      }
+  // The inner LP per interior vertex, warm-started from the previous vertex's basis within fixed
+  // runs of 16 vertices (the same runs whatever the thread count).
   std::vector<double> vertexPart(std::size_t(n), 0.0);
-  parallelFor(n, [&](Index v) {
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(m);  // (GᵀΛ)_v
-    for (Index a = adjStart[std::size_t(v)]; a < adjStart[std::size_t(v + 1)]; ++a) {
-      const auto [s, c] = adj[std::size_t(a)];
-      const Vec2& gr = g.gradient[std::size_t(s)][std::size_t(c)];
-      for (Index i = 0; i < m; ++i) q(i) += gr.x() * Lam(s, i) + gr.y() * Lam(s, m + i);
+  constexpr Index kRun = 16;
+  parallelForRange(n, kRun, [&](Index begin, Index end) {
+    Eigen::VectorXd q(m);  // (GᵀΛ)_v
+    for (Index run = begin; run < end; run += kRun) {
+      std::array<int, 3> basis{-1, -1, -1};
+      for (Index v = run; v < std::min(end, run + kRun); ++v) {
+        q.setZero();
+        for (Index a = adjStart[std::size_t(v)]; a < adjStart[std::size_t(v + 1)]; ++a) {
+          const auto [s, c] = adj[std::size_t(a)];
+          const Vec2& gr = g.gradient[std::size_t(s)][std::size_t(c)];
+          for (Index i = 0; i < m; ++i) q(i) += gr.x() * Lam(s, i) + gr.y() * Lam(s, m + i);
+        }
+        vertexPart[std::size_t(v)] = lp->lowerBound(Vn.row(nb + v), q.data(), basis);
+      }
     }
-    const Vec2 x = Vn.row(nb + v);
-    double best = std::numeric_limits<double>::infinity();
-    for (const Triple& tr : triples) {
-      const Vec2 l = tr.inv * (x - tr.origin);
-      const double l0 = 1.0 - l.x() - l.y();
-      if (l0 < -1e-12 || l.x() < -1e-12 || l.y() < -1e-12) continue;
-      best = std::min(best, l0 * q(tr.i) + l.x() * q(tr.j) + l.y() * q(tr.k));
-    }
-    vertexPart[std::size_t(v)] = best;
-  }, 16);
+  });
   return sum(edgePart) + sum(vertexPart);
 }
 
@@ -266,6 +251,7 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   const Eigen::MatrixXd& K = d.K;
   const Eigen::MatrixXd Q = K.householderQr().householderQ();
   d.Q1 = Q.leftCols(3);
+  d.lp = std::make_unique<detail::BarycentricLp>(Points(Vn.topRows(d.m)));
   const Eigen::MatrixXd Kpinv = (K.transpose() * K).ldlt().solve(K.transpose());  // 3×m
   d.H.resize(d.n, d.m);
   for (Index v = 0; v < d.n; ++v) {
@@ -497,7 +483,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           certified = true;
           break;
         }
-        nextGapCheck = k + std::max(20, k / 5);  // checks cost O(#V·m³): a geometric schedule
+        nextGapCheck = k + std::max(20, k / 5);  // a geometric schedule
       }
       if (options.progress && k % 10 == 0 &&
           !options.progress({k, rep.primalResidual, rep.dualResidual})) {

@@ -60,7 +60,7 @@ struct LbcOptions {
   /// Certified stopping: once the residuals are below `tolerance`, also require
   /// (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the ADMM
   /// multipliers (a duality-gap certificate, LbcReport::lowerBound); checked on a geometric
-  /// schedule (each check O(#V·m³) and one projection). 0 = residuals only.
+  /// schedule (each check: one projection, the objective and a small LP per vertex). 0 = residuals only.
   double gapTolerance = 1e-3;
   /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
   bool certify = false;
