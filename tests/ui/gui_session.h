@@ -165,6 +165,20 @@ class GuiSession : public ::testing::Test {
     return p;
   }
 
+  /// Root-window position of picture pixel p (image pixels) in the app's state `st`.
+  static Vec2 screenOf(const json& st, const Vec2& p) {
+    const double zoom = st["view"]["zoom"];
+    return Vec2(st["view"]["origin"][0].get<double>() + st["window"][0].get<double>() + p.x() * zoom,
+                st["view"]["origin"][1].get<double>() + st["window"][1].get<double>() + p.y() * zoom);
+  }
+  /// Copies files of `dir` to /tmp/kcwarp-shots/<prefix><name> for people to look at.
+  void keepShots(const std::string& prefix, std::initializer_list<const char*> files) {
+    std::error_code ec;
+    fs::create_directories("/tmp/kcwarp-shots", ec);
+    for (const char* f : files)
+      fs::copy_file(dir / f, fs::path("/tmp/kcwarp-shots") / (prefix + f), fs::copy_options::overwrite_existing, ec);
+  }
+
   fs::path dir;
   std::string display;
   pid_t xvfb = -1, app = -1;

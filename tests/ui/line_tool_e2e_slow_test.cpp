@@ -65,10 +65,7 @@ TEST_F(GuiSession, ALineDrawnByClickingStaysStraightWhenAPointIsDragged) {
   json s = waitFor([](const json& j) { return j.value("bound", false) && !j.value("busy", true); }, 90);
   ASSERT_TRUE(s.value("bound", false));
   const int wx = s["window"][0], wy = s["window"][1];
-  auto screen = [&](const json& st, double x, double y) {
-    const double zoom = st["view"]["zoom"];
-    return Vec2(st["view"]["origin"][0].get<double>() + wx + x * zoom, st["view"]["origin"][1].get<double>() + wy + y * zoom);
-  };
+  auto screen = [&](const json& st, double x, double y) { return screenOf(st, Vec2(x, y)); };
   EXPECT_NEAR(barBend(app::loadImage(image.string())), 0.0, 1e-9) << "the picture's bar is straight";
 
   // 1. Line tool (L); click at both ends of the bar: kcwarp binds again with the line.
@@ -131,10 +128,7 @@ TEST_F(GuiSession, ALineDrawnByClickingStaysStraightWhenAPointIsDragged) {
   EXPECT_NEAR(s["pose_translate"][2][1].get<double>(), 70.0, 2.0);
   for (const json& m : s["messages"]) EXPECT_FALSE(m["error"].get<bool>()) << m["text"];
 
-  std::error_code ec;
-  fs::create_directories("/tmp/kcwarp-shots", ec);
-  for (const char* f : {"01-line-drawn.png", "02-posed-with-line.png", "03-posed-without-line.png", "with-line.png", "export.png"})
-    fs::copy_file(dir / f, fs::path("/tmp/kcwarp-shots") / (std::string("lines-") + f), fs::copy_options::overwrite_existing, ec);
+  keepShots("lines-", {"01-line-drawn.png", "02-posed-with-line.png", "03-posed-without-line.png", "with-line.png", "export.png"});
 }
 
 }  // namespace

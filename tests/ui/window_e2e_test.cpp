@@ -77,10 +77,7 @@ TEST_F(GuiSession, DragPaintSwitchMethodExportSaveUndo) {
   for (const json& m : s["messages"]) EXPECT_FALSE(m["error"].get<bool>()) << m["text"];
 
   // Keep a few screenshots for people to look at.
-  std::error_code ec;
-  fs::create_directories("/tmp/kcwarp-shots", ec);
-  for (const char* f : {"01-rest.png", "02-dragged.png", "03-painted.png", "04-l1.png"})
-    fs::copy_file(dir / f, fs::path("/tmp/kcwarp-shots") / (std::string("e2e-") + f), fs::copy_options::overwrite_existing, ec);
+  keepShots("e2e-", {"01-rest.png", "02-dragged.png", "03-painted.png", "04-l1.png"});
 }
 
 }  // namespace

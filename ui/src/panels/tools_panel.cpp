@@ -94,7 +94,9 @@ void drawRigiditySection(AppState& state) {
     std::snprintf(text, sizeof text, "%ld samples rigid. Last change: %.0f ms to the picture.", rigid, state.timings.releaseToPictureMs);
   else
     std::snprintf(text, sizeof text, "%ld samples rigid.", rigid);
-  ImGui::TextDisabled("%s", text);
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+  ImGui::TextWrapped("%s", text);
+  ImGui::PopStyleColor();
   labelled(state, "Rigid samples", "How many of the points the weights are computed at are painted rigid, and the time from the last "
                                    "release of the mouse (or re-computation) to the updated picture.");
   if (!state.lines.rigid.empty())
