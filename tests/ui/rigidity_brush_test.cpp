@@ -11,6 +11,7 @@
 
 #include "cli_run.h"
 #include "kc/ui/frame.h"
+#include "kc/ui/line_edits.h"
 #include "kc/ui/rigidity_edits.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/rigidity_tool.h"
@@ -243,6 +244,82 @@ TEST(RigidityBrush, SessionsKeepTheRigidity) {
   finish(*t);
   EXPECT_TRUE(t->session->W == reopened);
   EXPECT_EQ(t->session->rigidity, s->session->rigidity);
+}
+
+TEST(RigidityBrush, APaintedRegionSurvivesTheReBindOfALineEdit) {
+  auto s = rigidState();
+  s->autoSpacing = false;
+  stroke(*s, kA, kB);
+  const std::vector<double> before = s->session->rigidity;
+  const SampleSet oldSamples = s->samples;
+  app::Structure lines = s->lines;
+  StructureLine l;
+  l.a = Vec2(40, 200);
+  l.b = Vec2(200, 215);
+  lines.lines.push_back(l);
+  ASSERT_TRUE(editLines(*s, lines, "add line")) << lastMessage(*s);
+  finish(*s);  // the re-bind; its result starts the rigidity's re-solve on the new samples
+  finish(*s);
+  ASSERT_TRUE(s->session) << lastMessage(*s);
+  ASSERT_EQ(s->session->structure.lines.size(), 1u);
+  const std::vector<double>& after = s->session->rigidity;
+  ASSERT_EQ(after.size(), static_cast<std::size_t>(s->samples.size()));
+  EXPECT_EQ(s->rigidity, after);
+  // Every new rigid sample has an old rigid sample nearby and the painted area keeps its size.
+  for (Index i = 0; i < s->samples.size(); ++i) {
+    if (after[static_cast<std::size_t>(i)] <= 0.0) continue;
+    double d = 1e300;
+    for (Index j = 0; j < oldSamples.size(); ++j)
+      if (before[static_cast<std::size_t>(j)] > 0.0) d = std::min(d, (s->samples.X.row(i) - oldSamples.X.row(j)).norm());
+    EXPECT_LE(d, 15.0) << "sample " << i;
+  }
+  EXPECT_GE(rigidCount(after), 8 * rigidCount(before) / 10);
+  EXPECT_LE(rigidCount(after), 12 * rigidCount(before) / 10);
+  // Undo takes the line away (it re-binds); no rigidity stroke is left in the history.
+  ASSERT_EQ(s->undo.undoCount(), 1u);
+  EXPECT_TRUE(std::holds_alternative<LinesEdit>(s->undo.nextUndo()->edit));
+}
+
+TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
+  auto s = std::make_unique<AppState>();
+  s->worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  s->source = app::loadImage(dir + "checker.png");
+  app::Structure structure;
+  RigidRegion r;
+  r.polygon.resize(4, 2);
+  r.polygon << 100, 100, 160, 100, 160, 150, 100, 150;
+  structure.rigid.push_back(r);
+  app::BindParams p;
+  p.spacing = 10.0;
+  auto session = std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), structure, s->source.width,
+                                                          s->source.height, p));
+  installSession(*s, session, buildDisplayMesh(*session, displayMeshOptions(session->imageWidth, session->imageHeight)), true);
+  ASSERT_EQ(s->lines.rigid.size(), 1u);
+  ASSERT_EQ(s->boundRigid.size(), 1u);
+  EXPECT_EQ(s->boundRigid[0].X.rows(), 4 * 16 + 1);
+  EXPECT_EQ(s->boundRigid[0].W.rows(), 4 * 16 + 1);
+  EXPECT_GT(rigidCount(s->rigidity), 15);
+  test::HeadlessImGui gui;
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  const std::vector<float>& tint = s->rigidTint.vertexRho;
+  const Points& V = s->mesh.restVertices();
+  ASSERT_EQ(tint.size(), static_cast<std::size_t>(V.rows()));
+  float inside = 1.0f, outside = 0.0f;
+  for (Index v = 0; v < V.rows(); ++v) {
+    const double x = V(v, 0), y = V(v, 1);
+    if (x > 115 && x < 145 && y > 115 && y < 135) inside = std::min(inside, tint[static_cast<std::size_t>(v)]);
+    if (x < 70 || x > 190 || y < 70 || y > 180) outside = std::max(outside, tint[static_cast<std::size_t>(v)]);
+  }
+  EXPECT_GT(inside, 0.9f);
+  EXPECT_EQ(outside, 0.0f);
+  // View > Rigid regions off: the pose tool draws no tint.
+  s->show.rigid = false;
+  const auto revision = s->rigidTint.rhoRevision;
+  ++s->rigidityRevision;
+  gui.frame(draw);
+  EXPECT_EQ(s->rigidTint.rhoRevision, revision) << "the tint was recomputed while hidden";
 }
 
 TEST(RigidityBrush, GreyedForLbcAndBeforeABind) {

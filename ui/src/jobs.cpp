@@ -103,6 +103,9 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   const Cage cageBefore = st.boundCage;
   const Tool tool = st.tool;
   const std::vector<int> selection = st.lineSelection;
+  const SampleSet oldSamples = st.samples;
+  const std::vector<double> oldRigidity = st.rigidity;
+  const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
   if (cageBefore.C.rows() == s->cage.C.rows() && cageBefore.C == s->cage.C && pose.size() == static_cast<std::size_t>(s->cage.size()))
@@ -117,7 +120,12 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   });
   st.undo = std::move(history);
   if (dropped > 0)
-    postMessage(st, "The lines changed the sampling: the weights were computed anew, and earlier paint strokes can no longer be undone.", false);
+    postMessage(st, "The lines changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
+  // The painted rigidity belongs to the old samples: carried over to the new ones and re-solved.
+  if (anyRigid(oldRigidity)) {
+    std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s->samples, s->rigidity, std::max(oldSpacing, s->params.spacing));
+    if (rho != s->rigidity) startRigidity(st, std::move(rho), "rigidity after the lines", /*record=*/false);
+  }
 }
 
 }  // namespace

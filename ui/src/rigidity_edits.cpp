@@ -6,6 +6,7 @@
 
 #include "job_support.h"
 #include "kc/app/rigidity.h"
+#include "kc/core/spatial_grid.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 
@@ -80,7 +81,25 @@ void refreshBoundRigidity(AppState& state, const app::Session& s) {
   }
 }
 
-bool startRigidity(AppState& state, std::vector<double> rho, std::string label) {
+std::vector<double> carryRigidity(const SampleSet& from, const std::vector<double>& rho, const SampleSet& to,
+                                  const std::vector<double>& base, double h) {
+  std::vector<double> out(static_cast<std::size_t>(to.size()), 0.0);
+  for (std::size_t i = 0; i < out.size() && i < base.size(); ++i) out[i] = base[i];
+  if (rho.size() != static_cast<std::size_t>(from.size()) || !anyRigid(rho) || !(h > 0.0)) return out;
+  const SpatialGrid grid(from.X, 1.5 * h);
+  for (Index s = 0; s < to.size(); ++s) {
+    const SampleKind kind = to.kind[static_cast<std::size_t>(s)];
+    if (kind != SampleKind::Interior && kind != SampleKind::Line) continue;
+    double best = 1e300, value = 0.0;
+    grid.forEachWithin(to.X.row(s).transpose(), 1.5 * h, [&](Index j, double d2) {
+      if (d2 < best) best = d2, value = rho[static_cast<std::size_t>(j)];
+    });
+    out[static_cast<std::size_t>(s)] = std::max(out[static_cast<std::size_t>(s)], value);
+  }
+  return out;
+}
+
+bool startRigidity(AppState& state, std::vector<double> rho, std::string label, bool record) {
   const std::string problem = rigidityProblem(state);
   if (!problem.empty()) {
     postMessage(state, "Cannot change the rigidity: " + problem + ".", false);
@@ -95,7 +114,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label) 
   state.rigidity = rho;  // the tint shows the stroke while it is solved
   ++state.rigidityRevision;
   const auto t0 = std::chrono::steady_clock::now();
-  state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, t0](JobContext& ctx) -> Worker::Apply {
+  state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, record, t0](JobContext& ctx) -> Worker::Apply {
     const Weights W = s->W;
     const std::vector<double> stored = s->rigidity;
     try {
@@ -126,10 +145,10 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label) 
       const auto t2 = std::chrono::steady_clock::now();
       reweightMesh(*s, *source, *mesh, edit->columns);
       const double meshMs = msSince(t2);
-      return [s, source, mesh, edit, label, u, meshMs, t0](AppState& st) {
+      return [s, source, mesh, edit, label, record, u, meshMs, t0](AppState& st) {
         takeBack(st, s, edit->columns.empty() ? nullptr : mesh, source);
         showSessionRigidity(st);
-        st.undo.push({label, std::move(*edit)});
+        if (record) st.undo.push({label, std::move(*edit)});
         st.unsaved = true;
         st.timings.reoptimizeMs = 1e3 * u.seconds;
         st.timings.reoptimizeSamples = static_cast<Index>(u.rows.size());

@@ -24,7 +24,14 @@ std::string rigidityProblem(const AppState& state);
 /// and the release → picture time is recorded. Cancel cannot stop the QP half way: the job sees it
 /// when the solve ends and then puts the session back as it was (ρ, W, field) and says so.
 /// While it runs the tint shows `rho`. Returns false (with a message) when it cannot start.
-bool startRigidity(AppState& state, std::vector<double> rho, std::string label);
+/// `record` = false (carrying a painted ρ over to a re-bind's samples) pushes no undo entry.
+bool startRigidity(AppState& state, std::vector<double> rho, std::string label, bool record = true);
+
+/// A painted ρ carried over to new samples (a re-bind after a line edit): each interior or line
+/// sample of `to` takes the ρ of the nearest sample of `from` within 1.5·h (0 when none), and keeps
+/// at least `base` (the ρ the new session's rigid polygons give; empty = none). #to entries.
+std::vector<double> carryRigidity(const SampleSet& from, const std::vector<double>& rho, const SampleSet& to,
+                                  const std::vector<double>& base, double h);
 
 /// Undo (forward = false) or redo of a rigidity stroke: writes edit's ρ and W rows back and
 /// re-solves only edit.columns of the field and of the display mesh, on the worker (no QP).
