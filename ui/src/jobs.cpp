@@ -154,7 +154,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.method = s.params.kc.method;
   state.capabilities = app::sessionCapabilities(s);
   if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
-  if (state.tool == Tool::Rigid && !state.capabilities.lines) state.tool = Tool::Pose;
+  if (state.tool == Tool::Rigid && !rigidityProblem(state).empty()) state.tool = Tool::Pose;
   state.reports = s.reports;
   state.bindParams = s.params;
   state.lines = s.structure;
