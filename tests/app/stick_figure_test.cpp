@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <ostream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -13,6 +14,11 @@
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
+
+namespace kc {
+/// Test names and failure messages show the method's name (gtest and ctest), not its bytes.
+inline void PrintTo(Method method, std::ostream* os) { *os << toString(method); }
+}  // namespace kc
 
 namespace kc::app {
 namespace {

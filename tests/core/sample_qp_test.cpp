@@ -58,6 +58,10 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   model.loadQuadraticObjective(m, qs.data(), qc.data(), qv.data());
   model.setPrimalTolerance(tolerance);
   model.setDualTolerance(tolerance);
+  // A few hundred pivots solve any of these problems (m ≤ 3,000 controls, 3 rows); on some
+  // degenerate ones CLP's nonlinear primal can cycle (seen in the sanitized build, where the
+  // inputs differ in the last bits): then it stops with status 3, which counts as a CLP failure.
+  model.setMaximumIterations(20000);
   model.primal();
   w = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), m);
   return model.status() == 0;
