@@ -50,31 +50,40 @@ double sum(const std::vector<double>& parts) {
 /// faster. Each iteration has a few parallel loops of about a millisecond; on a machine shared with
 /// other work, every loop waits for all threads to be scheduled, and measured on 2 cores at load
 /// 8 that made 2 threads 7× slower than 1. Results do not depend on the choice (every loop writes
-/// its own rows, sums are reduced in a fixed order), so it is made by timing: in every period of
-/// kPeriod iterations, kProbe run in parallel, kProbe serially, the rest the faster way.
+/// its own rows, sums are reduced in a fixed order), so it is made by timing: kProbe iterations
+/// run in parallel, kProbe serially, then the faster way until the next probe, kPeriod
+/// iterations later, twice as long (up to kMaxPeriod) each time the answer repeats.
 class ThreadChoice {
  public:
   explicit ThreadChoice(bool canParallel) : m_can(canParallel) {}
   /// Whether iteration k (1-based) runs in parallel.
   bool parallel(int k) const {
     if (!m_can) return false;
-    const int phase = (k - 1) % kPeriod;
-    if (phase < kProbe) return true;
-    if (phase < 2 * kProbe) return false;
+    const int offset = k - m_probeStart;
+    if (offset >= 0 && offset < kProbe) return true;
+    if (offset >= kProbe && offset < 2 * kProbe) return false;
     return m_parallelFaster;
   }
   /// Records the wall time of iteration k.
   void record(int k, double seconds) {
-    const int phase = (k - 1) % kPeriod;
-    if (phase == 0) m_time[0] = m_time[1] = 0.0;
-    if (phase < 2 * kProbe) m_time[phase < kProbe ? 0 : 1] += seconds;
-    if (phase == 2 * kProbe - 1) m_parallelFaster = m_time[0] <= m_time[1];
+    const int offset = k - m_probeStart;
+    if (offset < 0 || offset >= 2 * kProbe) return;
+    m_time[offset < kProbe ? 0 : 1] += seconds;
+    if (offset < 2 * kProbe - 1) return;
+    const bool faster = m_time[0] <= m_time[1];
+    // The same answer again: probe half as often (the losing way can cost several iterations).
+    m_period = m_probed && faster == m_parallelFaster ? std::min(2 * m_period, kMaxPeriod) : kPeriod;
+    m_parallelFaster = faster;
+    m_probed = true;
+    m_probeStart += m_period;
+    m_time[0] = m_time[1] = 0.0;
   }
 
  private:
-  static constexpr int kPeriod = 100, kProbe = 4;
+  static constexpr int kPeriod = 100, kMaxPeriod = 800, kProbe = 3;
   bool m_can;
-  bool m_parallelFaster = true;
+  bool m_parallelFaster = true, m_probed = false;
+  int m_probeStart = 1, m_period = kPeriod;
   double m_time[2] = {0.0, 0.0};
 };
 
