@@ -35,8 +35,11 @@ TEST(RigidRegionsApp, Fig637SetUpKeepsPropertiesAndFarWeights) {
   const std::vector<double> rho = rigidityOfRegions(s.samples.X, std::span(&region, 1));
   const RigidityUpdate u = setRigidity(s, rho);
   const RigidityFigures f = measureRigidity(s, leg.polygon, leg.pose);
-  std::printf("mean |J-R|: %.4f without rigidity, %.4f with (energy %.4g -> %.4g, %d ADMM iterations)\n", none.distortion,
+  std::printf("mean |J-R|: %.4f without rigidity, %.4f with (energy %.4g -> %.4g, %d solver rounds)\n", none.distortion,
               f.distortion, u.report.energyBefore, u.report.energyAfter, u.report.solver.iterations);
+  // Measured 0.2708 -> 0.2482 (docs/rigidity.md: issue 13's goal of half is not reached under exact
+  // reproduction, non-negativity at the nodes and the 6σ locality).
+  EXPECT_LT(f.distortion, 0.95 * none.distortion);
   EXPECT_GT(u.report.region, 20);
   EXPECT_TRUE(u.report.solver.converged);
   EXPECT_LT(u.report.energyAfter, 0.9 * u.report.energyBefore);

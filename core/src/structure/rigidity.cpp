@@ -47,6 +47,43 @@ SparseMatrix nodeColumns(const SparseRowMatrix& E, const std::vector<Index>& nod
   return M;
 }
 
+/// Quadrature points of the rigidity energy (5.12) over the painted region: the points of a grid of
+/// spacing h whose nearest sample (within 2h + the sample spacing) is painted, each with that
+/// sample's ρ scaled so that Σ_q ρ_q = Σ_{i∈I} ρ_i (the scale of the per-sample sum 5.16). Denser
+/// than the samples: the gradients of a kernel expansion are not controlled between samples when
+/// the energy is evaluated only at them.
+void quadrature(const SpatialGrid& grid, const Points& X, std::span<const double> rho, std::span<const Index> region, double h,
+                double search, Points& Q, Eigen::VectorXd& rhoQ) {
+  Eigen::Vector2d lo = X.row(region[0]).transpose(), hi = lo;
+  double total = 0.0;
+  for (Index i : region) {
+    lo = lo.cwiseMin(X.row(i).transpose());
+    hi = hi.cwiseMax(X.row(i).transpose());
+    total += rho[std::size_t(i)];
+  }
+  lo.array() -= search;
+  hi.array() += search;
+  std::vector<Vec2> pts;
+  std::vector<double> r;
+  for (double y = lo.y(); y <= hi.y(); y += h)
+    for (double x = lo.x(); x <= hi.x(); x += h) {
+      Index best = -1;
+      double bestD = std::numeric_limits<double>::infinity();
+      grid.forEachWithin(Vec2(x, y), search, [&](Index j, double d2) {
+        if (d2 < bestD) bestD = d2, best = j;
+      });
+      if (best >= 0 && rho[std::size_t(best)] > 0.0) {
+        pts.emplace_back(x, y);
+        r.push_back(rho[std::size_t(best)]);
+      }
+    }
+  Q.resize(Index(pts.size()), 2);
+  rhoQ.resize(Index(pts.size()));
+  double sum = 0.0;
+  for (std::size_t k = 0; k < pts.size(); ++k) Q.row(Index(k)) = pts[k].transpose(), rhoQ(Index(k)) = r[k], sum += r[k];
+  if (sum > 0.0) rhoQ *= total / sum;
+}
+
 }  // namespace
 
 bool insidePolygon(const Points& polygon, const Vec2& p) {
@@ -185,8 +222,11 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
   qp.Z = RowMatrix::Zero(m, Index(active.size()) - rank);
   for (std::size_t k = 0; k < active.size(); ++k) qp.Z.row(active[k]) = svd.matrixU().row(Index(k)).tail(qp.Z.cols());
 
-  // Operators: K(Ch, N), ∂E/∂x and ∂E/∂y at the region's samples restricted to the nodes.
-  const Points XI = rowsOf(X, region), XCh = rowsOf(X, Ch);
+  // Operators: K(Ch, N), ∂E/∂x and ∂E/∂y at the region's quadrature points restricted to the nodes.
+  Points XI;
+  Eigen::VectorXd rhoI;
+  quadrature(grid, X, rho, region, options.quadratureStep * sigma, 2.0 * sigma, XI, rhoI);
+  const Points XCh = rowsOf(X, Ch);
   const SparseMatrix Kr = nodeColumns(field.evaluationOperator(XCh), nodeOf, nN);
   SparseRowMatrix Ex, Ey;
   field.gradientOperators(XI, Ex, Ey);
@@ -195,8 +235,7 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
   field.gradientsAt(XI, dWdx, dWdy);
 
   // Objective (docs/rigidity.md): H = σ² (GxᵀDρGx + GyᵀDρGy) + Krᵀ D(1−ρ) Kr, G = σ² (GxᵀDρ∂xW + GyᵀDρ∂yW).
-  Eigen::VectorXd rhoI(region.size()), fid(nCh);
-  for (std::size_t k = 0; k < region.size(); ++k) rhoI(Index(k)) = rho[region[k]];
+  Eigen::VectorXd fid(nCh);
   for (Index k = 0; k < nCh; ++k) fid(k) = 1.0 - rho[std::size_t(Ch[std::size_t(k)])];
   const SparseMatrix DGx = rhoI.asDiagonal() * Gx, DGy = rhoI.asDiagonal() * Gy, DKr = fid.asDiagonal() * Kr;
   const double kappa = options.rigidityWeight * s2;
@@ -212,32 +251,24 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
     for (int r = 0; r < 3; ++r) eq.push_back(Pn.row(r));
   }
   const SparseRowMatrix KrRows = Kr;
-  std::vector<Index> constrained;  // rows of Kr: held samples (ΔW = 0), then region and node samples (ΔW ≥ −W⁺)
-  for (Index k = 0; k < nCh; ++k)
-    if (keep[std::size_t(Ch[std::size_t(k)])]) constrained.push_back(k);
-  rep.held = Index(constrained.size());
+  std::vector<Index> constrained;  // rows of Kr bounded below: region samples (and nodes), ΔW ≥ −W⁺
   for (Index k = 0; k < nCh; ++k) {
     const Index i = Ch[std::size_t(k)];
-    if (!keep[std::size_t(i)] && (rho[std::size_t(i)] > 0.0 || nodeOf[std::size_t(i)] >= 0)) constrained.push_back(k);
+    if (keep[std::size_t(i)]) {  // held: K(h, N) ΔU = 0 ⇔ K(h, N) Y = 0 (Zᵀ has full row rank)
+      Eigen::RowVectorXd row = Eigen::RowVectorXd::Zero(nN);
+      for (SparseRowMatrix::InnerIterator it(KrRows, k); it; ++it) row(it.col()) = it.value();
+      if (row.norm() > 0.0) eq.push_back(row), ++rep.held;
+    } else if (rho[std::size_t(i)] > 0.0 || (options.boundNodes && nodeOf[std::size_t(i)] >= 0)) {
+      constrained.push_back(k);
+    }
   }
   qp.A.resize(Index(eq.size()), nN);
-  for (std::size_t r = 0; r < eq.size(); ++r) {
-    const double norm = eq[r].norm();
-    qp.A.row(Index(r)) = norm > 0.0 ? Eigen::RowVectorXd(eq[r] / norm) : eq[r];
-  }
+  for (std::size_t r = 0; r < eq.size(); ++r) qp.A.row(Index(r)) = eq[r] / eq[r].norm();
   std::vector<Eigen::Triplet<double>> t;
   qp.L.resize(Index(constrained.size()), m);
-  qp.Up.setConstant(Index(constrained.size()), m, std::numeric_limits<double>::infinity());
   for (std::size_t r = 0; r < constrained.size(); ++r) {
-    // Held rows are scaled to unit length like the equalities (the split sees them at the same scale).
-    const double scale = Index(r) < rep.held ? 1.0 / std::max(KrRows.row(constrained[r]).norm(), 1e-300) : 1.0;
-    for (SparseRowMatrix::InnerIterator it(KrRows, constrained[r]); it; ++it) t.emplace_back(Index(r), it.col(), scale * it.value());
-    if (Index(r) < rep.held) {
-      qp.L.row(Index(r)).setZero();
-      qp.Up.row(Index(r)).setZero();
-    } else {
-      qp.L.row(Index(r)) = -W.row(Ch[std::size_t(constrained[r])]).cwiseMax(0.0);
-    }
+    for (SparseRowMatrix::InnerIterator it(KrRows, constrained[r]); it; ++it) t.emplace_back(Index(r), it.col(), it.value());
+    qp.L.row(Index(r)) = -W.row(Ch[std::size_t(constrained[r])]).cwiseMax(0.0);
   }
   qp.Kc.resize(Index(constrained.size()), nN);
   qp.Kc.setFromTriplets(t.begin(), t.end());
@@ -252,7 +283,7 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
     if (dW.row(k).cwiseAbs().maxCoeff() > 0.0) ++rep.changedRows;
     W.row(i) += dW.row(k);
   }
-  for (std::size_t r = std::size_t(rep.held); r < constrained.size(); ++r) rep.minWeight = std::min(rep.minWeight, W.row(Ch[std::size_t(constrained[r])]).minCoeff());
+  for (std::size_t r = 0; r < constrained.size(); ++r) rep.minWeight = std::min(rep.minWeight, W.row(Ch[std::size_t(constrained[r])]).minCoeff());
   const RowMatrix gx = dWdx + Gx * dU, gy = dWdy + Gy * dU;
   rep.energyAfter = s2 * (rhoI.asDiagonal() * (gx.rowwise().squaredNorm() + gy.rowwise().squaredNorm())).sum();
   field.update(W, active);

@@ -2,7 +2,10 @@
 
 #include <Eigen/Dense>
 #include <chrono>
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 
 #include "../sparse_cholesky.h"
@@ -51,21 +54,13 @@ double rigidityObjective(const RigidityQp& qp, const RowMatrix& dU) {
   return (dU.transpose() * (qp.H * dU)).trace() + 2.0 * dU.cwiseProduct(qp.G).sum();
 }
 
-RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport* report) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RigidityQpReport local;
-  RigidityQpReport& rep = report ? *report : local;
-  rep = {};
-  const Index n = qp.H.rows(), m = qp.G.cols(), r = qp.Z.cols(), c = qp.Kc.rows();
-  if (qp.H.cols() != n || qp.G.rows() != n || qp.Z.rows() != m || (qp.A.rows() > 0 && qp.A.cols() != n) ||
-      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)) ||
-      (qp.Up.size() > 0 && (qp.Up.rows() != c || qp.Up.cols() != m)))
-    throw std::invalid_argument("solveRigidityQp: inconsistent shapes");
+namespace {
+
+/// ADMM (the splitting above) from S = Λ = 0.
+RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep,
+                    std::chrono::steady_clock::time_point t0) {
+  const Index n = qp.H.rows(), m = qp.G.cols(), c = qp.Kc.rows();
   RowMatrix dU = RowMatrix::Zero(n, m);
-  if (n == 0 || r == 0) {
-    rep.converged = true;
-    return dU;
-  }
   const Eigen::MatrixXd GZ = qp.G * qp.Z;  // n×r
   const SparseMatrix H2 = 2.0 * qp.H;
   const double traceH = H2.diagonal().sum();
@@ -129,6 +124,135 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
   rep.objective = rigidityObjective(qp, dU);
   rep.seconds = secondsSince(t0);
   return dU;
+}
+
+/// Primal-dual active set (Hintermüller, Ito & Kunisch 2002) on the lower bounds Kc ΔU ≥ L: one
+/// factorization of 2H (with A through the Schur complement); the equality-constrained optimum Y0;
+/// then rounds of: the active pairs (sample i, control col) are held at their bounds by the
+/// multipliers λ of the dense system Σ_b (k_iᵀ F_j)(z_col·z_d) λ_b = L_a − (Kc Y0 Zᵀ)_a with
+/// F_j = (2H)⁻¹_A k_j (the constrained solve of row j of Kc); Y = Y0 + Σ_b λ_b F_j z_dᵀ; the next
+/// active set keeps the pairs with λ > 0 and adds the violated ones. It stops when the set repeats:
+/// then λ ≥ 0 on it and Kc ΔU ≥ L − tolerance off it (the KKT conditions). Returns false (and
+/// leaves dU alone) when it does not settle within maxActiveSetRounds or the set grows past
+/// maxActivePairs: the caller falls back to ADMM.
+bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
+  const Index n = qp.H.rows(), m = qp.G.cols(), c = qp.Kc.rows();
+  const SparseMatrix H2 = 2.0 * qp.H;
+  SparseMatrix M = H2;
+  SparseMatrix shift(n, n);
+  shift.setIdentity();
+  M += (1e-13 * std::max(H2.diagonal().sum() / double(n), 1e-300)) * shift;
+  M.makeCompressed();
+  const auto tf = std::chrono::steady_clock::now();
+  ConstrainedSolve solver;
+  if (!solver.compute(M, qp.A, options.rankTolerance)) return false;
+  rep.factorSeconds = secondsSince(tf);
+  const Eigen::MatrixXd Y0 = solver.solve(-2.0 * (qp.G * qp.Z));
+  const SparseRowMatrix Kr = qp.Kc;
+  const RowMatrix S0 = (qp.Kc * Y0) * qp.Z.transpose();
+  const Eigen::MatrixXd ZZ = qp.Z * qp.Z.transpose();  // m×m
+  const double tol = options.tolerance;
+
+  std::vector<Index> column(static_cast<std::size_t>(c), -1);  // sample row → column of F (computed on demand)
+  Eigen::MatrixXd F(n, 0);
+  auto columnOf = [&](Index i) {
+    if (column[std::size_t(i)] < 0) {
+      Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, 1);
+      for (SparseRowMatrix::InnerIterator it(Kr, i); it; ++it) k(it.col(), 0) = it.value();
+      F.conservativeResize(n, F.cols() + 1);
+      F.col(F.cols() - 1) = solver.solve(k);
+      column[std::size_t(i)] = F.cols() - 1;
+    }
+    return column[std::size_t(i)];
+  };
+  std::vector<std::pair<Index, Index>> active;  // (sample row, control)
+  for (Index i = 0; i < c; ++i)
+    for (Index col = 0; col < m; ++col)
+      if (S0(i, col) < qp.L(i, col) - tol) active.emplace_back(i, col);
+  Eigen::MatrixXd Y = Y0;
+  Eigen::VectorXd lambda;
+  for (int round = 1; round <= options.maxActiveSetRounds; ++round) {
+    rep.iterations = round;
+    const Index a = Index(active.size());
+    if (a > options.maxActivePairs) return false;
+    if (a == 0) {
+      Y = Y0;
+    } else {
+      for (const auto& [i, col] : active) columnOf(i);
+      Eigen::MatrixXd KiF(a, F.cols());  // k_iᵀ F_j for the active rows
+      for (Index p = 0; p < a; ++p) {
+        KiF.row(p).setZero();
+        for (SparseRowMatrix::InnerIterator it(Kr, active[std::size_t(p)].first); it; ++it) KiF.row(p) += it.value() * F.row(it.col());
+      }
+      Eigen::MatrixXd Q(a, a);
+      Eigen::VectorXd rhs(a);
+      for (Index p = 0; p < a; ++p) {
+        const auto [i, ci] = active[std::size_t(p)];
+        rhs(p) = qp.L(i, ci) - S0(i, ci);
+        for (Index q = 0; q < a; ++q) {
+          const auto [j, cj] = active[std::size_t(q)];
+          Q(p, q) = KiF(p, column[std::size_t(j)]) * ZZ(ci, cj);
+        }
+      }
+      Q.diagonal().array() += 1e-12 * std::max(Q.diagonal().maxCoeff(), 1e-300);
+      lambda = Q.ldlt().solve(rhs);
+      Eigen::MatrixXd Lz = Eigen::MatrixXd::Zero(F.cols(), qp.Z.cols());  // Y = Y0 + Σ_p λ_p F_{i_p} z_{c_p}ᵀ
+      for (Index p = 0; p < a; ++p) Lz.row(column[std::size_t(active[std::size_t(p)].first)]) += lambda(p) * qp.Z.row(active[std::size_t(p)].second);
+      Y = Y0 + F * Lz;
+    }
+    const RowMatrix S = (qp.Kc * Y) * qp.Z.transpose();
+    std::vector<std::pair<Index, Index>> next;
+    std::vector<char> in(static_cast<std::size_t>(c * m), 0);
+    for (Index p = 0; p < a; ++p)
+      if (lambda(p) > 0.0) {
+        next.push_back(active[std::size_t(p)]);
+        in[std::size_t(active[std::size_t(p)].first * m + active[std::size_t(p)].second)] = 1;
+      }
+    for (Index i = 0; i < c; ++i)
+      for (Index col = 0; col < m; ++col)
+        if (!in[std::size_t(i * m + col)] && S(i, col) < qp.L(i, col) - tol) next.emplace_back(i, col);
+    std::sort(next.begin(), next.end());
+    if (next == active) {
+      dU = Y * qp.Z.transpose();
+      rep.converged = true;
+      return true;
+    }
+    active.swap(next);
+  }
+  return false;
+}
+
+}  // namespace
+
+RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport* report) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RigidityQpReport local;
+  RigidityQpReport& rep = report ? *report : local;
+  rep = {};
+  const Index n = qp.H.rows(), m = qp.G.cols(), r = qp.Z.cols(), c = qp.Kc.rows();
+  if (qp.H.cols() != n || qp.G.rows() != n || qp.Z.rows() != m || (qp.A.rows() > 0 && qp.A.cols() != n) ||
+      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)) ||
+      (qp.Up.size() > 0 && (qp.Up.rows() != c || qp.Up.cols() != m)))
+    throw std::invalid_argument("solveRigidityQp: inconsistent shapes");
+  if (n == 0 || r == 0) {
+    rep.converged = true;
+    return RowMatrix::Zero(n, m);
+  }
+  const bool upper = qp.Up.size() > 0 && qp.Up.array().isFinite().any();
+  if (options.method == RigidityQpMethod::ActiveSet && !upper) {
+    RowMatrix dU;
+    if (solveActiveSet(qp, options, rep, dU)) {
+      rep.method = RigidityQpMethod::ActiveSet;
+      const RowMatrix KdU = qp.Kc * dU;
+      rep.violation = c > 0 ? std::max(0.0, (qp.L - KdU).maxCoeff()) : 0.0;
+      rep.objective = rigidityObjective(qp, dU);
+      rep.seconds = secondsSince(t0);
+      return dU;
+    }
+    rep = {};
+  }
+  rep.method = RigidityQpMethod::Admm;
+  return solveAdmm(qp, options, rep, t0);
 }
 
 }  // namespace kc

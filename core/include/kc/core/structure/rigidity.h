@@ -38,8 +38,10 @@ Vec2 polygonCentroid(const Points& P);
 std::vector<double> rigidityOfRegions(const Points& X, std::span<const RigidRegion> regions);
 
 struct RigidityOptions {
-  double reach = 1.0;          ///< Nodes: samples within reach·σ of a sample with ρ > 0 (changes reach (reach + 5)σ).
-  double rigidityWeight = 10.0; ///< κ: the rigidity term's weight against the fidelity term (docs/rigidity.md).
+  double reach = 1.5;          ///< Nodes: samples within reach·σ of a sample with ρ > 0 (changes reach (reach + 5)σ; see docs/rigidity.md).
+  double rigidityWeight = 1000.0; ///< κ: the rigidity term's weight against the fidelity term (docs/rigidity.md).
+  double quadratureStep = 0.5;  ///< The rigidity energy is evaluated on a grid of this spacing (·σ) over the painted region.
+  bool boundNodes = true;      ///< Non-negativity (5.35d) at the nodes too, not only at the painted samples.
   double activeWeight = 1e-3;  ///< Controls whose weights at every node are ≤ this keep their weights.
   RigidityQpOptions solver;
 };
@@ -61,13 +63,15 @@ struct RigidityReport {
 /// Makes the weights of `field` rigid over the painted samples (docs/rigidity.md). With
 /// I = {i : ρ_i > 0}, nodes N = samples within reach·σ of I, changed samples Ch = samples within
 /// θ (the kernel's cut-off) of N, solves for ΔU (N×m) the QP
-///   min  Σ_{i∈I} ρ_i σ² ‖∇w(x_i) + ∇ΔW(x_i)‖²_F + Σ_{i∈Ch} (1 − ρ_i) ‖ΔW_i‖²      (5.12, 5.35a)
+///   min  κ Σ_{q∈Q} ρ_q σ² ‖∇w(x_q) + ∇ΔW(x_q)‖²_F + Σ_{i∈Ch} (1 − ρ_i) ‖ΔW_i‖²      (5.12, 5.35a)
 ///   s.t. ΔU [1 C] = 0                (each row: partition of unity and reproduction, exact)
 ///        X_Nᵀ-polynomial: [1 x y]_Nᵀ ΔU = 0   (exact mode's side condition PᵀU = 0, 1.9 / 6.2)
-///        ΔW_h = 0 at held samples h (keep[h] ≠ 0: controls, cage-edge and line samples)
-///        W_i + ΔW_i ≥ min(W_i, 0) at I ∪ N   (5.35d)
+///        ΔW_h = 0 at held samples h (keep[h] ≠ 0: controls and line samples)
+///        W_i + ΔW_i ≥ min(W_i, 0) at I ∪ N (I only when !boundNodes)   (5.35d)
 ///        ΔU[:, c] = 0 for controls c inactive at the nodes (weights ≤ activeWeight)
-/// where ΔW = K(·, N) ΔU and ∇ΔW(x) = ∂E/∂x, ∂E/∂y (the field's gradient operators) times ΔU;
+/// where Q is a grid of spacing quadratureStep·σ over the painted region (ρ_q = ρ of the nearest
+/// sample, scaled so that Σ_q ρ_q = Σ_{i∈I} ρ_i), ΔW = K(·, N) ΔU and ∇ΔW(x) = ∂E/∂x, ∂E/∂y (the
+/// field's gradient operators) times ΔU;
 /// then W += K(Ch, N) ΔU (W #S×m, the field's data weights) and the field is re-solved in the
 /// active columns. The field's coefficients become U + ΔU with B unchanged. `rho` and `keep`
 /// have #S entries, ρ ∈ [0, 1]; C m×2 the controls. Does nothing when no ρ is positive.

@@ -4,9 +4,11 @@
 ///   min_ΔU  tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G)
 ///   s.t.    ΔU = Y Zᵀ            (every row of ΔU in span Z: partition of unity and reproduction)
 ///           A ΔU = 0             (polynomial side condition PᵀΔU = 0, held samples unchanged)
-///           L ≤ Kc ΔU ≤ Up       (non-negativity of the constrained samples' weights; held samples: L = Up = 0)
-/// solved by ADMM (Boyd et al. 2011, §3; OSQP's splitting) on one CHOLMOD factorization of
-/// 2H + μ KcᵀKc shared by all columns of Y.
+///           L ≤ Kc ΔU ≤ Up       (non-negativity of the constrained samples' weights)
+/// solved by a primal-dual active set on the lower bounds (one CHOLMOD factorization of 2H, the
+/// columns F = (2H)⁻¹_A Kcᵀ of the active rows, a dense system over the active pairs), or by ADMM
+/// (Boyd et al. 2011, §3; OSQP's splitting) on one factorization of 2H + μ KcᵀKc shared by all
+/// columns of Y — when upper bounds are given or the active set does not settle.
 
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
@@ -24,7 +26,15 @@ struct RigidityQp {
   RowMatrix Up;     ///< c×m upper bounds, ≥ 0 (+∞ allowed); empty: all +∞.
 };
 
+/// How the QP is solved: a primal-dual active set on the bounds (one factorization of 2H; falls
+/// back to ADMM when it does not settle), or ADMM throughout.
+enum class RigidityQpMethod { ActiveSet, Admm };
+
 struct RigidityQpOptions {
+  RigidityQpMethod method = RigidityQpMethod::ActiveSet;
+  int maxActiveSetRounds = 50;   ///< Active-set rounds before falling back to ADMM.
+  Index maxActivePairs = 4000;
+  double activeSetPenalty = 1e8; ///< ρ of the augmented Lagrangian on the bounds, relative to the largest diagonal entry of Q.   ///< Active (sample, control) pairs beyond which it falls back to ADMM (a dense system of this size).
   double penalty = 0.0;        ///< ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
   double relaxation = 1.6;     ///< Over-relaxation α ∈ (0, 2).
   double tolerance = 1e-8;     ///< Stop when the largest constraint violation (weights) ≤ tolerance and the
@@ -35,7 +45,8 @@ struct RigidityQpOptions {
 
 struct RigidityQpReport {
   bool converged = false;
-  int iterations = 0;
+  RigidityQpMethod method = RigidityQpMethod::ActiveSet;  ///< The method that produced the result.
+  int iterations = 0;           ///< Active-set rounds or ADMM iterations.
   double primalResidual = 0.0;  ///< max |Kc ΔU − S| (S the projected split variable).
   double dualResidual = 0.0;
   double violation = 0.0;       ///< max(0, L − Kc ΔU, Kc ΔU − Up): how far the bounds are missed.
@@ -49,7 +60,10 @@ struct RigidityQpReport {
 double rigidityObjective(const RigidityQp& qp, const RowMatrix& dU);
 
 /// Solves the QP above; returns ΔU (n×m). Throws std::invalid_argument for inconsistent shapes.
-/// Each ADMM iteration: Y ← argmin tr(YᵀHY) + 2tr(YᵀGZ) + μ/2‖Kc Y − (S − Λ)Z‖² s.t. A Y = 0
+/// Active set (Hintermüller, Ito & Kunisch 2002): from the equality-constrained optimum Y0, rounds
+/// of: hold the active (row i, control c) pairs at their bounds, Σ_b (k_iᵀF_j)(z_c·z_d) λ_b =
+/// L_a − (Kc Y0 Zᵀ)_a, Y = Y0 + Σ_b λ_b F_j z_dᵀ; keep the pairs with λ > 0, add the violated ones;
+/// stop when the set repeats (then the KKT conditions hold). Each ADMM iteration: Y ← argmin tr(YᵀHY) + 2tr(YᵀGZ) + μ/2‖Kc Y − (S − Λ)Z‖² s.t. A Y = 0
 /// (the factorization plus A's a×a Schur complement), V = α Kc Y Zᵀ + (1 − α) S,
 /// S ← clamp(V + Λ, L, Up), Λ ← Λ + V − S.
 RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options = {}, RigidityQpReport* report = nullptr);
