@@ -155,15 +155,19 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
 
   std::vector<Index> column(static_cast<std::size_t>(c), -1);  // sample row → column of F (computed on demand)
   Eigen::MatrixXd F(n, 0);
-  auto columnOf = [&](Index i) {
-    if (column[std::size_t(i)] < 0) {
-      Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, 1);
-      for (SparseRowMatrix::InnerIterator it(Kr, i); it; ++it) k(it.col(), 0) = it.value();
-      F.conservativeResize(n, F.cols() + 1);
-      F.col(F.cols() - 1) = solver.solve(k);
-      column[std::size_t(i)] = F.cols() - 1;
-    }
-    return column[std::size_t(i)];
+  // The columns F_i of the rows in `pairs` not computed yet, in one multi-right-hand-side solve.
+  auto addColumns = [&](const std::vector<std::pair<Index, Index>>& pairs) {
+    std::vector<Index> fresh;
+    for (const auto& [i, col] : pairs)
+      if (column[std::size_t(i)] < 0) column[std::size_t(i)] = F.cols() + Index(fresh.size()), fresh.push_back(i);
+    if (fresh.empty()) return;
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, Index(fresh.size()));
+    for (std::size_t f = 0; f < fresh.size(); ++f)
+      for (SparseRowMatrix::InnerIterator it(Kr, fresh[f]); it; ++it) k(it.col(), Index(f)) = it.value();
+    const Eigen::MatrixXd solved = solver.solve(k);
+    Eigen::MatrixXd grown(n, F.cols() + solved.cols());
+    grown << F, solved;
+    F.swap(grown);
   };
   std::vector<std::pair<Index, Index>> active;  // (sample row, control)
   for (Index i = 0; i < c; ++i)
@@ -178,7 +182,7 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     if (a == 0) {
       Y = Y0;
     } else {
-      for (const auto& [i, col] : active) columnOf(i);
+      addColumns(active);
       Eigen::MatrixXd KiF(a, F.cols());  // k_iᵀ F_j for the active rows
       for (Index p = 0; p < a; ++p) {
         KiF.row(p).setZero();
