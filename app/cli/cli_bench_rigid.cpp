@@ -4,6 +4,7 @@
 // (app::setRigidity) for a 500-sample region on the star and a 2,000-sample region on the figure.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -72,6 +73,40 @@ void benchSpeed(const std::string& dir, const std::string& name, Index count, do
               u.report.solver.method == RigidityQpMethod::Admm ? "*" : " ", 1e3 * u.report.solver.factorSeconds, goalMs);
 }
 
+/// Mean ‖J − R‖ over `polygon` for `pose` without and with the polygon made rigid (strength 1).
+void otherSetUp(const app::Session& plain, const char* what, const Points& polygon, const Pose& pose) {
+  const double none = app::measureRigidity(plain, polygon, pose).distortion;
+  app::Session s = copyOf(plain);
+  const RigidRegion region{polygon, 1.0};
+  app::setRigidity(s, rigidityOfRegions(s.samples.X, std::span(&region, 1)));
+  const double with = app::measureRigidity(s, polygon, pose).distortion;
+  std::printf("  %-58s %8.4f %8.4f %6.2f\n", what, none, with, with / none);
+}
+
+/// Other regions and poses than Fig 6.37's (docs/rigidity.md's table): the star's leg of tip 0
+/// with that tip moved in and sideways, and the figure's head with a head control moved.
+void benchOtherSetUps(const app::Session& star, const std::string& dir) {
+  std::printf("other set-ups: mean |J-R| without, with (strength 1), ratio\n");
+  Cage turned = star.cage;  // the star's points renumbered so that starLegSetup's tip 4 is point 0
+  for (Index i = 0; i < 10; ++i) turned.C.row(i) = star.cage.C.row((i + 6) % 10);
+  const app::StarLegSetup leg = app::starLegSetup(turned);
+  Pose in = restPose(10), side = restPose(10);
+  in[0].translate = leg.pose[4].translate;
+  side[0].translate = Vec2(-leg.pose[4].translate.y(), leg.pose[4].translate.x());
+  otherSetUp(star, "star, leg of tip 0; tip 0 moved 40 px toward the centre", leg.polygon, in);
+  otherSetUp(star, "star, leg of tip 0; tip 0 moved 40 px sideways", leg.polygon, side);
+  Cage cage;
+  const app::Session figure = bindExample(dir, "figure", cage);
+  if (cage.size() != 30) return;
+  Points head(8, 2);
+  for (int k = 0; k < 8; ++k) head.row(k) << 160.0 + 30.0 * std::cos(k * 0.25 * M_PI), 72.0 + 30.0 * std::sin(k * 0.25 * M_PI);
+  Pose top = restPose(30), hand = restPose(30);
+  top[0].translate = Vec2(0.0, 30.0);
+  hand[6].translate = Vec2(-10.0, -40.0);
+  otherSetUp(figure, "figure, head (octagon r 30 at 160,72); control 0 down 30 px", head, top);
+  otherSetUp(figure, "figure, same head; the right hand (control 6) up 40 px", head, hand);
+}
+
 }  // namespace
 
 void benchRigid(const std::string& dir, int repeats) {
@@ -111,6 +146,7 @@ void benchRigid(const std::string& dir, int repeats) {
   std::printf("  strength 1: mean |J-R| %.4f = %.2f of none (goal <= 0.5), unity %.2g, reproduction %.2g px (goal <= 1e-9),\n"
               "  largest weight change farther than 6 sigma %.2g (goal <= 1e-4)\n",
               atOne, atOne / none.distortion, unity, repro, far);
+  benchOtherSetUps(plain, dir);
   std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
   std::printf("  (QP it: active-set rounds, or ADMM iterations when marked *)\n");
   std::printf("  %-7s %7s %8s %7s %9s %9s %11s %10s %9s %9s\n", "example", "region", "nodes", "active", "controls", "rows",
