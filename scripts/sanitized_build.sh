@@ -10,10 +10,11 @@ cd "$(dirname "$0")/.."
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
-if [ ! -f build-asan/CMakeCache.txt ] || ! grep -q "^KC_BUILD_FUZZ:BOOL=ON" build-asan/CMakeCache.txt; then
+if [ -f build-asan/CMakeCache.txt ] && ! grep -q "^KC_BUILD_FUZZ:BOOL=ON" build-asan/CMakeCache.txt; then
   rm -rf build-asan
-  CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DKC_BUILD_GUI=OFF -DKC_BUILD_BENCH=OFF \
+fi
+# Configured every time (it is quick when nothing changed), so targets added since are known.
+CC=clang CXX=clang++ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DKC_BUILD_GUI=OFF -DKC_BUILD_BENCH=OFF \
     -DKC_BUILD_FUZZ=ON "${launcher[@]}" -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
     -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DCMAKE_EXE_LINKER_FLAGS="$sanitize" > /dev/null
-fi
 cmake --build build-asan -j"$(nproc 2>/dev/null || echo 2)" --target "$@"
