@@ -99,9 +99,10 @@ void runBind(const BindArgs& a) {
   }
   const app::BindTimings& t = s.timings;
   if (!st.rigid.empty())
-    std::printf("rigid: %zu regions, %ld samples, rigidity energy %.4g -> %.4g (%ld nodes, %ld controls, %d ADMM iterations%s, %.3f s)\n",
+    std::printf("rigid: %zu regions, %ld samples, rigidity energy %.4g -> %.4g (%ld nodes, %ld controls, %d %s%s, %.3f s)\n",
                 st.rigid.size(), static_cast<long>(r.rigidity.region), r.rigidity.energyBefore, r.rigidity.energyAfter,
                 static_cast<long>(r.rigidity.nodes), static_cast<long>(r.rigidity.controls), r.rigidity.solver.iterations,
+                r.rigidity.solver.method == RigidityQpMethod::Admm ? "ADMM iterations" : "active-set rounds",
                 r.rigidity.solver.converged ? "" : ", NOT converged", r.rigidity.seconds);
   if (!st.lines.empty())
     std::printf("lines: %zu, field linear along them to %.2e (was %.2e; %ld samples adjusted, %.3f s)\n", st.lines.size(),

@@ -112,7 +112,9 @@ TEST(RigidityBrush, AStrokePaintsRhoAndReSolvesOnlyNearIt) {
   Index core = 0;
   for (Index i = 0; i < S.size(); ++i) {
     const double d = segmentDistance(S.X.row(i).transpose(), kA, kB), r = rho[static_cast<std::size_t>(i)];
-    if (d >= 20.0) EXPECT_EQ(r, 0.0) << "sample " << i << " outside the brush is rigid";
+    if (d >= 20.0) {
+      EXPECT_EQ(r, 0.0) << "sample " << i << " outside the brush is rigid";
+    }
     if (d <= 8.0 && S.kind[static_cast<std::size_t>(i)] == SampleKind::Interior) {  // the hard core (10 px) of the dabs every 5 px
       EXPECT_EQ(r, 1.0) << "sample " << i;
       ++core;

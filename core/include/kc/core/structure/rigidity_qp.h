@@ -33,8 +33,8 @@ enum class RigidityQpMethod { ActiveSet, Admm };
 struct RigidityQpOptions {
   RigidityQpMethod method = RigidityQpMethod::ActiveSet;
   int maxActiveSetRounds = 50;   ///< Active-set rounds before falling back to ADMM.
-  Index maxActivePairs = 4000;
-  double activeSetPenalty = 1e8; ///< ρ of the augmented Lagrangian on the bounds, relative to the largest diagonal entry of Q.   ///< Active (sample, control) pairs beyond which it falls back to ADMM (a dense system of this size).
+  Index maxActivePairs = 4000;   ///< Active (sample, control) pairs beyond which it falls back to ADMM (a dense system of this size).
+  double activeSetPenalty = 1e8; ///< ρ of the augmented Lagrangian on the bounds, relative to the largest diagonal entry of Q.
   double penalty = 0.0;        ///< ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
   double relaxation = 1.6;     ///< Over-relaxation α ∈ (0, 2).
   double tolerance = 1e-8;     ///< Stop when the largest constraint violation (weights) ≤ tolerance and the
