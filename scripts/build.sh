@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Sets up a fresh Debian 12 machine (as root) and builds kcwarp into build/ (all cores).
+# Sets up a fresh Debian 12 machine (as root) and builds kcwarp into build/ (all cores). Arguments
+# go to CMake's configure step (scripts/test.sh passes -DKC_BUILD_BENCH=OFF).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DKC_BUILD_BENCH=ON "$@"
 cmake --build build -j"$(nproc 2>/dev/null || echo 2)"
