@@ -58,10 +58,11 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   model.loadQuadraticObjective(m, qs.data(), qc.data(), qv.data());
   model.setPrimalTolerance(tolerance);
   model.setDualTolerance(tolerance);
-  // A few hundred pivots solve any of these problems (m ≤ 3,000 controls, 3 rows); on some
-  // degenerate ones CLP's nonlinear primal can cycle (seen in the sanitized build, where the
-  // inputs differ in the last bits): then it stops with status 3, which counts as a CLP failure.
-  model.setMaximumIterations(20000);
+  // On some degenerate problems CLP's nonlinear primal can cycle (seen in the sanitized build,
+  // where the inputs differ in the last bits and each pivot allocates under the sanitizer's
+  // allocator: one test ran for over 13 minutes). 10 pivots per variable is far more than a solve
+  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure.
+  model.setMaximumIterations(std::max(1000, 10 * m));
   model.primal();
   w = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), m);
   return model.status() == 0;
