@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "kc/core/spatial_grid.h"
 #include "kc/ui/canvas.h"
 #include "kc/ui/rigidity_edits.h"
 #include "overlay_draw.h"
@@ -39,36 +40,23 @@ void updateTint(AppState& state) {
   if (!anyRigid(rho) || rho.size() != static_cast<std::size_t>(X.rows())) return;
   const Points& V = state.mesh.restVertices();
   const double R = 1.5 * (state.boundSpacing > 0.0 ? state.boundSpacing : 6.0);
-  // A uniform grid of cells of size R over the samples; a cell knows whether it holds a rigid sample.
-  const Vec2 lo = X.colwise().minCoeff().transpose();
-  const Vec2 hi = X.colwise().maxCoeff().transpose();
-  const int nx = static_cast<int>((hi.x() - lo.x()) / R) + 1, ny = static_cast<int>((hi.y() - lo.y()) / R) + 1;
-  std::vector<std::vector<Index>> cells(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
-  std::vector<char> rigidCell(cells.size(), 0);
-  auto cellOf = [&](double v, double origin, int n) { return std::clamp(static_cast<int>(std::floor((v - origin) / R)), -1, n); };
-  for (Index s = 0; s < X.rows(); ++s) {
-    const std::size_t c = static_cast<std::size_t>(cellOf(X(s, 1), lo.y(), ny - 1)) * nx + static_cast<std::size_t>(cellOf(X(s, 0), lo.x(), nx - 1));
-    cells[c].push_back(s);
-    if (rho[static_cast<std::size_t>(s)] > 0.0) rigidCell[c] = 1;
-  }
+  // Vertices with no rigid sample within R stay 0 (the test is a query of the few rigid samples).
+  std::vector<Index> rigid;
+  for (Index s = 0; s < X.rows(); ++s)
+    if (rho[static_cast<std::size_t>(s)] > 0.0) rigid.push_back(s);
+  const SpatialGrid rigidGrid(X(rigid, Eigen::all), R), allGrid(X, R);
   tint.vertexRho.assign(static_cast<std::size_t>(V.rows()), 0.0f);
   for (Index v = 0; v < V.rows(); ++v) {
-    const int cx = cellOf(V(v, 0), lo.x(), nx), cy = cellOf(V(v, 1), lo.y(), ny);
-    double num = 0.0, den = 0.0;
+    const Vec2 p = V.row(v).transpose();
     bool near = false;
-    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1) && !near; ++y)
-      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x)
-        near = near || rigidCell[static_cast<std::size_t>(y) * nx + static_cast<std::size_t>(x)];
+    rigidGrid.forEachWithin(p, R, [&](Index, double) { near = true; });
     if (!near) continue;
-    for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, ny - 1); ++y)
-      for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, nx - 1); ++x)
-        for (Index s : cells[static_cast<std::size_t>(y) * nx + static_cast<std::size_t>(x)]) {
-          const double d = std::hypot(V(v, 0) - X(s, 0), V(v, 1) - X(s, 1)) / R;
-          if (d >= 1.0) continue;
-          const double phi = (1.0 - d * d) * (1.0 - d * d);
-          num += phi * rho[static_cast<std::size_t>(s)];
-          den += phi;
-        }
+    double num = 0.0, den = 0.0;
+    allGrid.forEachWithin(p, R, [&](Index s, double d2) {
+      const double q = 1.0 - d2 / (R * R);
+      num += q * q * rho[static_cast<std::size_t>(s)];
+      den += q * q;
+    });
     if (den > 0.0) tint.vertexRho[static_cast<std::size_t>(v)] = static_cast<float>(num / den);
   }
 }
