@@ -6,6 +6,9 @@
 #include <imgui.h>
 #include <imgui_internal.h>
 
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
@@ -20,6 +23,19 @@
 
 namespace kc::test {
 
+/// The checker example bound at `spacing`: the session the ctest fixture "ui_sessions" wrote
+/// (tests/CMakeLists.txt, `kcwarp-cli bind --spacing`, once per run) when there is one, otherwise
+/// bound here (a test executable run on its own).
+inline std::shared_ptr<app::Session> boundChecker(const std::string& dir, int width, int height, double spacing) {
+  if (const char* bound = std::getenv("KC_BOUND_EXAMPLES"); bound && spacing == std::floor(spacing)) {
+    const std::string path = std::string(bound) + "/checker-" + std::to_string(static_cast<int>(spacing)) + ".kcw.json";
+    if (std::filesystem::exists(path)) return std::make_shared<app::Session>(app::loadSession(path));
+  }
+  app::BindParams p;
+  p.spacing = spacing;
+  return std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), width, height, p));
+}
+
 /// A bound AppState on images/checker.png with its cage; jobs run inline (synchronous worker).
 inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   auto state = std::make_unique<ui::AppState>();
@@ -27,10 +43,7 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
   state->source = app::loadImage(dir + "checker.png");
   state->imagePath = dir + "checker.png";
-  app::BindParams p;
-  p.spacing = spacing;
-  auto s = std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), state->source.width,
-                                                    state->source.height, p));
+  auto s = boundChecker(dir, state->source.width, state->source.height, spacing);
   ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(s->imageWidth, s->imageHeight)),
                      /*fromOptimizer=*/true);
   return state;
