@@ -60,11 +60,13 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   options.tau = lbc.tau;
   options.tolerance = lbc.tolerance;
   options.maxIterations = lbc.maxIterations;
+  double shown = 0.0;
   options.progress = [&](const LbcProgress& p) {
-    // Progress by the residual's way down to the tolerance (log scale), or the iteration share.
+    // Progress by the residual's way down to the tolerance (log scale), or the iteration share;
+    // never backwards (the coarse-to-fine start's levels each begin with larger residuals).
     const double worst = std::max(p.primalResidual, p.dualResidual);
     const double byResidual = std::log(std::max(worst, lbc.tolerance)) / std::log(lbc.tolerance);
-    const double f = std::clamp(std::max(byResidual, double(p.iteration) / lbc.maxIterations), 0.0, 1.0);
+    const double f = shown = std::clamp(std::max({shown, byResidual, double(p.iteration) / lbc.maxIterations}), 0.0, 1.0);
     step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws BindCancelled to stop
     return true;
   };

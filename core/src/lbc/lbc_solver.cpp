@@ -435,7 +435,7 @@ LbcResult LbcSolver::solveFrom(const LbcOptions& options, State* state) const {
     if (coarseMesh.status == CageMeshStatus::Ok && coarseMesh.interior() > 0) {
       const LbcSolver coarse(coarseMesh, d.tau);
       LbcOptions co = options;
-      co.tolerance = options.coarseTolerance;
+      co.tolerance = std::max(options.tolerance, options.coarseTolerance);
       co.gapTolerance = 0.0;
       co.certify = false;
       State cs;

@@ -67,8 +67,9 @@ struct LbcOptions {
   /// 144 + 276, 5k 405 → 148 + 314; star 2k/5k 122/120 → 74 + 101, 73 + 100.
   bool coarseStart = true;
   Index coarseMinVertices = 1500;
-  /// The coarse levels stop when both residuals are ≤ this (no certificate): a tighter coarse
-  /// solve (1e-3, or the 0.1% certificate) did not save fine iterations.
+  /// The coarse levels stop when both residuals are ≤ this (or `tolerance` if larger; no
+  /// certificate): a tighter coarse solve (1e-3, or the 0.1% certificate) did not save fine
+  /// iterations.
   double coarseTolerance = 3e-3;
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
   /// Certified stopping: once the residuals are below `tolerance`, also require
