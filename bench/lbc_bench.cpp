@@ -66,7 +66,6 @@ void BM_LbcSolve(benchmark::State& state) {
   const CageMesh mesh = meshCageInterior(cage, mo);
   LbcOptions options;
   options.certify = true;
-  options.coarseStart = std::getenv("KC_LBC_NO_COARSE") == nullptr;
   LbcReport report;
   double peakKb = 0.0, cpuSeconds = 0.0;
   for (auto _ : state) {
@@ -86,8 +85,6 @@ void BM_LbcSolve(benchmark::State& state) {
   state.counters["vertices"] = double(mesh.size());
   state.counters["controls"] = double(mesh.controls);
   state.counters["iterations"] = report.iterations;
-  state.counters["coarse_iterations"] = report.coarseIterations;
-  state.counters["coarse_vertices"] = double(report.coarseVertices);
   state.counters["converged"] = report.status == LbcStatus::Converged;
   state.counters["objective"] = report.objective;
   state.counters["gap_pct"] = 100.0 * (report.objective - report.lowerBound) / report.lowerBound;

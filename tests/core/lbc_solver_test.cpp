@@ -102,53 +102,19 @@ TEST(LbcSolver, LocalerThanHarmonicCoordinates) {
 
 TEST(LbcSolver, BitIdenticalOnOneAndTwoThreads) {
   const CageMesh mesh = starMesh(10.0);
-  LbcOptions options;
-  options.coarseMinVertices = mesh.size();  // one coarse level: its prolongation is checked too
   LbcResult one, two;
   {
     ScopedThreadCount threads(1);
-    one = solveLbc(mesh, options);
+    one = solveLbc(mesh);
   }
   {
     ScopedThreadCount threads(2);
-    two = solveLbc(mesh, options);
+    two = solveLbc(mesh);
   }
-  ASSERT_GT(one.report.coarseIterations, 0);
-  ASSERT_EQ(one.report.coarseIterations, two.report.coarseIterations);
   ASSERT_EQ(one.report.iterations, two.report.iterations);
   ASSERT_EQ(one.W.size(), two.W.size());
   EXPECT_EQ(0, std::memcmp(one.W.data(), two.W.data(), sizeof(double) * std::size_t(one.W.size())));
   EXPECT_EQ(one.report.objective, two.report.objective);
-}
-
-TEST(LbcSolver, CoarseToFineStartIsCertifiedAndCancellable) {
-  const CageMesh mesh = starMesh(14.0);
-  const LbcSolver solver(mesh, LbcTau::Square);
-  LbcOptions options;
-  options.certify = true;
-  options.coarseMinVertices = mesh.size();
-  const LbcResult r = solver.solve(options);
-  ASSERT_EQ(r.report.status, LbcStatus::Converged);
-  // One coarse level at twice the spacing: about a quarter of the vertices.
-  EXPECT_GT(r.report.coarseVertices, mesh.size() / 8);
-  EXPECT_LT(r.report.coarseVertices, mesh.size() / 2);
-  EXPECT_GT(r.report.coarseIterations, 0);
-  EXPECT_LT(r.report.objective - r.report.lowerBound, 1e-3 * r.report.lowerBound);
-  const auto [pu, rep] = affineErrors(mesh, r.W);
-  EXPECT_LE(pu, 1e-9);
-  EXPECT_LE(rep, 1e-9);
-  EXPECT_GE(r.W.minCoeff(), 0.0);
-
-  // Cancelled on the coarse level: reported, with exact barycentric weights of this mesh.
-  options.progress = [](const LbcProgress&) { return false; };
-  const LbcResult c = solver.solve(options);
-  EXPECT_EQ(c.report.status, LbcStatus::Cancelled);
-  EXPECT_EQ(c.report.iterations, 0);
-  EXPECT_EQ(c.report.coarseIterations, 10);
-  ASSERT_EQ(c.W.rows(), mesh.size());
-  const auto [cpu, crep] = affineErrors(mesh, c.W);
-  EXPECT_LE(cpu, 1e-9);
-  EXPECT_LE(crep, 1e-9);
 }
 
 TEST(LbcSolver, EveryTauGivesBarycentricWeights) {

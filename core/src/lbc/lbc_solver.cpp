@@ -28,7 +28,6 @@
 
 #include "barycentric_lp.h"
 #include "row_block_cholesky.h"
-#include "kc/core/field/mesh_field.h"
 #include "kc/core/lbc/heat_geodesic.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qp.h"
@@ -101,17 +100,7 @@ double lbcTau(LbcTau tau, double x) {
   return 1.0;
 }
 
-/// The ADMM state between iterations (G = ∇[Wb; Z] and X = shrink(G − U1) follow from it).
-struct LbcSolver::State {
-  RowMatrix Z;   ///< n×m interior rows of the affine iterate Y M + H.
-  RowMatrix U1;  ///< #T×2m scaled multipliers of X = ∇W (x parts, then y parts).
-  RowMatrix U2;  ///< n×m scaled multipliers of W = Y M + H.
-  double mu = 0.0;
-};
-
 struct LbcSolver::Impl {
-  LbcTau tau = LbcTau::Square;
-  double spacing = 0.0;                     // the longest mesh edge (pixels): about the mesher's h
   Index m = 0, r = 0, nb = 0, n = 0, nt = 0;  // controls, null-space dim, boundary, interior, triangles
   Points V;                                 // pixel positions (for the final QP)
   Triangles T;
@@ -152,14 +141,6 @@ struct LbcSolver::Impl {
   /// E = ∇ of the Dirichlet data; the inner minimum is a 3-constraint LP (BarycentricLp: the
   /// simplex method over triangles of controls containing v, a valid bound at every pivot).
   double dualBound(const RowMatrix& U1, double mu) const;
-
-  /// The coarse state `cs` of the same cage on the mesh of `coarse`, interpolated onto this mesh:
-  /// Z and U2 linearly at the interior vertices (Z's rows then projected onto W K = B; U2 from the
-  /// coarse triangle's interior vertices alone, the boundary has none), U1 per triangle from the
-  /// coarse triangle containing its centroid. The scaled multipliers are functions (the penalty
-  /// is in L²(Ω)), so interpolation keeps their meaning. Points no coarse triangle contains
-  /// (round-off at the cage) keep the least-norm row of H and zero multipliers.
-  void prolongate(const Impl& coarse, const State& cs, State& fs) const;
 
   /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
   void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
@@ -220,48 +201,8 @@ double LbcSolver::Impl::dualBound(const RowMatrix& U1, double mu) const {
   return sum(edgePart) + sum(vertexPart);
 }
 
-void LbcSolver::Impl::prolongate(const Impl& coarse, const State& cs, State& fs) const {
-  Weights Wc(coarse.nb + coarse.n, m);
-  Wc.topRows(coarse.nb) = coarse.Wb;
-  Wc.bottomRows(coarse.n) = cs.Z;
-  const MeshField field(coarse.V, coarse.T, Wc);
-  fs.Z = H;
-  fs.U2 = RowMatrix::Zero(n, m);
-  fs.U1 = RowMatrix::Zero(nt, 2 * m);
-  fs.mu = cs.mu;
-  parallelForRange(n, 64, [&](Index begin, Index end) {
-    Eigen::RowVectorXd z(m), u(m);
-    for (Index v = begin; v < end; ++v) {
-      Eigen::Vector3d b;
-      const Index t = field.locate(V.row(nb + v).transpose(), &b);
-      if (t < 0) continue;
-      const auto& tri = coarse.T[std::size_t(t)];
-      z.setZero();
-      u.setZero();
-      double interior = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        const Index cv = tri[std::size_t(c)];
-        z += b(c) * Wc.row(cv);
-        if (cv >= coarse.nb) {
-          u += b(c) * cs.U2.row(cv - coarse.nb);
-          interior += b(c);
-        }
-      }
-      projectRow(v, z.data(), &fs.Z(v, 0));
-      if (interior > 0.0) fs.U2.row(v) = u / interior;
-    }
-  });
-  parallelFor(nt, [&](Index s) {
-    const auto& t = T[std::size_t(s)];
-    const Vec2 centroid = (V.row(t[0]) + V.row(t[1]) + V.row(t[2])).transpose() / 3.0;
-    const Index ct = field.locate(centroid);
-    if (ct >= 0) fs.U1.row(s) = cs.U1.row(ct);
-  }, 256);
-}
-
 LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique<Impl>()) {
   Impl& d = *m_impl;
-  d.tau = tau;
   d.m = mesh.controls;
   if (d.m < 3) throw std::invalid_argument("LBC: the cage needs at least 3 control points");
   if (mesh.status != CageMeshStatus::Ok || mesh.T.empty() || mesh.size() < d.m)
@@ -272,9 +213,6 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   d.nt = Index(mesh.T.size());
   d.V = mesh.V;
   d.T = mesh.T;
-  for (const auto& t : d.T)
-    for (int c = 0; c < 3; ++c)
-      d.spacing = std::max(d.spacing, (d.V.row(t[std::size_t(c)]) - d.V.row(t[std::size_t((c + 1) % 3)])).norm());
 
   // Normalized geometry: centred, bounding-box diameter 1 (the paper's scaling).
   const Vec2 lo = mesh.V.colwise().minCoeff(), hi = mesh.V.colwise().maxCoeff();
@@ -376,9 +314,7 @@ double LbcSolver::objective(const Weights& W) const {
   return sum(part);
 }
 
-LbcResult LbcSolver::solve(const LbcOptions& options) const { return solveFrom(options, nullptr); }
-
-LbcResult LbcSolver::solveFrom(const LbcOptions& options, State* state) const {
+LbcResult LbcSolver::solve(const LbcOptions& options) const {
   const Impl& d = *m_impl;
   const auto start = std::chrono::steady_clock::now();
   LbcResult res;
@@ -391,6 +327,18 @@ LbcResult LbcSolver::solveFrom(const LbcOptions& options, State* state) const {
   }
   const Index m = d.m, n = d.n, nt = d.nt;
   const double alpha = options.relaxation;
+
+  // Start: harmonic coordinates (L_II W_I = −L_IB W_B) projected to the affine set, or Y = 0.
+  RowMatrix Z = d.H;  // interior rows of the affine iterate Y M + H
+  if (options.harmonicStart && n > 0 && d.r > 0) {
+    RowMatrix harmonic = -(d.Lib * d.Wb);
+    d.laplace.solveInPlace(harmonic);
+    parallelForRange(n, 64, [&](Index begin, Index end) {
+      for (Index v = begin; v < end; ++v) d.projectRow(v, &harmonic(v, 0), &Z(v, 0));
+    });
+  }
+  RowMatrix G(nt, 2 * m);
+  parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
 
   // Final weights from the affine iterate Z: Dirichlet rows, and Z made non-negative by the
   // per-vertex QP (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1); their objective.
@@ -422,59 +370,12 @@ LbcResult LbcSolver::solveFrom(const LbcOptions& options, State* state) const {
     rep.objective = objective(res.W);
   };
   const auto iterStart = std::chrono::steady_clock::now();
-  // Start: the coarse level's state interpolated (coarse-to-fine), else harmonic coordinates
-  // (L_II W_I = −L_IB W_B) projected to the affine set, or Y = 0.
-  RowMatrix Z = d.H;  // interior rows of the affine iterate Y M + H
-  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m), U2 = RowMatrix::Zero(n, m);
+  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m);
   double mu = options.penalty;
-  bool started = false;
-  if (options.coarseStart && options.maxIterations > 0 && d.V.rows() >= options.coarseMinVertices && n > 0 && d.r > 0) {
-    CageMeshOptions mo;
-    mo.spacing = 2.0 * d.spacing;
-    const CageMesh coarseMesh = meshCageInterior(Cage::polygon(d.V.topRows(m)), mo);
-    if (coarseMesh.status == CageMeshStatus::Ok && coarseMesh.interior() > 0) {
-      const LbcSolver coarse(coarseMesh, d.tau);
-      LbcOptions co = options;
-      co.tolerance = std::max(options.tolerance, options.coarseTolerance);
-      co.gapTolerance = 0.0;
-      co.certify = false;
-      State cs;
-      const LbcResult cr = coarse.solveFrom(co, &cs);
-      rep.coarseIterations = cr.report.iterations + cr.report.coarseIterations;
-      rep.coarseVertices = coarseMesh.size() + cr.report.coarseVertices;
-      rep.certifySeconds += cr.report.certifySeconds;
-      if (cr.report.status == LbcStatus::Cancelled) {
-        rep.status = LbcStatus::Cancelled;
-        finalize(Z);
-        rep.iterationSeconds = secondsSince(iterStart);
-        rep.seconds = secondsSince(start) + d.geodesicSeconds + d.factorSeconds;
-        return res;
-      }
-      if (cr.report.status != LbcStatus::Failed) {
-        State fs;
-        d.prolongate(*coarse.m_impl, cs, fs);
-        Z = std::move(fs.Z);
-        U1 = std::move(fs.U1);
-        U2 = std::move(fs.U2);
-        mu = fs.mu;
-        started = true;
-      }
-    }
-  }
-  if (!started && options.harmonicStart && n > 0 && d.r > 0) {
-    RowMatrix harmonic = -(d.Lib * d.Wb);
-    d.laplace.solveInPlace(harmonic);
-    parallelForRange(n, 64, [&](Index begin, Index end) {
-      for (Index v = begin; v < end; ++v) d.projectRow(v, &harmonic(v, 0), &Z(v, 0));
-    });
-  }
-  RowMatrix G(nt, 2 * m);
-  parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
-
   bool certified = false;  // rep.lowerBound and res.W belong to the current iterate
   if (n > 0 && d.r > 0) {
     RowMatrix X(nt, 2 * m), F(nt, 3 * m);
-    RowMatrix Wc(n, m), Qm(n, m);
+    RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), Qm(n, m);
     std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
     const double norm = 1.0 / (double(m) * d.domainArea);
     int nextGapCheck = 0;
@@ -622,12 +523,6 @@ LbcResult LbcSolver::solveFrom(const LbcOptions& options, State* state) const {
       rep.lowerBound = d.dualBound(U1, mu);
       rep.certifySeconds += secondsSince(tc);
     }
-  }
-  if (state) {
-    state->Z = std::move(Z);
-    state->U1 = std::move(U1);
-    state->U2 = std::move(U2);
-    state->mu = mu;
   }
   rep.seconds = secondsSince(start) + d.geodesicSeconds + d.factorSeconds;
   return res;

@@ -59,18 +59,6 @@ struct LbcOptions {
   /// 405 / 434; star 123 / 120 / 113 at 1.65 and 122 / 120 / 119 at 1.9.
   double relaxation = 1.9;
   bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
-  /// Coarse-to-fine start: when the mesh has at least `coarseMinVertices` vertices, the same cage
-  /// is meshed at twice the longest edge (about a quarter of the vertices) and solved first
-  /// (itself coarse-to-fine, same options but the stopping rule below), and its iterate and scaled
-  /// multipliers, interpolated onto this mesh, start the ADMM here instead of the harmonic start.
-  /// Measured (1 thread, iterations coarse + fine to the certified 0.1% stop): figure 2k 405 →
-  /// 144 + 276, 5k 405 → 148 + 314; star 2k/5k 122/120 → 74 + 101, 73 + 100.
-  bool coarseStart = true;
-  Index coarseMinVertices = 1500;
-  /// The coarse levels stop when both residuals are ≤ this (or `tolerance` if larger; no
-  /// certificate): a tighter coarse solve (1e-3, or the 0.1% certificate) did not save fine
-  /// iterations.
-  double coarseTolerance = 3e-3;
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
   /// Certified stopping: once the residuals are below `tolerance`, also require
   /// (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the ADMM
@@ -98,10 +86,6 @@ struct LbcReport {
   double lowerBound = -std::numeric_limits<double>::infinity();
   double geodesicSeconds = 0.0, factorSeconds = 0.0, iterationSeconds = 0.0, seconds = 0.0;
   double certifySeconds = 0.0;  ///< Part of `seconds` spent on lower bounds (and their projections).
-  /// Coarse-to-fine (LbcOptions::coarseStart): ADMM iterations and vertices of the coarse levels
-  /// (summed over levels; their time is part of `seconds` and `iterationSeconds`).
-  int coarseIterations = 0;
-  Index coarseVertices = 0;
 };
 
 struct LbcResult {
@@ -132,10 +116,6 @@ class LbcSolver {
 
  private:
   struct Impl;
-  struct State;
-  /// ADMM from `state` when it holds an iterate (else the harmonic or coarse start); the final
-  /// iterate and scaled multipliers are left in `state` when it is given.
-  LbcResult solveFrom(const LbcOptions& options, State* state) const;
   std::unique_ptr<Impl> m_impl;
 };
 
