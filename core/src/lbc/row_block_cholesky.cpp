@@ -76,8 +76,9 @@ void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vec
 void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   const Index n = size(), k = B.cols();
   if (k == 0) return;
-  // Blocks of at most kBlock columns, as even as k allows (k alone decides, not the threads).
-  const Index blocks = (k + kBlock - 1) / kBlock, width = (k + blocks - 1) / blocks;
+  // Blocks of at most kBlock columns, at least two (both threads busy), as even as k allows (k
+  // alone decides, not the threads). Each column gets the same operations whatever its block.
+  const Index blocks = std::max(std::min(k, Index(2)), (k + kBlock - 1) / kBlock), width = (k + blocks - 1) / blocks;
   parallelFor(blocks, [&](Index b) {
     const Index c0 = b * width, w = std::min(width, k - c0);
     std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
