@@ -63,7 +63,7 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   double shown = 0.0;
   options.progress = [&](const LbcProgress& p) {
     // Progress by the residual's way down to the tolerance (log scale), or the iteration share;
-    // never backwards (the coarse-to-fine start's levels each begin with larger residuals).
+    // never backwards (ADMM's residuals need not fall at every iteration).
     const double worst = std::max(p.primalResidual, p.dualResidual);
     const double byResidual = std::log(std::max(worst, lbc.tolerance)) / std::log(lbc.tolerance);
     const double f = shown = std::clamp(std::max({shown, byResidual, double(p.iteration) / lbc.maxIterations}), 0.0, 1.0);
