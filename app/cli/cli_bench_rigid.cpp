@@ -4,6 +4,7 @@
 // (app::setRigidity) for a 500-sample region on the star and a 2,000-sample region on the figure.
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -61,16 +62,26 @@ void benchSpeed(const std::string& dir, const std::string& name, Index count, do
   const std::vector<double> rho = discRegion(plain, count);
   std::vector<double> ms;
   app::RigidityUpdate u;
+  double gap = 0.0;  // the longest time between two progress calls: how long a Cancel may wait
+  int calls = 0;
   for (int r = 0; r < repeats; ++r) {
     app::Session s = copyOf(plain);
-    u = app::setRigidity(s, rho);
+    auto last = std::chrono::steady_clock::now();
+    u = app::setRigidity(s, rho, [&](const char*, double) {
+      const auto now = std::chrono::steady_clock::now();
+      gap = std::max(gap, std::chrono::duration<double>(now - last).count());
+      last = now;
+      ++calls;
+      return true;
+    });
     ms.push_back(1e3 * u.seconds);
   }
   std::sort(ms.begin(), ms.end());
-  std::printf("  %-7s %7ld %8ld %7ld %9ld %9ld %11.1f %10.1f %8d%s %9.1f  (goal %.0f ms)\n", name.c_str(), long(u.report.region),
-              long(u.report.nodes), long(u.report.controls), long(cage.size()), long(u.rows.size()), ms[ms.size() / 2],
-              1e3 * u.report.solver.seconds, u.report.solver.iterations,
-              u.report.solver.method == RigidityQpMethod::Admm ? "*" : " ", 1e3 * u.report.solver.factorSeconds, goalMs);
+  std::printf("  %-7s %7ld %8ld %7ld %9ld %9ld %11.1f %10.1f %8d%s %9.1f %8d %8.1f  (goal %.0f ms)\n", name.c_str(),
+              long(u.report.region), long(u.report.nodes), long(u.report.controls), long(cage.size()), long(u.rows.size()),
+              ms[ms.size() / 2], 1e3 * u.report.solver.seconds, u.report.solver.iterations,
+              u.report.solver.method == RigidityQpMethod::Admm ? "*" : " ", 1e3 * u.report.solver.factorSeconds, calls / repeats,
+              1e3 * gap, goalMs);
 }
 
 /// Mean ‖J − R‖ over `polygon` for `pose` without and with the polygon made rigid (strength 1).
@@ -148,9 +159,10 @@ void benchRigid(const std::string& dir, int repeats) {
               atOne, atOne / none.distortion, unity, repro, far);
   benchOtherSetUps(plain, dir);
   std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
-  std::printf("  (QP it: active-set rounds, or ADMM iterations when marked *)\n");
-  std::printf("  %-7s %7s %8s %7s %9s %9s %11s %10s %9s %9s\n", "example", "region", "nodes", "active", "controls", "rows",
-              "release ms", "QP ms", "QP it", "factor ms");
+  std::printf("  (QP it: active-set rounds, or ADMM iterations when marked *; progress: calls per release and the longest\n"
+              "  gap between two, i.e. how long a Cancel can wait)\n");
+  std::printf("  %-7s %7s %8s %7s %9s %9s %11s %10s %9s %9s %8s %8s\n", "example", "region", "nodes", "active", "controls", "rows",
+              "release ms", "QP ms", "QP it", "factor ms", "progress", "gap ms");
   benchSpeed(dir, "star", 500, 200.0, repeats);
   benchSpeed(dir, "figure", 2000, 2000.0, repeats);
 }

@@ -22,12 +22,14 @@ std::vector<char> rigidHeldSamples(const SampleSet& samples) {
   return keep;
 }
 
-RigidityReport applyRigidity(Session& s, KernelField& field) {
+RigidityReport applyRigidity(Session& s, KernelField& field, const std::function<bool(double)>& progress) {
   if (std::none_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) return {};
   if (Index(s.rigidity.size()) != s.samples.size())
     throw std::invalid_argument("the session's rigidity has " + std::to_string(s.rigidity.size()) + " entries for " +
                                 std::to_string(s.samples.size()) + " samples");
-  return makeRigid(field, s.cage.C, s.rigidity, rigidHeldSamples(s.samples), s.W);
+  RigidityOptions options;
+  options.solver.progress = progress;
+  return makeRigid(field, s.cage.C, s.rigidity, rigidHeldSamples(s.samples), s.W, options);
 }
 
 void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rowsIn, std::vector<Index>& columns) {
@@ -60,7 +62,7 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
   if (!columns.empty()) field.update(s.W, columns);
 }
 
-RigidityUpdate setRigidity(Session& s, std::span<const double> rho) {
+RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const RigidityProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   auto* field = dynamic_cast<KernelField*>(s.field.get());
   if (!field || !s.hasField()) throw std::invalid_argument("rigid regions need a session bound with the kernel backend (kc)");
@@ -78,13 +80,28 @@ RigidityUpdate setRigidity(Session& s, std::span<const double> rho) {
   rows.insert(rows.end(), fresh.begin(), fresh.end());
   std::sort(rows.begin(), rows.end());
   rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  double shown = 0.0;  // the bar never goes back (the solver's own estimate may)
+  auto tell = [&](const char* stage, double f) { return !progress || progress(stage, shown = std::max(shown, f)); };
+  auto step = [&](const char* stage, double f) {
+    if (!tell(stage, f)) throw RigidityQpCancelled();
+  };
+  const RowMatrix W = s.W;
+  const std::vector<double> stored = s.rigidity;
   s.rigidity.assign(rho.begin(), rho.end());
-  if (!rows.empty()) {
+  if (!rows.empty()) try {
+    step("restoring the unconstrained weights", 0.0);
     restoreUnconstrained(s, *field, rows, u.columns);
-    u.report = applyRigidity(s, *field);
+    step("rigidity solve", 0.1);
+    u.report = applyRigidity(s, *field, [&](double f) { return tell("rigidity solve", 0.1 + 0.85 * f); });
+    step("field", 0.95);
     u.columns.insert(u.columns.end(), u.report.columns.begin(), u.report.columns.end());
     std::sort(u.columns.begin(), u.columns.end());
     u.columns.erase(std::unique(u.columns.begin(), u.columns.end()), u.columns.end());
+  } catch (const RigidityQpCancelled&) {  // put the session back as it was
+    s.W = W;
+    s.rigidity = stored;
+    field->update(s.W);
+    throw RigidityCancelled();
   }
   u.rows = std::move(rows);
   u.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 #include <stdexcept>
@@ -15,6 +16,11 @@ namespace {
 
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Asks options.progress (when set) whether to go on, with a fraction in [0, 1].
+bool goOn(const RigidityQpOptions& options, double fraction) {
+  return !options.progress || options.progress(std::clamp(fraction, 0.0, 1.0));
 }
 
 /// Solves M̂ Y = rhs subject to A Y = 0 through the factorization of M̂ and the pseudo-inverse of
@@ -112,6 +118,7 @@ RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     rep.dualResidual = mu * (KcT * ((Snew - S) * qp.Z)).cwiseAbs().maxCoeff();
     S.swap(Snew);
     rep.iterations = it;
+    if (it % 20 == 0 && !goOn(options, double(it) / options.maxIterations)) throw RigidityQpCancelled();
     if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.dualTolerance * dualScale) {
       rep.converged = true;
       break;
@@ -126,17 +133,106 @@ RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   return dU;
 }
 
-/// Primal-dual active set (Hintermüller, Ito & Kunisch 2002) on the lower bounds Kc ΔU ≥ L: one
-/// factorization of 2H (with A through the Schur complement); the equality-constrained optimum Y0;
-/// then rounds of: the active pairs (sample i, control col) are held at their bounds by the
-/// multipliers λ of the dense system Σ_b (k_iᵀ F_j)(z_col·z_d) λ_b = L_a − (Kc Y0 Zᵀ)_a with
-/// F_j = (2H)⁻¹_A k_j (the constrained solve of row j of Kc); Y = Y0 + Σ_b λ_b F_j z_dᵀ; the next
-/// active set keeps the pairs with λ > 0 and adds the violated ones. It stops when the set repeats:
-/// then λ ≥ 0 on it and Kc ΔU ≥ L − tolerance off it (the KKT conditions). Returns false (and
-/// leaves dU alone) when it does not settle within maxActiveSetRounds or the set grows past
-/// maxActivePairs: the caller falls back to ADMM.
+/// The bounds' dual (docs/rigidity.md, "The QP and its solver"): with F = (2H)⁻¹_A Kcᵀ (n×c),
+/// Kq = Kc F (c×c), the active controls' rows Z' of Z (m'×r), P = Z'Z'ᵀ and S0 = Kc Y0 Z'ᵀ, the
+/// primal Y(Λ) = Y0 + F Λ Z' for multipliers Λ ≥ 0 (c×m'); its slack S(Λ) − L = Kq Λ P − R with
+/// R = L − S0 is the gradient of d(Λ) = ½⟨Λ, Kq Λ P⟩ − ⟨R, Λ⟩, minimized over Λ ≥ 0 (the KKT
+/// conditions: Λ ≥ 0, slack ≥ 0, Λ ∘ slack = 0). Q = Kq ⊗ P is never formed: Q Λ = Kq Λ P.
+class BoundDual {
+ public:
+  BoundDual(Eigen::MatrixXd Kq, Eigen::MatrixXd P, Eigen::MatrixXd R) : m_Kq(std::move(Kq)), m_P(std::move(P)), m_R(std::move(R)) {}
+  Index rows() const { return m_R.rows(); }
+  Index cols() const { return m_R.cols(); }
+  const Eigen::MatrixXd& R() const { return m_R; }
+  /// Q Λ = Kq Λ P (c×m').
+  Eigen::MatrixXd apply(const Eigen::MatrixXd& Lambda) const { return m_Kq * (Lambda * m_P); }
+  double diagonal(Index i, Index c) const { return m_Kq(i, i) * m_P(c, c); }
+  double kq(Index i, Index j) const { return m_Kq(i, j); }
+  double p(Index c, Index d) const { return m_P(c, d); }
+
+ private:
+  Eigen::MatrixXd m_Kq, m_P, m_R;
+};
+
+/// Solves (Q_FF + δI) d = b on the free pairs F by conjugate gradients preconditioned with the
+/// per-sample blocks Kq_ii P[F_i, F_i] + δI (Q_FF restricted to one sample's free controls).
+/// `free` is c×m' (1 = free); b and the result are c×m' with zeros off F. Returns the iterations.
+int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic>& free, const Eigen::MatrixXd& b, double delta,
+              double tolerance, int maxIterations, Eigen::MatrixXd& x) {
+  const Index c = D.rows(), m = D.cols();
+  std::vector<Index> rowsF;  // samples with a free pair
+  for (Index i = 0; i < c; ++i)
+    if (free.row(i).any()) rowsF.push_back(i);
+  const Index cf = Index(rowsF.size());
+  x = Eigen::MatrixXd::Zero(c, m);
+  if (cf == 0) return 0;
+  // The problem on the rows with free pairs only: Kq(rowsF, rowsF).
+  Eigen::MatrixXd Kf(cf, cf), Pm(m, m), mask(cf, m), bf(cf, m);
+  for (Index a = 0; a < cf; ++a) {
+    for (Index b2 = 0; b2 < cf; ++b2) Kf(a, b2) = D.kq(rowsF[std::size_t(a)], rowsF[std::size_t(b2)]);
+    for (Index col = 0; col < m; ++col) mask(a, col) = free(rowsF[std::size_t(a)], col) ? 1.0 : 0.0;
+    bf.row(a) = b.row(rowsF[std::size_t(a)]).cwiseProduct(mask.row(a));
+  }
+  for (Index e = 0; e < m; ++e)
+    for (Index f = 0; f < m; ++f) Pm(e, f) = D.p(e, f);
+  auto apply = [&](const Eigen::MatrixXd& v) -> Eigen::MatrixXd { return (Kf * (v * Pm)).cwiseProduct(mask) + delta * v; };
+  std::vector<Eigen::LDLT<Eigen::MatrixXd>> blocks(static_cast<std::size_t>(cf));
+  std::vector<std::vector<Index>> cols(static_cast<std::size_t>(cf));
+  for (Index a = 0; a < cf; ++a) {
+    auto& cs = cols[std::size_t(a)];
+    for (Index col = 0; col < m; ++col)
+      if (mask(a, col) != 0.0) cs.push_back(col);
+    Eigen::MatrixXd B(Index(cs.size()), Index(cs.size()));
+    for (std::size_t e = 0; e < cs.size(); ++e)
+      for (std::size_t f = 0; f < cs.size(); ++f) B(Index(e), Index(f)) = Kf(a, a) * Pm(cs[e], cs[f]) + (e == f ? delta : 0.0);
+    blocks[std::size_t(a)].compute(B);
+  }
+  auto precondition = [&](const Eigen::MatrixXd& r) {
+    Eigen::MatrixXd z = Eigen::MatrixXd::Zero(cf, m);
+    for (Index a = 0; a < cf; ++a) {
+      const auto& cs = cols[std::size_t(a)];
+      Eigen::VectorXd v(Index(cs.size()));
+      for (std::size_t e = 0; e < cs.size(); ++e) v(Index(e)) = r(a, cs[e]);
+      v = blocks[std::size_t(a)].solve(v);
+      for (std::size_t e = 0; e < cs.size(); ++e) z(a, cs[e]) = v(Index(e));
+    }
+    return z;
+  };
+  Eigen::MatrixXd xf = Eigen::MatrixXd::Zero(cf, m), r = bf, z = precondition(r), dir = z;
+  double rz = r.cwiseProduct(z).sum();
+  int it = 0;
+  while (it < maxIterations && r.cwiseAbs().maxCoeff() > tolerance) {
+    ++it;
+    const Eigen::MatrixXd q = apply(dir);
+    const double dq = dir.cwiseProduct(q).sum();
+    if (!(dq > 0.0)) break;
+    const double alpha = rz / dq;
+    xf += alpha * dir;
+    r -= alpha * q;
+    z = precondition(r);
+    const double rzNew = r.cwiseProduct(z).sum();
+    dir = z + (rzNew / rz) * dir;
+    rz = rzNew;
+  }
+  for (Index a = 0; a < cf; ++a) x.row(rowsF[std::size_t(a)]) = xf.row(a);
+  return it;
+}
+
+/// The bounds' dual d(Λ) over Λ ≥ 0 (BoundDual above) after one factorization of 2H with A
+/// through its Schur complement, by proximal point steps (docs/rigidity.md): each step minimizes
+/// d(Λ) + ε/2‖Λ − Λ_k‖², a linear complementarity problem with the positive definite Q + εI, by
+/// block principal pivoting (Júdice & Pires 1994): the free pairs' multipliers from Q_AA + εI
+/// (dense Cholesky, kept while the set does not change; CG beyond maxDensePairs), then every
+/// infeasible pair changes sides while their number falls, else only the last one (Murty's rule,
+/// finite for positive definite matrices; the plain primal-dual active set cycled on soft brush
+/// strokes, where the bound pairs are degenerate and Q_AA singular). A step that does not settle in
+/// 25 rounds makes ε ten times larger. It stops when max |min(s·Λ, slack)| ≤ tolerance (weights;
+/// s = the mean diagonal of Q): the bounds hold to the tolerance and pairs with a positive
+/// multiplier are at their bounds. Returns false when it does not converge within
+/// maxActiveSetRounds (the caller falls back to ADMM); throws RigidityQpCancelled when
+/// options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
-  const Index n = qp.H.rows(), m = qp.G.cols(), c = qp.Kc.rows();
+  const Index n = qp.H.rows(), c = qp.Kc.rows();
   const SparseMatrix H2 = 2.0 * qp.H;
   SparseMatrix M = H2;
   SparseMatrix shift(n, n);
@@ -147,83 +243,137 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   ConstrainedSolve solver;
   if (!solver.compute(M, qp.A, options.rankTolerance)) return false;
   rep.factorSeconds = secondsSince(tf);
+  if (!goOn(options, 0.1)) throw RigidityQpCancelled();
   const Eigen::MatrixXd Y0 = solver.solve(-2.0 * (qp.G * qp.Z));
-  const SparseRowMatrix Kr = qp.Kc;
-  const RowMatrix S0 = (qp.Kc * Y0) * qp.Z.transpose();
-  const Eigen::MatrixXd ZZ = qp.Z * qp.Z.transpose();  // m×m
-  const double tol = options.tolerance;
-
-  std::vector<Index> column(static_cast<std::size_t>(c), -1);  // sample row → column of F (computed on demand)
-  Eigen::MatrixXd F(n, 0);
-  // The columns F_i of the rows in `pairs` not computed yet, in one multi-right-hand-side solve.
-  auto addColumns = [&](const std::vector<std::pair<Index, Index>>& pairs) {
-    std::vector<Index> fresh;
-    for (const auto& [i, col] : pairs)
-      if (column[std::size_t(i)] < 0) column[std::size_t(i)] = F.cols() + Index(fresh.size()), fresh.push_back(i);
-    if (fresh.empty()) return;
-    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, Index(fresh.size()));
-    for (std::size_t f = 0; f < fresh.size(); ++f)
-      for (SparseRowMatrix::InnerIterator it(Kr, fresh[f]); it; ++it) k(it.col(), Index(f)) = it.value();
-    const Eigen::MatrixXd solved = solver.solve(k);
-    Eigen::MatrixXd grown(n, F.cols() + solved.cols());
-    grown << F, solved;
-    F.swap(grown);
-  };
-  std::vector<std::pair<Index, Index>> active;  // (sample row, control)
-  for (Index i = 0; i < c; ++i)
-    for (Index col = 0; col < m; ++col)
-      if (S0(i, col) < qp.L(i, col) - tol) active.emplace_back(i, col);
-  Eigen::MatrixXd Y = Y0;
-  Eigen::VectorXd lambda;
-  for (int round = 1; round <= options.maxActiveSetRounds; ++round) {
-    rep.iterations = round;
-    const Index a = Index(active.size());
-    if (a > options.maxActivePairs) return false;
-    if (a == 0) {
-      Y = Y0;
-    } else {
-      addColumns(active);
-      Eigen::MatrixXd KiF(a, F.cols());  // k_iᵀ F_j for the active rows
-      for (Index p = 0; p < a; ++p) {
-        KiF.row(p).setZero();
-        for (SparseRowMatrix::InnerIterator it(Kr, active[std::size_t(p)].first); it; ++it) KiF.row(p) += it.value() * F.row(it.col());
-      }
-      Eigen::MatrixXd Q(a, a);
-      Eigen::VectorXd rhs(a);
-      for (Index p = 0; p < a; ++p) {
-        const auto [i, ci] = active[std::size_t(p)];
-        rhs(p) = qp.L(i, ci) - S0(i, ci);
-        for (Index q = 0; q < a; ++q) {
-          const auto [j, cj] = active[std::size_t(q)];
-          Q(p, q) = KiF(p, column[std::size_t(j)]) * ZZ(ci, cj);
-        }
-      }
-      Q.diagonal().array() += 1e-12 * std::max(Q.diagonal().maxCoeff(), 1e-300);
-      lambda = Q.ldlt().solve(rhs);
-      Eigen::MatrixXd Lz = Eigen::MatrixXd::Zero(F.cols(), qp.Z.cols());  // Y = Y0 + Σ_p λ_p F_{i_p} z_{c_p}ᵀ
-      for (Index p = 0; p < a; ++p) Lz.row(column[std::size_t(active[std::size_t(p)].first)]) += lambda(p) * qp.Z.row(active[std::size_t(p)].second);
-      Y = Y0 + F * Lz;
-    }
-    const RowMatrix S = (qp.Kc * Y) * qp.Z.transpose();
-    std::vector<std::pair<Index, Index>> next;
-    std::vector<char> in(static_cast<std::size_t>(c * m), 0);
-    for (Index p = 0; p < a; ++p)
-      if (lambda(p) > 0.0) {
-        next.push_back(active[std::size_t(p)]);
-        in[std::size_t(active[std::size_t(p)].first * m + active[std::size_t(p)].second)] = 1;
-      }
-    for (Index i = 0; i < c; ++i)
-      for (Index col = 0; col < m; ++col)
-        if (!in[std::size_t(i * m + col)] && S(i, col) < qp.L(i, col) - tol) next.emplace_back(i, col);
-    std::sort(next.begin(), next.end());
-    if (next == active) {
-      dU = Y * qp.Z.transpose();
-      rep.converged = true;
-      return true;
-    }
-    active.swap(next);
+  if (c == 0) {
+    dU = Y0 * qp.Z.transpose();
+    rep.converged = true;
+    return true;
   }
-  return false;
+  // The active controls (non-zero rows of Z) and the dual's operators.
+  std::vector<Index> ctl;
+  for (Index col = 0; col < qp.Z.rows(); ++col)
+    if (qp.Z.row(col).squaredNorm() > 0.0) ctl.push_back(col);
+  const Index m = Index(ctl.size());
+  Eigen::MatrixXd Zs(m, qp.Z.cols());
+  for (Index k = 0; k < m; ++k) Zs.row(k) = qp.Z.row(ctl[std::size_t(k)]);
+  const Eigen::MatrixXd Kct = Eigen::MatrixXd(SparseMatrix(qp.Kc.transpose()));
+  Eigen::MatrixXd F(n, c);
+  constexpr Index kChunk = 128;  // columns per solve, so that cancelling is heard within one chunk
+  for (Index j = 0; j < c; j += kChunk) {
+    const Index w = std::min(kChunk, c - j);
+    F.middleCols(j, w) = solver.solve(Kct.middleCols(j, w));
+    if (!goOn(options, 0.1 + 0.3 * double(j + w) / double(c))) throw RigidityQpCancelled();
+  }
+  Eigen::MatrixXd Kq = qp.Kc * F;
+  Kq = 0.5 * (Kq + Kq.transpose()).eval();
+  const Eigen::MatrixXd S0 = (qp.Kc * Y0) * Zs.transpose();
+  Eigen::MatrixXd R(c, m);
+  for (Index k = 0; k < m; ++k) R.col(k) = qp.L.col(ctl[std::size_t(k)]) - S0.col(k);
+  const BoundDual D(std::move(Kq), Zs * Zs.transpose(), std::move(R));
+
+  double scale = 0.0;  // mean diagonal of Q: multipliers times this are in weight units
+  for (Index i = 0; i < c; ++i)
+    for (Index k = 0; k < m; ++k) scale += D.diagonal(i, k);
+  scale = std::max(scale / double(c * m), 1e-300);
+  const double tol = options.tolerance;
+  double eps = 0.0, epsRel = options.proximal;
+  using Pair = std::pair<Index, Index>;  // (constrained row, active control)
+  Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(c, m), Mu = Lambda, QL = Lambda;
+  std::vector<Pair> active, factored;
+  for (Index i = 0; i < c; ++i)
+    for (Index k = 0; k < m; ++k)
+      if (D.R()(i, k) > tol) active.emplace_back(i, k);
+  Eigen::LLT<Eigen::MatrixXd> llt;
+  Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(c, m);
+  double first = 0.0;
+  bool done = false;
+  int rounds = 0;
+  while (!done && rounds < options.maxActiveSetRounds) {
+    // Inner: min d(Λ) + ε/2 ‖Λ − Mu‖² over Λ ≥ 0, a linear complementarity problem with the positive
+    // definite Q + εI, by block principal pivoting (Júdice & Pires 1994): exchange every infeasible
+    // pair (the primal-dual active set step) while their number falls, else (after 3 tries) only one
+    // (Murty's rule, finite for positive definite matrices).
+    if (epsRel * scale != eps) factored.clear();  // a new ε: Q_AA + εI factorized again
+    eps = epsRel * scale;
+    Index fewest = std::numeric_limits<Index>::max();
+    int backup = 3;
+    bool settled = false;
+    int inner = 0;
+    for (; inner < 25 && rounds < options.maxActiveSetRounds; ++inner) {
+      ++rounds;
+      const Index a = Index(active.size());
+      Lambda.setZero();
+      if (a > 0 && a <= options.maxDensePairs) {
+        if (active != factored) {  // Q_AA + εI, factorized again only when the set changed
+          Eigen::MatrixXd Q(a, a);
+          for (Index p = 0; p < a; ++p)
+            for (Index q = 0; q <= p; ++q)
+              Q(p, q) = D.kq(active[std::size_t(p)].first, active[std::size_t(q)].first) *
+                        D.p(active[std::size_t(p)].second, active[std::size_t(q)].second);
+          Q.diagonal().array() += eps;
+          llt.compute(Q);  // reads the lower triangle
+          if (llt.info() != Eigen::Success) return false;
+          factored = active;
+        }
+        Eigen::VectorXd rhs(a);
+        for (Index p = 0; p < a; ++p) {
+          const auto [i, k] = active[std::size_t(p)];
+          rhs(p) = D.R()(i, k) + eps * Mu(i, k);
+        }
+        const Eigen::VectorXd lambda = llt.solve(rhs);
+        for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)].first, active[std::size_t(p)].second) = lambda(p);
+      } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
+        free.setZero();
+        for (const auto& [i, k] : active) free(i, k) = 1;
+        rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, Lambda);
+      }
+      QL = D.apply(Lambda);
+      const Eigen::MatrixXd g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
+      free.setZero();
+      for (const auto& [i, k] : active) free(i, k) = 1;
+      std::vector<Pair> infeasible;
+      for (Index i = 0; i < c; ++i)
+        for (Index k = 0; k < m; ++k)
+          if (free(i, k) ? scale * Lambda(i, k) < -1e-3 * tol : g(i, k) < -1e-3 * tol) infeasible.emplace_back(i, k);
+      if (!goOn(options, 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds)) throw RigidityQpCancelled();
+      if (infeasible.empty()) {
+        settled = true;
+        break;
+      }
+      if (Index(infeasible.size()) < fewest) {
+        fewest = Index(infeasible.size());
+        backup = 3;
+      } else if (backup > 0) {
+        --backup;
+      } else {
+        infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
+      }
+      for (const auto& [i, k] : infeasible) free(i, k) = !free(i, k);
+      active.clear();
+      for (Index i = 0; i < c; ++i)
+        for (Index k = 0; k < m; ++k)
+          if (free(i, k)) active.emplace_back(i, k);
+    }
+    // Not settled in 25 rounds: a larger ε (Q + εI nearer a diagonal, on which the exchanges settle);
+    // settled at once: back toward the default (smaller ε, faster proximal steps).
+    if (!settled) epsRel = std::min(10.0 * epsRel, 1.0);
+    else if (inner <= 1) epsRel = std::max(0.1 * epsRel, options.proximal);
+    // Outer (proximal point): the unregularized KKT residual at the clamped multipliers.
+    Lambda = Lambda.cwiseMax(0.0);
+    QL = D.apply(Lambda);
+    const double residual = (scale * Lambda).cwiseMin(QL - D.R()).cwiseAbs().maxCoeff();
+    if (first == 0.0) first = std::max(residual, 10.0 * tol);
+    done = residual <= tol;
+    Mu = Lambda;
+    if (!goOn(options, 0.4 + 0.55 * std::log(first / std::max(residual, tol)) / std::log(first / tol))) throw RigidityQpCancelled();
+  }
+  rep.iterations = rounds;
+  if (!done) return false;
+  const Eigen::MatrixXd Y = Y0 + F * (Lambda * Zs);
+  dU = Y * qp.Z.transpose();
+  rep.converged = true;
+  return true;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 /// Rigid regions in a bound session (thesis 5.4; docs/rigidity.md): the entry point a rigidity
 /// brush calls after a stroke.
 
+#include <exception>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -18,6 +20,15 @@ struct RigidityUpdate {
   double seconds = 0.0;
 };
 
+/// Progress of setRigidity: stage name and fraction in [0, 1]; return false to cancel.
+using RigidityProgress = std::function<bool(const char* stage, double fraction)>;
+
+/// Thrown by setRigidity when its progress callback asked to cancel; the session is as it was.
+class RigidityCancelled : public std::exception {
+ public:
+  const char* what() const noexcept override { return "rigidity cancelled"; }
+};
+
 /// Sets the per-sample rigidity of a bound kernel session and re-solves only around it:
 /// `rho` (#S entries, each in [0, 1]; 0 = not rigid) replaces session.rigidity; the samples
 /// within (reach + 5)σ of a sample whose old or new ρ is positive get their unconstrained weights
@@ -25,9 +36,13 @@ struct RigidityUpdate {
 /// session has lines), then kc::makeRigid solves the rigidity QP (docs/rigidity.md) around the new
 /// region, and the field's changed columns are re-solved. Weights farther away do not change.
 /// session.structure.rigid (the polygons) is left as it is: the brush's ρ is what counts.
+/// `progress` (optional) hears the stages ("restoring the unconstrained weights", "rigidity
+/// solve", "field") with the share done, between steps of at most ~0.1 s on a 2,000-sample region;
+/// when it returns false the session's weights, rigidity and field are put back and
+/// RigidityCancelled is thrown.
 /// Throws std::invalid_argument when the session is not a bound kernel session with target
 /// weights (weights.initial), or rho has the wrong size or a value outside [0, 1].
-RigidityUpdate setRigidity(Session& session, std::span<const double> rho);
+RigidityUpdate setRigidity(Session& session, std::span<const double> rho, const RigidityProgress& progress = {});
 
 /// The thesis's Fig 6.37 set-up on a five-pointed star cage of 10 points (tips at even indices,
 /// like the bundled images/star): the rigid region is the inner part of the bottom-right leg
