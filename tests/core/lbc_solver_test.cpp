@@ -101,16 +101,24 @@ TEST(LbcSolver, LocalerThanHarmonicCoordinates) {
 }
 
 TEST(LbcSolver, BitIdenticalOnOneAndTwoThreads) {
-  const CageMesh mesh = starMesh(10.0);
+  // Large enough that every parallel loop (grains of 64 vertices and 256 triangles) splits in two.
+  const CageMesh mesh = starMesh(16.0);
+  ASSERT_GT(mesh.interior(), 64);
+  ASSERT_GT(std::ssize(mesh.T), 256);
+  // 120 iterations cover the first two thread-choice probes (iterations 1-6 and 101-106), which run
+  // the loops on both threads whatever the timing picks between them.
+  LbcOptions options;
+  options.maxIterations = 120;
   LbcResult one, two;
   {
     ScopedThreadCount threads(1);
-    one = solveLbc(mesh);
+    one = solveLbc(mesh, options);
   }
   {
     ScopedThreadCount threads(2);
-    two = solveLbc(mesh);
+    two = solveLbc(mesh, options);
   }
+  ASSERT_EQ(one.report.iterations, 120);
   ASSERT_EQ(one.report.iterations, two.report.iterations);
   ASSERT_EQ(one.W.size(), two.W.size());
   EXPECT_EQ(0, std::memcmp(one.W.data(), two.W.data(), sizeof(double) * std::size_t(one.W.size())));
@@ -118,7 +126,8 @@ TEST(LbcSolver, BitIdenticalOnOneAndTwoThreads) {
 }
 
 TEST(LbcSolver, EveryTauGivesBarycentricWeights) {
-  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 12.0});
+  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 20.0});
+  ASSERT_GT(mesh.interior(), 50);
   for (LbcTau tau : {LbcTau::Square, LbcTau::Constant, LbcTau::Linear, LbcTau::Sqrt}) {
     LbcOptions options;
     options.tau = tau;
