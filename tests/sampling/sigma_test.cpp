@@ -23,9 +23,9 @@ TEST(Sigma, RuleOfEquation328) {
   EXPECT_THROW(suggestSigma(Points::Zero(1, 2)), std::invalid_argument);
 }
 
-TEST(Sigma, GridRowSumsAndConditionMatchThesis331) {
-  // Thesis 3.3.1: grid T = 1, σ = 3T/π: inner row sums 18/π (3.30), condition number ~1e3.
-  const Points X = squareGrid(61, 1.0);
+/// Thesis 3.3.1 on an n×n grid, T = 1, σ = 3T/π: inner row sums 18/π (3.30), condition number ~1e3.
+void expectGridRowSumsAndConditionOfThesis331(Index n) {
+  const Points X = squareGrid(n, 1.0);
   const KernelDiagnostics d = kernelDiagnostics(X, sigmaFromSpacing(1.0));
   ASSERT_GT(d.innerRows, 100);
   // 18/π up to the kernel's truncation at 5σ (a relative tail of ~4e-6 · 12.5).
@@ -36,6 +36,10 @@ TEST(Sigma, GridRowSumsAndConditionMatchThesis331) {
   EXPECT_GT(d.conditionEstimate, 1e3);
   EXPECT_LT(d.conditionEstimate, 1e4);
 }
+
+TEST(Sigma, GridRowSumsAndConditionMatchThesis331) { expectGridRowSumsAndConditionOfThesis331(31); }
+
+TEST(SigmaSlow, GridRowSumsAndConditionMatchThesis331OnALargerGrid) { expectGridRowSumsAndConditionOfThesis331(61); }
 
 TEST(Sigma, BlueNoiseSetOfThesis332) {
   // 1024 blue-noise points on [−30, 30]², σ = 2.5: row sums fluctuate a little inside (Fig 3.3),
@@ -52,16 +56,26 @@ TEST(Sigma, BlueNoiseSetOfThesis332) {
   EXPECT_GT(wide.conditionEstimate, 100.0 * d.conditionEstimate);
 }
 
-TEST(Sigma, SpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise) {
+/// Spectral σ (Fig 6.10) on an n×n grid (T = 1) and on n² blue-noise points over [0, n]².
+void expectSpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise(Index n) {
   // The finite window broadens the grid's first peak by up to 4π/L, so the gap ends a little early.
   const double T = 1.0;
-  const SpectralSigma g = spectralSigma(squareGrid(60, T));
+  const SpectralSigma g = spectralSigma(squareGrid(n, T));
   EXPECT_NEAR(g.sigma, sigmaFromSpacing(T), 0.08 * sigmaFromSpacing(T));
-  EXPECT_NEAR(g.gapOmega, 2.0 * std::numbers::pi / T, 4.0 * std::numbers::pi / 60.0);
-  const Points B = blueNoiseRectangle(1600, Rect{0, 0, 40, 40}, 2);
+  EXPECT_NEAR(g.gapOmega, 2.0 * std::numbers::pi / T, 4.0 * std::numbers::pi / double(n));
+  const double L = double(n) * 2.0 / 3.0;
+  const Points B = blueNoiseRectangle(Index(L * L), Rect{0, 0, L, L}, 2);
   const SpectralSigma b = spectralSigma(B);
   EXPECT_GT(b.sigma, suggestSigma(B));
   EXPECT_LT(b.sigma, 2.0 * suggestSigma(B));
+}
+
+TEST(Sigma, SpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise) {
+  expectSpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise(30);
+}
+
+TEST(SigmaSlow, SpectralChoiceAgreesWithRuleOnALargerGridAndBlueNoise) {
+  expectSpectralChoiceAgreesWithRuleOnAGridAndIsLargerOnBlueNoise(60);
 }
 
 TEST(Sigma, TooLargeSigmaIsVisibleInTheReport) {
