@@ -35,13 +35,14 @@ double bruteSegmentDistance(const Cage& cage, const Vec2& p, const Vec2& q) {
 }
 
 /// Every query of the grid equals the brute force over all edges (min(·, maxDistance)), for
-/// points and segments inside, outside and far from the cage, with cells from tiny to huge.
-void expectMatchesBruteForce(const Cage& cage, std::mt19937& rng) {
+/// points and segments inside, outside and far from the cage, with cells from tiny to huge;
+/// `queries` random points and segments per cell size.
+void expectMatchesBruteForce(const Cage& cage, std::mt19937& rng, int queries = 400) {
   std::uniform_real_distribution<double> coord(-300.0, 800.0), len(0.0, 60.0), ang(0.0, 2.0 * M_PI);
   std::uniform_real_distribution<double> reach(0.1, 80.0);
   for (double cell : {0.01, 3.0, 25.0, 5000.0}) {
     const CageEdgeGrid grid(cage, cell);
-    for (int k = 0; k < 400; ++k) {
+    for (int k = 0; k < queries; ++k) {
       const Vec2 x(coord(rng), coord(rng));
       const double t = ang(rng), r = reach(rng);
       const Vec2 y = x + len(rng) * Vec2(std::cos(t), std::sin(t));
@@ -53,13 +54,18 @@ void expectMatchesBruteForce(const Cage& cage, std::mt19937& rng) {
   }
 }
 
-TEST(CageEdgeGrid, MatchesBruteForceOnRandomPolygons) {
+/// Random star polygons of 5 to 205 vertices, `queries` queries per cell size on each.
+void expectMatchesBruteForceOnRandomPolygons(int queries) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 6; ++trial) {
     const Cage cage = randomStar(rng, 5 + 40 * trial, 250.0, 250.0, 60.0, 240.0);
-    expectMatchesBruteForce(cage, rng);
+    expectMatchesBruteForce(cage, rng, queries);
   }
 }
+
+TEST(CageEdgeGrid, MatchesBruteForceOnRandomPolygons) { expectMatchesBruteForceOnRandomPolygons(100); }
+
+TEST(CageEdgeGridSlow, MatchesBruteForceOnMoreQueries) { expectMatchesBruteForceOnRandomPolygons(400); }
 
 TEST(CageEdgeGrid, UsesTheExplicitEdgesOfAnOpenCage) {
   // A stick figure's sticks: only the listed edges count (no closing edge 3 → 0).
