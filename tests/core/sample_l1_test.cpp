@@ -66,10 +66,12 @@ TEST(SampleL1Slow, MatchesGlpkOnRandomProblems) {
   EXPECT_GE(unique, 200);
 }
 
-TEST(SampleL1, MatchesGlpkOnDegenerateProblems) {
+/// `trials` degenerate problems (x at a control, on a segment between two, or anywhere; many zero
+/// targets; every third already feasible), m = 3..40 controls, each checked against GLPK.
+void expectMatchesGlpkOnDegenerateProblems(int trials) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (int trial = 0; trial < 200; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     const int m = 3 + trial % 38;
     Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd::Zero(m)};
     const int k = trial % m, l = (trial + 1) % m;
@@ -92,6 +94,11 @@ TEST(SampleL1, MatchesGlpkOnDegenerateProblems) {
     expectMatchesGlpk(p, "trial " + std::to_string(trial), rng);
   }
 }
+
+// 48 trials: every combination of the placement (trial mod 4) and the feasible case (mod 3) 4 times.
+TEST(SampleL1, MatchesGlpkOnDegenerateProblems) { expectMatchesGlpkOnDegenerateProblems(48); }
+
+TEST(SampleL1Slow, MatchesGlpkOnMoreDegenerateProblems) { expectMatchesGlpkOnDegenerateProblems(200); }
 
 TEST(SampleL1, FeasibleTargetIsReturnedUnchanged) {
   std::mt19937 rng(8);
