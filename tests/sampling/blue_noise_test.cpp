@@ -32,16 +32,18 @@ struct Shape {
   Cage cage;
 };
 
-std::vector<Shape> shapes() {
-  return {{"convex", test::convexCage()}, {"star", test::starCage()}, {"u-gap-2h", test::uCage(2.0 * kH)}};
+std::vector<Shape> shapes(double h = kH) {
+  return {{"convex", test::convexCage()}, {"star", test::starCage()}, {"u-gap-2h", test::uCage(2.0 * h)}};
 }
 
-TEST(BlueNoise, KindsInOrderAndEverySampleInItsRegion) {
-  for (const Shape& shape : shapes()) {
+/// Every shape sampled at spacing h: samples ordered controls | edges | frame | interior |
+/// exterior, each in its region, free ones at least 0.3 h from the cage.
+void expectKindsInOrderAndEverySampleInItsRegion(double h) {
+  for (const Shape& shape : shapes(h)) {
     SCOPED_TRACE(shape.name);
     const Cage& cage = shape.cage;
     SamplingReport report;
-    const SamplingOptions o = blueOptions();
+    const SamplingOptions o = blueOptions(h);
     const SampleSet S = sample(cage, o, &report);
     const Index m = cage.size();
     ASSERT_NO_THROW(S.validate(m));
@@ -68,27 +70,38 @@ TEST(BlueNoise, KindsInOrderAndEverySampleInItsRegion) {
         const bool interior = i < firstFree + report.interior;
         EXPECT_EQ(k, interior ? SampleKind::Interior : SampleKind::Exterior) << i;
         EXPECT_EQ(insideCage(cage, x), interior) << i;
-        EXPECT_GE(distanceToCage(cage, x), 0.3 * kH) << i;
+        EXPECT_GE(distanceToCage(cage, x), 0.3 * h) << i;
       }
     }
     (void)firstExterior;
   }
 }
 
-TEST(BlueNoise, SeparationAndFillDistanceWithinBoundsOnSeveralShapes) {
-  for (const Shape& shape : shapes()) {
+TEST(BlueNoise, KindsInOrderAndEverySampleInItsRegion) { expectKindsInOrderAndEverySampleInItsRegion(1.5 * kH); }
+
+TEST(BlueNoiseSlow, KindsInOrderAndEverySampleInItsRegionAtAFinerSpacing) {
+  expectKindsInOrderAndEverySampleInItsRegion(kH);
+}
+
+/// Every shape sampled at spacing h: separation, fill distance and nearest-neighbour spread (in h).
+void expectSeparationAndFillDistanceWithinBounds(double h) {
+  for (const Shape& shape : shapes(h)) {
     SCOPED_TRACE(shape.name);
     SamplingReport report;
-    const SamplingOptions o = blueOptions();
+    const SamplingOptions o = blueOptions(h);
     const SampleSet S = sample(shape.cage, o, &report);
     const Index firstFree = S.size() - report.interior - (report.exterior - report.frame);
-    const PointSetMetrics q = pointSetMetrics(S.X, kH, samplingDomain(o), firstFree, kH / 8.0);
+    const PointSetMetrics q = pointSetMetrics(S.X, h, samplingDomain(o), firstFree, h / 8.0);
     EXPECT_GE(q.separation, 0.6) << "free samples closer than 0.6 h to another sample";
     EXPECT_LE(q.fill, 0.9) << "largest empty circle";
     EXPECT_LT(q.nnCv, 0.1);
     EXPECT_NEAR(q.nnMean, 0.93, 0.07);
   }
 }
+
+TEST(BlueNoise, SeparationAndFillDistanceWithinBoundsOnSeveralShapes) { expectSeparationAndFillDistanceWithinBounds(1.5 * kH); }
+
+TEST(BlueNoiseSlow, SeparationAndFillDistanceWithinBoundsAtAFinerSpacing) { expectSeparationAndFillDistanceWithinBounds(kH); }
 
 TEST(BlueNoise, NarrowGapIsSampled) {
   const Cage cage = test::uCage(2.0 * kH);  // slot x ∈ [192, 208], y ∈ [60, 200]
