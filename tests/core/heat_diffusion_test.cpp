@@ -113,8 +113,8 @@ TEST(HeatDiffusionSlow, NeverLeaksAcrossTheCage) {
 
 TEST(HeatDiffusion, ControlsAndEdgesKeepTheirFixedWeights) {
   const Cage cage = uCage();
-  const SampleSet S = sampleCage(cage, 2.0, 4.0);
-  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(2.0));
+  const SampleSet S = sampleCage(cage, 3.0, 4.0);
+  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(3.0));
   const Weights W = initialWeights(S, cage, K, InitOptions{});
   const Index m = cage.size();
   EXPECT_EQ(lagrangeError(W.topRows(m)), 0.0);
@@ -132,8 +132,8 @@ TEST(HeatDiffusion, ControlsAndEdgesKeepTheirFixedWeights) {
 TEST(HeatDiffusion, SteadyStateIsANonNegativePartitionOfUnity) {
   // (D_FF − K_FF) is an M-matrix and the fixed rows sum to 1: the solution does too, and lies in [0, 1].
   const Cage cage = uCage();
-  const SampleSet S = sampleCage(cage, 2.0, 6.0);
-  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(2.0));
+  const SampleSet S = sampleCage(cage, 3.0, 6.0);
+  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(3.0));
   InitReport rep;
   const Weights W = initialWeights(S, cage, K, InitOptions{}, &rep);
   EXPECT_TRUE(rep.steadyState);
@@ -250,14 +250,14 @@ TEST(HeatDiffusion, OneIterationIsTheRowNormalizedKernelUpdate) {
 
 TEST(HeatDiffusion, IsolatedSamplesGetSaneFallbackWeights) {
   const Cage cage = uCage();
-  SampleSet S = sampleCage(cage, 2.0, 0.0);
+  SampleSet S = sampleCage(cage, 3.0, 0.0);
   const Index n = S.size();
   S.X.conservativeResize(n + 1, 2);
   S.X.row(n) << 300.0, 300.0;  // far outside: no kernel neighbour at all
   S.kind.push_back(SampleKind::Exterior);
   S.edge.conservativeResize(n + 1, 2);
   S.edge.row(n) << -1, -1;
-  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(2.0));
+  const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(3.0));
   for (int iterations : {0, 10}) {
     InitOptions opt;
     opt.iterations = iterations;
