@@ -51,8 +51,10 @@ TEST(LbcSolver, BarycentricNonNegativeLagrangeAndLinearOnEdges) {
   EXPECT_LE(r.report.dualResidual, LbcOptions{}.tolerance);
 }
 
-TEST(LbcSolver, ObjectiveWithinAThousandthOfATightSolve) {
-  const CageMesh mesh = starMesh(20.0);
+/// On the star meshed at spacing h: the default solve's objective is within 0.1% of a tight solve's,
+/// the duality-gap certificate brackets it, and harmonic coordinates cost clearly more.
+void expectObjectiveWithinAThousandthOfATightSolve(double h) {
+  const CageMesh mesh = starMesh(h);
   const LbcSolver solver(mesh, LbcTau::Square);
   LbcOptions normalOptions;
   normalOptions.certify = true;
@@ -82,6 +84,12 @@ TEST(LbcSolver, ObjectiveWithinAThousandthOfATightSolve) {
   const LbcResult harmonic = solver.solve(none);
   EXPECT_EQ(harmonic.report.status, LbcStatus::NotConverged);
   EXPECT_GT(harmonic.report.objective, 1.05 * best.report.objective);
+}
+
+TEST(LbcSolver, ObjectiveWithinAThousandthOfATightSolve) { expectObjectiveWithinAThousandthOfATightSolve(26.0); }
+
+TEST(LbcSolverSlow, ObjectiveWithinAThousandthOfATightSolveOnAFinerMesh) {
+  expectObjectiveWithinAThousandthOfATightSolve(20.0);
 }
 
 TEST(LbcSolver, LocalerThanHarmonicCoordinates) {
