@@ -138,9 +138,10 @@ void runWarp(const WarpArgs& a) {
                 "factor %.1f ms, %ld right-hand sides %.1f ms%s\n",
                 long(e.unknowns), long(e.cutEdges), e.minWeight, e.maxWeight, 1e3 * e.assembleSeconds,
                 1e3 * e.factorSeconds, long(m), 1e3 * e.solveSeconds, e.ok ? "" : " (factorization FAILED: outside kept fixed)");
-    if (dr.guardFolds > 0)
-      std::printf("fold guard: %ld triangles outside the cage would fold; %ld vertices held back\n",
-                  long(dr.guardFolds), long(dr.guardVertices));
+    if (dr.harmonicFolds > 0)
+      std::printf("fold repair: the harmonic extension folded %ld triangles outside the cage, %ld left after the repair "
+                  "(%ld vertices moved, %.2f ms)\n",
+                  long(dr.harmonicFolds), long(dr.repairedFolds), long(dr.repairVertices), 1e3 * dr.repairSeconds);
   }
   std::printf("outside the cage: corners moved %.2f px; background 50 px from the cage moved mean %.2f max %.2f px "
               "(%ld vertices), 200 px mean %.2f max %.2f px (%ld); weights in [%.3g, %.3g]; fold-overs outside %ld",

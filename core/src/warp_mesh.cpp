@@ -107,16 +107,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     const auto layer = [&](const std::array<int, 3>& t) { const int k = insideCount(t); return k == 0 ? 0 : (k == 3 ? 2 : 1); };
     std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
     m_outsideTriangles = Index(std::count_if(m_triangles.begin(), m_triangles.end(), [&](const auto& t) { return layer(t) == 0; }));
-    m_guardedTriangles = m_outsideTriangles;
-    if (options.foldGuard) {
-      // The fold guard moves exterior vertices (1), those of triangles across the cage last (2).
-      m_guardClass.assign(m_exterior->exterior.begin(), m_exterior->exterior.end());
-      for (const auto& t : m_triangles)
-        if (layer(t) == 1)
-          for (int v : t)
-            if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
-      m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_outsideTriangles, m_rest.rows()));
-    }
+    buildRepair(xs, ys);
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
 }
@@ -136,30 +127,23 @@ void WarpMesh::buildPinned(const std::vector<double>& xs, const std::vector<doub
   ext.exterior.resize(std::size_t(nv), 0);
   ext.H.conservativeResize(nv, ext.H.cols());
   m_exterior = std::make_shared<const ExteriorWeights>(std::move(ext));
-  // Outside, the triangles with no point on the cage come first: the fold guard's (it holds back
-  // vertices strictly outside the cage; points on the cage follow the field, so the inside is
-  // never touched, and a triangle on the cage folds only where the cage itself passes over it).
-  const auto touches = [&](const std::array<int, 3>& t) {
-    return grid.onCage[std::size_t(t[0])] || grid.onCage[std::size_t(t[1])] || grid.onCage[std::size_t(t[2])];
-  };
-  const auto firstTouching = std::stable_partition(m_triangles.begin(), m_triangles.begin() + m_outsideTriangles,
-                                                   [&](const auto& t) { return !touches(t); });
-  m_guardedTriangles = Index(firstTouching - m_triangles.begin());
-  if (m_options.foldGuard) {
-    // Movable: 1, or 2 next to the cage (moved last: holding such a vertex back folds the
-    // triangles between it and the moving cage).
-    m_guardClass.assign(std::size_t(nv), 0);
-    for (Index t = 0; t < m_guardedTriangles; ++t)
-      for (int v : m_triangles[std::size_t(t)]) m_guardClass[std::size_t(v)] = 1;
-    for (Index t = m_guardedTriangles; t < m_outsideTriangles; ++t)
-      for (int v : m_triangles[std::size_t(t)])
-        if (m_guardClass[std::size_t(v)]) m_guardClass[std::size_t(v)] = 2;
-    m_guardTopology = std::make_shared<const FoldGuardTopology>(foldGuardTopology(m_triangles, m_guardedTriangles, nv));
-  }
+  buildRepair(xs, ys);
   m_restArea.resize(Index(m_triangles.size()));
   for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   m_deformed = m_rest;
   m_jacobian = Eigen::VectorXd::Ones(Index(m_triangles.size()));
+}
+
+void WarpMesh::buildRepair(const std::vector<double>& xs, const std::vector<double>& ys) {
+  if (!m_options.repairFolds) return;
+  // Movable: vertices strictly outside the cage and off the image border (which stays pinned).
+  const Index nv = m_rest.rows();
+  std::vector<std::uint8_t> movable(std::size_t(nv), 0);
+  for (Index v = 0; v < nv; ++v)
+    movable[std::size_t(v)] = m_exterior->exterior[std::size_t(v)] && m_rest(v, 0) != xs.front() &&
+                                      m_rest(v, 0) != xs.back() && m_rest(v, 1) != ys.front() && m_rest(v, 1) != ys.back()
+                                  ? 1 : 0;
+  m_repair = std::make_shared<const ExteriorRepairTopology>(exteriorRepairTopology(m_triangles, m_outsideTriangles, nv, movable));
 }
 
 CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
@@ -286,11 +270,13 @@ DeformReport WarpMesh::deform(const Pose& pose) {
     }
   });
   DeformReport rep;
-  if (m_exterior && m_options.foldGuard) {
-    const FoldGuardReport g = guardExteriorFolds(m_rest, m_deformed, m_triangles, *m_guardTopology, m_guardedTriangles,
-                                                 m_restArea, m_guardClass);
-    rep.guardFolds = g.foldedBefore;
-    rep.guardVertices = g.scaledVertices;
+  if (m_repair) {
+    const auto t1 = Clock::now();
+    const ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea);
+    rep.harmonicFolds = r.foldedBefore;
+    rep.repairedFolds = r.foldedAfter;
+    rep.repairVertices = r.regionVertices;
+    rep.repairSeconds = seconds(t1);
   }
   const Index nt = Index(m_triangles.size());
   parallelForRange(nt, 8192, [&](Index begin, Index end) {

@@ -1,13 +1,9 @@
 // The cage-conforming warp mesh of the pinned mode (WarpMeshOptions::followCage): every triangle
-// lies wholly inside or outside the cage, the triangles cover the image once, and the fold guard
-// on it never moves a vertex inside or on the cage. (It does not remove the folds outside: on these
-// random poses it leaves about as many as the plain extension; see docs/ARCHITECTURE.md.)
+// lies wholly inside or outside the cage and the triangles cover the image once. (The fold repair
+// on it, which never moves a vertex inside or on the cage: exterior_untangle_test.cpp.)
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include "kc/core/cage_conforming_grid.h"
-#include "kc/core/outside_motion.h"
 #include "kc/core/warp_mesh.h"
 #include "warp_fixtures.h"
 
@@ -45,46 +41,6 @@ TEST(CageConformingGrid, TrianglesLieOnOneSideAndCoverTheImage) {
     for (int v : g.T[t]) ASSERT_FALSE(g.unused[std::size_t(v)]);
   }
   EXPECT_NEAR(area, (xs.back() - xs.front()) * (ys.back() - ys.front()), 1e-6) << "the image is covered once";
-}
-
-TEST(CageConformingGrid, FoldGuardLeavesTheInsideAndTheCageAlone) {
-  const Cage cage = lCage();
-  WarpMeshOptions o;
-  o.outside = OutsideMode::Pinned;
-  o.followCage = true;
-  o.foldGuard = true;
-  WarpMesh guarded(120, 100, cage, o);
-  o.foldGuard = false;
-  WarpMesh plain(120, 100, cage, o);
-  guarded.setWeights(meanValueWeights(cage.C, guarded.restVertices()));
-  plain.setWeights(meanValueWeights(cage.C, plain.restVertices()));
-  const ExteriorWeights& E = *guarded.exteriorWeights();
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> move(-30.0, 30.0), coin(0.0, 1.0);
-  Index held = 0, guardedFolds = 0, plainFolds = 0;
-  for (int k = 0; k < 30; ++k) {
-    Pose pose = restPose(cage.size());
-    for (auto& h : pose)
-      if (coin(rng) < 0.5) h = {Vec2(move(rng), move(rng)), 0.0};
-    const DeformReport g = guarded.deform(pose);
-    plain.deform(pose);
-    held += g.guardVertices;
-    const OutsideMotion om = measureOutside(guarded), op = measureOutside(plain);
-    guardedFolds += om.flippedOutside - om.flippedOnCage;
-    plainFolds += op.flippedOutside - op.flippedOnCage;
-    EXPECT_EQ(om.cornerMax, 0.0);
-    EXPECT_GE(om.minWeight, 0.0);
-    EXPECT_LE(om.maxWeight, 1.0 + 1e-12);
-    for (Index v = 0; v < guarded.restVertices().rows(); ++v) {
-      if (!E.exterior[std::size_t(v)]) {
-        ASSERT_EQ(Vec2(guarded.deformedVertices().row(v)), Vec2(plain.deformedVertices().row(v))) << "vertex " << v;
-      }
-    }
-  }
-  EXPECT_GT(held, 0) << "the poses should make the guard act, or the test shows nothing";
-  std::printf("30 random poses: folded triangles with no point on the cage: %ld plain, %ld guarded\n", long(plainFolds),
-              long(guardedFolds));
-  EXPECT_GT(plainFolds, 0) << "the poses should fold the plain extension, or the test shows nothing";
 }
 
 }  // namespace

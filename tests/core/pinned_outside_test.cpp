@@ -4,16 +4,18 @@
 
 #include <cmath>
 
+#include "kc/core/deform.h"
 #include "kc/core/warp_mesh.h"
 #include "warp_fixtures.h"
 
 namespace kc {
 namespace {
 
-WarpMesh meshWithMeanValue(const Cage& cage, OutsideMode mode, double spacing = 4.0) {
+WarpMesh meshWithMeanValue(const Cage& cage, OutsideMode mode, double spacing = 4.0, bool repairFolds = true) {
   WarpMeshOptions o;
   o.outside = mode;
   o.spacing = spacing;
+  o.repairFolds = repairFolds;
   WarpMesh mesh(120, 100, cage, o);
   mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
   return mesh;
@@ -53,26 +55,33 @@ TEST(PinnedOutside, CornersStayAndTheInsideFollowsTheField) {
   EXPECT_EQ(rep.flippedTriangles, 0);
   const Points& R = pinned.restVertices();
   const Points& F = pinned.deformedVertices();
+  // The field's own deformation at the pinned mesh's vertices (its mesh follows the cage).
+  const Points fieldAtR = deformPoints(meanValueWeights(cage.C, R), R, cage.C, armPose());
   double insideGap = 0.0, borderMove = 0.0;
   for (Index v = 0; v < R.rows(); ++v) {
     const Vec2 x = R.row(v);
     if (!pinned.exteriorWeights()->exterior[std::size_t(v)])
-      insideGap = std::max(insideGap, (F.row(v) - field.deformedVertices().row(v)).norm());
+      insideGap = std::max(insideGap, (F.row(v) - fieldAtR.row(v)).norm());
     if (x.x() < 0 || x.y() < 0 || x.x() > 119 || x.y() > 99) borderMove = std::max(borderMove, (F.row(v) - R.row(v)).norm());
   }
   EXPECT_EQ(borderMove, 0.0) << "the image border (corners included) does not move";
-  EXPECT_EQ(insideGap, 0.0) << "inside the cage the field's weights are used unchanged";
+  // (up to the compact weights' dropped entries, |w| ≤ 1e-3/m, which the field's own formula keeps)
+  EXPECT_LT(insideGap, 0.01) << "inside the cage the field's weights are used unchanged";
   // The thesis mode moves the far corner (the complaint); pinned does not.
-  EXPECT_GT((field.deformedVertices().row(R.rows() - 1) - R.row(R.rows() - 1)).norm(), 0.5);
+  const Index corner = field.restVertices().rows() - 1;
+  EXPECT_GT((field.deformedVertices().row(corner) - field.restVertices().row(corner)).norm(), 0.5);
 }
 
 TEST(PinnedOutside, TranslatingAllControlsTranslatesTheInsideAndKeepsTheBorder) {
   const Cage cage = lCage();
-  WarpMesh mesh = meshWithMeanValue(cage, OutsideMode::Pinned);
   const Vec2 d(6, -4);  // the cage stays clear of the pinned border (≥ 4 px)
   Pose pose = restPose(8);
   for (auto& p : pose) p.translate = d;
-  EXPECT_EQ(mesh.deform(pose).flippedTriangles, 0);
+  // The default (with the fold repair) folds nothing; the harmonic extension alone folds slivers
+  // next to the cage's top edge, which moves towards the border, and is checked below.
+  EXPECT_EQ(meshWithMeanValue(cage, OutsideMode::Pinned).deform(pose).flippedTriangles, 0);
+  WarpMesh mesh = meshWithMeanValue(cage, OutsideMode::Pinned, 4.0, false);
+  mesh.deform(pose);
   const ExteriorWeights& E = *mesh.exteriorWeights();
   for (Index v = 0; v < mesh.restVertices().rows(); ++v) {
     const Vec2 u = mesh.deformedVertices().row(v) - mesh.restVertices().row(v);

@@ -39,7 +39,7 @@ TEST(WarpMesh, GridCoversTheImage) {
   EXPECT_DOUBLE_EQ(ax.front(), -0.5);
   EXPECT_DOUBLE_EQ(ax.back(), 99.5);
   for (std::size_t k = 1; k < ax.size(); ++k) EXPECT_LE(ax[k] - ax[k - 1], 4.0 + 1e-12);
-  const WarpMesh mesh(120, 100, lCage(), {});
+  const WarpMesh mesh(120, 100, lCage(), deformEverywhere());
   EXPECT_EQ(mesh.triangles().size(), std::size_t(2 * 30 * 25));
   EXPECT_EQ(mesh.restVertices().rows(), 31 * 26);
 }

@@ -109,10 +109,11 @@ void drawDiagnosticsPanel(AppState& state) {
     ImGui::Text("Flipped triangles: 0");
   labelled(state, "Flipped triangles", "Places where the pose folds the picture over itself (shown in red on the "
                                        "picture when View > Fold-overs is on), and their area before the pose.");
-  if (r.guardVertices > 0) {
-    ImGui::Text("Background held back: %ld points", long(r.guardVertices));
-    labelled(state, "Background held back", "The pose pushes the cage against the picture's border: the background "
-                                            "there stays back instead of folding, and the shape covers it.");
+  if (r.harmonicFolds > 0) {
+    ImGui::Text("Background untangled: %ld of %ld folds", long(r.harmonicFolds - r.repairedFolds), long(r.harmonicFolds));
+    labelled(state, "Background untangled", "The pose squeezes the background next to the cage so much that it would "
+                                            "fold; kcwarp moves the background points there so it does not. Folds "
+                                            "left over happen where the cage is pushed past the picture's border.");
   }
   ImGui::Text("det J in [%.3g, %.3g]", r.minJacobian, r.maxJacobian);
   labelled(state, "det J", "How much the pose grows or shrinks each small piece of the picture: 1 = same size, "

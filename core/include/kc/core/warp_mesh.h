@@ -14,7 +14,7 @@
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
-#include "kc/core/exterior_fold_guard.h"
+#include "kc/core/exterior_untangle.h"
 #include "kc/core/exterior_weights.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/types.h"
@@ -46,17 +46,15 @@ struct WarpMeshOptions {
   /// precision, are kept too).
   double keepThreshold = 1e-3;
   OutsideMode outside = OutsideMode::Pinned;
-  /// Pinned mode: hold the background back where a pose would fold it against the image border
-  /// (exterior_fold_guard.h). Off (the default): the plain harmonic extension, which folds there.
-  /// Off by default because the guard also moves the outer vertices of triangles across the cage,
-  /// which bends the picture just inside the cage (a rigid rotation of the star example is no
-  /// longer rigid there: 26 dB against 56 dB); the folds it removes lie against the border.
-  bool foldGuard = false;
   /// Pinned mode: a mesh whose edges follow the cage (cage_conforming_grid.h): every triangle lies
-  /// wholly inside or outside, points on the cage take the field's weights, and the fold guard
-  /// holds back only vertices of triangles with no point on the cage, so it never changes the
-  /// inside. Off (the default): the regular grid, whose triangles straddle the cage.
-  bool followCage = false;
+  /// wholly inside or outside and points on the cage take the field's weights, so the picture
+  /// inside the cage depends only on the field and the fold repair (repairFolds) can move the
+  /// outside without touching it. Off: the regular grid, whose triangles straddle the cage (the
+  /// repair can then move only vertices of triangles wholly outside, and folds across the cage stay).
+  bool followCage = true;
+  /// Pinned mode: after the harmonic extension, untangle the background where it folds
+  /// (exterior_untangle.h), moving only vertices strictly outside the cage and off the border.
+  bool repairFolds = true;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
@@ -78,9 +76,11 @@ struct DeformReport {
   double flippedArea = 0.0;      ///< Rest area (px²) of the flipped triangles.
   double minJacobian = 0.0;      ///< min det J over drawn triangles (1 = area kept).
   double maxJacobian = 0.0;
-  /// Pinned mode's fold guard: triangles wholly outside the cage that would have folded
-  /// (det J ≤ 0.05) and the vertices it held back (0 when the pose folds nothing outside).
-  Index guardFolds = 0, guardVertices = 0;
+  /// Pinned mode's fold repair (exterior_untangle.h): triangles of the outside that the harmonic
+  /// extension folded (det J ≤ 0), those still folded after the repair, the vertices it moved
+  /// (its region) and its time (included in `seconds`). All 0 when the repair is off or nothing folds.
+  Index harmonicFolds = 0, repairedFolds = 0, repairVertices = 0;
+  double repairSeconds = 0.0;
   double seconds = 0.0;
 };
 
@@ -100,12 +100,12 @@ class WarpMesh {
   const WarpMeshOptions& options() const { return m_options; }
   const Cage& cage() const { return m_cage; }
   /// #V×2 rest positions: where to evaluate weights. The grid vertices in row-major order (with
-  /// followCage followed by the points on the cage, cage_conforming_grid.h).
+  /// followCage, the Pinned default, followed by the points on the cage, cage_conforming_grid.h).
   const Points& restVertices() const { return m_rest; }
   /// Triangles that are drawn (#T), in drawing order (later on top): row-major grid order; in
   /// Pinned mode the triangles wholly outside the cage come first, then those across the cage,
   /// then those inside, so the inside is drawn over the stretched background (with followCage:
-  /// outside, those with no point on the cage first, then inside; none is across).
+  /// outside, then inside; none is across).
   const Triangles& triangles() const { return m_triangles; }
   /// Pinned mode: triangles()[0..outsideTriangles()) lie wholly outside the cage (all three
   /// vertices exterior; with followCage, every triangle outside); 0 in the other modes.
@@ -127,7 +127,7 @@ class WarpMesh {
   const ExteriorWeights* exteriorWeights() const { return m_exterior.get(); }
 
   /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex (plus a(v)·v for the pinned anchor) — one sparse product, parallel over vertices —
-  /// then, in Pinned mode, the fold guard on the triangles wholly outside the cage, and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
+  /// then, in Pinned mode, the fold repair of the triangles outside the cage, and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
   /// area). Throws std::invalid_argument for a bad pose or when no weights are set.
   DeformReport deform(const Pose& pose);
   /// Deformed vertices (#V×2) of the last deform() (rest positions before the first).
@@ -140,9 +140,11 @@ class WarpMesh {
   Image render(const Image& source, const RasterOptions& options = {}, RasterReport* report = nullptr) const;
 
  private:
-  /// Pinned mode: the cage-conforming mesh over the grid xs × ys, its exterior weights and the
-  /// fold guard's data.
+  /// Pinned mode: the cage-conforming mesh over the grid xs × ys and its exterior weights.
   void buildPinned(const std::vector<double>& xs, const std::vector<double>& ys);
+  /// Pinned mode with repairFolds: the fold repair's topology (vertices outside the cage and off
+  /// the border of the grid xs × ys are movable).
+  void buildRepair(const std::vector<double>& xs, const std::vector<double>& ys);
 
   int m_width = 0, m_height = 0;
   WarpMeshOptions m_options;
@@ -152,9 +154,7 @@ class WarpMesh {
   SparseWeights m_weights;
   std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
   Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie outside the cage
-  Index m_guardedTriangles = 0;  // Pinned mode: triangles[0..m_guardedTriangles) have no point on the cage
-  std::vector<std::uint8_t> m_guardClass;  // Pinned mode: per vertex, movable by the fold guard (exterior_fold_guard.h)
-  std::shared_ptr<const FoldGuardTopology> m_guardTopology;  // Pinned mode; shared by copies (immutable)
+  std::shared_ptr<const ExteriorRepairTopology> m_repair;  // Pinned mode with repairFolds; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
 };
 

@@ -1,0 +1,139 @@
+// The pinned mode's fold repair (exterior_untangle.h): random poses that push the cage towards the
+// image border fold the plain harmonic extension outside the cage; after the repair nothing folds
+// where a fold-free map exists (the deformed cage simple and inside the frame), the border and the
+// corners stay, the inside and the cage are untouched, and a pose that folds nothing is unchanged.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "kc/core/outside_motion.h"
+#include "kc/core/warp_mesh.h"
+#include "warp_fixtures.h"
+
+namespace kc {
+namespace {
+
+WarpMesh pinnedMesh(const Cage& cage, bool repair, int width = 120, int height = 100) {
+  WarpMeshOptions o;
+  o.outside = OutsideMode::Pinned;
+  o.repairFolds = repair;
+  WarpMesh mesh(width, height, cage, o);
+  mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+  return mesh;
+}
+
+/// Random poses (seeded): each control moves by up to ±`reach` px (and turns by up to ±`turn`
+/// rad) with probability 1/2, else stays.
+std::vector<Pose> randomPoses(Index m, int count, double reach, double turn, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> move(-reach, reach), angle(-turn, turn), coin(0.0, 1.0);
+  std::vector<Pose> poses;
+  for (int k = 0; k < count; ++k) {
+    Pose p = restPose(m);
+    for (auto& h : p)
+      if (coin(rng) < 0.5) h = {Vec2(move(rng), move(rng)), turn > 0.0 ? angle(rng) : 0.0};
+    poses.push_back(p);
+  }
+  return poses;
+}
+
+bool segmentsCross(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const auto orient = [](const Vec2& p, const Vec2& q, const Vec2& r) {
+    return (q - p).x() * (r - p).y() - (q - p).y() * (r - p).x();
+  };
+  return orient(a, b, c) * orient(a, b, d) < 0.0 && orient(c, d, a) * orient(c, d, b) < 0.0;
+}
+
+/// A fold-free pinned map exists only when the deformed cage is a simple polygon inside the frame
+/// (with room for a triangle between them). Translations only: mean value weights are linear
+/// along the cage's edges, so the deformed cage is the polygon of the moved controls.
+bool roomForAFoldFreeMap(const Points& P, int width, int height, double margin) {
+  const Index m = P.rows();
+  for (Index i = 0; i < m; ++i) {
+    if (P(i, 0) < margin || P(i, 1) < margin || P(i, 0) > width - 1 - margin || P(i, 1) > height - 1 - margin) return false;
+    for (Index j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;
+      if (segmentsCross(P.row(i), P.row((i + 1) % m), P.row(j), P.row((j + 1) % m))) return false;
+    }
+  }
+  return true;
+}
+
+/// The repaired mesh against the plain one on `poses`: returns {poses that folded plainly,
+/// those with room for a fold-free map}; checks what the repair may and may not change.
+std::pair<int, int> checkRepair(const Cage& cage, const std::vector<Pose>& poses, int width, int height, bool expectNone) {
+  WarpMesh repaired = pinnedMesh(cage, true, width, height), plain = pinnedMesh(cage, false, width, height);
+  const ExteriorWeights& E = *repaired.exteriorWeights();
+  const Points& R = repaired.restVertices();
+  int folded = 0, room = 0;
+  Index before = 0, after = 0;
+  for (const Pose& pose : poses) {
+    const DeformReport r = repaired.deform(pose);
+    plain.deform(pose);
+    const OutsideMotion om = measureOutside(repaired), op = measureOutside(plain);
+    EXPECT_EQ(r.harmonicFolds, op.flippedOutside);
+    EXPECT_EQ(r.repairedFolds, om.flippedOutside);
+    EXPECT_LE(om.flippedOutside, op.flippedOutside);
+    EXPECT_EQ(om.cornerMax, 0.0);
+    folded += op.flippedOutside > 0;
+    before += op.flippedOutside;
+    after += om.flippedOutside;
+    const bool fits = roomForAFoldFreeMap(posedControls(cage.C, pose), width, height, 3.0);
+    room += fits && op.flippedOutside > 0;
+    if (expectNone && fits) {
+      EXPECT_EQ(om.flippedOutside, 0) << "the deformed cage leaves room, yet folds remain (harmonic: " << r.harmonicFolds << ")";
+    }
+    Index moved = 0;  // inside, on the cage and on the border nothing moves
+    for (Index v = 0; v < R.rows(); ++v) {
+      const bool border = R(v, 0) == -0.5 || R(v, 1) == -0.5 || R(v, 0) == width - 0.5 || R(v, 1) == height - 0.5;
+      if (!E.exterior[std::size_t(v)] || border)
+        moved += repaired.deformedVertices().row(v) != plain.deformedVertices().row(v);
+    }
+    EXPECT_EQ(moved, 0);
+  }
+  std::printf("%zu poses: %d folded the harmonic exterior (%ld triangles), %d of them with room for a fold-free map; "
+              "%ld triangles folded after the repair\n",
+              poses.size(), folded, long(before), room, long(after));
+  return {folded, room};
+}
+
+TEST(ExteriorRepair, RandomTranslationsFoldNothingWhereTheCageLeavesRoom) {
+  const Cage cage = lCage();
+  const auto [folded, room] = checkRepair(cage, randomPoses(cage.size(), 60, 25.0, 0.0, 7), 120, 100, true);
+  EXPECT_GT(room, 5) << "the poses should fold the plain extension where a fold-free map exists, or the test shows nothing";
+}
+
+TEST(ExteriorRepair, RandomPosesWithTurnsNeverAddFolds) {
+  const Cage cage = lCage();
+  const auto [folded, room] = checkRepair(cage, randomPoses(cage.size(), 30, 30.0, 0.6, 3), 120, 100, false);
+  EXPECT_GT(folded, 5);
+}
+
+/// A photo-like picture's cage: a non-convex figure with a head, two arms and a notch, well inside
+/// a wider frame, dragged by translations.
+TEST(ExteriorRepair, NonConvexCageInAWideFrame) {
+  Points C(12, 2);
+  C << 100, 20, 130, 20, 132, 60, 180, 62, 182, 80, 132, 84, 140, 150, 116, 150, 112, 100, 100, 150, 80, 150, 98, 60;
+  const Cage cage = Cage::polygon(C);
+  const auto [folded, room] = checkRepair(cage, randomPoses(cage.size(), 40, 30.0, 0.0, 11), 240, 180, true);
+  EXPECT_GT(room, 3);
+}
+
+TEST(ExteriorRepair, APoseThatFoldsNothingIsUnchanged) {
+  const Cage cage = lCage();
+  WarpMesh repaired = pinnedMesh(cage, true), plain = pinnedMesh(cage, false);
+  int checked = 0;
+  for (const Pose& pose : randomPoses(cage.size(), 20, 4.0, 0.2, 3)) {
+    const DeformReport p = plain.deform(pose);
+    const DeformReport r = repaired.deform(pose);
+    if (p.flippedTriangles > 0) continue;  // (a small move can still fold a sliver next to the cage)
+    ++checked;
+    EXPECT_EQ(r.harmonicFolds, 0);
+    EXPECT_EQ(r.repairVertices, 0);
+    EXPECT_EQ(repaired.deformedVertices(), plain.deformedVertices());
+  }
+  EXPECT_GT(checked, 10);
+}
+
+}  // namespace
+}  // namespace kc
