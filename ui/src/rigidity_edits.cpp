@@ -42,7 +42,30 @@ void showSessionRigidity(AppState& st) {
   ++st.rigidityRevision;
 }
 
+/// What the main thread does after a cancelled rigidity job: the session back, the stroke taken back.
+Worker::Apply strokeTakenBack(const SessionPtr& s, const SourcePtr& source) {
+  return [s, source](AppState& st) {
+    takeBack(st, s, nullptr, source);
+    showSessionRigidity(st);
+    postMessage(st, "Rigidity cancelled: the stroke was taken back.", false);
+  };
+}
+
 }  // namespace
+
+std::string rigiditySolveSummary(const app::RigidityUpdate& u) {
+  const RigidityQpReport& q = u.report.solver;
+  const bool admm = q.method == RigidityQpMethod::Admm;
+  char text[240];
+  if (!q.converged)
+    std::snprintf(text, sizeof text, "Rigidity: the %s stopped after %d %s without converging (weights kept as far as it got).",
+                  admm ? "ADMM" : "active set", q.iterations, admm ? "iterations" : "rounds");
+  else
+    std::snprintf(text, sizeof text, "Rigidity: %ld samples rigid, %ld controls; %s, %d %s; %.0f ms.", long(u.report.region),
+                  long(u.report.controls), admm ? "ADMM (fallback)" : "active set", q.iterations, admm ? "iterations" : "rounds",
+                  1e3 * u.seconds);
+  return text;
+}
 
 bool anyRigid(const std::vector<double>& rho) {
   return std::any_of(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
@@ -118,14 +141,13 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
     const Weights W = s->W;
     const std::vector<double> stored = s->rigidity;
     try {
-      if (!ctx.progress("rigidity: solving around the painted region", 0.05)) {
-        return [s, source](AppState& st) {
-          takeBack(st, s, nullptr, source);
-          showSessionRigidity(st);
-          postMessage(st, "Rigidity cancelled: the stroke was taken back.", false);
-        };
+      if (!ctx.progress("rigidity: solving around the painted region", 0.05)) return strokeTakenBack(s, source);
+      app::RigidityUpdate u;
+      try {
+        u = app::setRigidity(*s, rho, [&ctx](const char* stage, double f) { return ctx.progress(stage, 0.05 + 0.75 * f); });
+      } catch (const app::RigidityCancelled&) {  // setRigidity put the session back
+        return strokeTakenBack(s, source);
       }
-      const app::RigidityUpdate u = app::setRigidity(*s, rho);
       auto edit = std::make_shared<RigidityEdit>();
       edit->before = before;
       edit->after = rho;
@@ -136,11 +158,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
         scatterRows(s->W, edit->rows, edit->WBefore);
         s->rigidity = stored;
         if (!edit->columns.empty()) s->field->update(s->W, edit->columns);
-        return [s, source](AppState& st) {
-          takeBack(st, s, nullptr, source);
-          showSessionRigidity(st);
-          postMessage(st, "Rigidity cancelled: the stroke was taken back.", false);
-        };
+        return strokeTakenBack(s, source);
       }
       const auto t2 = std::chrono::steady_clock::now();
       reweightMesh(*s, *source, *mesh, edit->columns);
@@ -154,12 +172,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
         st.timings.reoptimizeSamples = static_cast<Index>(u.rows.size());
         st.timings.meshWeightsMs = meshMs;
         st.timings.releaseToPictureMs = msSince(t0);  // + this frame's deform and upload
-        if (u.report.nodes > 0 && !u.report.solver.converged) {
-          char text[200];
-          std::snprintf(text, sizeof text, "Rigidity: the solver stopped after %d iterations without converging (weights kept as far as it got).",
-                        u.report.solver.iterations);
-          postMessage(st, text, true);
-        }
+        if (u.report.nodes > 0) postMessage(st, rigiditySolveSummary(u), !u.report.solver.converged);
       };
     } catch (const std::exception& ex) {
       s->W = W;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kc/app/rigidity.h"
 #include "kc/app/session.h"
 #include "kc/ui/app_state.h"
 
@@ -39,6 +40,10 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
 
 /// Takes all rigidity away (undoable); false when there is none or a job runs.
 bool clearRigidity(AppState& state);
+
+/// The status line after a rigidity solve: region, controls, the solver's method and rounds (or
+/// ADMM iterations) and the time, or that it stopped without converging.
+std::string rigiditySolveSummary(const app::RigidityUpdate& u);
 
 /// True when some sample of `rho` is rigid (ρ > 0).
 bool anyRigid(const std::vector<double>& rho);
