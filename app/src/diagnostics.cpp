@@ -54,8 +54,9 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
   if (d.outsideWeights) d.image = measure(W, C, P);
 
   std::vector<Index> inside;
+  const CageQueries cage(s.cage);
   for (Index i = 0; i < P.rows(); ++i)
-    if (insideCage(s.cage, P.row(i).transpose())) inside.push_back(i);
+    if (cage.inside(P.row(i).transpose())) inside.push_back(i);
   const Weights Win = selectRows(W, inside);
   d.inside = measure(Win, C, selectRows(P, inside));
 

@@ -277,10 +277,13 @@ std::vector<std::array<int, 2>> loopEdges(const Cage& cage) {
 
 bool hasInterior(const Cage& cage) { return cage.closed || !loopEdges(cage).empty(); }
 
-bool insideCage(const Cage& cage, const Vec2& x) {
+CageQueries::CageQueries(const Cage& cage)
+    : m_C(cage.C), m_closed(cage.closed), m_edges(cageEdges(cage)), m_loops(loopEdges(cage)) {}
+
+bool CageQueries::inside(const Vec2& x) const {
   bool inside = false;
-  for (const auto& [a, b] : loopEdges(cage)) {
-    const Vec2 A = cage.C.row(a), B = cage.C.row(b);
+  for (const auto& [a, b] : m_loops) {
+    const Vec2 A = m_C.row(a), B = m_C.row(b);
     if ((A.y() > x.y()) != (B.y() > x.y())) {
       const double xc = A.x() + (x.y() - A.y()) * (B.x() - A.x()) / (B.y() - A.y());
       if (x.x() < xc) inside = !inside;
@@ -289,15 +292,21 @@ bool insideCage(const Cage& cage, const Vec2& x) {
   return inside;
 }
 
-bool segmentCrossesCage(const Cage& cage, const Vec2& p, const Vec2& q) {
-  const Points& C = cage.C;
+double CageQueries::distance(const Vec2& x) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [a, b] : m_edges) best = std::min(best, pointSegmentDistance(x, m_C.row(a), m_C.row(b)));
+  return best;
+}
+
+bool CageQueries::segmentCrosses(const Vec2& p, const Vec2& q) const {
+  const Points& C = m_C;
   const Vec2 d = q - p;
   const double len = d.norm();
   if (len == 0.0) return false;
   // Parameters along p→q where the segment meets the cage; between consecutive ones the segment
   // is either on the cage or wholly inside or outside. It crosses when two such pieces disagree.
   std::vector<double> ts{0.0, 1.0};
-  for (const auto& [a, b] : cageEdges(cage)) {
+  for (const auto& [a, b] : m_edges) {
     const Vec2 A = C.row(a), B = C.row(b), e = B - A;
     const double denom = cross(d, e);
     if (std::abs(denom) > 1e-14 * len * e.norm()) {
@@ -310,19 +319,23 @@ bool segmentCrossesCage(const Cage& cage, const Vec2& p, const Vec2& q) {
       }
     }
   }
-  if (!cage.closed) return ts.size() > 2;
+  if (!m_closed) return ts.size() > 2;
   std::sort(ts.begin(), ts.end());
   int status = -1;  // -1 unknown, 0 outside, 1 inside
   for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
     if (ts[k + 1] - ts[k] <= 1e-12) continue;
     const Vec2 mid = p + 0.5 * (ts[k] + ts[k + 1]) * d;
-    if (distanceToCage(cage, mid) <= 1e-9 * len) continue;  // this piece runs along the cage
-    const int in = insideCage(cage, mid) ? 1 : 0;
+    if (distance(mid) <= 1e-9 * len) continue;  // this piece runs along the cage
+    const int in = inside(mid) ? 1 : 0;
     if (status >= 0 && in != status) return true;
     status = in;
   }
   return false;
 }
+
+bool insideCage(const Cage& cage, const Vec2& x) { return CageQueries(cage).inside(x); }
+
+bool segmentCrossesCage(const Cage& cage, const Vec2& a, const Vec2& b) { return CageQueries(cage).segmentCrosses(a, b); }
 
 double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 d = b - a;
@@ -338,11 +351,7 @@ double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const
                    pointSegmentDistance(d, a, b)});
 }
 
-double distanceToCage(const Cage& cage, const Vec2& x) {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& [a, b] : cageEdges(cage)) best = std::min(best, pointSegmentDistance(x, cage.C.row(a), cage.C.row(b)));
-  return best;
-}
+double distanceToCage(const Cage& cage, const Vec2& x) { return CageQueries(cage).distance(x); }
 
 std::vector<int> convexHull(const Points& C) {
   const int m = static_cast<int>(C.rows());

@@ -52,11 +52,12 @@ Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cell
   const auto candidates = jitteredCells(domain, c, rng);
   const CageEdgeGrid locator(obstacles ? *obstacles : cage, h);
   const double minDistance = 0.5 * h;
+  const CageQueries queries(cage);
   std::vector<Vec2> inside, outside;
   for (const Vec2& p : candidates) {
     if (domain.insideDistance(p) < minDistance) continue;
     if (locator.distance(p, minDistance) < minDistance) continue;
-    (insideCage(cage, p) ? inside : outside).push_back(p);
+    (queries.inside(p) ? inside : outside).push_back(p);
   }
   interiorCount = static_cast<Index>(inside.size());
   inside.insert(inside.end(), outside.begin(), outside.end());

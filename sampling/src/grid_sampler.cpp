@@ -25,12 +25,13 @@ SampleSet gridSample(const Cage& cage, const Rect& domain, double h, std::span<c
   const GridRange g = gridRange(domain, h);
   const CageEdgeGrid locator(obstacleEdges(cage, lines), h);
   const double minDistance = 0.5 * h;
+  const CageQueries queries(cage);
   std::vector<Vec2> inside, outside;
   for (double j = g.j0; j <= g.j1; j += 1.0) {
     for (double i = g.i0; i <= g.i1; i += 1.0) {
       const Vec2 p(i * h, j * h);
       if (locator.distance(p, minDistance) < minDistance) continue;
-      (insideCage(cage, p) ? inside : outside).push_back(p);
+      (queries.inside(p) ? inside : outside).push_back(p);
     }
   }
   auto toPoints = [](const std::vector<Vec2>& v) {

@@ -15,8 +15,8 @@ namespace {
 
 /// Exact: true when the segment a–b crosses the cage (kc::segmentCrossesCage); only segments that
 /// come within `tol` of an edge of the grid pay for the exact, O(#edges) test.
-bool crossesCage(const Cage& cage, const CageEdgeGrid& grid, const Vec2& a, const Vec2& b, double tol) {
-  return grid.segmentDistance(a, b, 2.0 * tol) <= tol && segmentCrossesCage(cage, a, b);
+bool crossesCage(const CageQueries& cage, const CageEdgeGrid& grid, const Vec2& a, const Vec2& b, double tol) {
+  return grid.segmentDistance(a, b, 2.0 * tol) <= tol && cage.segmentCrosses(a, b);
 }
 
 }  // namespace
@@ -49,6 +49,7 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
   const double extent = std::max(1e-300, (hi - lo).norm()), tol = 1e-9 * extent;
   const CageEdgeGrid grid(cage, std::max(reach, 1e-6 * extent));
   const bool closed = hasInterior(cage);  // open sticks alone: one region
+  const CageQueries queries(cage);
 
   std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
   parallelFor(n, [&](Index i) {
@@ -65,12 +66,12 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
         const Vec2 a = X.row(std::min(i, j)).transpose(), b = X.row(std::max(i, j)).transpose();
         if (side == Region::Boundary) {
           const Vec2 mid = 0.5 * (a + b);
-          if (distanceToCage(cage, mid) > 1e-9 * (b - a).norm())
-            side = insideCage(cage, mid) ? Region::Inside : Region::Outside;
+          if (queries.distance(mid) > 1e-9 * (b - a).norm())
+            side = queries.inside(mid) ? Region::Inside : Region::Outside;
         }
         if (ri != Region::Outside && side == Region::Outside) continue;
         if (ri == Region::Outside && side == Region::Inside) continue;
-        if (crossesCage(cage, grid, a, b, tol)) continue;
+        if (crossesCage(queries, grid, a, b, tol)) continue;
       }
       row.emplace_back(j, it.value());
     }

@@ -67,6 +67,26 @@ bool insideCage(const Cage& cage, const Vec2& x);
 /// Touching at a or b (samples lying on the cage) is not a crossing.
 bool segmentCrossesCage(const Cage& cage, const Vec2& a, const Vec2& b);
 
+/// The cage's edges and loop edges found once, for many point and segment queries: insideCage,
+/// distanceToCage and segmentCrossesCage find them again on every call (a graph search and
+/// allocations, O(m) each). Each query is O(m). Holds a reference to the cage's points, which
+/// must outlive it.
+class CageQueries {
+ public:
+  explicit CageQueries(const Cage& cage);
+  /// insideCage(cage, x).
+  bool inside(const Vec2& x) const;
+  /// distanceToCage(cage, x).
+  double distance(const Vec2& x) const;
+  /// segmentCrossesCage(cage, a, b).
+  bool segmentCrosses(const Vec2& a, const Vec2& b) const;
+
+ private:
+  const Points& m_C;
+  bool m_closed;
+  std::vector<std::array<int, 2>> m_edges, m_loops;
+};
+
 /// Distance from p to the segment a–b.
 double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b);
 /// Distance between the segments a–b and c–d (0 when they properly cross).
