@@ -61,8 +61,12 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   // On some degenerate problems CLP's nonlinear primal can cycle (seen in the sanitized build,
   // where the inputs differ in the last bits and each pivot allocates under the sanitizer's
   // allocator: one test ran for over 13 minutes). 10 pivots per variable is far more than a solve
-  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure.
+  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure. The pivot
+  // cap does not bound the inner loop of the nonlinear primal (the sanitized full run still hung in
+  // ClpSimplexNonlinear::whileIterating for 600 s), so CLP's own clock stops it too; a solve here
+  // takes well under a millisecond in the Release build. Either stop counts as a CLP failure.
   model.setMaximumIterations(std::max(1000, 10 * m));
+  model.setMaximumSeconds(2.0);
   model.primal();
   w = Eigen::Map<const Eigen::VectorXd>(model.primalColumnSolution(), m);
   return model.status() == 0;

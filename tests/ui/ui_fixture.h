@@ -37,6 +37,8 @@ inline std::shared_ptr<app::Session> boundChecker(const std::string& dir, int wi
 }
 
 /// A bound AppState on images/checker.png with its cage; jobs run inline (synchronous worker).
+/// The Bind panel holds the session's parameters (spacing fixed, not automatic), so the tests'
+/// re-binds (cancel, line edits) work at the same coarse spacing as the session.
 inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   auto state = std::make_unique<ui::AppState>();
   state->worker.setSynchronous(true);
@@ -46,6 +48,8 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   auto s = boundChecker(dir, state->source.width, state->source.height, spacing);
   ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(s->imageWidth, s->imageHeight)),
                      /*fromOptimizer=*/true);
+  state->bindParams = s->params;
+  state->autoSpacing = false;
   return state;
 }
 
