@@ -61,10 +61,11 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   // On some degenerate problems CLP's nonlinear primal can cycle (seen in the sanitized build,
   // where the inputs differ in the last bits and each pivot allocates under the sanitizer's
   // allocator: one test ran for over 13 minutes). 10 pivots per variable is far more than a solve
-  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure. The pivot
-  // cap does not bound the inner loop of the nonlinear primal (the sanitized full run still hung in
-  // ClpSimplexNonlinear::whileIterating for 600 s), so CLP's own clock stops it too; a solve here
-  // takes well under a millisecond in the Release build. Either stop counts as a CLP failure.
+  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure. Neither
+  // this cap nor CLP's clock (below) bounds the nonlinear primal's inner loop: in the sanitized
+  // build this test still hangs in ClpSimplexNonlinear::whileIterating → pivotColumn →
+  // directionVector (seen with gdb after 13 min). A solve here takes well under a millisecond in
+  // the Release build; the sanitized run needs the reference in a child process with a deadline.
   model.setMaximumIterations(std::max(1000, 10 * m));
   model.setMaximumSeconds(2.0);
   model.primal();
