@@ -48,10 +48,11 @@ OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& di
   std::vector<double> dist(std::size_t(nv), 0.0);
   // Pinned mode: the mesh's own classification (points on the cage belong to the inside).
   const ExteriorWeights* ext = mesh.exteriorWeights();
+  const CageQueries queries(cage);
   parallelFor(nv, [&](Index v) {
     const Vec2 p = R.row(v);
-    outside[std::size_t(v)] = ext ? ext->exterior[std::size_t(v)] : (insideCage(cage, p) ? 0 : 1);
-    dist[std::size_t(v)] = distanceToCage(cage, p);
+    outside[std::size_t(v)] = ext ? ext->exterior[std::size_t(v)] : (queries.inside(p) ? 0 : 1);
+    dist[std::size_t(v)] = queries.distance(p);
   }, 256);
 
   OutsideMotion out;

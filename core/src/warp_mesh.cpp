@@ -60,9 +60,10 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   std::vector<std::uint8_t> near(std::size_t(nx) * ny, 1);
   if (cull) {
     const double reach = 1.5 * std::hypot(xs[1] - xs[0], ys[1] - ys[0]);
+    const CageQueries queries(cage);
     parallelFor(Index(nx) * ny, [&](Index v) {
       const Vec2 p(xs[std::size_t(v % nx)], ys[std::size_t(v / nx)]);
-      near[std::size_t(v)] = (insideCage(cage, p) || distanceToCage(cage, p) <= reach) ? 1 : 0;
+      near[std::size_t(v)] = (queries.inside(p) || queries.distance(p) <= reach) ? 1 : 0;
     }, 512);
   }
   // Two triangles per cell, row-major cell order (this order decides fold-over overlaps).
