@@ -75,6 +75,56 @@ TEST(Recovery, AnUnboundCageIsAutosavedAndRecovered) {
   EXPECT_FALSE(ui::hasRecoveryCopy(t));
 }
 
+TEST(Files, DroppedPictureAndCageOpenTheOneAndBindTheOther) {
+  const auto dir = scratchDir("ui_drop");
+  const std::string picture = (dir / "scene.png").string(), other = (dir / "other.png").string();
+  const std::string cage = (dir / "scene.cage.json").string(), broken = (dir / "broken.png").string();
+  app::saveImage(picture, sceneImage(200, 150));
+  app::saveImage(other, sceneImage(120, 90));
+  writeText(dir / "broken.png", "not a picture");
+  Points C(4, 2);
+  C << 60, 40, 140, 40, 140, 110, 60, 110;
+  app::saveCage(cage, Cage::polygon(C));
+
+  ui::AppState s;
+  s.worker.setSynchronous(true);
+  s.autoSpacing = false;
+  s.bindParams.spacing = 10.0;
+  // The file manager may list the cage first: it still goes onto the dropped picture.
+  s.droppedPaths = {cage, picture};
+  ui::openDroppedFiles(s);
+  ui::pollWorker(s);
+  EXPECT_TRUE(s.droppedPaths.empty());
+  EXPECT_EQ(s.source.width, 200);
+  EXPECT_EQ(fs::path(s.imagePath).filename(), "scene.png");
+  EXPECT_EQ(s.cage.C, C);
+  ASSERT_TRUE(s.session) << "a dropped cage is bound";
+  EXPECT_EQ(s.session->cage.C, C);
+
+  // Unsaved work: a dropped picture asks first and leaves the document as it is until answered.
+  s.unsaved = true;
+  s.droppedPaths = {other};
+  ui::openDroppedFiles(s);
+  ASSERT_TRUE(s.unsavedPrompt.has_value());
+  EXPECT_EQ(s.source.width, 200);
+  EXPECT_TRUE(s.session);
+  auto discard = std::move(s.unsavedPrompt->run);
+  s.unsavedPrompt.reset();
+  discard(s);
+  EXPECT_EQ(s.source.width, 120);
+  EXPECT_FALSE(s.session);
+
+  // A file that is not a picture: an error naming it, and the open picture stays.
+  s.unsaved = false;
+  const size_t before = s.messages.size();
+  s.droppedPaths = {broken};
+  ui::openDroppedFiles(s);
+  EXPECT_EQ(s.source.width, 120);
+  ASSERT_GT(s.messages.size(), before);
+  EXPECT_TRUE(s.messages.back().error);
+  EXPECT_NE(s.messages.back().text.find("broken.png"), std::string::npos) << s.messages.back().text;
+}
+
 TEST(Files, RecentListKeepsNewestFirstWithoutDuplicates) {
   const auto dir = scratchDir("ui_recent");
   const std::string list = (dir / "cfg" / "recent.txt").string();

@@ -130,14 +130,31 @@ void openDroppedFiles(AppState& state) {
   if (state.droppedPaths.empty()) return;
   std::vector<std::string> paths;
   paths.swap(state.droppedPaths);
-  // Cages first (they go onto the picture), then the one picture or session that replaces the document.
-  std::string document;
+  // The one picture or session replaces the document first (asking when work is unsaved); a cage
+  // dropped with a picture then goes onto that picture, whatever order the file manager sent.
+  std::string document, cage;
   for (const std::string& p : paths) {
-    if (isCageFile(p)) loadCageAndBind(state, p);
-    else if (document.empty()) document = p;
-    else postMessage(state, "Dropped several pictures or sessions: opened only " + document + ".", false);
+    std::string& slot = isCageFile(p) ? cage : document;
+    if (slot.empty()) slot = p;
+    else postMessage(state, "Dropped several " + std::string(&slot == &cage ? "cages" : "pictures or sessions") +
+                                ": opened only " + slot + ".", false);
   }
-  if (!document.empty()) openAnyFile(state, document);
+  if (document.empty()) {
+    if (!cage.empty()) loadCageAndBind(state, cage);
+    return;
+  }
+  std::error_code ec;
+  if (!fs::exists(document, ec)) {
+    postMessage(state, "Cannot open " + document + ": no such file.", true);
+    return;
+  }
+  unlessUnsaved(state, "Open", [document, cage](AppState& st) {
+    if (!openPath(st, document) || cage.empty()) return;
+    if (endsWith(document, ".json"))
+      postMessage(st, "A session brings its own cage: " + cage + " was not loaded.", false);
+    else
+      loadCageAndBind(st, cage);
+  });
 }
 
 void rememberFile(AppState& state, const std::string& path) { addRecentFile(state.recentFiles, path, state.recentFilesPath); }

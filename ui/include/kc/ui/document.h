@@ -45,8 +45,9 @@ bool loadCageFile(AppState& state, const std::string& path);
 /// loadCageFile, then a bind when the cage is valid and a picture is open.
 bool loadCageAndBind(AppState& state, const std::string& path);
 
-/// Opens the files dropped onto the window (state.droppedPaths): a picture or a session replaces
-/// the document (asking first), cages are loaded and bound. Call once per frame.
+/// Opens the files dropped onto the window (state.droppedPaths): the first picture or session
+/// replaces the document (asking first when work is unsaved), then the first cage is loaded onto
+/// that picture (or the open one) and bound. Others are named in a message. Call once per frame.
 void openDroppedFiles(AppState& state);
 
 /// Records `path` in the recent files list (and its file, when state.recentFilesPath is set).
