@@ -11,6 +11,9 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
+
+#include <unistd.h>
 
 #include "kc/app/file_io.h"
 #include "kc/ui/automation.h"
@@ -28,8 +31,40 @@ namespace kc::ui {
 namespace {
 
 std::atomic<bool> g_terminate{false};  // set by SIGTERM/SIGINT only (signal handlers need a global)
+int g_signalPipe[2] = {-1, -1};         // the handler's byte wakes the loop's glfwWaitEvents
 
-void onSignal(int) { g_terminate = true; }
+void onSignal(int) {
+  g_terminate = true;
+  const char byte = 1;
+  if (g_signalPipe[1] >= 0) [[maybe_unused]] auto n = ::write(g_signalPipe[1], &byte, 1);  // async-signal-safe
+}
+
+/// While the window waits for input without a timeout, a signal alone would not wake it: this
+/// thread turns the handler's byte into an empty GLFW event. A zero byte ends it.
+class SignalWaker {
+ public:
+  SignalWaker() {
+    if (::pipe(g_signalPipe) != 0) return;
+    m_thread = std::thread([] {
+      char byte = 0;
+      while (::read(g_signalPipe[0], &byte, 1) == 1 && byte != 0) glfwPostEmptyEvent();
+    });
+  }
+  ~SignalWaker() {
+    if (!m_thread.joinable()) return;
+    const char stop = 0;
+    [[maybe_unused]] auto n = ::write(g_signalPipe[1], &stop, 1);
+    m_thread.join();
+    const int fds[2] = {g_signalPipe[0], g_signalPipe[1]};
+    g_signalPipe[0] = g_signalPipe[1] = -1;
+    ::close(fds[0]);
+    ::close(fds[1]);
+  }
+  bool waitsForever() const { return m_thread.joinable(); }
+
+ private:
+  std::thread m_thread;
+};
 
 void applyStyle() {
   ImGui::StyleColorsDark();
@@ -98,6 +133,7 @@ int runWindow(const WindowOptions& o) {
 
   int exitCode = 0;
   {
+    SignalWaker waker;  // ends (joined) before glfwTerminate
     auto state = std::make_unique<AppState>();
     Renderer renderer;
     if (!renderer.init()) postMessage(*state, "OpenGL: " + renderer.error(), true);
@@ -130,13 +166,17 @@ int runWindow(const WindowOptions& o) {
     while (!state->quitConfirmed && !g_terminate) {
       // Display rate while dragging or for a few frames after an event (ImGui settles hover and
       // popups over two or three frames); a running job gets a few progress redraws per second;
-      // otherwise sleep until input arrives (no redraw while nothing changes). The timeout wakes
-      // the loop for autosave and a blinking text cursor.
+      // otherwise sleep until input arrives (no redraw while nothing changes). A timeout wakes
+      // the loop only for a blinking text cursor and for the next autosave of unsaved work.
       if (state->canvasDrag.button >= 0 || settleFrames > 0) {
         glfwPollEvents();
         --settleFrames;
       } else {
-        glfwWaitEventsTimeout(state->worker.busy() ? 0.1 : ImGui::GetIO().WantTextInput ? 0.5 : 10.0);
+        if (state->worker.busy()) glfwWaitEventsTimeout(0.1);
+        else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
+        else if (state->unsaved) glfwWaitEventsTimeout(std::max(1.0, state->lastAutosave + kAutosaveSeconds - nowSeconds()));
+        else if (waker.waitsForever()) glfwWaitEvents();
+        else glfwWaitEventsTimeout(1.0);
         settleFrames = 3;
       }
       if (glfwWindowShouldClose(window)) {

@@ -53,10 +53,12 @@ void openDroppedFiles(AppState& state);
 /// Records `path` in the recent files list (and its file, when state.recentFilesPath is set).
 void rememberFile(AppState& state, const std::string& path);
 
+inline constexpr double kAutosaveSeconds = 60.0;  ///< How often unsaved work is copied for recovery.
+
 /// Autosave: when there are unsaved changes and the last autosave is older than `interval`
 /// seconds, writes the recovery copy: the session (on the worker), or for a cage that is not
 /// bound yet the cage and its picture's path (recoveryCagePath). True when a save started.
-bool maybeAutosave(AppState& state, double now, double interval = 60.0);
+bool maybeAutosave(AppState& state, double now, double interval = kAutosaveSeconds);
 /// Default recovery path: $XDG_CACHE_HOME or ~/.cache, then kcwarp/recovery.kcw.json.
 std::string defaultRecoveryPath();
 /// Where the recovery copy of an unbound cage goes: recoveryPath with ".cage.json" for ".kcw.json".
