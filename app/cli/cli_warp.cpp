@@ -140,12 +140,13 @@ void runWarp(const WarpArgs& a) {
                 1e3 * e.factorSeconds, long(m), 1e3 * e.solveSeconds, e.ok ? "" : " (factorization FAILED: outside kept fixed)");
     if (dr.harmonicFolds > 0)
       std::printf("fold repair: the harmonic extension folded %ld triangles outside the cage, %ld left after the repair "
-                  "(%ld vertices moved, %.2f ms)\n",
-                  long(dr.harmonicFolds), long(dr.repairedFolds), long(dr.repairVertices), 1e3 * dr.repairSeconds);
+                  "(%ld vertices moved, %ld of them on the image border, %.2f ms)\n",
+                  long(dr.harmonicFolds), long(dr.repairedFolds), long(dr.repairVertices), long(dr.repairBorderVertices),
+                  1e3 * dr.repairSeconds);
   }
-  std::printf("outside the cage: corners moved %.2f px; background 50 px from the cage moved mean %.2f max %.2f px "
+  std::printf("outside the cage: corners moved %.2f px; border moved max %.2f px (%ld vertices); background 50 px from the cage moved mean %.2f max %.2f px "
               "(%ld vertices), 200 px mean %.2f max %.2f px (%ld); weights in [%.3g, %.3g]; fold-overs outside %ld",
-              om.cornerMax, om.bands[0].mean, om.bands[0].max, long(om.bands[0].vertices), om.bands[1].mean,
+              om.cornerMax, om.borderMax, long(om.borderMoved), om.bands[0].mean, om.bands[0].max, long(om.bands[0].vertices), om.bands[1].mean,
               om.bands[1].max, long(om.bands[1].vertices), om.minWeight, om.maxWeight, long(om.flippedOutside));
   if (mesh.exteriorWeights() && om.flippedOutside > 0)
     std::printf(" (%ld on the cage, %ld under the deformed inside)", long(om.flippedOnCage), long(om.flippedCovered));

@@ -8,10 +8,18 @@
 namespace kc {
 namespace {
 
-double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) {
+double signedArea2(const Points& P, const std::array<int, 3>& t) {
   const double ax = P(t[1], 0) - P(t[0], 0), ay = P(t[1], 1) - P(t[0], 1);
   const double bx = P(t[2], 0) - P(t[0], 0), by = P(t[2], 1) - P(t[0], 1);
-  return 0.5 * (ax * by - ay * bx) / restArea;
+  return ax * by - ay * bx;
+}
+
+double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) { return 0.5 * signedArea2(P, t) / restArea; }
+
+/// The outward direction at a point of the frame's border: the side's unit normal, (±1, ±1) at a
+/// corner, 0 off the border.
+Vec2 outwardAt(const ExteriorRepairFrame& f, const Vec2& p) {
+  return {p.x() == f.x0 ? -1.0 : (p.x() == f.x1 ? 1.0 : 0.0), p.y() == f.y0 ? -1.0 : (p.y() == f.y1 ? 1.0 : 0.0)};
 }
 
 /// det J of a star triangle as an affine function of its vertex v's position p: n·p + e.
@@ -23,22 +31,32 @@ struct AffineJacobian {
 /// The mesh data one repair works on.
 class Repair {
  public:
-  Repair(const Points& rest, const Points& entry, Points& P, const Triangles& T, const ExteriorRepairTopology& topo,
-         Index exteriorTriangles, const Eigen::VectorXd& restArea, const ExteriorRepairOptions& o)
-      : R(rest), E(entry), P(P), T(T), topo(topo), nt(exteriorTriangles), A(restArea), o(o),
-        inRegion(std::size_t(P.rows()), 0), seen(std::size_t(P.rows()), 0), seenTriangle(std::size_t(exteriorTriangles), 0) {}
+  /// start, entry, P: #V + ghosts rows (ghost rows fixed); rest: #V rows (the border's rest
+  /// positions); restArea: #exteriorTriangles, ghostArea: #ghosts.
+  Repair(const Points& start, const Points& entry, Points& P, const Points& rest, const Triangles& T, const ExteriorRepairTopology& topo,
+         Index exteriorTriangles, const Eigen::VectorXd& restArea, const Eigen::VectorXd& ghostArea, const ExteriorRepairOptions& o)
+      : R(start), E(entry), P(P), rest(rest), T(T), topo(topo), nt(exteriorTriangles), A(restArea), GA(ghostArea), o(o),
+        inRegion(std::size_t(P.rows()), 0), seen(std::size_t(P.rows()), 0),
+        seenTriangle(std::size_t(exteriorTriangles) + topo.ghosts.size(), 0) {}
+
+  const std::array<int, 3>& tri(Index t) const { return t < nt ? T[std::size_t(t)] : topo.ghosts[std::size_t(t - nt)]; }
+  double area(Index t) const { return t < nt ? A(t) : GA(t - nt); }
 
   /// Adds the free vertices of the triangles in `bad` and `rings` rings of free neighbours.
-  void grow(const std::vector<Index>& bad) {
+  /// (`seeds`: free vertices added too, with their rings.)
+  void grow(const std::vector<Index>& bad, const std::vector<int>* seeds = nullptr) {
     std::vector<int> front;
     for (Index t : bad)
-      for (int v : T[std::size_t(t)])
+      for (int v : tri(t))
+        if (topo.free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
+    if (seeds)
+      for (int v : *seeds)
         if (topo.free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
     for (int ring = 0; ring < o.rings && !front.empty(); ++ring) {
       std::vector<int> next;
       for (int v : front)
         for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
-          for (int u : T[std::size_t(topo.around[std::size_t(k)])])
+          for (int u : tri(topo.around[std::size_t(k)]))
             if (topo.free[std::size_t(u)] && !inRegion[std::size_t(u)]) add(u, next);
       front = std::move(next);
     }
@@ -53,10 +71,10 @@ class Repair {
       for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k) {
         const Index t = topo.around[std::size_t(k)];
         if (mark(t)) continue;
-        if (jacobian(P, T[std::size_t(t)], A(t)) > threshold) continue;
+        if (jacobian(P, tri(t), area(t)) > threshold) continue;
         bad.push_back(t);
         if (outside)
-          for (int u : T[std::size_t(t)])
+          for (int u : tri(t))
             if (topo.free[std::size_t(u)] && !inRegion[std::size_t(u)]) {
               outside->push_back(t);
               break;
@@ -73,6 +91,11 @@ class Repair {
       const double now = starMin(P(v, 0), P(v, 1));
       if (now > o.minJacobian) continue;
       double bx = P(v, 0), by = P(v, 1), best = now;
+      const auto consider = [&](double x, double y) {
+        if (!std::isfinite(x) || !std::isfinite(y) || !allowed(v, x, y)) return;
+        const double value = starMin(x, y);
+        if (value > best) best = value, bx = x, by = y;
+      };
       const std::size_t n = fs.size();
       for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i + 1; j < n; ++j)
@@ -82,11 +105,20 @@ class Repair {
             const double a21 = fs[i].nx - fs[l].nx, a22 = fs[i].ny - fs[l].ny, r2 = fs[l].e - fs[i].e;
             const double det = a11 * a22 - a12 * a21;
             if (std::abs(det) < 1e-14 * (std::abs(a11 * a22) + std::abs(a12 * a21)) || det == 0.0) continue;
-            const double x = (r1 * a22 - a12 * r2) / det, y = (a11 * r2 - r1 * a21) / det;
-            if (!std::isfinite(x) || !std::isfinite(y)) continue;
-            const double value = starMin(x, y);
-            if (value > best) best = value, bx = x, by = y;
+            consider((r1 * a22 - a12 * r2) / det, (a11 * r2 - r1 * a21) / det);
           }
+      if (topo.free[std::size_t(v)] == 2) {
+        // A border vertex: the optimum may lie on the border line p0 + t·τ, where f_i = f_j.
+        const Vec2 p0 = rest.row(v).transpose(), tau = tangent(v);
+        consider(p0.x(), p0.y());
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t j = i + 1; j < n; ++j) {
+            const double si = fs[i].nx * tau.x() + fs[i].ny * tau.y(), sj = fs[j].nx * tau.x() + fs[j].ny * tau.y();
+            if (si == sj) continue;
+            const double t = (fs[j].at(p0.x(), p0.y()) - fs[i].at(p0.x(), p0.y())) / (si - sj);
+            consider(p0.x() + t * tau.x(), p0.y() + t * tau.y());
+          }
+      }
       // (Where no placement removes a fold, this can spread it; repairExteriorFolds then falls
       // back to the harmonic map. Refusing such moves instead stalled the untangling of folds
       // that a coordinated move of several vertices removes.)
@@ -98,27 +130,31 @@ class Repair {
     return improved;
   }
 
-  /// One smoothing sweep of the correction δ = P − H towards its neighbour mean, never lowering a
-  /// star's minimum below min(minJacobian, its current minimum).
+  /// One smoothing sweep of the correction δ = P − H towards its neighbour mean (towards 0 on the
+  /// border), never lowering a star's minimum below min(minJacobian, its current minimum).
   void smoothSweep() {
     for (int v : region) {
       ++stamp;
       double dx = 0.0, dy = 0.0;
       int count = 0;
-      for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
-        for (int u : T[std::size_t(topo.around[std::size_t(k)])]) {
-          if (u == v || seen[std::size_t(u)] == stamp) continue;
-          seen[std::size_t(u)] = stamp;
-          ++count;
-          dx += P(u, 0) - target(u, 0), dy += P(u, 1) - target(u, 1);
-        }
+      if (topo.free[std::size_t(v)] == 2) {
+        count = 1;  // back towards the border, as far as the star allows
+      } else {
+        for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
+          for (int u : tri(topo.around[std::size_t(k)])) {
+            if (u == v || seen[std::size_t(u)] == stamp) continue;
+            seen[std::size_t(u)] = stamp;
+            ++count;
+            dx += P(u, 0) - target(u, 0), dy += P(u, 1) - target(u, 1);
+          }
+      }
       if (count == 0) continue;
       const double tx = target(v, 0) + dx / count, ty = target(v, 1) + dy / count;
       star(v);
       const double floor = std::min(o.minJacobian, starMin(P(v, 0), P(v, 1)));
       for (double s = 1.0; s > 1.0 / 64.0; s *= 0.5) {
         const double x = P(v, 0) + s * (tx - P(v, 0)), y = P(v, 1) + s * (ty - P(v, 1));
-        if (starMin(x, y) >= floor) {
+        if (allowed(v, x, y) && starMin(x, y) >= floor) {
           P(v, 0) = x, P(v, 1) = y;
           break;
         }
@@ -141,14 +177,14 @@ class Repair {
   void placeNeighbours() {
     for (int v : region)
       for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
-        for (int u : T[std::size_t(topo.around[std::size_t(k)])])
+        for (int u : tri(topo.around[std::size_t(k)]))
           if (!inRegion[std::size_t(u)]) toTarget(u);
   }
 
   /// Per connected part of the region (vertices sharing a triangle): back to the harmonic
   /// positions where the repair left more folded triangles around it than the harmonic map had
   /// (a fold no placement removes: the cage pushed past the border). Returns the vertices kept moved.
-  Index revertWhereWorse() {
+  Index revertWhereWorse(std::vector<int>* moved) {
     std::vector<int> part;
     std::vector<std::uint8_t> done(region.size(), 0);
     Index kept = 0;
@@ -158,7 +194,7 @@ class Repair {
       done[r0] = 1;
       for (std::size_t q = 0; q < part.size(); ++q)
         for (Index k = topo.start[std::size_t(part[q])]; k < topo.start[std::size_t(part[q]) + 1]; ++k)
-          for (int u : T[std::size_t(topo.around[std::size_t(k)])])
+          for (int u : tri(topo.around[std::size_t(k)]))
             if (const std::uint32_t r = inRegion[std::size_t(u)]; r && !done[r - 1]) {
               done[r - 1] = 1;
               part.push_back(u);
@@ -169,19 +205,53 @@ class Repair {
         for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k) {
           const Index t = topo.around[std::size_t(k)];
           if (mark(t)) continue;
-          before += !(jacobian(E, T[std::size_t(t)], A(t)) > 0.0);
-          after += !(jacobian(P, T[std::size_t(t)], A(t)) > 0.0);
+          before += !(jacobian(E, tri(t), area(t)) > 0.0);
+          after += !(jacobian(P, tri(t), area(t)) > 0.0);
         }
-      if (after > before)
+      if (after > before) {
         for (int v : part) P.row(v) = E.row(v);
-      else
+      } else {
         kept += Index(part.size());
+        for (int v : part) keptBorder += topo.free[std::size_t(v)] == 2;
+        if (moved) moved->insert(moved->end(), part.begin(), part.end());
+      }
     }
     return kept;
   }
 
+  /// The positions of the region and its neighbours at fraction s.
+  struct Snapshot {
+    double s = 0.0;
+    std::vector<std::pair<int, Vec2>> at;
+  };
+  Snapshot snapshot() {
+    Snapshot k{s, {}};
+    ++stamp;
+    for (int v : region)
+      for (Index q = topo.start[std::size_t(v)]; q < topo.start[std::size_t(v) + 1]; ++q)
+        for (int u : tri(topo.around[std::size_t(q)]))
+          if (seen[std::size_t(u)] != stamp) {
+            seen[std::size_t(u)] = stamp;
+            k.at.push_back({u, P.row(u).transpose()});
+          }
+    return k;
+  }
+  /// Back to a snapshot; vertices that joined the region since start at their targets.
+  void restore(const Snapshot& k) {
+    s = k.s;
+    ++stamp;
+    for (const auto& [u, p] : k.at) {
+      P.row(u) = p.transpose();
+      seen[std::size_t(u)] = stamp;
+    }
+    for (int v : region)
+      if (seen[std::size_t(v)] != stamp) toTarget(v);
+    placeNeighbours();
+  }
+
   std::vector<int> region;
   double s = 0.0;  // continuation fraction
+  Index keptBorder = 0;  // border vertices kept moved by revertWhereWorse
 
  private:
   void add(int v, std::vector<int>& front) {
@@ -195,16 +265,26 @@ class Repair {
     seenTriangle[std::size_t(t)] = stamp;
     return false;
   }
+  /// A border vertex stays on the image's side of its border line or beyond it (n·(p − p0) ≥ 0).
+  bool allowed(int v, double x, double y) const {
+    if (topo.free[std::size_t(v)] != 2) return true;
+    const Vec2 n = outwardAt(topo.frame, rest.row(v).transpose());
+    return n.x() * (x - rest(v, 0)) + n.y() * (y - rest(v, 1)) >= -1e-9 * topo.spacing;
+  }
+  Vec2 tangent(int v) const {
+    const Vec2 n = outwardAt(topo.frame, rest.row(v).transpose());
+    return {-n.y(), n.x()};
+  }
   /// fs = det J of v's star triangles as affine functions of v's position.
   void star(int v) {
     fs.clear();
     for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k) {
       const Index t = topo.around[std::size_t(k)];
-      const std::array<int, 3>& tri = T[std::size_t(t)];
-      const int i = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-      const int a = tri[std::size_t((i + 1) % 3)], b = tri[std::size_t((i + 2) % 3)];
+      const std::array<int, 3>& tr = tri(t);
+      const int i = tr[0] == v ? 0 : (tr[1] == v ? 1 : 2);
+      const int a = tr[std::size_t((i + 1) % 3)], b = tr[std::size_t((i + 2) % 3)];
       // 2·area(p, a, b) = cross(a − p, b − p) = cross(a, b) + p.x (a.y − b.y) + p.y (b.x − a.x)
-      const double s = 0.5 / A(t);
+      const double s = 0.5 / area(t);
       fs.push_back({s * (P(a, 1) - P(b, 1)), s * (P(b, 0) - P(a, 0)), s * (P(a, 0) * P(b, 1) - P(a, 1) * P(b, 0))});
     }
   }
@@ -214,13 +294,15 @@ class Repair {
     return m;
   }
 
-  const Points& R;
+  const Points& R;  // the continuation's start (rest, or an earlier result)
   const Points& E;
   Points& P;
+  const Points& rest;
   const Triangles& T;
   const ExteriorRepairTopology& topo;
   Index nt;
   const Eigen::VectorXd& A;
+  const Eigen::VectorXd& GA;
   const ExteriorRepairOptions& o;
 
  public:
@@ -234,31 +316,97 @@ class Repair {
 
 }  // namespace
 
-ExteriorRepairTopology exteriorRepairTopology(const Triangles& triangles, Index exteriorTriangles, Index vertices,
-                                              const std::vector<std::uint8_t>& movable) {
+namespace {
+
+/// The border ring of `rest` on `f`: border vertices in order around the frame (empty when two
+/// border vertices coincide or a pair of ring neighbours is not an edge of `triangles`).
+std::vector<int> borderRing(const Points& rest, const Triangles& triangles, const ExteriorRepairFrame& f) {
+  const double w = f.x1 - f.x0, h = f.y1 - f.y0;
+  std::vector<std::pair<double, int>> along;  // perimeter parameter, vertex
+  for (Index v = 0; v < rest.rows(); ++v) {
+    const double x = rest(v, 0), y = rest(v, 1);
+    if (y == f.y0 && x >= f.x0 && x <= f.x1) along.push_back({x - f.x0, int(v)});
+    else if (x == f.x1 && y >= f.y0 && y <= f.y1) along.push_back({w + (y - f.y0), int(v)});
+    else if (y == f.y1 && x >= f.x0 && x <= f.x1) along.push_back({w + h + (f.x1 - x), int(v)});
+    else if (x == f.x0 && y >= f.y0 && y <= f.y1) along.push_back({2 * w + h + (f.y1 - y), int(v)});
+  }
+  std::sort(along.begin(), along.end());
+  std::vector<int> ring;
+  for (std::size_t k = 0; k < along.size(); ++k) {
+    if (k > 0 && along[k].first == along[k - 1].first) return {};
+    ring.push_back(along[k].second);
+  }
+  if (ring.size() < 4) return {};
+  // Ring neighbours must be mesh edges (the mesh covers the rectangle).
+  std::vector<int> position(std::size_t(rest.rows()), -1);
+  for (std::size_t k = 0; k < ring.size(); ++k) position[std::size_t(ring[k])] = int(k);
+  const int n = int(ring.size());
+  std::vector<std::uint8_t> edge(ring.size(), 0);  // edge k: ring[k] – ring[k + 1]
+  for (const auto& t : triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = position[std::size_t(t[std::size_t(e)])], b = position[std::size_t(t[std::size_t((e + 1) % 3)])];
+      if (a < 0 || b < 0) continue;
+      if ((a + 1) % n == b) edge[std::size_t(a)] = 1;
+      if ((b + 1) % n == a) edge[std::size_t(b)] = 1;
+    }
+  for (std::uint8_t e : edge)
+    if (!e) return {};
+  return ring;
+}
+
+}  // namespace
+
+ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangles& triangles, Index exteriorTriangles,
+                                              const std::vector<std::uint8_t>& movable, const ExteriorRepairFrame* frame) {
   const Index nt = std::min<Index>(exteriorTriangles, Index(triangles.size()));
+  const Index vertices = rest.rows();
   ExteriorRepairTopology g;
-  g.start.assign(std::size_t(vertices) + 1, 0);
-  g.around.resize(std::size_t(nt) * 3);
-  for (Index t = 0; t < nt; ++t)
-    for (int v : triangles[std::size_t(t)]) ++g.start[std::size_t(v) + 1];
-  g.free.assign(std::size_t(vertices), 0);
-  for (Index v = 0; v < vertices; ++v)
-    g.free[std::size_t(v)] = movable[std::size_t(v)] && g.start[std::size_t(v) + 1] > 0 ? 1 : 0;
+  if (frame) {
+    g.frame = *frame;
+    g.ring = borderRing(rest, triangles, *frame);
+  }
+  const Index ng = Index(g.ring.size());
+  for (Index k = 0; k < ng; ++k) {
+    const int a = g.ring[std::size_t(k)], b = g.ring[std::size_t((k + 1) % ng)];
+    const int ga = int(vertices + k), gb = int(vertices + (k + 1) % ng);
+    g.ghosts.push_back({a, b, gb});
+    g.ghosts.push_back({a, gb, ga});
+    g.outward.push_back(outwardAt(g.frame, rest.row(a).transpose()));
+    g.spacing = std::max(g.spacing, (rest.row(b) - rest.row(a)).norm());
+  }
+  const Index all = nt + Index(g.ghosts.size());
+  const auto triangle = [&](Index t) -> const std::array<int, 3>& { return t < nt ? triangles[std::size_t(t)] : g.ghosts[std::size_t(t - nt)]; };
+  g.start.assign(std::size_t(vertices + ng) + 1, 0);
+  g.around.resize(std::size_t(all) * 3);
+  for (Index t = 0; t < all; ++t)
+    for (int v : triangle(t)) ++g.start[std::size_t(v) + 1];
+  g.free.assign(std::size_t(vertices + ng), 0);
+  for (Index v = 0; v < vertices; ++v) {
+    if (!movable[std::size_t(v)] || g.start[std::size_t(v) + 1] == 0) continue;
+    const double x = rest(v, 0), y = rest(v, 1);
+    if (!frame || !(x == frame->x0 || x == frame->x1 || y == frame->y0 || y == frame->y1)) {
+      g.free[std::size_t(v)] = 1;
+      continue;
+    }
+    const Vec2 n = outwardAt(g.frame, rest.row(v).transpose());
+    g.free[std::size_t(v)] = ng > 0 && (n.x() == 0.0) != (n.y() == 0.0) ? 2 : 0;  // corners stay
+  }
   // A free vertex's star must be closed: no triangle of the inside may use it.
   for (std::size_t t = std::size_t(nt); t < triangles.size(); ++t)
     for (int v : triangles[t]) g.free[std::size_t(v)] = 0;
-  for (Index v = 0; v < vertices; ++v) g.start[std::size_t(v) + 1] += g.start[std::size_t(v)];
+  for (Index v = 0; v < vertices + ng; ++v) g.start[std::size_t(v) + 1] += g.start[std::size_t(v)];
   std::vector<Index> fill(g.start.begin(), g.start.end() - 1);
-  for (Index t = 0; t < nt; ++t)
-    for (int v : triangles[std::size_t(t)]) g.around[std::size_t(fill[std::size_t(v)]++)] = t;
+  for (Index t = 0; t < all; ++t)
+    for (int v : triangle(t)) g.around[std::size_t(fill[std::size_t(v)]++)] = t;
   return g;
 }
 
 ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles, const ExteriorRepairTopology& topology,
                                          Index exteriorTriangles, const Eigen::VectorXd& restArea,
-                                         const ExteriorRepairOptions& options) {
+                                         const ExteriorRepairOptions& options, const ExteriorRepairStart& start,
+                                         std::vector<int>* moved) {
   ExteriorRepairReport rep;
+  if (moved) moved->clear();
   const Index nt = std::min<Index>(exteriorTriangles, Index(triangles.size()));
   std::vector<Index> bad;
   for (Index t = 0; t < nt; ++t) {
@@ -267,18 +415,49 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
     if (!(j > 0.0)) ++rep.foldedBefore;
   }
   if (rep.foldedBefore == 0) return rep;  // a pose that folds nothing is left as it is
-  const Points entry = deformed;  // the harmonic positions: the continuation's end and the fallback
-  Repair r(rest, entry, deformed, triangles, topology, nt, restArea, options);
-  r.grow(bad);  // at s = 0: the region at rest
+  // The ghost ring at distance G outside the frame: past the farthest harmonic position, plus a margin.
+  const Index nv = deformed.rows(), ng = Index(topology.ring.size());
+  const ExteriorRepairFrame& f = topology.frame;
+  double overshoot = 0.0;
+  if (ng > 0)
+    for (Index v = 0; v < nv; ++v)
+      overshoot = std::max({overshoot, f.x0 - deformed(v, 0), deformed(v, 0) - f.x1, f.y0 - deformed(v, 1), deformed(v, 1) - f.y1});
+  const double G = overshoot + std::max(16.0 * topology.spacing, 0.25 * std::max(f.x1 - f.x0, f.y1 - f.y0));
+  const auto extend = [&](const Points& top) {
+    Points X(nv + ng, 2);
+    X.topRows(nv) = top;
+    for (Index k = 0; k < ng; ++k) X.row(nv + k) = rest.row(topology.ring[std::size_t(k)]) + G * topology.outward[std::size_t(k)].transpose();
+    return X;
+  };
+  const Points entry = extend(deformed);  // the harmonic positions: the continuation's end and the fallback
+  const bool warm = start.positions && start.positions->rows() == nv;
+  rep.warmStart = warm;
+  const Points restX = extend(rest), from = warm ? extend(*start.positions) : restX;
+  Points P = entry;
+  Eigen::VectorXd ghostArea(Index(topology.ghosts.size()));
+  for (Index k = 0; k < ghostArea.size(); ++k) ghostArea(k) = 0.5 * signedArea2(restX, topology.ghosts[std::size_t(k)]);
+  Repair r(from, entry, P, rest, triangles, topology, nt, restArea, ghostArea, options);
+  r.grow(bad, warm ? start.moved : nullptr);  // at s = 0: the region at the start positions
   r.placeNeighbours();
   if (r.region.empty()) {
     rep.foldedAfter = rep.foldedBefore;
     return rep;
   }
-  for (int step = 1; step <= options.steps; ++step) {
-    r.advance(double(step) / options.steps);
+  // Adaptive continuation: a step that leaves a fold is taken back and halved (down to 1/16 of
+  // the first), a step that leaves none lets the next one double (up to 1/steps). The sweeps are
+  // budgeted (ExteriorRepairOptions::budget); once spent, the last step goes to s = 1.
+  const double ds0 = 1.0 / std::max(1, warm ? options.warmSteps : options.steps), dsMin = ds0 / 16.0;
+  const double budget = options.budget * std::lround(1.0 / ds0) * options.maxSweeps * double(r.region.size());
+  double visits = 0.0;
+  double ds = ds0;
+  while (r.s < 1.0) {
+    const bool last = visits >= budget;
+    const double next = last || r.s + ds >= 1.0 - 1e-12 ? 1.0 : r.s + ds;
+    const Repair::Snapshot before = r.snapshot();
+    r.advance(next);
     for (int sweep = 0; sweep < options.maxSweeps; ++sweep) {
       ++rep.sweeps;
+      visits += double(r.region.size());
       const int improved = r.untangleSweep();
       std::vector<Index> reach;
       const std::vector<Index> left = r.badAround(options.minJacobian, &reach);
@@ -291,8 +470,17 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
       }
     }
     for (int k = 0; k < options.smoothSweeps; ++k) r.smoothSweep();
+    if (!last && next - before.s > dsMin * 1.5 && !r.badAround(0.0, nullptr).empty()) {
+      r.restore(before);
+      ds = 0.5 * (next - before.s);
+      ++rep.retries;
+      continue;
+    }
+    ds = std::min(ds0, 2.0 * (next - before.s));
   }
-  rep.regionVertices = r.revertWhereWorse();
+  rep.regionVertices = r.revertWhereWorse(moved);
+  rep.borderVertices = r.keptBorder;
+  deformed = P.topRows(nv);
   for (Index t = 0; t < nt; ++t)
     if (!(jacobian(deformed, triangles[std::size_t(t)], restArea(t)) > 0.0)) {
       ++rep.foldedAfter;

@@ -64,6 +64,10 @@ OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& di
   for (Index v = 0; v < nv; ++v) {
     const double move = (F.row(v) - R.row(v)).norm();
     if ((R(v, 0) == x0 || R(v, 0) == x1) && (R(v, 1) == y0 || R(v, 1) == y1)) out.cornerMax = std::max(out.cornerMax, move);
+    if (R(v, 0) == x0 || R(v, 0) == x1 || R(v, 1) == y0 || R(v, 1) == y1) {
+      out.borderMax = std::max(out.borderMax, move);
+      out.borderMoved += move > 0.0;
+    }
     if (!outside[std::size_t(v)]) continue;
     ++out.verticesOutside;
     for (WarpMesh::SparseWeights::InnerIterator it(W, v); it; ++it)

@@ -137,14 +137,13 @@ void WarpMesh::buildPinned(const std::vector<double>& xs, const std::vector<doub
 
 void WarpMesh::buildRepair(const std::vector<double>& xs, const std::vector<double>& ys) {
   if (!m_options.repairFolds) return;
-  // Movable: vertices strictly outside the cage and off the image border (which stays pinned).
+  // Movable: vertices strictly outside the cage; on the image border, all but the corners may
+  // slide along it or move outward where the repair needs it (exterior_untangle.h).
   const Index nv = m_rest.rows();
   std::vector<std::uint8_t> movable(std::size_t(nv), 0);
-  for (Index v = 0; v < nv; ++v)
-    movable[std::size_t(v)] = m_exterior->exterior[std::size_t(v)] && m_rest(v, 0) != xs.front() &&
-                                      m_rest(v, 0) != xs.back() && m_rest(v, 1) != ys.front() && m_rest(v, 1) != ys.back()
-                                  ? 1 : 0;
-  m_repair = std::make_shared<const ExteriorRepairTopology>(exteriorRepairTopology(m_triangles, m_outsideTriangles, nv, movable));
+  for (Index v = 0; v < nv; ++v) movable[std::size_t(v)] = m_exterior->exterior[std::size_t(v)] ? 1 : 0;
+  const ExteriorRepairFrame frame{xs.front(), ys.front(), xs.back(), ys.back()};
+  m_repair = std::make_shared<const ExteriorRepairTopology>(exteriorRepairTopology(m_rest, m_triangles, m_outsideTriangles, movable, &frame));
 }
 
 CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
@@ -158,6 +157,7 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
                                 std::to_string(m_cage.size()) + " control points");
   if (!W.allFinite()) throw std::invalid_argument("warp mesh: weights contain NaN or infinity");
   const double keep = m_options.keepThreshold / double(m);
+  m_previousFoldFree = false;  // a live repair starts from a picture of these weights only
   // Pinned mode: rows of exterior vertices come from the harmonic extension (with the anchor).
   const ExteriorWeights* ext = m_exterior.get();
   const auto exterior = [ext](Index v) { return ext && ext->exterior[std::size_t(v)]; };
@@ -240,7 +240,7 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
 
 CompactWeightsReport WarpMesh::setWeights(const SparseWeights& W) { return setWeights(Weights(W)); }
 
-DeformReport WarpMesh::deform(const Pose& pose) {
+DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
   const auto t0 = Clock::now();
   if (!hasWeights()) throw std::invalid_argument("warp mesh: deform() called before setWeights()");
   const std::vector<Affine2> T = handleTransforms(m_cage.C, pose);
@@ -273,11 +273,20 @@ DeformReport WarpMesh::deform(const Pose& pose) {
   DeformReport rep;
   if (m_repair) {
     const auto t1 = Clock::now();
-    const ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea);
+    // While dragging, the continuation starts from the last picture when that one was fold-free.
+    const bool warm = pass == DeformPass::Live && m_previousFoldFree && m_previous.rows() == nv;
+    std::vector<int> seeds;
+    if (warm) seeds.swap(m_moved);
+    const ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, {},
+                                                       warm ? ExteriorRepairStart{&m_previous, &seeds} : ExteriorRepairStart{}, &m_moved);
     rep.harmonicFolds = r.foldedBefore;
     rep.repairedFolds = r.foldedAfter;
     rep.repairVertices = r.regionVertices;
+    rep.repairBorderVertices = r.borderVertices;
+    rep.repairWarmStart = r.warmStart;
     rep.repairSeconds = seconds(t1);
+    m_previousFoldFree = r.foldedAfter == 0;
+    m_previous = m_deformed;
   }
   const Index nt = Index(m_triangles.size());
   parallelForRange(nt, 8192, [&](Index begin, Index end) {

@@ -2,10 +2,24 @@
 /// The pinned outside mode's fold repair. The pinned exterior map is first the harmonic extension
 /// of the cage's displacement to the fixed image border (exterior_weights.h); where the cage moves
 /// a lot, harmonic maps concentrate the stretch next to it and fold triangles of the background.
-/// The repair moves only vertices strictly outside the cage and off the image border (the
-/// "free" vertices); the points on the cage and the border stay where the field and the frame put
-/// them, so the inside of the cage and the corners do not change. On a mesh that follows the cage
-/// (cage_conforming_grid.h) every free vertex has a closed star of exterior triangles.
+/// The repair moves only vertices strictly outside the cage (the "free" vertices); the points on
+/// the cage and the image corners stay where the field and the frame put them, so the inside of
+/// the cage and the corners do not change. On a mesh that follows the cage (cage_conforming_grid.h)
+/// every free vertex off the border has a closed star of exterior triangles.
+///
+/// The border gives way where it must. With a frame (ExteriorRepairFrame), the non-corner border
+/// vertices outside the cage are free too, but only to slide along the border or to move outward
+/// (pixels beyond the image rectangle are off the canvas): the image rectangle is padded by a ring
+/// of fixed "ghost" vertices at distance G outside it (G = how far the harmonic map reaches past
+/// the frame, plus a margin of max(16 spacings, a quarter of the frame's longer side)), one ghost
+/// per border vertex, joined to the border by ghost triangles that are never drawn. The ghost ring
+/// closes each border vertex's star, so the local optimisation below stays a bounded linear
+/// program, and keeps the border curve simple (a ghost triangle folds if the border crosses
+/// itself). Where the deformed cage reaches past the border, no map with a fixed border is
+/// one-to-one; with the ghost ring, one exists whenever the deformed cage is simple and leaves the
+/// four corners outside it. Border vertices move only when their star is folded, and the
+/// smoothing pulls them back towards the border as far as their star allows, so they move only as
+/// far as needed, and nowhere else.
 ///
 /// 1. Region: the free vertices of exterior triangles with det J ≤ minJacobian, grown by `rings`
 ///    rings of free neighbours (regrown when a fold reaches the region's edge).
@@ -13,24 +27,29 @@
 ///    a triangle with det J ≤ minJacobian moves to the point p maximising min_k det J_k(p) over the
 ///    triangles k of its star. det J_k(p) = (c_k + g_k·p) / (2 A_k) is affine in p, so this is a
 ///    2-D linear program, bounded because the star is closed; its optimum is where three of the
-///    affine functions meet (all triples are tried: a star has ≤ ~12 triangles). Gauss–Seidel
-///    sweeps until no region triangle is below minJacobian or `maxSweeps`.
+///    affine functions meet (all triples are tried: a star has ≤ ~12 triangles). For a border
+///    vertex the program has one more constraint, n·(p − p₀) ≥ 0 (n the outward normal, p₀ its
+///    rest position), so pairs of the affine functions meeting on the border line are tried too.
+///    Gauss–Seidel sweeps until no region triangle is below minJacobian or `maxSweeps`.
 /// 3. Smoothing: the correction δ(v) = p(v) − h(v) (h the harmonic position) is relaxed towards
-///    its neighbour average (a discrete harmonic correction that vanishes at the region's edge),
-///    each step shortened (1, 1/2, 1/4, …) until the star keeps det J ≥ minJacobian, so the
-///    smoothing never folds. The repaired background therefore equals the harmonic one outside the
-///    region and bends smoothly inside it.
+///    its neighbour average (a discrete harmonic correction that vanishes at the region's edge);
+///    a border vertex's δ is relaxed towards 0 (back to the border). Each step is shortened
+///    (1, 1/2, 1/4, …) until the star keeps det J ≥ minJacobian, so the smoothing never folds.
+///    The repaired background therefore equals the harmonic one outside the region and bends
+///    smoothly inside it.
 ///
-/// The untangling runs as a continuation: the region starts at rest (fold-free) and moves in
-/// `steps` equal increments of its harmonic displacement while the vertices around it move to
-/// rest + s·(harmonic − rest), s = 1/steps … 1; each step is untangled and smoothed, so the
-/// configuration stays close to a fold-free one.
+/// The untangling runs as a continuation: the region starts at the start positions (rest, or a
+/// fold-free earlier result: ExteriorRepairStart) and moves in increments of at most 1/steps
+/// towards the harmonic positions while the vertices around it move to start + s·(harmonic −
+/// start), s from 0 to 1; each step is untangled and smoothed, so the configuration stays close to
+/// a fold-free one. A step that leaves a folded triangle is taken back and halved (down to
+/// 1/(16·steps)); after a step that leaves none the next may double again. The work is budgeted
+/// (ExteriorRepairOptions::budget).
 ///
 /// 4. Fallback: per connected part of the region, if the repair left more folded triangles around
 ///    it than the harmonic map had, the part goes back to the harmonic positions. That happens
-///    where no placement of the free vertices removes a fold — the deformed cage crosses the
-///    fixed border (the cage pushed past the image border) or overlaps itself — and the max–min
-///    moves only spread it. The report counts what is left.
+///    where no placement of the free vertices removes a fold — the deformed cage overlaps itself
+///    or a corner — and the max–min moves only spread it. The report counts what is left.
 
 #include <cstdint>
 #include <vector>
@@ -43,8 +62,14 @@ struct ExteriorRepairOptions {
   double minJacobian = 0.05;  ///< Target: every repaired triangle keeps det J ≥ this.
   int rings = 3;              ///< Rings of free neighbours added around the folded triangles.
   int steps = 32;             ///< Continuation steps from rest (0) to the harmonic positions (1).
+  int warmSteps = 4;          ///< Continuation steps from an earlier result (ExteriorRepairStart).
   int maxSweeps = 30;         ///< Untangling sweeps over the region per step.
   int smoothSweeps = 3;       ///< Smoothing sweeps over the region per step.
+  /// Work budget of the adaptive continuation, in vertex visits of the untangling: budget ×
+  /// steps × maxSweeps × the first region's size (a fixed schedule whose every step runs out of
+  /// sweeps costs 1, without the region growing). Once spent, the continuation jumps to the end
+  /// and the fallback decides: this bounds the cost of poses no placement untangles.
+  double budget = 4.0;
 };
 
 struct ExteriorRepairReport {
@@ -52,27 +77,60 @@ struct ExteriorRepairReport {
   Index foldedAfter = 0;   ///< … after it.
   Index foldedFixed = 0;   ///< Of foldedAfter, triangles with no free vertex (on the cage or the border only).
   Index regionVertices = 0;  ///< Vertices left moved (after the fallback).
+  Index borderVertices = 0;  ///< Of those, border vertices (they slid along the border or moved outward).
+  bool warmStart = false;    ///< The continuation started from an earlier result (ExteriorRepairStart).
   int sweeps = 0;            ///< Untangling sweeps run, over all steps.
+  int retries = 0;           ///< Continuation steps taken back and halved (they left a fold).
+};
+
+/// The image rectangle whose border vertices may give way (x0 < x1, y0 < y1: the rest positions
+/// of the border vertices lie exactly on it).
+struct ExteriorRepairFrame {
+  double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
 };
 
 /// The exterior triangles around each vertex (CSR: triangles around[start[v] .. start[v+1]) of
-/// vertex v) and the vertices the repair may move, built once per mesh.
+/// vertex v; index t < exteriorTriangles is a mesh triangle, t ≥ exteriorTriangles the ghost
+/// triangle t − exteriorTriangles) and the vertices the repair may move, built once per mesh.
 struct ExteriorRepairTopology {
   std::vector<Index> start, around;
-  std::vector<std::uint8_t> free;  ///< 1: strictly outside the cage, off the border, in a triangle.
+  /// 1: strictly outside the cage and off the border, in a triangle; 2: a border vertex (not a
+  /// corner) outside the cage that may slide along the border or move outward; 0: fixed.
+  std::vector<std::uint8_t> free;
+  /// The border ring (empty without a frame, or when the mesh's boundary is not the frame's
+  /// polygon): border vertex ids in order around the frame; ghost k (vertex id #V + k) lies at
+  /// rest(ring[k]) + G·outward[k] (outward: the side's unit normal, (±1, ±1) at a corner).
+  std::vector<int> ring;
+  std::vector<Vec2> outward;
+  Triangles ghosts;  ///< Two per ring edge (a, b): (a, b, ghost b), (a, ghost b, ghost a).
+  ExteriorRepairFrame frame;
+  double spacing = 0.0;  ///< Longest ring edge at rest (px).
 };
 
-/// Topology of triangles[0..exteriorTriangles) over `vertices` vertices; `movable[v]` = 1 for the
-/// vertices strictly outside the cage and off the image border (#V).
-ExteriorRepairTopology exteriorRepairTopology(const Triangles& triangles, Index exteriorTriangles, Index vertices,
-                                              const std::vector<std::uint8_t>& movable);
+/// Topology of triangles[0..exteriorTriangles) over rest.rows() vertices; `movable[v]` = 1 for the
+/// vertices strictly outside the cage (#V). With a frame, border vertices among them may slide or
+/// move outward (corners stay fixed) when the mesh's boundary is the frame's polygon, else they
+/// are fixed; without a frame, the movable vertices are free as given (the caller leaves the
+/// border out).
+ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangles& triangles, Index exteriorTriangles,
+                                              const std::vector<std::uint8_t>& movable, const ExteriorRepairFrame* frame = nullptr);
+
+/// Where the continuation starts: an earlier result of the repair on the same mesh (#V×2, with no
+/// fold outside the cage) and the vertices it left moved. Used while a pose is dragged: the next
+/// pose is close, so a few steps from the previous picture replace the continuation from rest.
+struct ExteriorRepairStart {
+  const Points* positions = nullptr;
+  const std::vector<int>* moved = nullptr;
+};
 
 /// Repairs the folds of triangles[0..exteriorTriangles) in `deformed` (#V×2, the harmonic positions
 /// on entry) as the file comment describes; restArea (#T, non-zero) gives det J = deformed / rest
-/// signed area. Only free vertices change. Cost: nothing beyond one pass over the exterior
-/// triangles when none is folded; else O(region · sweeps · star³).
+/// signed area. Only free vertices change. `start`: see ExteriorRepairStart (null: from rest).
+/// `moved` (optional) receives the vertices left moved. Cost: nothing beyond one pass over the
+/// exterior triangles when none is folded; else O(region · sweeps · star³).
 ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles, const ExteriorRepairTopology& topology,
                                          Index exteriorTriangles, const Eigen::VectorXd& restArea,
-                                         const ExteriorRepairOptions& options = {});
+                                         const ExteriorRepairOptions& options = {}, const ExteriorRepairStart& start = {},
+                                         std::vector<int>* moved = nullptr);
 
 }  // namespace kc

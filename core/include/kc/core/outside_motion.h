@@ -19,6 +19,10 @@ struct OutsideBand {
 
 struct OutsideMotion {
   double cornerMax = 0.0;          ///< Largest displacement of the image's four corner vertices (px).
+  /// Largest displacement of a vertex on the image border (px; pinned mode: where the fold repair
+  /// let the border give way, exterior_untangle.h), and how many border vertices moved at all.
+  double borderMax = 0.0;
+  Index borderMoved = 0;
   std::vector<OutsideBand> bands;  ///< One per requested distance.
   double minWeight = 0.0;          ///< Range of w_i (i < m; the pinned anchor excluded) at vertices
   double maxWeight = 0.0;          ///< outside the cage, as stored by the mesh (compact weights).

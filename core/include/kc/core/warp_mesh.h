@@ -53,7 +53,8 @@ struct WarpMeshOptions {
   /// repair can then move only vertices of triangles wholly outside, and folds across the cage stay).
   bool followCage = true;
   /// Pinned mode: after the harmonic extension, untangle the background where it folds
-  /// (exterior_untangle.h), moving only vertices strictly outside the cage and off the border.
+  /// (exterior_untangle.h), moving only vertices strictly outside the cage (border vertices other
+  /// than the corners may slide along the border or move outward, where the cage reaches it).
   bool repairFolds = true;
 };
 
@@ -80,8 +81,22 @@ struct DeformReport {
   /// extension folded (det J ≤ 0), those still folded after the repair, the vertices it moved
   /// (its region) and its time (included in `seconds`). All 0 when the repair is off or nothing folds.
   Index harmonicFolds = 0, repairedFolds = 0, repairVertices = 0;
+  Index repairBorderVertices = 0;  ///< Of repairVertices, border vertices (slid along the border or moved outward).
+  bool repairWarmStart = false;    ///< The repair started from the previous picture (DeformPass::Live).
   double repairSeconds = 0.0;
   double seconds = 0.0;
+};
+
+/// How deform() repairs the pinned background's folds (exterior_untangle.h).
+enum class DeformPass {
+  /// The full repair: the continuation from rest. The result depends on the pose only (exports,
+  /// the picture after a drag is released).
+  Final,
+  /// While a pose is dragged: when the previous deform() left no fold outside the cage, the
+  /// continuation starts from its picture and takes a few steps (ExteriorRepairOptions::warmSteps)
+  /// instead of many from rest. Cheaper, and follows the drag continuously; the result can differ
+  /// from the Final one (it depends on the drag's path), so a Final pass follows the release.
+  Live,
 };
 
 class WarpMesh {
@@ -128,8 +143,8 @@ class WarpMesh {
 
   /// f(v) = Σ_i w_i(v) T_i v (3.37) at every vertex (plus a(v)·v for the pinned anchor) — one sparse product, parallel over vertices —
   /// then, in Pinned mode, the fold repair of the triangles outside the cage, and det J per triangle (the piecewise-linear counterpart of 3.44: deformed / rest signed
-  /// area). Throws std::invalid_argument for a bad pose or when no weights are set.
-  DeformReport deform(const Pose& pose);
+  /// area). `pass`: see DeformPass. Throws std::invalid_argument for a bad pose or when no weights are set.
+  DeformReport deform(const Pose& pose, DeformPass pass = DeformPass::Final);
   /// Deformed vertices (#V×2) of the last deform() (rest positions before the first).
   const Points& deformedVertices() const { return m_deformed; }
   /// det J per triangle of the last deform() (#T).
@@ -156,6 +171,11 @@ class WarpMesh {
   Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie outside the cage
   std::shared_ptr<const ExteriorRepairTopology> m_repair;  // Pinned mode with repairFolds; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
+  // The fold repair's last result, the start of a DeformPass::Live repair: positions (#V×2), the
+  // vertices it moved, and whether it left no fold outside the cage.
+  Points m_previous;
+  std::vector<int> m_moved;
+  bool m_previousFoldFree = false;
 };
 
 /// The grid of vertex positions along one axis covering [−0.5, n−0.5] with steps ≤ spacing.
