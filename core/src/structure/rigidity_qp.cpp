@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "../sparse_cholesky.h"
+#include "rigidity_dual.h"
 
 namespace kc {
 namespace {
@@ -33,12 +34,7 @@ class ConstrainedSolve {
     if (A.rows() == 0) return true;
     m_F = m_llt.solve(Eigen::MatrixXd(A.transpose()));
     const Eigen::MatrixXd S = A * m_F;
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (S + S.transpose()));
-    const Eigen::VectorXd& d = eig.eigenvalues();
-    const double cut = rankTolerance * std::max(d.cwiseAbs().maxCoeff(), 1e-300);
-    Eigen::VectorXd inv(d.size());
-    for (Index k = 0; k < d.size(); ++k) inv(k) = d(k) > cut ? 1.0 / d(k) : 0.0;
-    m_Splus = eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+    m_Splus = detail::symmetricPseudoInverse(S, rankTolerance);
     m_A = A;
     return true;
   }
@@ -149,6 +145,8 @@ class BoundDual {
   double diagonal(Index i, Index c) const { return m_Kq(i, i) * m_P(c, c); }
   double kq(Index i, Index j) const { return m_Kq(i, j); }
   double p(Index c, Index d) const { return m_P(c, d); }
+  const Eigen::MatrixXd& Kq() const { return m_Kq; }
+  const Eigen::MatrixXd& P() const { return m_P; }
 
  private:
   Eigen::MatrixXd m_Kq, m_P, m_R;
@@ -156,9 +154,10 @@ class BoundDual {
 
 /// Solves (Q_FF + δI) d = b on the free pairs F by conjugate gradients preconditioned with the
 /// per-sample blocks Kq_ii P[F_i, F_i] + δI (Q_FF restricted to one sample's free controls).
-/// `free` is c×m' (1 = free); b and the result are c×m' with zeros off F. Returns the iterations.
+/// `free` is c×m' (1 = free); b and the result are c×m' with zeros off F; tick() every 10
+/// iterations. Returns the iterations.
 int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic>& free, const Eigen::MatrixXd& b, double delta,
-              double tolerance, int maxIterations, Eigen::MatrixXd& x) {
+              double tolerance, int maxIterations, const detail::Tick& tick, Eigen::MatrixXd& x) {
   const Index c = D.rows(), m = D.cols();
   std::vector<Index> rowsF;  // samples with a free pair
   for (Index i = 0; i < c; ++i)
@@ -213,6 +212,7 @@ int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eige
     const double rzNew = r.cwiseProduct(z).sum();
     dir = z + (rzNew / rz) * dir;
     rz = rzNew;
+    if (it % 10 == 0) tick();
   }
   for (Index a = 0; a < cf; ++a) x.row(rowsF[std::size_t(a)]) = xf.row(a);
   return it;
@@ -233,6 +233,10 @@ int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eige
 /// options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
   const Index n = qp.H.rows(), c = qp.Kc.rows();
+  double stage = 0.0;  // the share reported between blocks of dense work
+  const detail::Tick tick = [&] {
+    if (!goOn(options, stage)) throw RigidityQpCancelled();
+  };
   const SparseMatrix H2 = 2.0 * qp.H;
   SparseMatrix M = H2;
   SparseMatrix shift(n, n);
@@ -240,11 +244,18 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   M += (1e-13 * std::max(H2.diagonal().sum() / double(n), 1e-300)) * shift;
   M.makeCompressed();
   const auto tf = std::chrono::steady_clock::now();
-  ConstrainedSolve solver;
-  if (!solver.compute(M, qp.A, options.rankTolerance)) return false;
+  // (2H)⁻¹_A: a dense factorization up to maxDenseNodes (the Gram matrix Kq then costs one
+  // triangular solve and one symmetric rank update), CHOLMOD's sparse one beyond.
+  const bool dense = n <= options.maxDenseNodes;
+  detail::DenseConstrainedSolve denseSolver;
+  ConstrainedSolve sparseSolver;
+  if (dense ? !denseSolver.compute(M, qp.A, options.rankTolerance, tick) : !sparseSolver.compute(M, qp.A, options.rankTolerance))
+    return false;
+  auto solveA = [&](const Eigen::MatrixXd& rhs) { return dense ? denseSolver.solve(rhs) : sparseSolver.solve(rhs); };
   rep.factorSeconds = secondsSince(tf);
-  if (!goOn(options, 0.1)) throw RigidityQpCancelled();
-  const Eigen::MatrixXd Y0 = solver.solve(-2.0 * (qp.G * qp.Z));
+  stage = 0.1;
+  tick();
+  const Eigen::MatrixXd Y0 = solveA(-2.0 * (qp.G * qp.Z));
   if (c == 0) {
     dU = Y0 * qp.Z.transpose();
     rep.converged = true;
@@ -257,15 +268,20 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   const Index m = Index(ctl.size());
   Eigen::MatrixXd Zs(m, qp.Z.cols());
   for (Index k = 0; k < m; ++k) Zs.row(k) = qp.Z.row(ctl[std::size_t(k)]);
-  const Eigen::MatrixXd Kct = Eigen::MatrixXd(SparseMatrix(qp.Kc.transpose()));
-  Eigen::MatrixXd F(n, c);
-  constexpr Index kChunk = 128;  // columns per solve, so that cancelling is heard within one chunk
-  for (Index j = 0; j < c; j += kChunk) {
-    const Index w = std::min(kChunk, c - j);
-    F.middleCols(j, w) = solver.solve(Kct.middleCols(j, w));
-    if (!goOn(options, 0.1 + 0.3 * double(j + w) / double(c))) throw RigidityQpCancelled();
+  Eigen::MatrixXd Kq;
+  if (dense) {
+    Kq = denseSolver.gram(qp.Kc, tick);
+  } else {  // Kq = Kc (2H)⁻¹_A Kcᵀ by column blocks, so that cancelling is heard within one block
+    const Eigen::MatrixXd Kct = Eigen::MatrixXd(SparseMatrix(qp.Kc.transpose()));
+    Kq.resize(c, c);
+    constexpr Index kChunk = 128;
+    for (Index j = 0; j < c; j += kChunk) {
+      const Index w = std::min(kChunk, c - j);
+      Kq.middleCols(j, w) = qp.Kc * sparseSolver.solve(Kct.middleCols(j, w));
+      stage = 0.1 + 0.3 * double(j + w) / double(c);
+      tick();
+    }
   }
-  Eigen::MatrixXd Kq = qp.Kc * F;
   Kq = 0.5 * (Kq + Kq.transpose()).eval();
   const Eigen::MatrixXd S0 = (qp.Kc * Y0) * Zs.transpose();
   Eigen::MatrixXd R(c, m);
@@ -277,15 +293,15 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     for (Index k = 0; k < m; ++k) scale += D.diagonal(i, k);
   scale = std::max(scale / double(c * m), 1e-300);
   const double tol = options.tolerance;
-  double eps = 0.0, epsRel = options.proximal;
-  using Pair = std::pair<Index, Index>;  // (constrained row, active control)
-  Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(c, m), Mu = Lambda, QL = Lambda;
-  std::vector<Pair> active, factored;
+  double epsRel = options.proximal;
+  detail::PairSystem pairs(D.Kq(), D.P(), epsRel * scale, tick);
+  Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(c, m), Mu = Lambda, QL = Lambda, g = Lambda;
+  std::vector<Index> active;  // pairs (row i, active control k) as i·m + k, ascending
   for (Index i = 0; i < c; ++i)
     for (Index k = 0; k < m; ++k)
-      if (D.R()(i, k) > tol) active.emplace_back(i, k);
-  Eigen::LLT<Eigen::MatrixXd> llt;
+      if (D.R()(i, k) > tol) active.push_back(i * m + k);
   Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(c, m);
+  Eigen::VectorXd rhs, lambda;
   double first = 0.0;
   bool done = false;
   int rounds = 0;
@@ -294,49 +310,37 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     // definite Q + εI, by block principal pivoting (Júdice & Pires 1994): exchange every infeasible
     // pair (the primal-dual active set step) while their number falls, else (after 3 tries) only one
     // (Murty's rule, finite for positive definite matrices).
-    if (epsRel * scale != eps) factored.clear();  // a new ε: Q_AA + εI factorized again
-    eps = epsRel * scale;
+    const double eps = epsRel * scale;
+    pairs.setShift(eps);  // a new ε: Q_AA + εI factorized again
     Index fewest = std::numeric_limits<Index>::max();
     int backup = 3;
     bool settled = false;
     int inner = 0;
     for (; inner < 25 && rounds < options.maxActiveSetRounds; ++inner) {
       ++rounds;
+      stage = 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds;
       const Index a = Index(active.size());
       Lambda.setZero();
-      if (a > 0 && a <= options.maxDensePairs) {
-        if (active != factored) {  // Q_AA + εI, factorized again only when the set changed
-          Eigen::MatrixXd Q(a, a);
-          for (Index p = 0; p < a; ++p)
-            for (Index q = 0; q <= p; ++q)
-              Q(p, q) = D.kq(active[std::size_t(p)].first, active[std::size_t(q)].first) *
-                        D.p(active[std::size_t(p)].second, active[std::size_t(q)].second);
-          Q.diagonal().array() += eps;
-          llt.compute(Q);  // reads the lower triangle
-          if (llt.info() != Eigen::Success) return false;
-          factored = active;
-        }
-        Eigen::VectorXd rhs(a);
+      free.setZero();
+      for (Index p : active) free(p / m, p % m) = 1;
+      if (a > 0 && a <= options.maxDensePairs) {  // Q_AA + εI: updated as pairs enter and leave (detail::PairSystem)
+        rhs.resize(a);
         for (Index p = 0; p < a; ++p) {
-          const auto [i, k] = active[std::size_t(p)];
+          const Index i = active[std::size_t(p)] / m, k = active[std::size_t(p)] % m;
           rhs(p) = D.R()(i, k) + eps * Mu(i, k);
         }
-        const Eigen::VectorXd lambda = llt.solve(rhs);
-        for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)].first, active[std::size_t(p)].second) = lambda(p);
+        if (!pairs.solve(active, rhs, lambda)) return false;
+        for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)] / m, active[std::size_t(p)] % m) = lambda(p);
       } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
-        free.setZero();
-        for (const auto& [i, k] : active) free(i, k) = 1;
-        rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, Lambda);
+        rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, tick, Lambda);
       }
       QL = D.apply(Lambda);
-      const Eigen::MatrixXd g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
-      free.setZero();
-      for (const auto& [i, k] : active) free(i, k) = 1;
-      std::vector<Pair> infeasible;
+      g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
+      std::vector<Index> infeasible;
       for (Index i = 0; i < c; ++i)
         for (Index k = 0; k < m; ++k)
-          if (free(i, k) ? scale * Lambda(i, k) < -1e-3 * tol : g(i, k) < -1e-3 * tol) infeasible.emplace_back(i, k);
-      if (!goOn(options, 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds)) throw RigidityQpCancelled();
+          if (free(i, k) ? scale * Lambda(i, k) < -1e-3 * tol : g(i, k) < -1e-3 * tol) infeasible.push_back(i * m + k);
+      tick();
       if (infeasible.empty()) {
         settled = true;
         break;
@@ -349,11 +353,11 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
       } else {
         infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
       }
-      for (const auto& [i, k] : infeasible) free(i, k) = !free(i, k);
+      for (Index p : infeasible) free(p / m, p % m) = !free(p / m, p % m);
       active.clear();
       for (Index i = 0; i < c; ++i)
         for (Index k = 0; k < m; ++k)
-          if (free(i, k)) active.emplace_back(i, k);
+          if (free(i, k)) active.push_back(i * m + k);
     }
     // Not settled in 25 rounds: a larger ε (Q + εI nearer a diagonal, on which the exchanges settle);
     // settled at once: back toward the default (smaller ε, faster proximal steps).
@@ -366,11 +370,12 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     if (first == 0.0) first = std::max(residual, 10.0 * tol);
     done = residual <= tol;
     Mu = Lambda;
-    if (!goOn(options, 0.4 + 0.55 * std::log(first / std::max(residual, tol)) / std::log(first / tol))) throw RigidityQpCancelled();
+    stage = 0.4 + 0.55 * std::log(first / std::max(residual, tol)) / std::log(first / tol);
+    tick();
   }
   rep.iterations = rounds;
   if (!done) return false;
-  const Eigen::MatrixXd Y = Y0 + F * (Lambda * Zs);
+  const Eigen::MatrixXd Y = Y0 + solveA(SparseMatrix(qp.Kc.transpose()) * (Lambda * Zs));
   dU = Y * qp.Z.transpose();
   rep.converged = true;
   return true;

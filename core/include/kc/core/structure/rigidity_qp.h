@@ -5,8 +5,9 @@
 ///   s.t.    ΔU = Y Zᵀ            (every row of ΔU in span Z: partition of unity and reproduction)
 ///           A ΔU = 0             (polynomial side condition PᵀΔU = 0, held samples unchanged)
 ///           L ≤ Kc ΔU ≤ Up       (non-negativity of the constrained samples' weights)
-/// solved on the lower bounds' dual (one CHOLMOD factorization of 2H, the columns F = (2H)⁻¹_A Kcᵀ,
-/// the dual's matrix Kq ⊗ P; proximal point steps, each by block principal pivoting), or by ADMM
+/// solved on the lower bounds' dual (one factorization of 2H, dense up to maxDenseNodes; the dual's
+/// matrix Kq ⊗ P with Kq = Kc (2H)⁻¹_A Kcᵀ; proximal point steps, each by block principal pivoting
+/// with Q_AA + εI's factorization updated as pairs enter and leave), or by ADMM
 /// (Boyd et al. 2011, §3; OSQP's splitting) on one factorization of 2H + μ KcᵀKc shared by all
 /// columns of Y — when upper bounds are given or the dual method does not converge.
 
@@ -38,6 +39,7 @@ struct RigidityQpOptions {
   int maxActiveSetRounds = 500;  ///< Active-set rounds (all proximal steps together) before falling back to ADMM.
   double proximal = 1e-3;        ///< ε of the proximal term ε/2‖Λ − Λ_k‖², relative to the mean diagonal of the dual's Q (grows tenfold when a step does not settle).
   Index maxDensePairs = 4000;    ///< Active pairs up to which Q_AA + εI is factorized (dense); beyond, conjugate gradients.
+  Index maxDenseNodes = 3000;    ///< Nodes up to which 2H is factorized dense (Kq by a triangular solve and a rank update); beyond, CHOLMOD.
   int maxCgIterations = 2000;    ///< Conjugate-gradient iterations per round beyond maxDensePairs.
   double penalty = 0.0;        ///< ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
   double relaxation = 1.6;     ///< Over-relaxation α ∈ (0, 2).

@@ -1,0 +1,179 @@
+#include "rigidity_dual.h"
+
+#include <algorithm>
+
+namespace kc::detail {
+
+bool blockedCholesky(Eigen::MatrixXd& A, const Tick& tick, Index block) {
+  const Index n = A.rows();
+  for (Index k = 0; k < n; k += block) {
+    const Index b = std::min(block, n - k), rest = n - k - b;
+    Eigen::Ref<Eigen::MatrixXd> A11 = A.block(k, k, b, b);
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A11);  // in place: L11 in A11's lower triangle
+    if (llt.info() != Eigen::Success) return false;
+    if (rest > 0) {
+      Eigen::Ref<Eigen::MatrixXd> A21 = A.block(k + b, k, rest, b);
+      A11.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(A21);  // L21 = A21 L11⁻ᵀ
+      A.block(k + b, k + b, rest, rest).selfadjointView<Eigen::Lower>().rankUpdate(A21, -1.0);  // A22 −= L21 L21ᵀ
+    }
+    if (tick) tick();
+  }
+  return true;
+}
+
+Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& S, double rankTolerance) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (S + S.transpose()));
+  const Eigen::VectorXd& d = eig.eigenvalues();
+  const double cut = rankTolerance * std::max(d.cwiseAbs().maxCoeff(), 1e-300);
+  Eigen::VectorXd inv(d.size());
+  for (Index k = 0; k < d.size(); ++k) inv(k) = d(k) > cut ? 1.0 / d(k) : 0.0;
+  return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+bool DenseConstrainedSolve::compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick) {
+  m_L = Eigen::MatrixXd(M);
+  if (!blockedCholesky(m_L, tick)) return false;
+  m_L.triangularView<Eigen::StrictlyUpper>().setZero();
+  m_V.resize(M.rows(), 0);
+  m_Splus.resize(0, 0);
+  if (A.rows() == 0) return true;
+  m_V = A.transpose();
+  m_L.triangularView<Eigen::Lower>().solveInPlace(m_V);
+  m_Splus = symmetricPseudoInverse(m_V.transpose() * m_V, rankTolerance);
+  return true;
+}
+
+Eigen::MatrixXd DenseConstrainedSolve::solve(const Eigen::MatrixXd& rhs) const {
+  Eigen::MatrixXd w = rhs;
+  m_L.triangularView<Eigen::Lower>().solveInPlace(w);
+  if (m_V.cols() > 0) w -= m_V * (m_Splus * (m_V.transpose() * w));
+  m_L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
+  return w;
+}
+
+Eigen::MatrixXd DenseConstrainedSolve::gram(const SparseMatrix& Kc, const Tick& tick) const {
+  const Index c = Kc.rows(), n = m_L.rows();
+  constexpr Index kBlock = 128;
+  Eigen::MatrixXd W = Eigen::MatrixXd(SparseMatrix(Kc.transpose()));  // n×c
+  for (Index j = 0; j < c; j += kBlock) {
+    auto Wj = W.middleCols(j, std::min(kBlock, c - j));
+    m_L.triangularView<Eigen::Lower>().solveInPlace(Wj);
+    if (tick) tick();
+  }
+  Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(c, c);
+  for (Index i = 0; i < n; i += kBlock) {  // Kq += W_iᵀ W_i over blocks of W's rows
+    Kq.selfadjointView<Eigen::Lower>().rankUpdate(W.middleRows(i, std::min(kBlock, n - i)).transpose());
+    if (tick) tick();
+  }
+  Kq = Kq.selfadjointView<Eigen::Lower>();
+  if (m_V.cols() > 0) {
+    const Eigen::MatrixXd T = m_V.transpose() * W;  // a×c
+    Kq -= T.transpose() * (m_Splus * T);
+  }
+  return Kq;
+}
+
+PairSystem::PairSystem(const Eigen::MatrixXd& Kq, const Eigen::MatrixXd& P, double eps, Tick tick)
+    : m_Kq(Kq), m_P(P), m_eps(eps), m_tick(std::move(tick)) {}
+
+void PairSystem::setShift(double eps) {
+  if (eps != m_eps) m_factored = false;
+  m_eps = eps;
+}
+
+void PairSystem::fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::MatrixXd& out) const {
+  const Index m = m_P.rows();
+  out.resize(Index(rows.size()), Index(cols.size()));
+  for (std::size_t b = 0; b < cols.size(); ++b) {
+    const Index j = cols[b] / m, l = cols[b] % m;
+    for (std::size_t a = 0; a < rows.size(); ++a) {
+      const Index i = rows[a] / m, k = rows[a] % m;
+      out(Index(a), Index(b)) = m_Kq(i, j) * m_P(k, l) + (rows[a] == cols[b] ? m_eps : 0.0);
+    }
+  }
+}
+
+bool PairSystem::factorize(const std::vector<Index>& set) {
+  m_base = set;
+  m_pos.clear();
+  for (std::size_t a = 0; a < set.size(); ++a) m_pos.emplace(set[a], Index(a));
+  m_columns.clear();
+  fill(m_base, m_base, m_L);
+  ++m_factorizations;
+  m_factored = blockedCholesky(m_L, m_tick);
+  return m_factored;
+}
+
+void PairSystem::solveBase(Eigen::VectorXd& v) const {
+  m_L.triangularView<Eigen::Lower>().solveInPlace(v);
+  m_L.triangularView<Eigen::Lower>().transpose().solveInPlace(v);
+}
+
+const Eigen::VectorXd& PairSystem::column(Index p) {
+  auto found = m_columns.find(p);
+  if (found != m_columns.end()) return found->second;
+  Eigen::VectorXd u;
+  if (auto at = m_pos.find(p); at != m_pos.end()) {
+    u = Eigen::VectorXd::Unit(Index(m_base.size()), at->second);
+  } else {
+    Eigen::MatrixXd q;
+    fill(m_base, {p}, q);
+    u = q.col(0);
+  }
+  solveBase(u);
+  return m_columns.emplace(p, std::move(u)).first->second;
+}
+
+bool PairSystem::solve(const std::vector<Index>& set, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  x.resize(Index(set.size()));
+  if (set.empty()) return true;
+  std::vector<Index> added, removed;
+  if (m_factored) {
+    std::set_difference(set.begin(), set.end(), m_base.begin(), m_base.end(), std::back_inserter(added));
+    std::set_difference(m_base.begin(), m_base.end(), set.begin(), set.end(), std::back_inserter(removed));
+  }
+  const std::size_t s = added.size() + removed.size();
+  if (!m_factored || s > std::max<std::size_t>(kMinUpdate, m_base.size() / 8)) {
+    if (!factorize(set)) return false;
+    added.clear(), removed.clear();
+  }
+  const Index nb = Index(m_base.size());
+  Eigen::VectorXd bB = Eigen::VectorXd::Zero(nb), bD(Index(added.size()));
+  for (std::size_t a = 0, d = 0; a < set.size(); ++a) {
+    if (auto at = m_pos.find(set[a]); at != m_pos.end()) bB(at->second) = b(Index(a));
+    else bD(Index(d++)) = b(Index(a));
+  }
+  Eigen::VectorXd xB = bB;
+  solveBase(xB);
+  if (added.empty() && removed.empty()) {
+    for (std::size_t a = 0; a < set.size(); ++a) x(Index(a)) = xB(m_pos.at(set[a]));
+    return true;
+  }
+  const Index nd = Index(added.size()), ne = Index(removed.size()), ns = nd + ne;
+  Eigen::MatrixXd X(nb, ns);
+  for (Index j = 0; j < nd; ++j) X.col(j) = column(added[std::size_t(j)]);
+  for (Index j = 0; j < ne; ++j) X.col(nd + j) = column(removed[std::size_t(j)]);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(ns, ns), QBD, QDD;
+  if (nd > 0) {
+    fill(m_base, added, QBD);
+    fill(added, added, QDD);
+    S.topLeftCorner(nd, nd) = QDD - QBD.transpose() * X.leftCols(nd);
+  }
+  for (Index j = 0; j < ne; ++j) {  // Uᵀ X against a removed pair e: e_eᵀ X = X's row e
+    const Index e = m_pos.at(removed[std::size_t(j)]);
+    S.row(nd + j) = -X.row(e);
+    S.col(nd + j) = -X.row(e).transpose();
+  }
+  Eigen::VectorXd rhs(ns);
+  rhs.head(nd) = bD - X.leftCols(nd).transpose() * bB;
+  for (Index j = 0; j < ne; ++j) rhs(nd + j) = -xB(m_pos.at(removed[std::size_t(j)]));
+  const Eigen::VectorXd y = S.partialPivLu().solve(rhs);
+  xB -= X * y;
+  for (std::size_t a = 0, d = 0; a < set.size(); ++a) {
+    if (auto at = m_pos.find(set[a]); at != m_pos.end()) x(Index(a)) = xB(at->second);
+    else x(Index(a)) = y(Index(d++));
+  }
+  return true;
+}
+
+}  // namespace kc::detail
