@@ -163,6 +163,35 @@ void BM_DeformPinnedTowardsTheBorder1MP(benchmark::State& state) {
 }
 BENCHMARK(BM_DeformPinnedTowardsTheBorder1MP)->ArgNames({"threads", "repair"})->Args({2, 0})->Args({2, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
+/// A live drag in the pinned mode: control 0 of the star (52 px from the right border) goes 70 px
+/// towards the border and past it (at 51 px) and back, 1 px per frame, turning up to 0.3 rad;
+/// live = 1 repairs each frame with DeformPass::Live (from the previous picture, a smaller
+/// budget), live = 0 with the full repair (what every frame cost before the Live pass). Counters: per frame, the harmonic extension's
+/// folds, those left, the repair's milliseconds, and the frames that started from the previous one.
+void BM_DragPinnedPastTheBorder1MP(benchmark::State& state) {
+  static Setup s(1024, 4.0, OutsideMode::Pinned, true, true);
+  const DeformPass pass = state.range(1) ? DeformPass::Live : DeformPass::Final;
+  ScopedThreadCount threads(int(state.range(0)));
+  Pose pose = restPose(s.mesh.cage().size());
+  int frame = 0;
+  double folds = 0.0, left = 0.0, ms = 0.0, warm = 0.0;
+  for (auto _ : state) {
+    const int k = frame++ % 140, d = k <= 70 ? k : 140 - k;
+    pose[0] = {Vec2(double(d), 0.25 * d), 0.3 * d / 70.0};
+    const DeformReport r = s.mesh.deform(pose, pass);
+    folds += double(r.harmonicFolds);
+    left += double(r.repairedFolds);
+    ms += 1e3 * r.repairSeconds;
+    warm += r.repairWarmStart ? 1.0 : 0.0;
+  }
+  state.counters["harmonic_folds"] = benchmark::Counter(folds, benchmark::Counter::kAvgIterations);
+  state.counters["folds_left"] = benchmark::Counter(left, benchmark::Counter::kAvgIterations);
+  state.counters["repair_ms"] = benchmark::Counter(ms, benchmark::Counter::kAvgIterations);
+  state.counters["warm"] = benchmark::Counter(warm, benchmark::Counter::kAvgIterations);
+}
+BENCHMARK(BM_DragPinnedPastTheBorder1MP)->ArgNames({"threads", "live"})->Args({2, 0})->Args({2, 1})->Iterations(140)
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
+
 /// Full-resolution export of a 2048×2048 image: rasterize the deformed mesh (spacing 4).
 void BM_Export2048(benchmark::State& state) {
   static Setup s(2048, 4.0);

@@ -43,14 +43,10 @@ class Repair {
   double area(Index t) const { return t < nt ? A(t) : GA(t - nt); }
 
   /// Adds the free vertices of the triangles in `bad` and `rings` rings of free neighbours.
-  /// (`seeds`: free vertices added too, with their rings.)
-  void grow(const std::vector<Index>& bad, const std::vector<int>* seeds = nullptr) {
+  void grow(const std::vector<Index>& bad) {
     std::vector<int> front;
     for (Index t : bad)
       for (int v : tri(t))
-        if (topo.free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
-    if (seeds)
-      for (int v : *seeds)
         if (topo.free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
     for (int ring = 0; ring < o.rings && !front.empty(); ++ring) {
       std::vector<int> next;
@@ -184,7 +180,7 @@ class Repair {
   /// Per connected part of the region (vertices sharing a triangle): back to the harmonic
   /// positions where the repair left more folded triangles around it than the harmonic map had
   /// (a fold no placement removes: the cage pushed past the border). Returns the vertices kept moved.
-  Index revertWhereWorse(std::vector<int>* moved) {
+  Index revertWhereWorse() {
     std::vector<int> part;
     std::vector<std::uint8_t> done(region.size(), 0);
     Index kept = 0;
@@ -213,7 +209,6 @@ class Repair {
       } else {
         kept += Index(part.size());
         for (int v : part) keptBorder += topo.free[std::size_t(v)] == 2;
-        if (moved) moved->insert(moved->end(), part.begin(), part.end());
       }
     }
     return kept;
@@ -403,10 +398,8 @@ ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangle
 
 ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles, const ExteriorRepairTopology& topology,
                                          Index exteriorTriangles, const Eigen::VectorXd& restArea,
-                                         const ExteriorRepairOptions& options, const ExteriorRepairStart& start,
-                                         std::vector<int>* moved) {
+                                         const ExteriorRepairOptions& options, const ExteriorRepairStart& start) {
   ExteriorRepairReport rep;
-  if (moved) moved->clear();
   const Index nt = std::min<Index>(exteriorTriangles, Index(triangles.size()));
   std::vector<Index> bad;
   for (Index t = 0; t < nt; ++t) {
@@ -437,7 +430,7 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
   Eigen::VectorXd ghostArea(Index(topology.ghosts.size()));
   for (Index k = 0; k < ghostArea.size(); ++k) ghostArea(k) = 0.5 * signedArea2(restX, topology.ghosts[std::size_t(k)]);
   Repair r(from, entry, P, rest, triangles, topology, nt, restArea, ghostArea, options);
-  r.grow(bad, warm ? start.moved : nullptr);  // at s = 0: the region at the start positions
+  r.grow(bad);  // at s = 0: the region at the start positions
   r.placeNeighbours();
   if (r.region.empty()) {
     rep.foldedAfter = rep.foldedBefore;
@@ -478,7 +471,7 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
     }
     ds = std::min(ds0, 2.0 * (next - before.s));
   }
-  rep.regionVertices = r.revertWhereWorse(moved);
+  rep.regionVertices = r.revertWhereWorse();
   rep.borderVertices = r.keptBorder;
   deformed = P.topRows(nv);
   for (Index t = 0; t < nt; ++t)

@@ -16,6 +16,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// DeformPass::Live: the fold repair's work budget (ExteriorRepairOptions::budget; Final: 4).
+/// (Measured on a drag of the star's tip past a 1024² picture's border, bench/warp_bench.cpp: 1
+/// halves the mean per-frame repair before the border and cuts it 6× past it; 12 of 101 frames
+/// before the border keep folds until the release.)
+const double kLiveRepairBudget = 1.0;
+
 double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 double signedArea2(const Points& P, const std::array<int, 3>& t) {
@@ -275,10 +281,15 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     const auto t1 = Clock::now();
     // While dragging, the continuation starts from the last picture when that one was fold-free.
     const bool warm = pass == DeformPass::Live && m_previousFoldFree && m_previous.rows() == nv;
-    std::vector<int> seeds;
-    if (warm) seeds.swap(m_moved);
-    const ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, {},
-                                                       warm ? ExteriorRepairStart{&m_previous, &seeds} : ExteriorRepairStart{}, &m_moved);
+    ExteriorRepairOptions options;
+    if (pass == DeformPass::Live) options.budget = kLiveRepairBudget;
+    const Points harmonic = warm ? m_deformed : Points();
+    ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, options,
+                                                 warm ? ExteriorRepairStart{&m_previous} : ExteriorRepairStart{});
+    if (warm && r.foldedAfter > 0) {  // the short continuation did not untangle it: from rest
+      m_deformed = harmonic;
+      r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, options);
+    }
     rep.harmonicFolds = r.foldedBefore;
     rep.repairedFolds = r.foldedAfter;
     rep.repairVertices = r.regionVertices;
@@ -286,7 +297,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     rep.repairWarmStart = r.warmStart;
     rep.repairSeconds = seconds(t1);
     m_previousFoldFree = r.foldedAfter == 0;
-    m_previous = m_deformed;
+    if (pass == DeformPass::Live || m_previous.rows() > 0) m_previous = m_deformed;  // (kept once a live pass asked for it)
   }
   const Index nt = Index(m_triangles.size());
   parallelForRange(nt, 8192, [&](Index begin, Index end) {

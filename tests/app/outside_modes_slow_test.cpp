@@ -172,5 +172,27 @@ TEST_F(OutsideModes, MeasuredInEveryMode) {
   EXPECT_TRUE(fs::exists(dir / "pinned.png"));
 }
 
+/// The bundled figure at its own size (320×400) with its bundled pose, whose hand starts 5.5 px
+/// from the right border and ends past it: with the whole border pinned the background folded
+/// (171 triangles); the border gives way next to the hand, the corners stay, nothing folds.
+TEST(OutsideModesBundled, FigurePoseFoldsNothingAndKeepsTheCorners) {
+  const std::string images = std::string(KC_SOURCE_DIR) + "/images/";
+  const Cage cage = app::loadCage(images + "figure.cage.json");
+  const Pose pose = app::loadPose(images + "figure.pose.json", cage.C);
+  const Image picture = app::loadImage(images + "figure.png");
+  const app::Session session = app::bind(cage, picture.width, picture.height, app::BindParams{});
+  WarpMesh mesh = app::buildWarpMesh(session, WarpMeshOptions{});
+  const DeformReport r = mesh.deform(pose);
+  const OutsideMotion om = measureOutside(mesh);
+  std::printf("figure pose: harmonic folds %ld, left %ld; border moved max %.2f px (%ld vertices); 50 px: mean %.2f max %.2f\n",
+              long(r.harmonicFolds), long(r.repairedFolds), om.borderMax, long(om.borderMoved), om.bands[0].mean, om.bands[0].max);
+  EXPECT_GT(r.harmonicFolds, 0) << "the pose should fold the harmonic map, or this shows nothing";
+  EXPECT_EQ(om.flippedOutside, 0);
+  EXPECT_EQ(om.cornerMax, 0.0);
+  EXPECT_GT(om.borderMoved, 0);
+  EXPECT_GE(om.minWeight, 0.0);
+  EXPECT_LE(om.maxWeight, 1.0 + 1e-12);
+}
+
 }  // namespace
 }  // namespace kc::test

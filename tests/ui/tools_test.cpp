@@ -48,6 +48,23 @@ TEST(PoseTool, LeftDragTranslatesAndUndoRestores) {
   EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(-20, 30)));
 }
 
+TEST(PoseTool, ADragDeformsLiveAndTheReleaseDeformsInFull) {
+  auto s = test::boundState();
+  const Vec2 c1 = s->boundCage.C.row(1).transpose();
+  s->poseTool.press(*s, at(c1.x(), c1.y()));
+  s->poseTool.drag(*s, at(c1.x() + 25, c1.y() - 10));
+  EXPECT_TRUE(updateDeformation(*s));
+  EXPECT_TRUE(s->deformedLive) << "while dragging the repair starts from the previous picture";
+  EXPECT_FALSE(updateDeformation(*s)) << "nothing changed";
+  s->poseTool.release(*s, at(c1.x() + 25, c1.y() - 10));
+  EXPECT_TRUE(updateDeformation(*s)) << "the release deforms again with the full repair";
+  EXPECT_FALSE(s->deformedLive);
+  EXPECT_FALSE(updateDeformation(*s));
+  WarpMesh fresh = s->mesh;  // the picture after the release is the export's
+  fresh.deform(s->pose, DeformPass::Final);
+  EXPECT_EQ(fresh.deformedVertices(), s->mesh.deformedVertices());
+}
+
 TEST(PoseTool, RightDragRotatesAboutTheRestPosition) {
   auto s = test::boundState();
   const Vec2 c = s->boundCage.C.row(2).transpose();  // (255, 255)

@@ -153,13 +153,18 @@ bool redo(AppState& state) {
 
 bool updateDeformation(AppState& state) {
   if (!state.mesh.hasWeights()) return false;
-  if (state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision) return false;
+  // While a control is dragged the background's fold repair starts from the previous picture
+  // (cheap, follows the drag); after the release the pose gets the full repair, as in the export.
+  const bool live = state.tool == Tool::Pose && state.poseTool.active() && !state.poseTool.selectingRect();
+  if (state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && (live || !state.deformedLive))
+    return false;
   if (state.pose.size() != static_cast<std::size_t>(state.mesh.cage().size())) return false;
   try {
-    state.deformReport = state.mesh.deform(state.pose);
+    state.deformReport = state.mesh.deform(state.pose, live ? DeformPass::Live : DeformPass::Final);
   } catch (const std::exception& e) {
     postMessage(state, std::string("Deformation failed: ") + e.what(), true);
   }
+  state.deformedLive = live;
   state.timings.deformMs = state.deformReport.seconds * 1e3;
   state.deformedPose = state.poseRevision;
   state.deformedMesh = state.meshRevision;

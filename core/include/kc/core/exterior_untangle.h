@@ -116,21 +116,21 @@ ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangle
                                               const std::vector<std::uint8_t>& movable, const ExteriorRepairFrame* frame = nullptr);
 
 /// Where the continuation starts: an earlier result of the repair on the same mesh (#V×2, with no
-/// fold outside the cage) and the vertices it left moved. Used while a pose is dragged: the next
-/// pose is close, so a few steps from the previous picture replace the continuation from rest.
+/// fold outside the cage). Used while a pose is dragged: the next pose is close, so a few steps
+/// from the previous picture replace the continuation from rest. The region is found as from rest
+/// (from the harmonic map's folds); its vertices start at the earlier positions, the rest of the
+/// mesh ends at the harmonic positions as always.
 struct ExteriorRepairStart {
   const Points* positions = nullptr;
-  const std::vector<int>* moved = nullptr;
 };
 
 /// Repairs the folds of triangles[0..exteriorTriangles) in `deformed` (#V×2, the harmonic positions
 /// on entry) as the file comment describes; restArea (#T, non-zero) gives det J = deformed / rest
 /// signed area. Only free vertices change. `start`: see ExteriorRepairStart (null: from rest).
-/// `moved` (optional) receives the vertices left moved. Cost: nothing beyond one pass over the
+/// Cost: nothing beyond one pass over the
 /// exterior triangles when none is folded; else O(region · sweeps · star³).
 ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, const Triangles& triangles, const ExteriorRepairTopology& topology,
                                          Index exteriorTriangles, const Eigen::VectorXd& restArea,
-                                         const ExteriorRepairOptions& options = {}, const ExteriorRepairStart& start = {},
-                                         std::vector<int>* moved = nullptr);
+                                         const ExteriorRepairOptions& options = {}, const ExteriorRepairStart& start = {});
 
 }  // namespace kc

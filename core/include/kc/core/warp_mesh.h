@@ -94,8 +94,10 @@ enum class DeformPass {
   Final,
   /// While a pose is dragged: when the previous deform() left no fold outside the cage, the
   /// continuation starts from its picture and takes a few steps (ExteriorRepairOptions::warmSteps)
-  /// instead of many from rest. Cheaper, and follows the drag continuously; the result can differ
-  /// from the Final one (it depends on the drag's path), so a Final pass follows the release.
+  /// instead of many from rest; if that leaves a fold, the repair from rest runs. Both with a
+  /// quarter of the Final pass's work budget, so a pose that is hard or impossible to untangle
+  /// costs less per frame (it may keep folds until the release). The result can differ from the
+  /// Final one (it depends on the drag's path), so a Final pass follows the release.
   Live,
 };
 
@@ -171,10 +173,9 @@ class WarpMesh {
   Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie outside the cage
   std::shared_ptr<const ExteriorRepairTopology> m_repair;  // Pinned mode with repairFolds; shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
-  // The fold repair's last result, the start of a DeformPass::Live repair: positions (#V×2), the
-  // vertices it moved, and whether it left no fold outside the cage.
+  // The fold repair's last result, the start of a DeformPass::Live repair: positions (#V×2, kept
+  // from the first live pass on) and whether it left no fold outside the cage.
   Points m_previous;
-  std::vector<int> m_moved;
   bool m_previousFoldFree = false;
 };
 

@@ -157,6 +157,9 @@ struct AppState {
   std::shared_ptr<MeshSource> meshSource;
   std::uint64_t meshRevision = 0;          ///< Bumped when mesh or its weights change.
   std::uint64_t deformedPose = ~0ull, deformedMesh = ~0ull;  ///< Revisions of the last deform().
+  /// The last deform() was a DeformPass::Live one (during a pose drag): once the drag ends, the
+  /// pose is deformed again with the full repair, as the export does.
+  bool deformedLive = false;
   std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
   DeformReport deformReport;
   std::optional<app::Diagnostics> diagnostics;
