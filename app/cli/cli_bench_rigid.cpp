@@ -89,15 +89,18 @@ void otherSetUp(const app::Session& plain, const char* what, const Points& polyg
   const double none = app::measureRigidity(plain, polygon, pose).distortion;
   app::Session s = copyOf(plain);
   const RigidRegion region{polygon, 1.0};
-  app::setRigidity(s, rigidityOfRegions(s.samples.X, std::span(&region, 1)));
+  const std::vector<double> rho = rigidityOfRegions(s.samples.X, std::span(&region, 1));
+  app::setRigidity(s, rho);
   const double with = app::measureRigidity(s, polygon, pose).distortion;
-  std::printf("  %-58s %8.4f %8.4f %6.2f\n", what, none, with, with / none);
+  std::printf("  %-58s %8.4f %8.4f %6.2f %10.2g %8.3g %8.3g\n", what, none, with, with / none,
+              farChange(s, plain, rho, 6.0 * plain.sigma), plain.W.minCoeff(), s.W.minCoeff());
 }
 
 /// Other regions and poses than Fig 6.37's (docs/rigidity.md's table): the star's leg of tip 0
 /// with that tip moved in and sideways, and the figure's head with a head control moved.
 void benchOtherSetUps(const app::Session& star, const std::string& dir) {
-  std::printf("other set-ups: mean |J-R| without, with (strength 1), ratio\n");
+  std::printf("other set-ups: mean |J-R| without, with (strength 1), ratio, largest weight change farther than 6 sigma,\n"
+              "  smallest sample weight before and after\n");
   Cage turned = star.cage;  // the star's points renumbered so that starLegSetup's tip 4 is point 0
   for (Index i = 0; i < 10; ++i) turned.C.row(i) = star.cage.C.row((i + 6) % 10);
   const app::StarLegSetup leg = app::starLegSetup(turned);

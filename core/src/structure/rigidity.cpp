@@ -243,13 +243,10 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
   qp.G = kappa * (SparseMatrix(DGx.transpose()) * dWdx + SparseMatrix(DGy.transpose()) * dWdy);
   rep.energyBefore = s2 * (rhoI.asDiagonal() * (dWdx.rowwise().squaredNorm() + dWdy.rowwise().squaredNorm())).sum();
 
-  // Equalities: the polynomial side condition (exact mode) and the held samples, rows scaled to unit length.
+  // Equalities: the held samples, rows scaled to unit length. Exact mode's side condition PᵀΔU = 0
+  // is not imposed (docs/rigidity.md): the new data weights are interpolated again, which keeps
+  // partition of unity and reproduction for any data that have them at the samples.
   std::vector<Eigen::RowVectorXd> eq;
-  if (interp.mode() == InterpMode::Exact) {
-    Eigen::MatrixXd Pn(3, nN);
-    for (Index k = 0; k < nN; ++k) Pn.col(k) << 1.0, X(N[std::size_t(k)], 0) / sigma, X(N[std::size_t(k)], 1) / sigma;
-    for (int r = 0; r < 3; ++r) eq.push_back(Pn.row(r));
-  }
   const SparseRowMatrix KrRows = Kr;
   std::vector<Index> constrained;  // rows of Kr bounded below: region samples (and nodes), ΔW ≥ −W⁺
   for (Index k = 0; k < nCh; ++k) {

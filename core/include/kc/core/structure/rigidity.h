@@ -38,10 +38,10 @@ Vec2 polygonCentroid(const Points& P);
 std::vector<double> rigidityOfRegions(const Points& X, std::span<const RigidRegion> regions);
 
 struct RigidityOptions {
-  double reach = 1.5;          ///< Nodes: samples within reach·σ of a sample with ρ > 0 (changes reach (reach + 5)σ; see docs/rigidity.md).
+  double reach = 2.0;          ///< Nodes: samples within reach·σ of a sample with ρ > 0 (the change's local part reaches (reach + 5)σ; see docs/rigidity.md).
   double rigidityWeight = 1000.0; ///< κ: the rigidity term's weight against the fidelity term (docs/rigidity.md).
   double quadratureStep = 0.5;  ///< The rigidity energy is evaluated on a grid of this spacing (·σ) over the painted region.
-  bool boundNodes = true;      ///< Non-negativity (5.35d) at the nodes too, not only at the painted samples.
+  bool boundNodes = false;     ///< Non-negativity (5.35d) at the nodes too, not only at the painted samples (thesis 5.35d: the region).
   double activeWeight = 1e-3;  ///< Controls whose weights at every node are ≤ this keep their weights.
   RigidityQpOptions solver;
 };
@@ -65,7 +65,6 @@ struct RigidityReport {
 /// θ (the kernel's cut-off) of N, solves for ΔU (N×m) the QP
 ///   min  κ Σ_{q∈Q} ρ_q σ² ‖∇w(x_q) + ∇ΔW(x_q)‖²_F + Σ_{i∈Ch} (1 − ρ_i) ‖ΔW_i‖²      (5.12, 5.35a)
 ///   s.t. ΔU [1 C] = 0                (each row: partition of unity and reproduction, exact)
-///        X_Nᵀ-polynomial: [1 x y]_Nᵀ ΔU = 0   (exact mode's side condition PᵀU = 0, 1.9 / 6.2)
 ///        ΔW_h = 0 at held samples h (keep[h] ≠ 0: controls and line samples)
 ///        W_i + ΔW_i ≥ min(W_i, 0) at I ∪ N (I only when !boundNodes)   (5.35d)
 ///        ΔU[:, c] = 0 for controls c inactive at the nodes (weights ≤ activeWeight)
@@ -73,7 +72,9 @@ struct RigidityReport {
 /// sample, scaled so that Σ_q ρ_q = Σ_{i∈I} ρ_i), ΔW = K(·, N) ΔU and ∇ΔW(x) = ∂E/∂x, ∂E/∂y (the
 /// field's gradient operators) times ΔU;
 /// then W += K(Ch, N) ΔU (W #S×m, the field's data weights) and the field is re-solved in the
-/// active columns. The field's coefficients become U + ΔU with B unchanged. `rho` and `keep`
+/// active columns: it interpolates the new W (in exact mode the coefficients become U + ΔU
+/// − K⁻¹P b, B + b with b = (PᵀK⁻¹P)⁻¹PᵀΔU, a global term of measured size ≤ 1e-4; plain mode
+/// U + ΔU; docs/rigidity.md). `rho` and `keep`
 /// have #S entries, ρ ∈ [0, 1]; C m×2 the controls. Does nothing when no ρ is positive.
 RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const double> rho, const std::vector<char>& keep,
                          Weights& W, const RigidityOptions& options = {});
