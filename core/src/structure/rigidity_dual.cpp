@@ -51,8 +51,8 @@ Eigen::MatrixXd DenseConstrainedSolve::solve(const Eigen::MatrixXd& rhs) const {
   return w;
 }
 
-Eigen::MatrixXd DenseConstrainedSolve::gram(const SparseMatrix& Kc, const Tick& tick) const {
-  const Index c = Kc.rows(), n = m_L.rows();
+Eigen::MatrixXd DenseConstrainedSolve::halfSolve(const SparseMatrix& Kc, const Tick& tick) const {
+  const Index c = Kc.rows();
   constexpr Index kBlock = 128;
   Eigen::MatrixXd W = Eigen::MatrixXd(SparseMatrix(Kc.transpose()));  // n×c
   for (Index j = 0; j < c; j += kBlock) {
@@ -60,17 +60,29 @@ Eigen::MatrixXd DenseConstrainedSolve::gram(const SparseMatrix& Kc, const Tick& 
     m_L.triangularView<Eigen::Lower>().solveInPlace(Wj);
     if (tick) tick();
   }
-  Eigen::MatrixXd Kq = Eigen::MatrixXd::Zero(c, c);
-  for (Index i = 0; i < n; i += kBlock) {  // Kq += W_iᵀ W_i over blocks of W's rows
-    Kq.selfadjointView<Eigen::Lower>().rankUpdate(W.middleRows(i, std::min(kBlock, n - i)).transpose());
+  return W;
+}
+
+Eigen::MatrixXd DenseConstrainedSolve::cross(const Eigen::MatrixXd& W1, const Eigen::MatrixXd& W2) const {
+  Eigen::MatrixXd K = W1.transpose() * W2;
+  if (m_V.cols() > 0) K -= (m_V.transpose() * W1).transpose() * (m_Splus * (m_V.transpose() * W2));
+  return K;
+}
+
+Eigen::MatrixXd DenseConstrainedSolve::gram(const Eigen::MatrixXd& W, const Tick& tick) const {
+  const Index n = W.rows(), c = W.cols();
+  constexpr Index kBlock = 128;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(c, c);
+  for (Index i = 0; i < n; i += kBlock) {  // K += W_iᵀ W_i over blocks of W's rows
+    K.selfadjointView<Eigen::Lower>().rankUpdate(W.middleRows(i, std::min(kBlock, n - i)).transpose());
     if (tick) tick();
   }
-  Kq = Kq.selfadjointView<Eigen::Lower>();
+  K = K.selfadjointView<Eigen::Lower>();
   if (m_V.cols() > 0) {
     const Eigen::MatrixXd T = m_V.transpose() * W;  // a×c
-    Kq -= T.transpose() * (m_Splus * T);
+    K -= T.transpose() * (m_Splus * T);
   }
-  return Kq;
+  return K;
 }
 
 PairSystem::PairSystem(const Eigen::MatrixXd& Kq, const Eigen::MatrixXd& P, double eps, Tick tick)
@@ -82,14 +94,18 @@ void PairSystem::setShift(double eps) {
 }
 
 void PairSystem::fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::MatrixXd& out) const {
-  const Index m = m_P.rows();
-  out.resize(Index(rows.size()), Index(cols.size()));
+  const Index m = m_P.rows(), nr = Index(rows.size());
+  out.resize(nr, Index(cols.size()));
+  std::vector<Index> ri(rows.size()), ki(rows.size());
+  for (std::size_t a = 0; a < rows.size(); ++a) ri[a] = rows[a] / m, ki[a] = rows[a] % m;
   for (std::size_t b = 0; b < cols.size(); ++b) {
     const Index j = cols[b] / m, l = cols[b] % m;
-    for (std::size_t a = 0; a < rows.size(); ++a) {
-      const Index i = rows[a] / m, k = rows[a] % m;
-      out(Index(a), Index(b)) = m_Kq(i, j) * m_P(k, l) + (rows[a] == cols[b] ? m_eps : 0.0);
-    }
+    const double* kq = m_Kq.col(j).data();
+    const double* p = m_P.col(l).data();
+    double* o = out.col(Index(b)).data();
+    for (Index a = 0; a < nr; ++a) o[a] = kq[ri[std::size_t(a)]] * p[ki[std::size_t(a)]];
+    if (const auto at = std::lower_bound(rows.begin(), rows.end(), cols[b]); at != rows.end() && *at == cols[b])
+      o[at - rows.begin()] += m_eps;
   }
 }
 
@@ -104,24 +120,29 @@ bool PairSystem::factorize(const std::vector<Index>& set) {
   return m_factored;
 }
 
-void PairSystem::solveBase(Eigen::VectorXd& v) const {
+void PairSystem::solveBase(Eigen::Ref<Eigen::MatrixXd> v) const {
   m_L.triangularView<Eigen::Lower>().solveInPlace(v);
   m_L.triangularView<Eigen::Lower>().transpose().solveInPlace(v);
 }
 
-const Eigen::VectorXd& PairSystem::column(Index p) {
-  auto found = m_columns.find(p);
-  if (found != m_columns.end()) return found->second;
-  Eigen::VectorXd u;
-  if (auto at = m_pos.find(p); at != m_pos.end()) {
-    u = Eigen::VectorXd::Unit(Index(m_base.size()), at->second);
-  } else {
-    Eigen::MatrixXd q;
-    fill(m_base, {p}, q);
-    u = q.col(0);
+void PairSystem::addColumns(const std::vector<Index>& pairs) {
+  std::vector<Index> added, missing;
+  for (Index p : pairs)
+    if (!m_columns.count(p)) (m_pos.count(p) ? missing : added).push_back(p);
+  const Index nb = Index(m_base.size()), na = Index(added.size());
+  if (added.empty() && missing.empty()) return;
+  Eigen::MatrixXd U(nb, na + Index(missing.size()));  // [Q(B, added) e_removed]: one multi-column solve
+  if (na > 0) {
+    Eigen::MatrixXd QBD;
+    fill(m_base, added, QBD);
+    U.leftCols(na) = QBD;
   }
-  solveBase(u);
-  return m_columns.emplace(p, std::move(u)).first->second;
+  U.rightCols(Index(missing.size())).setZero();
+  for (std::size_t j = 0; j < missing.size(); ++j) U(m_pos.at(missing[j]), na + Index(j)) = 1.0;
+  solveBase(U);
+  for (Index j = 0; j < na; ++j) m_columns.emplace(added[std::size_t(j)], U.col(j));
+  for (std::size_t j = 0; j < missing.size(); ++j) m_columns.emplace(missing[j], U.col(na + Index(j)));
+  if (m_tick) m_tick();
 }
 
 bool PairSystem::solve(const std::vector<Index>& set, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -150,9 +171,11 @@ bool PairSystem::solve(const std::vector<Index>& set, const Eigen::VectorXd& b, 
     return true;
   }
   const Index nd = Index(added.size()), ne = Index(removed.size()), ns = nd + ne;
+  addColumns(added);
+  addColumns(removed);
   Eigen::MatrixXd X(nb, ns);
-  for (Index j = 0; j < nd; ++j) X.col(j) = column(added[std::size_t(j)]);
-  for (Index j = 0; j < ne; ++j) X.col(nd + j) = column(removed[std::size_t(j)]);
+  for (Index j = 0; j < nd; ++j) X.col(j) = m_columns.at(added[std::size_t(j)]);
+  for (Index j = 0; j < ne; ++j) X.col(nd + j) = m_columns.at(removed[std::size_t(j)]);
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(ns, ns), QBD, QDD;
   if (nd > 0) {
     fill(m_base, added, QBD);

@@ -40,10 +40,13 @@ class DenseConstrainedSolve {
   bool compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick);
   /// M⁻¹_A rhs for rhs n×k.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
-  /// The Gram matrix Kc M⁻¹_A Kcᵀ (c×c, symmetric) for Kc c×n: W = L⁻¹ Kcᵀ, T = Vᵀ W,
-  /// Kq = Wᵀ W − Tᵀ S⁺ T (a triangular solve and a symmetric rank update, by column blocks with
-  /// tick() between them).
-  Eigen::MatrixXd gram(const SparseMatrix& Kc, const Tick& tick) const;
+  /// W = L⁻¹ Kcᵀ (n×c) for rows Kc (c×n), by blocks of 128 columns with tick() between them.
+  Eigen::MatrixXd halfSolve(const SparseMatrix& Kc, const Tick& tick) const;
+  /// Kc1 M⁻¹_A Kc2ᵀ = W1ᵀ W2 − T1ᵀ S⁺ T2 (c1×c2) from W1 = L⁻¹Kc1ᵀ, W2 = L⁻¹Kc2ᵀ (T = Vᵀ W).
+  Eigen::MatrixXd cross(const Eigen::MatrixXd& W1, const Eigen::MatrixXd& W2) const;
+  /// The symmetric Kc M⁻¹_A Kcᵀ (c×c) from W = L⁻¹Kcᵀ: a symmetric rank update by blocks of W's
+  /// rows (tick() between them) instead of cross(W, W)'s full product.
+  Eigen::MatrixXd gram(const Eigen::MatrixXd& W, const Tick& tick) const;
 
  private:
   Eigen::MatrixXd m_L, m_V, m_Splus;
@@ -77,9 +80,11 @@ class PairSystem {
   /// out(a, b) = Q(rows[a], cols[b]) (+ ε where the pairs are equal).
   void fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::MatrixXd& out) const;
   bool factorize(const std::vector<Index>& set);
-  /// Q_BB⁻¹ u for u = Q(B, p) (p ∉ B, an added pair) or u = e_p (p ∈ B, a removed pair), kept in m_columns.
-  const Eigen::VectorXd& column(Index p);
-  void solveBase(Eigen::VectorXd& v) const;
+  /// Q_BB⁻¹ u into m_columns for the pairs not there yet: u = Q(B, p) for p ∉ B (added), u = e_p for
+  /// p ∈ B (removed); one solve with all of them as columns.
+  void addColumns(const std::vector<Index>& pairs);
+  /// v ← Q_BB⁻¹ v (two triangular solves with the base factor).
+  void solveBase(Eigen::Ref<Eigen::MatrixXd> v) const;
 
   const Eigen::MatrixXd& m_Kq;
   const Eigen::MatrixXd& m_P;

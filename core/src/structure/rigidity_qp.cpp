@@ -218,19 +218,83 @@ int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eige
   return it;
 }
 
+/// Kq = Kc (2H)⁻¹_A Kcᵀ on a growing list of constrained rows (the working rows, docs/rigidity.md):
+/// only rows the dual needs get their columns. Dense: W = L⁻¹ Kc(rows)ᵀ is kept and a new block
+/// costs a triangular solve and products with the kept W; sparse (CHOLMOD): F = (2H)⁻¹_A Kc(new)ᵀ
+/// in chunks and Kq(rows, new) = Kc(rows) F.
+class WorkingGram {
+ public:
+  WorkingGram(const SparseMatrix& Kc, const detail::DenseConstrainedSolve* dense, const ConstrainedSolve* sparse, const detail::Tick& tick)
+      : m_Kc(Kc), m_dense(dense), m_sparse(sparse), m_tick(tick) {}
+  /// Appends `rows` (not yet in the list) and extends Kq by their rows and columns.
+  void add(const std::vector<Index>& rows) {
+    const Index co = Index(m_rows.size()), cn = Index(rows.size());
+    m_rows.insert(m_rows.end(), rows.begin(), rows.end());
+    Eigen::MatrixXd Kon, Knn;  // Kq(old, new), Kq(new, new)
+    if (m_dense) {
+      const Eigen::MatrixXd Wn = m_dense->halfSolve(subRows(rows), m_tick);
+      Knn = m_dense->gram(Wn, m_tick);
+      if (co > 0) Kon = m_dense->cross(m_W, Wn);
+      m_W.conservativeResize(Wn.rows(), co + cn);
+      m_W.rightCols(cn) = Wn;
+    } else {
+      const SparseMatrix KcAll = subRows(m_rows);
+      const Eigen::MatrixXd KnT = Eigen::MatrixXd(SparseMatrix(subRows(rows).transpose()));
+      Eigen::MatrixXd Kan(co + cn, cn);  // Kq(all, new)
+      constexpr Index kChunk = 128;
+      for (Index j = 0; j < cn; j += kChunk) {
+        const Index w = std::min(kChunk, cn - j);
+        Kan.middleCols(j, w) = KcAll * m_sparse->solve(KnT.middleCols(j, w));
+        m_tick();
+      }
+      Kon = Kan.topRows(co);
+      Knn = 0.5 * (Kan.bottomRows(cn) + Kan.bottomRows(cn).transpose());
+    }
+    m_Kq.conservativeResize(co + cn, co + cn);
+    if (co > 0) {
+      m_Kq.topRightCorner(co, cn) = Kon;
+      m_Kq.bottomLeftCorner(cn, co) = Kon.transpose();
+    }
+    m_Kq.bottomRightCorner(cn, cn) = Knn;
+  }
+  const std::vector<Index>& rows() const { return m_rows; }
+  const Eigen::MatrixXd& Kq() const { return m_Kq; }
+  /// Kc's rows of the working list (|rows|×n).
+  SparseMatrix working() const { return subRows(m_rows); }
+
+ private:
+  SparseMatrix subRows(const std::vector<Index>& rows) const {
+    std::vector<Eigen::Triplet<double>> t;
+    for (std::size_t a = 0; a < rows.size(); ++a)
+      for (SparseRowMatrix::InnerIterator it(m_Kc, rows[a]); it; ++it) t.emplace_back(Index(a), it.col(), it.value());
+    SparseMatrix K(Index(rows.size()), m_Kc.cols());
+    K.setFromTriplets(t.begin(), t.end());
+    return K;
+  }
+
+  SparseRowMatrix m_Kc;
+  const detail::DenseConstrainedSolve* m_dense;
+  const ConstrainedSolve* m_sparse;
+  const detail::Tick& m_tick;
+  std::vector<Index> m_rows;
+  Eigen::MatrixXd m_W, m_Kq;
+};
+
 /// The bounds' dual d(Λ) over Λ ≥ 0 (BoundDual above) after one factorization of 2H with A
 /// through its Schur complement, by proximal point steps (docs/rigidity.md): each step minimizes
 /// d(Λ) + ε/2‖Λ − Λ_k‖², a linear complementarity problem with the positive definite Q + εI, by
 /// block principal pivoting (Júdice & Pires 1994): the free pairs' multipliers from Q_AA + εI
-/// (dense Cholesky, kept while the set does not change; CG beyond maxDensePairs), then every
-/// infeasible pair changes sides while their number falls, else only the last one (Murty's rule,
-/// finite for positive definite matrices; the plain primal-dual active set cycled on soft brush
-/// strokes, where the bound pairs are degenerate and Q_AA singular). A step that does not settle in
-/// 25 rounds makes ε ten times larger. It stops when max |min(s·Λ, slack)| ≤ tolerance (weights;
-/// s = the mean diagonal of Q): the bounds hold to the tolerance and pairs with a positive
-/// multiplier are at their bounds. Returns false when it does not converge within
-/// maxActiveSetRounds (the caller falls back to ADMM); throws RigidityQpCancelled when
-/// options.progress asks to stop.
+/// (dense Cholesky updated as pairs enter and leave, detail::PairSystem; CG beyond maxDensePairs),
+/// then every infeasible pair changes sides while their number falls, else only the last one
+/// (Murty's rule, finite for positive definite matrices; the plain primal-dual active set cycled on
+/// soft brush strokes, where the bound pairs are degenerate and Q_AA singular). A step that does
+/// not settle in 25 rounds makes ε ten times larger. It stops when max |min(s·Λ, slack)| ≤
+/// tolerance (weights; s = the mean diagonal of Q): the bounds hold to the tolerance and pairs with
+/// a positive multiplier are at their bounds. The dual is taken over working rows only — those the
+/// equality-constrained optimum Y0 violates, then those the primal of the dual's solution violates
+/// — so that Kq's columns are formed only for rows that may bind. Returns false when it does not
+/// converge within maxActiveSetRounds (the caller falls back to ADMM); throws
+/// RigidityQpCancelled when options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
   const Index n = qp.H.rows(), c = qp.Kc.rows();
   double stage = 0.0;  // the share reported between blocks of dense work
@@ -244,8 +308,8 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   M += (1e-13 * std::max(H2.diagonal().sum() / double(n), 1e-300)) * shift;
   M.makeCompressed();
   const auto tf = std::chrono::steady_clock::now();
-  // (2H)⁻¹_A: a dense factorization up to maxDenseNodes (the Gram matrix Kq then costs one
-  // triangular solve and one symmetric rank update), CHOLMOD's sparse one beyond.
+  // (2H)⁻¹_A: a dense factorization up to maxDenseNodes (Kq's blocks then cost a triangular solve
+  // and products), CHOLMOD's sparse one beyond.
   const bool dense = n <= options.maxDenseNodes;
   detail::DenseConstrainedSolve denseSolver;
   ConstrainedSolve sparseSolver;
@@ -256,129 +320,141 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   stage = 0.1;
   tick();
   const Eigen::MatrixXd Y0 = solveA(-2.0 * (qp.G * qp.Z));
-  if (c == 0) {
-    dU = Y0 * qp.Z.transpose();
-    rep.converged = true;
-    return true;
-  }
-  // The active controls (non-zero rows of Z) and the dual's operators.
+  dU = Y0 * qp.Z.transpose();
+  rep.converged = true;
+  if (c == 0) return true;
+  // The active controls (non-zero rows of Z): Z' (m'×r), P = Z'Z'ᵀ, and the slack of Y0 against
+  // the bounds, Kc Y0 Z'ᵀ − L' (c×m').
   std::vector<Index> ctl;
   for (Index col = 0; col < qp.Z.rows(); ++col)
     if (qp.Z.row(col).squaredNorm() > 0.0) ctl.push_back(col);
   const Index m = Index(ctl.size());
-  Eigen::MatrixXd Zs(m, qp.Z.cols());
-  for (Index k = 0; k < m; ++k) Zs.row(k) = qp.Z.row(ctl[std::size_t(k)]);
-  Eigen::MatrixXd Kq;
-  if (dense) {
-    Kq = denseSolver.gram(qp.Kc, tick);
-  } else {  // Kq = Kc (2H)⁻¹_A Kcᵀ by column blocks, so that cancelling is heard within one block
-    const Eigen::MatrixXd Kct = Eigen::MatrixXd(SparseMatrix(qp.Kc.transpose()));
-    Kq.resize(c, c);
-    constexpr Index kChunk = 128;
-    for (Index j = 0; j < c; j += kChunk) {
-      const Index w = std::min(kChunk, c - j);
-      Kq.middleCols(j, w) = qp.Kc * sparseSolver.solve(Kct.middleCols(j, w));
-      stage = 0.1 + 0.3 * double(j + w) / double(c);
-      tick();
-    }
-  }
-  Kq = 0.5 * (Kq + Kq.transpose()).eval();
-  const Eigen::MatrixXd S0 = (qp.Kc * Y0) * Zs.transpose();
-  Eigen::MatrixXd R(c, m);
-  for (Index k = 0; k < m; ++k) R.col(k) = qp.L.col(ctl[std::size_t(k)]) - S0.col(k);
-  const BoundDual D(std::move(Kq), Zs * Zs.transpose(), std::move(R));
-
-  double scale = 0.0;  // mean diagonal of Q: multipliers times this are in weight units
-  for (Index i = 0; i < c; ++i)
-    for (Index k = 0; k < m; ++k) scale += D.diagonal(i, k);
-  scale = std::max(scale / double(c * m), 1e-300);
+  Eigen::MatrixXd Zs(m, qp.Z.cols()), Ls(c, m);
+  for (Index k = 0; k < m; ++k) Zs.row(k) = qp.Z.row(ctl[std::size_t(k)]), Ls.col(k) = qp.L.col(ctl[std::size_t(k)]);
+  const Eigen::MatrixXd P = Zs * Zs.transpose();
   const double tol = options.tolerance;
-  double epsRel = options.proximal;
-  detail::PairSystem pairs(D.Kq(), D.P(), epsRel * scale, tick);
-  Eigen::MatrixXd Lambda = Eigen::MatrixXd::Zero(c, m), Mu = Lambda, QL = Lambda, g = Lambda;
-  std::vector<Index> active;  // pairs (row i, active control k) as i·m + k, ascending
-  for (Index i = 0; i < c; ++i)
-    for (Index k = 0; k < m; ++k)
-      if (D.R()(i, k) > tol) active.push_back(i * m + k);
-  Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(c, m);
-  Eigen::VectorXd rhs, lambda;
-  double first = 0.0;
-  bool done = false;
+  auto violatedRows = [&](const Eigen::MatrixXd& Y, const std::vector<char>& in) {
+    const Eigen::MatrixXd slack = (qp.Kc * Y) * Zs.transpose() - Ls;
+    std::vector<Index> rows;
+    for (Index i = 0; i < c; ++i)
+      if (!in[std::size_t(i)] && slack.row(i).minCoeff() < -tol) rows.push_back(i);
+    return rows;
+  };
+  std::vector<char> working(std::size_t(c), 0);
+  std::vector<Index> add = violatedRows(Y0, working);
+  if (add.empty()) return true;  // Y0 keeps every bound
+  rep.converged = false;
+  const Eigen::MatrixXd S0 = (qp.Kc * Y0) * Zs.transpose();
+  WorkingGram gram(qp.Kc, dense ? &denseSolver : nullptr, dense ? nullptr : &sparseSolver, tick);
+
+  Eigen::MatrixXd Lambda, Mu, QL, g;
+  std::vector<Index> active;  // pairs (working row w, active control k) as w·m + k, ascending
+  double scale = 0.0, epsRel = options.proximal, first = 0.0;
   int rounds = 0;
-  while (!done && rounds < options.maxActiveSetRounds) {
-    // Inner: min d(Λ) + ε/2 ‖Λ − Mu‖² over Λ ≥ 0, a linear complementarity problem with the positive
-    // definite Q + εI, by block principal pivoting (Júdice & Pires 1994): exchange every infeasible
-    // pair (the primal-dual active set step) while their number falls, else (after 3 tries) only one
-    // (Murty's rule, finite for positive definite matrices).
-    const double eps = epsRel * scale;
-    pairs.setShift(eps);  // a new ε: Q_AA + εI factorized again
-    Index fewest = std::numeric_limits<Index>::max();
-    int backup = 3;
-    bool settled = false;
-    int inner = 0;
-    for (; inner < 25 && rounds < options.maxActiveSetRounds; ++inner) {
-      ++rounds;
-      stage = 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds;
-      const Index a = Index(active.size());
-      Lambda.setZero();
-      free.setZero();
-      for (Index p : active) free(p / m, p % m) = 1;
-      if (a > 0 && a <= options.maxDensePairs) {  // Q_AA + εI: updated as pairs enter and leave (detail::PairSystem)
-        rhs.resize(a);
-        for (Index p = 0; p < a; ++p) {
-          const Index i = active[std::size_t(p)] / m, k = active[std::size_t(p)] % m;
-          rhs(p) = D.R()(i, k) + eps * Mu(i, k);
-        }
-        if (!pairs.solve(active, rhs, lambda)) return false;
-        for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)] / m, active[std::size_t(p)] % m) = lambda(p);
-      } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
-        rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, tick, Lambda);
-      }
-      QL = D.apply(Lambda);
-      g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
-      std::vector<Index> infeasible;
-      for (Index i = 0; i < c; ++i)
-        for (Index k = 0; k < m; ++k)
-          if (free(i, k) ? scale * Lambda(i, k) < -1e-3 * tol : g(i, k) < -1e-3 * tol) infeasible.push_back(i * m + k);
-      tick();
-      if (infeasible.empty()) {
-        settled = true;
-        break;
-      }
-      if (Index(infeasible.size()) < fewest) {
-        fewest = Index(infeasible.size());
-        backup = 3;
-      } else if (backup > 0) {
-        --backup;
-      } else {
-        infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
-      }
-      for (Index p : infeasible) free(p / m, p % m) = !free(p / m, p % m);
-      active.clear();
-      for (Index i = 0; i < c; ++i)
-        for (Index k = 0; k < m; ++k)
-          if (free(i, k)) active.push_back(i * m + k);
-    }
-    // Not settled in 25 rounds: a larger ε (Q + εI nearer a diagonal, on which the exchanges settle);
-    // settled at once: back toward the default (smaller ε, faster proximal steps).
-    if (!settled) epsRel = std::min(10.0 * epsRel, 1.0);
-    else if (inner <= 1) epsRel = std::max(0.1 * epsRel, options.proximal);
-    // Outer (proximal point): the unregularized KKT residual at the clamped multipliers.
-    Lambda = Lambda.cwiseMax(0.0);
-    QL = D.apply(Lambda);
-    const double residual = (scale * Lambda).cwiseMin(QL - D.R()).cwiseAbs().maxCoeff();
-    if (first == 0.0) first = std::max(residual, 10.0 * tol);
-    done = residual <= tol;
+  bool done = false;
+  while (!add.empty()) {  // a working set: the dual over its rows, then the rows its primal violates
+    stage = std::max(stage, 0.1 + 0.3 * double(gram.rows().size() + add.size()) / double(c));
+    for (Index i : add) working[std::size_t(i)] = 1;
+    gram.add(add);
+    rep.workingRows = Index(gram.rows().size());
+    ++rep.workingSets;
+    const std::vector<Index>& rows = gram.rows();
+    const Index cw = Index(rows.size()), co = Lambda.rows();
+    Eigen::MatrixXd R(cw, m);
+    for (Index w = 0; w < cw; ++w) R.row(w) = Ls.row(rows[std::size_t(w)]) - S0.row(rows[std::size_t(w)]);
+    const BoundDual D(gram.Kq(), P, std::move(R));
+    Lambda.conservativeResize(cw, m);
+    Lambda.bottomRows(cw - co).setZero();
     Mu = Lambda;
-    stage = 0.4 + 0.55 * std::log(first / std::max(residual, tol)) / std::log(first / tol);
-    tick();
+    if (scale == 0.0) {  // mean diagonal of Q on the first working rows: multipliers times this are in weight units
+      for (Index w = 0; w < cw; ++w)
+        for (Index k = 0; k < m; ++k) scale += D.diagonal(w, k);
+      scale = std::max(scale / double(cw * m), 1e-300);
+    }
+    for (Index w = co; w < cw; ++w)
+      for (Index k = 0; k < m; ++k)
+        if (D.R()(w, k) > tol) active.push_back(w * m + k);
+    std::sort(active.begin(), active.end());
+    detail::PairSystem pairs(D.Kq(), D.P(), epsRel * scale, tick);
+    Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(cw, m);
+    Eigen::VectorXd rhs, lambda;
+    done = false;
+    while (!done && rounds < options.maxActiveSetRounds) {
+      // Inner: min d(Λ) + ε/2 ‖Λ − Mu‖² over Λ ≥ 0, a linear complementarity problem with the positive
+      // definite Q + εI, by block principal pivoting (Júdice & Pires 1994): exchange every infeasible
+      // pair (the primal-dual active set step) while their number falls, else (after 3 tries) only one
+      // (Murty's rule, finite for positive definite matrices).
+      const double eps = epsRel * scale;
+      pairs.setShift(eps);  // a new ε: Q_AA + εI factorized again
+      Index fewest = std::numeric_limits<Index>::max();
+      int backup = 3;
+      bool settled = false;
+      int inner = 0;
+      for (; inner < 25 && rounds < options.maxActiveSetRounds; ++inner) {
+        ++rounds;
+        stage = std::max(stage, 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds);
+        const Index a = Index(active.size());
+        Lambda.setZero();
+        free.setZero();
+        for (Index p : active) free(p / m, p % m) = 1;
+        if (a > 0 && a <= options.maxDensePairs) {  // Q_AA + εI: updated as pairs enter and leave (detail::PairSystem)
+          rhs.resize(a);
+          for (Index p = 0; p < a; ++p) {
+            const Index w = active[std::size_t(p)] / m, k = active[std::size_t(p)] % m;
+            rhs(p) = D.R()(w, k) + eps * Mu(w, k);
+          }
+          if (!pairs.solve(active, rhs, lambda)) return false;
+          for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)] / m, active[std::size_t(p)] % m) = lambda(p);
+        } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
+          rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, tick, Lambda);
+        }
+        QL = D.apply(Lambda);
+        g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
+        std::vector<Index> infeasible;
+        for (Index w = 0; w < cw; ++w)
+          for (Index k = 0; k < m; ++k)
+            if (free(w, k) ? scale * Lambda(w, k) < -1e-3 * tol : g(w, k) < -1e-3 * tol) infeasible.push_back(w * m + k);
+        tick();
+        if (infeasible.empty()) {
+          settled = true;
+          break;
+        }
+        if (Index(infeasible.size()) < fewest) {
+          fewest = Index(infeasible.size());
+          backup = 3;
+        } else if (backup > 0) {
+          --backup;
+        } else {
+          infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
+        }
+        for (Index p : infeasible) free(p / m, p % m) = !free(p / m, p % m);
+        active.clear();
+        for (Index w = 0; w < cw; ++w)
+          for (Index k = 0; k < m; ++k)
+            if (free(w, k)) active.push_back(w * m + k);
+      }
+      // Not settled in 25 rounds: a larger ε (Q + εI nearer a diagonal, on which the exchanges settle);
+      // settled at once: back toward the default (smaller ε, faster proximal steps).
+      if (!settled) epsRel = std::min(10.0 * epsRel, 1.0);
+      else if (inner <= 1) epsRel = std::max(0.1 * epsRel, options.proximal);
+      // Outer (proximal point): the unregularized KKT residual at the clamped multipliers.
+      Lambda = Lambda.cwiseMax(0.0);
+      QL = D.apply(Lambda);
+      const double residual = (scale * Lambda).cwiseMin(QL - D.R()).cwiseAbs().maxCoeff();
+      if (first == 0.0) first = std::max(residual, 10.0 * tol);
+      done = residual <= tol;
+      Mu = Lambda;
+      stage = std::max(stage, 0.4 + 0.55 * std::log(first / std::max(residual, tol)) / std::log(first / tol));
+      tick();
+    }
+    if (!done) break;
+    const Eigen::MatrixXd Y = Y0 + solveA(SparseMatrix(gram.working().transpose()) * (Lambda * Zs));
+    dU = Y * qp.Z.transpose();
+    add = violatedRows(Y, working);
   }
   rep.iterations = rounds;
-  if (!done) return false;
-  const Eigen::MatrixXd Y = Y0 + solveA(SparseMatrix(qp.Kc.transpose()) * (Lambda * Zs));
-  dU = Y * qp.Z.transpose();
-  rep.converged = true;
-  return true;
+  rep.converged = done;
+  return done;
 }
 
 }  // namespace

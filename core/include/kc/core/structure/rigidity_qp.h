@@ -63,6 +63,8 @@ struct RigidityQpReport {
   RigidityQpMethod method = RigidityQpMethod::ActiveSet;  ///< The method that produced the result.
   int iterations = 0;           ///< Active-set rounds (each a solve for the free pairs' multipliers) or ADMM iterations.
   int cgIterations = 0;         ///< Conjugate-gradient iterations (active set beyond maxDensePairs).
+  Index workingRows = 0;       ///< Active set: constrained rows the dual was taken over (the rest never violated).
+  int workingSets = 0;          ///< Active set: working sets solved (1 + the times violated rows joined).
   double primalResidual = 0.0;  ///< max |Kc ΔU − S| (S the projected split variable).
   double dualResidual = 0.0;
   double violation = 0.0;       ///< max(0, L − Kc ΔU, Kc ΔU − Up): how far the bounds are missed.
