@@ -114,7 +114,7 @@ RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
     rep.dualResidual = mu * (KcT * ((Snew - S) * qp.Z)).cwiseAbs().maxCoeff();
     S.swap(Snew);
     rep.iterations = it;
-    if (it % 20 == 0 && !goOn(options, double(it) / options.maxIterations)) throw RigidityQpCancelled();
+    if (it % 5 == 0 && !goOn(options, double(it) / options.maxIterations)) throw RigidityQpCancelled();
     if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.dualTolerance * dualScale) {
       rep.converged = true;
       break;
@@ -154,7 +154,7 @@ class BoundDual {
 
 /// Solves (Q_FF + δI) d = b on the free pairs F by conjugate gradients preconditioned with the
 /// per-sample blocks Kq_ii P[F_i, F_i] + δI (Q_FF restricted to one sample's free controls).
-/// `free` is c×m' (1 = free); b and the result are c×m' with zeros off F; tick() every 10
+/// `free` is c×m' (1 = free); b and the result are c×m' with zeros off F; tick() every 2
 /// iterations. Returns the iterations.
 int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic>& free, const Eigen::MatrixXd& b, double delta,
               double tolerance, int maxIterations, const detail::Tick& tick, Eigen::MatrixXd& x) {
@@ -212,7 +212,7 @@ int solveFree(const BoundDual& D, const Eigen::Matrix<char, Eigen::Dynamic, Eige
     const double rzNew = r.cwiseProduct(z).sum();
     dir = z + (rzNew / rz) * dir;
     rz = rzNew;
-    if (it % 10 == 0) tick();
+    if (it % 2 == 0) tick();
   }
   for (Index a = 0; a < cf; ++a) x.row(rowsF[std::size_t(a)]) = xf.row(a);
   return it;
