@@ -123,6 +123,15 @@ TEST(Files, DroppedPictureAndCageOpenTheOneAndBindTheOther) {
   ASSERT_GT(s.messages.size(), before);
   EXPECT_TRUE(s.messages.back().error);
   EXPECT_NE(s.messages.back().text.find("broken.png"), std::string::npos) << s.messages.back().text;
+
+  // A path that is gone by the time it is handled: the same, without asking about unsaved work.
+  s.unsaved = true;
+  s.droppedPaths = {(dir / "gone.png").string()};
+  ui::openDroppedFiles(s);
+  EXPECT_FALSE(s.unsavedPrompt.has_value());
+  EXPECT_EQ(s.source.width, 120);
+  EXPECT_TRUE(s.messages.back().error);
+  EXPECT_NE(s.messages.back().text.find("gone.png: no such file"), std::string::npos) << s.messages.back().text;
 }
 
 TEST(Files, RecentListKeepsNewestFirstWithoutDuplicates) {

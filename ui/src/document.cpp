@@ -71,6 +71,14 @@ bool isCageFile(const std::string& path) {
   }
 }
 
+/// False, with a message naming the path, when there is no such file.
+bool fileExists(AppState& state, const std::string& path) {
+  std::error_code ec;
+  if (fs::exists(path, ec)) return true;
+  postMessage(state, "Cannot open " + path + ": no such file.", true);
+  return false;
+}
+
 }  // namespace
 
 bool openImage(AppState& state, const std::string& path) {
@@ -108,11 +116,7 @@ bool openPath(AppState& state, const std::string& path) {
 }
 
 bool openAnyFile(AppState& state, const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) {
-    postMessage(state, "Cannot open " + path + ": no such file.", true);
-    return false;
-  }
+  if (!fileExists(state, path)) return false;
   if (isCageFile(path)) return loadCageAndBind(state, path);
   unlessUnsaved(state, "Open", [path](AppState& st) { openPath(st, path); });
   return true;
@@ -143,11 +147,7 @@ void openDroppedFiles(AppState& state) {
     if (!cage.empty()) loadCageAndBind(state, cage);
     return;
   }
-  std::error_code ec;
-  if (!fs::exists(document, ec)) {
-    postMessage(state, "Cannot open " + document + ": no such file.", true);
-    return;
-  }
+  if (!fileExists(state, document)) return;
   unlessUnsaved(state, "Open", [document, cage](AppState& st) {
     if (!openPath(st, document) || cage.empty()) return;
     if (endsWith(document, ".json"))
