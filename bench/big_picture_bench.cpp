@@ -229,7 +229,7 @@ void BM_Export(benchmark::State& state) {
   const kc::Pose pose = kc::app::loadPose(path(*c, "pose.json"), s.cage.C);
   for (auto _ : state) {
     const auto t0 = Clock::now();
-    kc::WarpMesh mesh = kc::app::buildWarpMesh(s, kc::WarpMeshOptions{});
+    kc::WarpMesh mesh = kc::app::buildWarpMesh(s, kc::app::warpMeshOptionsFor(s));
     mesh.deform(pose);
     kc::app::saveImage(path(*c, "export.png"), mesh.render(source, kc::RasterOptions{}));
     state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());

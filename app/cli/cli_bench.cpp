@@ -119,7 +119,7 @@ void benchStroke(const BenchArgs& a) {
   app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p);
   app::FieldSampler sampler;
   Weights vertexWeights;
-  WarpMesh mesh = app::buildWarpMesh(s, {}, nullptr, &sampler, &vertexWeights);
+  WarpMesh mesh = app::buildWarpMesh(s, app::warpMeshOptionsFor(s), nullptr, &sampler, &vertexWeights);
   std::printf("\npaint stroke release: %ld samples, m = %d, display mesh %ld vertices (median of %d strokes)\n",
               static_cast<long>(s.samples.size()), m, static_cast<long>(mesh.restVertices().rows()), a.repeats);
   std::vector<double> opt, remesh, total;

@@ -121,12 +121,10 @@ void runStructure(const Example& e, const app::Session& plain, const std::string
   app::Session s = app::bind(e.cage, e.structure, e.source.width, e.source.height, app::BindParams{});
   Pose moved = e.pose;
   for (HandlePose& h : moved) h.rotate = 0.0;
-  WarpMeshOptions meshOptions;
-  meshOptions.outside = outside;
   Image halves[2];
   const app::Session* sessions[2] = {&plain, &s};
   for (int k = 0; k < 2; ++k) {
-    WarpMesh mesh = app::buildWarpMesh(*sessions[k], meshOptions);
+    WarpMesh mesh = app::buildWarpMesh(*sessions[k], app::warpMeshOptionsFor(*sessions[k], outside));
     mesh.deform(moved);
     halves[k] = mesh.render(e.source);
     app::drawDeformedLines(halves[k], *sessions[k], e.structure.lines, moved);
@@ -206,8 +204,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   files.set(sessionPath, app::sessionToJson(s));
 
   app::WarpExportReport er;
-  WarpMeshOptions meshOptions;
-  meshOptions.outside = outside;
+  const WarpMeshOptions meshOptions = app::warpMeshOptionsFor(s, outside);
   WarpMesh mesh = app::buildWarpMesh(s, meshOptions, &er);
   const CompactWeightsReport& cw = er.weights;
   const double vertexMs = 1e3 * er.weightSeconds;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "cli_common.h"
@@ -26,7 +27,7 @@ struct WarpArgs {
   bool overlay = false;
   std::string outside;  // empty: the session's choice, else pinned
   bool supersample = false;
-  double meshSpacing = 4.0;
+  std::optional<double> meshSpacing;  // none: automatic (app::warpMeshOptionsFor)
   std::string background;
   int pngCompression = app::kDefaultPngCompression;
 };
@@ -48,9 +49,8 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 void runWarp(const WarpArgs& a) {
   WarpMeshOptions meshOptions;
   if (!a.outside.empty()) meshOptions.outside = parseOption<OutsideMode>(a.outside, "--outside");
-  if (!(a.meshSpacing >= 0.5 && a.meshSpacing <= 256))
+  if (a.meshSpacing && !(*a.meshSpacing >= 0.5 && *a.meshSpacing <= 256))
     throw app::InputError("--mesh-spacing", "must be between 0.5 and 256 pixels");
-  meshOptions.spacing = a.meshSpacing;
   app::HeatmapOptions heatOptions;
   heatOptions.scale = parseOption<app::HeatScale>(a.scale, "--scale");
   RasterOptions raster;
@@ -58,14 +58,17 @@ void runWarp(const WarpArgs& a) {
   if (!a.background.empty()) raster.background = parseColor(a.background);
 
   // Everything is read and checked before anything is computed or written.
+  const auto tLoad = std::chrono::steady_clock::now();
   const app::Session s = app::loadSession(a.session);
+  const double loadMs = msSince(tLoad);
   if (a.outside.empty() && !s.outside.empty()) parseName(s.outside, meshOptions.outside);  // validated on load
+  meshOptions.spacing = a.meshSpacing ? *a.meshSpacing : app::warpMeshOptionsFor(s).spacing;
   const Index m = s.cage.size();
   if (a.heatmap >= m) throw app::InputError("--heatmap", "control point " + std::to_string(a.heatmap) +
                                                              " does not exist (the cage has " + std::to_string(m) + ")");
-  const double vertices = (s.imageWidth / a.meshSpacing + 2.0) * (s.imageHeight / a.meshSpacing + 2.0);
+  const double vertices = (s.imageWidth / meshOptions.spacing + 2.0) * (s.imageHeight / meshOptions.spacing + 2.0);
   if (!a.output.empty() && vertices > double(app::kMaxMeshVertices))
-    throw app::InputError("--mesh-spacing", "a warp mesh of spacing " + std::to_string(a.meshSpacing).substr(0, 5) + " px over " +
+    throw app::InputError("--mesh-spacing", "a warp mesh of spacing " + std::to_string(meshOptions.spacing).substr(0, 5) + " px over " +
                                                 std::to_string(s.imageWidth) + "x" + std::to_string(s.imageHeight) +
                                                 " would have about " + std::to_string(static_cast<long long>(vertices)) +
                                                 " vertices, above kcwarp's limit of " + std::to_string(app::kMaxMeshVertices) +
@@ -76,6 +79,7 @@ void runWarp(const WarpArgs& a) {
     outputs.reserve(a.heatmapOut);
   }
   Image source;
+  double readMs = 0.0;
   Pose pose;
   std::string imagePath;
   if (!a.output.empty()) {
@@ -89,7 +93,9 @@ void runWarp(const WarpArgs& a) {
     } catch (const std::invalid_argument& e) {
       throw app::InputError(a.pose.empty() ? a.session : a.pose, e.what());
     }
+    const auto tRead = std::chrono::steady_clock::now();
     source = app::loadImage(imagePath);
+    readMs = msSince(tRead);
     if (source.width != s.imageWidth || source.height != s.imageHeight)
       throw app::InputError(imagePath, "image is " + std::to_string(source.width) + "x" + std::to_string(source.height) +
                                            " but the session was bound for " + std::to_string(s.imageWidth) + "x" +
@@ -109,8 +115,10 @@ void runWarp(const WarpArgs& a) {
     return;
   }
 
+  const auto tMesh = std::chrono::steady_clock::now();
   app::WarpExportReport er;
   WarpMesh mesh = app::buildWarpMesh(s, meshOptions, &er);
+  const double meshMs = msSince(tMesh);
   const CompactWeightsReport& cw = er.weights;
   const double bindMs = 1e3 * er.weightSeconds;
   const DeformReport dr = mesh.deform(pose);
@@ -122,8 +130,10 @@ void runWarp(const WarpArgs& a) {
     app::drawDeformedCage(out, s.cage, posedControls(s.cage.C, pose));
     app::drawDeformedLines(out, s, pose);
   }
+  const auto tWrite = std::chrono::steady_clock::now();
   outputs.set(a.output, app::encodeImage(out, app::imageExtension(a.output), a.pngCompression));
   outputs.commit();
+  const double writeMs = msSince(tWrite);
 
   std::printf("mesh: %ld vertices, %ld triangles (spacing %.3g px, outside %s); weights at vertices %.1f ms\n",
               long(mesh.restVertices().rows()), long(mesh.triangles().size()), meshOptions.spacing,
@@ -153,6 +163,9 @@ void runWarp(const WarpArgs& a) {
   std::printf("\n");
   std::printf("render: %dx%d%s in %.1f ms; wrote %s\n", out.width, out.height, a.supersample ? " (2x2 supersampled)" : "",
               rr.seconds * 1e3, a.output.c_str());
+  std::printf("time: session load %.0f ms, image read %.0f ms, warp mesh (exterior solve and weights) %.0f ms, deform %.0f ms, "
+              "render %.0f ms, encode and write %.0f ms\n",
+              loadMs, readMs, meshMs, dr.seconds * 1e3, rr.seconds * 1e3, writeMs);
 }
 
 }  // namespace
@@ -170,7 +183,8 @@ void addWarpCommand(CLI::App& app) {
   sub->add_flag("--overlay", a->overlay, "Draw the rest cage (white), the deformed cage (orange) and the deformed structure lines (magenta) on the output");
   sub->add_option("--outside", a->outside, std::string(kOutsideHelp) + ". Default: the session's choice, else pinned");
   sub->add_flag("--supersample", a->supersample, "2x2 supersampling");
-  sub->add_option("--mesh-spacing", a->meshSpacing, "Warp mesh spacing in pixels")->capture_default_str();
+  sub->add_option("--mesh-spacing", a->meshSpacing,
+                  "Warp mesh spacing in pixels (default automatic: max(4, 2h/3, sqrt(W*H/65536)), h the session's sample spacing)");
   sub->add_option("--background", a->background, "Colour of uncovered pixels R,G,B[,A] (default transparent)");
   addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {

@@ -41,6 +41,13 @@ void extendByNearestCagePoint(const Cage& cage, const Points& P, Weights& W) {
 
 }  // namespace
 
+WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside) {
+  WarpMeshOptions o;
+  o.outside = outside;
+  o.spacing = automaticMeshSpacing(session.imageWidth, session.imageHeight, session.params.spacing);
+  return o;
+}
+
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, WarpExportReport* report,
                        FieldSampler* sampler, Weights* vertexWeights) {
   if (!session.hasField()) throw std::invalid_argument("the session has no coordinate field (bind first)");

@@ -39,6 +39,12 @@ std::vector<double> gridAxis(int n, double spacing) {
   return axis;
 }
 
+double automaticMeshSpacing(int width, int height, double fieldSpacing) {
+  const double picture = std::sqrt(std::max(0.0, double(width)) * std::max(0.0, double(height)) / kAutoMeshVertices);
+  const double field = std::isfinite(fieldSpacing) && fieldSpacing > 0.0 ? kAutoMeshPerFieldSpacing * fieldSpacing : 0.0;
+  return std::max({kMinAutoMeshSpacing, field, picture});
+}
+
 WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOptions& options)
     : m_width(width), m_height(height), m_options(options), m_cage(cage) {
   if (width <= 0 || height <= 0)

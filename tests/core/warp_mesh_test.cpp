@@ -44,6 +44,27 @@ TEST(WarpMesh, GridCoversTheImage) {
   EXPECT_EQ(mesh.restVertices().rows(), 31 * 26);
 }
 
+TEST(WarpMesh, AutomaticSpacingKeepsTheVertexCountWhenThePictureGrows) {
+  // Up to about a megapixel at the default sample spacing: today's 4 px.
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(320, 400, 6.0), 4.0);
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(1024, 1024, 6.0), 4.0);
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(1024, 1024, 0.0), 4.0);
+  // A field sampled coarsely has no detail finer than its samples: 2h/3.
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(500, 500, 30.0), 20.0);
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(500, 500, std::nan("")), 4.0);
+  EXPECT_DOUBLE_EQ(automaticMeshSpacing(500, 500, -3.0), 4.0);
+  // A picture scaled by k gets k times the spacing (the same mesh relative to the picture) ...
+  const double s1 = automaticMeshSpacing(2048, 1536), s3 = automaticMeshSpacing(3 * 2048, 3 * 1536);
+  EXPECT_NEAR(s3, 3.0 * s1, 1e-9 * s3);
+  // ... so the grid's vertex count stays near 2^16 from 1 to 64 megapixels.
+  for (const auto& [w, h] : {std::pair{1155, 866}, {2309, 1732}, {4000, 3000}, {8192, 8192}, {16000, 4000}}) {
+    const double s = automaticMeshSpacing(w, h, 6.0);
+    const double vertices = double(gridAxis(w, s).size()) * double(gridAxis(h, s).size());
+    EXPECT_GT(vertices, 0.9 * kAutoMeshVertices) << w << "x" << h;
+    EXPECT_LT(vertices, 1.05 * kAutoMeshVertices) << w << "x" << h;
+  }
+}
+
 TEST(WarpMesh, CompactWeightsKeepPartitionOfUnity) {
   const Cage cage = lCage();
   WarpMesh mesh(120, 100, cage, deformEverywhere());

@@ -184,7 +184,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
       }
       ctx.progress("warp mesh", 0.8);
       DisplayMesh display =
-          buildDisplayMesh(*s, displayMeshOptions(s->imageWidth, s->imageHeight, sessionOutsideMode(*s)));
+          buildDisplayMesh(*s, displayMeshOptions(*s, sessionOutsideMode(*s)));
       auto image = std::make_shared<Image>(std::move(img));
       return [s, display, image, imagePath, path, warning](AppState& st) {
         st.source = std::move(*image);
@@ -215,7 +215,7 @@ bool startExport(AppState& state, const std::string& path) {
   auto source = std::make_shared<const Image>(state.source);
   const Pose pose = state.pose;
   app::WarpExportOptions options;
-  options.mesh.outside = state.outside;  // the same mode as the view, as `kcwarp-cli warp --outside`
+  options.mesh = app::warpMeshOptionsFor(*s, state.outside);  // the view's mesh and mode, as `kcwarp-cli warp --outside`
   state.worker.submit("Exporting", [s, source, pose, path, options](JobContext& ctx) -> Worker::Apply {
     try {
       const auto t0 = std::chrono::steady_clock::now();

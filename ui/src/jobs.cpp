@@ -130,12 +130,15 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
 
 }  // namespace
 
-WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside) {
+WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside, double fieldSpacing) {
   WarpMeshOptions o;
   o.outside = outside;
-  const double area = double(width) * double(height);
-  if (area / (o.spacing * o.spacing) > 70000.0) o.spacing = std::sqrt(area / 70000.0);
+  o.spacing = automaticMeshSpacing(width, height, fieldSpacing);
   return o;
+}
+
+WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outside) {
+  return app::warpMeshOptionsFor(session, outside);
 }
 
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options) {
@@ -222,7 +225,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const app::BindParams params = bindParamsFor(state, cage, w, h);
   const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
   const std::string image = state.imagePath;
-  WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside);
+  WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside, params.spacing);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
     // The backend has no weights outside the cage: the outside stays where it is (its default).
     meshOptions.outside = OutsideMode::Fixed;
@@ -299,7 +302,7 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
   const OutsideMode before = state.outside;
   state.outside = mode;  // the panel shows the choice while the mesh is rebuilt
   SessionPtr s = std::move(state.session);
-  const WarpMeshOptions options = displayMeshOptions(s->imageWidth, s->imageHeight, mode);
+  const WarpMeshOptions options = displayMeshOptions(*s, mode);
   state.worker.submit("Outside the cage", [s, options, before](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("warp mesh", 0.1);

@@ -11,9 +11,14 @@
 
 namespace kc::app {
 
-/// Options of a full-resolution warp; the defaults are `kcwarp-cli warp`'s.
+/// The warp mesh options of a session's picture, the same for `kcwarp-cli warp`, the GUI's export
+/// and its display: outside mode `outside`, spacing kc::automaticMeshSpacing(image size, the
+/// session's sample spacing params.spacing) — max(4, 2h/3, √(w·h/2¹⁶)) px.
+WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside = OutsideMode::Pinned);
+
+/// Options of a full-resolution warp; warpMeshOptionsFor(session) gives `kcwarp-cli warp`'s mesh.
 struct WarpExportOptions {
-  WarpMeshOptions mesh;    ///< Warp mesh spacing (4 px) and outside mode (pinned).
+  WarpMeshOptions mesh;    ///< Warp mesh spacing and outside mode (pinned).
   RasterOptions raster;    ///< Supersampling and background (transparent).
 };
 

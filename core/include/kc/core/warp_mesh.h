@@ -182,4 +182,20 @@ class WarpMesh {
 /// The grid of vertex positions along one axis covering [−0.5, n−0.5] with steps ≤ spacing.
 std::vector<double> gridAxis(int n, double spacing);
 
+/// Smallest automatic warp mesh spacing (px): what a picture up to about 1 megapixel gets.
+inline constexpr double kMinAutoMeshSpacing = 4.0;
+/// Grid vertices the automatic spacing allows over the whole picture (2¹⁶, a 1024×1024 picture at 4 px).
+inline constexpr double kAutoMeshVertices = 65536.0;
+/// Automatic mesh spacing per unit of the field's sample spacing h (4 px at the default h = 6 px).
+inline constexpr double kAutoMeshPerFieldSpacing = 2.0 / 3.0;
+
+/// The warp mesh spacing for a width×height picture whose field was sampled at spacing h
+/// (`fieldSpacing`, px; 0 when unknown):
+///   s = max(4, (2/3)·h, √(width·height / 2¹⁶)).
+/// The picture term keeps the grid at about 2¹⁶ vertices however many pixels the picture has (a
+/// picture scaled by k gets k times the spacing: the same mesh relative to the picture); the
+/// field term keeps the default's ratio of mesh to sample spacing (4 px per 6 px), since the
+/// field has no detail finer than its samples (σ ≈ h); 4 px is the floor (today's default).
+double automaticMeshSpacing(int width, int height, double fieldSpacing = 0.0);
+
 }  // namespace kc

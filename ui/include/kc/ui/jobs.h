@@ -12,9 +12,11 @@
 
 namespace kc::ui {
 
-/// Display warp mesh options for an image size: the export's 4 px spacing up to ~70k vertices,
-/// coarser for larger images; `outside` as chosen.
-WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside = OutsideMode::Pinned);
+/// Display warp mesh options for an image size and the field's sample spacing h (0: unknown):
+/// the export's mesh (kc::automaticMeshSpacing, app::warpMeshOptionsFor), `outside` as chosen.
+WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside = OutsideMode::Pinned, double fieldSpacing = 0.0);
+/// The same for a bound session: app::warpMeshOptionsFor(session, outside).
+WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outside);
 
 /// Sets the outside-the-cage mode (view and export). When a session is bound the display mesh is
 /// rebuilt on the worker (the window stays responsive) and the document is marked unsaved.
