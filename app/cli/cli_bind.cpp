@@ -19,6 +19,7 @@ struct BindArgs {
   std::string cage, image, size, output, structure;
   double spacing = 6.0, sigma = 0.0, margin = -1.0;
   std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
+  std::string exterior = "band";
   int heatIterations = 0;
   bool linearEdges = false;
   double locality = 0.0;  // unscreened
@@ -50,6 +51,7 @@ void runBind(const BindArgs& a) {
   p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
   p.kc.linearEdges = a.linearEdges;
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
+  p.exterior = parseOption<sampling::ExteriorExtent>(a.exterior, "--exterior");
   p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
   requireFinite(a.lbcTolerance, "--lbc-tolerance");
   if (!(a.lbcTolerance > 0.0)) throw app::InputError("--lbc-tolerance", "must be positive");
@@ -59,8 +61,8 @@ void runBind(const BindArgs& a) {
   if (a.spacingOption && a.spacingOption->count() == 0) {
     p.spacing = app::automaticSpacing(cage, w, h, p);
     if (p.spacing != a.spacing)
-      std::printf("spacing: automatic %.3g px (a sample budget of %.0f over %dx%d; --spacing overrides)\n", p.spacing,
-                  app::kAutoSpacingSamples, w, h);
+      std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
+                  p.spacing, app::kAutoSpacingSamples);
   }
   if (const std::string warning = p.backend == "kc" ? app::narrowFeatureWarning(cage, p.spacing) : ""; !warning.empty()) {
     std::fflush(stdout);
@@ -122,8 +124,9 @@ void addBindCommand(CLI::App& app) {
   auto* size = sub->add_option("--size", a->size, "Domain size W,H in pixels (instead of --image)");
   image->excludes(size);
   a->spacingOption = sub->add_option("--spacing", a->spacing,
-                                     "Sample spacing h in pixels (default: 6, or larger on big pictures so the kc backend "
-                                     "samples about " + std::to_string(int(app::kAutoSpacingSamples)) + " points)");
+                                     "Sample spacing h in pixels (default: 6, or larger for big cages so the kc backend "
+                                     "samples about " + std::to_string(int(app::kAutoSpacingSamples)) +
+                                         " points over the cage and a band around it)");
   sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
   sub->add_option("--init", a->init,
                   "Initial weights: heat-linear | heat-impulse | inverse-distance | lbc (local barycentric coordinates inside the "
@@ -153,6 +156,12 @@ void addBindCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--sampler", a->sampler, "Sampling: blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
+  sub->add_option("--exterior", a->exterior,
+                  "How far outside the cage to sample: band (the cage's bounding box grown by " +
+                      std::to_string(int(sampling::kExteriorBandSpacings)) +
+                      " spacings; enough for --outside pinned, fixed and transparent) | frame (the whole picture: "
+                      "needed by warp --outside deform)")
+      ->capture_default_str();
   sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();
   sub->add_option("--structure", a->structure,
                   "Structure file (JSON): line segments kept straight, groups kept parallel (kc backend; docs/ARCHITECTURE.md)");

@@ -64,9 +64,14 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
   row("min weight", [](const app::PropertyRow& r) { return r.minWeight; }, " %14.3e");
   row("negative weights    (< -1e-6)", [](const app::PropertyRow& r) { return static_cast<long>(r.negatives); }, " %14ld");
   row("points", [](const app::PropertyRow& r) { return static_cast<long>(r.points); }, " %14ld");
-  if (!d.outsideWeights)
-    std::printf("%-38s no weights: the field covers the cage interior only (warps keep or pin the outside;\n"
-                "%-38s --outside deform is refused)\n", "outside the cage", "");
+  if (!d.outsideWeights) {
+    if (s.params.exterior == sampling::ExteriorExtent::Band && s.reports.lbcMesh == 0)
+      std::printf("%-38s only in a band around the cage (bound with --exterior band: warps keep or pin the\n"
+                  "%-38s outside; --outside deform is refused, bind with --exterior frame for it)\n", "outside the cage", "");
+    else
+      std::printf("%-38s no weights: the field covers the cage interior only (warps keep or pin the outside;\n"
+                  "%-38s --outside deform is refused)\n", "outside the cage", "");
+  }
   std::printf("%-38s %14.3e\n", "Lagrange            max|w_i(c_j) - d_ij|", d.lagrange);
   std::printf("%-38s %14.3e\n", "linear precision on edges  max dev.", d.edgeLinearity);
   if (d.sticks) std::printf("%-38s %14.3e\n", "  on the sticks alone       max dev.", d.stickLinearity);

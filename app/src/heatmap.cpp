@@ -1,4 +1,5 @@
 #include "kc/app/heatmap.h"
+#include "kc/app/pipeline.h"
 
 #include <algorithm>
 #include <array>
@@ -156,8 +157,21 @@ Image weightHeatmap(const WeightFunction& weightsAt, const Cage& cage, int width
 
 Image weightHeatmap(const Session& session, Index control, const HeatmapOptions& options, HeatmapReport* report) {
   if (!session.hasField()) throw std::invalid_argument("heatmap: the session has no coordinate field");
-  return weightHeatmap([&](const Points& P) { return session.field->weightsAt(P); }, session.cage,
-                       session.imageWidth, session.imageHeight, control, options, report);
+  // A session sampled in a band around the cage has no weights beyond it (the field there is only
+  // its affine extrapolation): those points show 0, as outside a mesh field's domain.
+  const bool band = session.params.exterior == sampling::ExteriorExtent::Band;
+  const sampling::Rect region =
+      band ? sampling::sampledRegion(session.cage, samplingOptions(session.imageWidth, session.imageHeight, session.params))
+           : sampling::Rect{};
+  return weightHeatmap(
+      [&](const Points& P) {
+        Weights W = session.field->weightsAt(P);
+        if (band)
+          for (Index i = 0; i < P.rows(); ++i)
+            if (!region.contains(P.row(i))) W.row(i).setZero();
+        return W;
+      },
+      session.cage, session.imageWidth, session.imageHeight, control, options, report);
 }
 
 Rgba sampleColor(SampleKind kind) {

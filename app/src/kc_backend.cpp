@@ -62,6 +62,12 @@ class KcBackend final : public Backend {
     so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
     so.lines = s.structure.lines;
     s.samples = sampling::sample(s.cage, so, &r.sampling);
+    // The session records what was sampled: a band that reaches the frame on every side is the frame.
+    if (so.exterior == sampling::ExteriorExtent::Band) {
+      const sampling::Rect region = sampling::sampledRegion(s.cage, so), frame = sampling::samplingDomain(so);
+      if (region.x0 <= frame.x0 && region.y0 <= frame.y0 && region.x1 >= frame.x1 && region.y1 >= frame.y1)
+        s.params.exterior = sampling::ExteriorExtent::Frame;
+    }
 
     step("kernel", kStageStart[1]);
     s.sigma = kc.sigma > 0.0 ? kc.sigma : sampling::suggestSigma(s.samples);
@@ -204,6 +210,12 @@ BackendCapabilities sessionCapabilities(const Session& s) {
   if (s.W0.rows() == 0 && c.targets) {
     c.targets = c.methods = c.painting = false;
     c.why = "this session has no target weights (weights.initial), so it cannot be re-optimized or painted";
+  }
+  if (s.params.exterior == sampling::ExteriorExtent::Band && c.outsideCage) {
+    c.outsideCage = false;
+    c.why += std::string(c.why.empty() ? "" : "; ") +
+             "its weights reach only a band around the cage; bind again with the whole picture sampled "
+             "(kcwarp-cli bind --exterior frame; the GUI's Move everything does it)";
   }
   if (s.field && s.field->domain() != FieldDomain::Plane && c.outsideCage) {
     c.outsideCage = false;

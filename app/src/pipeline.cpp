@@ -73,6 +73,7 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
   so.margin = p.margin >= 0.0 || p.kc.interp == InterpMode::Exact ? p.margin : kThesisMarginSpacings * p.spacing;
   so.kind = p.sampler;
   so.seed = p.seed;
+  so.exterior = p.exterior;
   return so;
 }
 
@@ -81,7 +82,7 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
   BindCost c;
   c.samples = sampling::estimateSampleCount(cage, so);
   c.controls = static_cast<double>(cage.size());
-  const sampling::Rect d = sampling::samplingDomain(so);
+  const sampling::Rect d = sampling::sampledRegion(cage, so);
   const double area = std::max(d.area(), 1.0);
   const double cutoff = GaussianKernel::forSpacing(params.kc.sigma > 0.0 ? params.kc.sigma : automaticSigma(params.spacing), params.spacing).cutoff();
   const double neighbours = std::min(c.samples, 1.0 + c.samples * std::numbers::pi * cutoff * cutoff / area);
@@ -91,10 +92,22 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
 }
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget) {
   if (!backendFor(params.backend).capabilities().outsideCage) return params.spacing;
+  // The budget is counted over the cage and a band around it whatever the extent sampled, so the
+  // spacing follows the cage: the same cage 10× larger gets 10× the spacing and the same count.
   BindParams p = params;
-  if (estimateBindCost(cage, width, height, p).samples <= budget) return params.spacing;
-  for (int step = 0; step < 3; ++step) p.spacing *= std::sqrt(estimateBindCost(cage, width, height, p).samples / budget);
-  double h = std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
+  p.exterior = sampling::ExteriorExtent::Band;
+  double h = params.spacing;
+  if (estimateBindCost(cage, width, height, p).samples > budget) {
+    for (int step = 0; step < 3; ++step) p.spacing *= std::sqrt(estimateBindCost(cage, width, height, p).samples / budget);
+    h = std::max(params.spacing, std::ceil(p.spacing * 100.0) / 100.0);
+  }
+  p = params;
+  // A whole-frame bind at that spacing may still pass kcwarp's limits on a big picture: h grows
+  // by 5% until it fits.
+  for (p.spacing = h; bindLimitFactor(estimateBindCost(cage, width, height, p)) > 1.0 && p.spacing < 1e6; p.spacing *= 1.05) {
+  }
+  h = std::ceil(p.spacing * 100.0) / 100.0;
+  if (h == params.spacing) return h;
   // A narrow place of the cage keeps about kNarrowFeatureSpacings samples across it, over the
   // budget if need be, but not past the limits: h grows from there by 5% until the bind fits.
   if (!edgesAtLeast(cage, kMinFeatureSpacings * params.spacing)) return h;  // bind() refuses it anyway

@@ -89,6 +89,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"backend", p.backend},
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
+                 {"exterior", std::string(toString(p.exterior))},
                  {"seed", p.seed}};
   if (p.backend == "lbc")
     params["lbc"] = {{"tau", std::string(toString(p.lbc.tau))}, {"tolerance", p.lbc.tolerance}, {"max_iterations", p.lbc.maxIterations}};
@@ -178,6 +179,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     p.kc.linearEdges = params["linear_edges"].get<bool>();
   }
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, where);
+  p.exterior = parseEnum(params, "exterior", sampling::ExteriorExtent::Frame, where);  // older sessions sampled the frame
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");

@@ -15,20 +15,45 @@ namespace {
 /// Uniform double in [0, 1) from 53 random bits (portable, unlike std::uniform_real_distribution).
 double uniform01(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
+/// Cells of side about c over rect: nx × ny, stretched slightly to tile it exactly.
+struct CellGrid {
+  Index nx = 1, ny = 1;
+  double cx = 0.0, cy = 0.0;
+};
+CellGrid cellGridOf(const Rect& rect, double c) {
+  CellGrid g;
+  g.nx = std::max<Index>(1, static_cast<Index>(std::ceil(rect.width() / c)));
+  g.ny = std::max<Index>(1, static_cast<Index>(std::ceil(rect.height() / c)));
+  g.cx = rect.width() / static_cast<double>(g.nx);
+  g.cy = rect.height() / static_cast<double>(g.ny);
+  return g;
+}
+
 /// One jittered point per cell of side c over rect; rows in cell order. Both coordinates are
-/// drawn for every cell so the stream does not depend on which points are kept.
-std::vector<Vec2> jitteredCells(const Rect& rect, double c, std::mt19937_64& rng) {
-  const Index nx = std::max<Index>(1, static_cast<Index>(std::ceil(rect.width() / c)));
-  const Index ny = std::max<Index>(1, static_cast<Index>(std::ceil(rect.height() / c)));
-  // Stretch the cells slightly so they tile the rectangle exactly.
-  const double cx = rect.width() / static_cast<double>(nx), cy = rect.height() / static_cast<double>(ny);
+/// drawn for every cell so the stream does not depend on which points are kept. With `keep`,
+/// only the points of cells that meet it are returned (the stream is the same: the other rows'
+/// draws are discarded).
+std::vector<Vec2> jitteredCells(const Rect& rect, double c, std::mt19937_64& rng, const Rect* keep = nullptr) {
+  const CellGrid g = cellGridOf(rect, c);
+  Index i0 = 0, i1 = g.nx, j0 = 0, j1 = g.ny;
+  if (keep) {
+    auto clampIndex = [](double v, Index n) { return std::clamp<Index>(static_cast<Index>(std::floor(v)), 0, n); };
+    i0 = clampIndex((keep->x0 - rect.x0) / g.cx, g.nx);
+    i1 = clampIndex((keep->x1 - rect.x0) / g.cx + 1.0, g.nx);
+    j0 = clampIndex((keep->y0 - rect.y0) / g.cy, g.ny);
+    j1 = clampIndex((keep->y1 - rect.y0) / g.cy + 1.0, g.ny);
+  }
   std::vector<Vec2> pts;
-  pts.reserve(static_cast<std::size_t>(nx * ny));
-  for (Index j = 0; j < ny; ++j)
-    for (Index i = 0; i < nx; ++i) {
+  pts.reserve(static_cast<std::size_t>(std::max<Index>(0, (i1 - i0) * (j1 - j0))));
+  rng.discard(static_cast<unsigned long long>(2 * g.nx * j0));
+  for (Index j = j0; j < j1; ++j) {
+    rng.discard(static_cast<unsigned long long>(2 * i0));
+    for (Index i = i0; i < i1; ++i) {
       const double u = uniform01(rng), v = uniform01(rng);
-      pts.emplace_back(rect.x0 + (static_cast<double>(i) + u) * cx, rect.y0 + (static_cast<double>(j) + v) * cy);
+      pts.emplace_back(rect.x0 + (static_cast<double>(i) + u) * g.cx, rect.y0 + (static_cast<double>(j) + v) * g.cy);
     }
+    rng.discard(static_cast<unsigned long long>(2 * (g.nx - i1)));
+  }
   return pts;
 }
 
@@ -46,10 +71,11 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea) {
 }
 
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
-                     Index& interiorCount, const Cage* obstacles) {
+                     Index& interiorCount, const Cage* obstacles, const Rect* cellGrid) {
   std::mt19937_64 rng(seed);
   const double c = h * std::sqrt(cellArea);
-  const auto candidates = jitteredCells(domain, c, rng);
+  const bool anchored = cellGrid && cellGrid->area() > 0.0;
+  const auto candidates = anchored ? jitteredCells(*cellGrid, c, rng, &domain) : jitteredCells(domain, c, rng);
   const CageEdgeGrid locator(obstacles ? *obstacles : cage, h);
   const double minDistance = 0.5 * h;
   const CageQueries queries(cage);
@@ -76,7 +102,8 @@ BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, 
   result.frameCount = frame.rows();
   const Index firstFree = S.size();
 
-  const Points start = jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount, &obstacles);
+  const Points start =
+      jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount, &obstacles, &options.cellGrid);
   result.exteriorCount = start.rows() - result.interiorCount;
   appendSamples(S, start.topRows(result.interiorCount), SampleKind::Interior);
   appendSamples(S, start.bottomRows(result.exteriorCount), SampleKind::Exterior);

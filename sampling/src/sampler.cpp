@@ -24,6 +24,7 @@ void validate(const Cage& cage, const SamplingOptions& o) {
   if (!std::isfinite(o.width) || !std::isfinite(o.height) || !(o.width > 0.0) || !(o.height > 0.0))
     throw std::invalid_argument("sampling: image size must be positive (got " + num(o.width) + " x " + num(o.height) + ")");
   if (!std::isfinite(o.margin)) throw std::invalid_argument("sampling: margin must be finite");
+  if (!std::isfinite(o.band)) throw std::invalid_argument("sampling: band width must be finite");
   validateCage(cage);
   validateLines(cage, o.lines, h);
   const double extent = std::max(cage.C.col(0).maxCoeff() - cage.C.col(0).minCoeff(), cage.C.col(1).maxCoeff() - cage.C.col(1).minCoeff());
@@ -70,9 +71,22 @@ Rect samplingDomain(const SamplingOptions& options) {
   return {-g, -g, options.width + g, options.height + g};
 }
 
+double resolvedBand(const SamplingOptions& options) {
+  return options.band >= 0.0 ? options.band : kExteriorBandSpacings * options.spacing;
+}
+
+Rect sampledRegion(const Cage& cage, const SamplingOptions& options) {
+  const Rect frame = samplingDomain(options);
+  if (options.exterior == ExteriorExtent::Frame || cage.size() == 0) return frame;
+  const double b = resolvedBand(options);
+  const Rect box{cage.C.col(0).minCoeff() - b, cage.C.col(1).minCoeff() - b, cage.C.col(0).maxCoeff() + b,
+                 cage.C.col(1).maxCoeff() + b};
+  return {std::max(frame.x0, box.x0), std::max(frame.y0, box.y0), std::min(frame.x1, box.x1), std::min(frame.y1, box.y1)};
+}
+
 double estimateSampleCount(const Cage& cage, const SamplingOptions& options) {
   const double h = options.spacing;
-  const Rect domain = samplingDomain(options);
+  const Rect domain = sampledRegion(cage, options);
   return (options.kind == SamplerKind::Grid ? gridPointCount(domain, h)
                                             : blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea)) +
          perimeterSamples(cage, h) + lineSampleCount(options.lines, h);
@@ -82,7 +96,7 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
   const auto start = std::chrono::steady_clock::now();
   validate(cage, options);
   const double h = options.spacing;
-  const Rect domain = samplingDomain(options);
+  const Rect domain = sampledRegion(cage, options);
   SamplingReport r;
   SampleSet S;
   if (options.kind == SamplerKind::Grid) {
@@ -93,6 +107,7 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
       throw std::invalid_argument("sampling: blue-noise cell area must be positive");
     checkCount(estimateSampleCount(cage, options), h);
     BlueNoiseOptions bo = options.blueNoise;
+    if (options.exterior == ExteriorExtent::Band) bo.cellGrid = samplingDomain(options);
     if (options.progress) bo.relax.progress = options.progress;
     BlueNoiseResult b = blueNoiseSample(cage, domain, h, options.seed, bo, options.lines);
     S = std::move(b.samples);

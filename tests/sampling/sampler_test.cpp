@@ -72,6 +72,67 @@ TEST(Sampler, ProgressCallbackCanCancelByThrowing) {
   EXPECT_THROW(sample(test::starCage(), o), Cancelled);
 }
 
+/// A small square cage in a big picture: its band is much smaller than the frame.
+Cage smallSquare() {
+  Points C(4, 2);
+  C << 300, 200, 400, 200, 400, 280, 300, 280;
+  return Cage::polygon(C);
+}
+
+TEST(Sampler, ABandCoversTheCageBoxGrownByTheBandWithinTheFrame) {
+  SamplingOptions o = options(SamplerKind::Grid);
+  o.width = 800;
+  o.height = 600;
+  o.exterior = ExteriorExtent::Band;
+  EXPECT_DOUBLE_EQ(resolvedBand(o), kExteriorBandSpacings * 8.0);
+  const Rect r = sampledRegion(smallSquare(), o);
+  EXPECT_DOUBLE_EQ(r.x0, 300 - resolvedBand(o));
+  EXPECT_DOUBLE_EQ(r.y1, 280 + resolvedBand(o));
+  o.band = 500.0;  // clipped to the frame (image plus its 24 px margin)
+  const Rect clipped = sampledRegion(smallSquare(), o);
+  EXPECT_DOUBLE_EQ(clipped.x0, -24.0);
+  EXPECT_DOUBLE_EQ(clipped.y1, 624.0);
+  o.exterior = ExteriorExtent::Frame;
+  EXPECT_DOUBLE_EQ(sampledRegion(smallSquare(), o).x1, samplingDomain(o).x1);
+}
+
+TEST(Sampler, ABandStartsFromTheFramesSamples) {
+  // Grid: the band's samples are exactly the frame's inside the band. Blue noise: the jittered
+  // start inside the band is the frame's (the same cells and random stream), before relaxation.
+  SamplingOptions o = options(SamplerKind::Grid);
+  o.width = 800;
+  o.height = 600;
+  const SampleSet frame = sample(smallSquare(), o);
+  o.exterior = ExteriorExtent::Band;
+  const SampleSet band = sample(smallSquare(), o);
+  const Rect r = sampledRegion(smallSquare(), o);
+  Index inBand = 0;
+  for (Index i = 0; i < frame.size(); ++i) inBand += r.contains(frame.X.row(i)) ? 1 : 0;
+  ASSERT_EQ(band.size(), inBand);
+  EXPECT_LT(band.size(), frame.size() / 4);
+  for (Index i = 0, j = 0; i < frame.size(); ++i)
+    if (r.contains(frame.X.row(i))) {
+      EXPECT_EQ(frame.X.row(i), band.X.row(j)) << i;
+      ++j;
+    }
+
+  const Rect frameRect = samplingDomain(o);
+  Index interior = 0, interiorBand = 0;
+  const Points all = jitteredStart(smallSquare(), frameRect, 8.0, 1.0, 7, interior);
+  const Points part = jitteredStart(smallSquare(), r, 8.0, 1.0, 7, interiorBand, nullptr, &frameRect);
+  Index kept = 0;
+  for (Index i = 0; i < all.rows(); ++i) {
+    const Vec2 p = all.row(i);
+    if (r.insideDistance(p) < 4.0) continue;  // within h/2 of the band's side: dropped there
+    bool found = false;
+    for (Index j = 0; j < part.rows() && !found; ++j) found = part.row(j) == all.row(i);
+    EXPECT_TRUE(found) << p.transpose();
+    ++kept;
+  }
+  EXPECT_EQ(part.rows(), kept);
+  EXPECT_EQ(interiorBand, interior);  // every start point inside the cage is in the band
+}
+
 TEST(SamplePlot, OneDotPerSampleControlsOnTop) {
   const SampleSet S = sample(test::starCage(), options(SamplerKind::Grid));
   const auto dots = samplePlot(S, 8.0);

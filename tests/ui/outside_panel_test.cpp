@@ -18,15 +18,19 @@ void drawSide(AppState& s) {
 
 /// A bound AppState on the checker picture with a square cage 50 px inside its border, bound
 /// with `backend` and shown in `outside` mode.
-std::unique_ptr<AppState> boundSquare(const std::string& backend = "kc", OutsideMode outside = OutsideMode::Pinned) {
+/// `inset` moves the cage's sides inwards; `exterior` says how far outside it the bind samples.
+std::unique_ptr<AppState> boundSquare(const std::string& backend = "kc", OutsideMode outside = OutsideMode::Pinned,
+                                      double inset = 50.0,
+                                      sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Frame) {
   auto state = std::make_unique<AppState>();
   state->worker.setSynchronous(true);
   state->source = app::loadImage(std::string(KC_SOURCE_DIR) + "/images/checker.png");
   Points C(4, 2);
-  C << 50, 50, 205, 50, 205, 205, 50, 205;
+  C << inset, inset, 255 - inset, inset, 255 - inset, 255 - inset, inset, 255 - inset;
   app::BindParams p;
   p.backend = backend;
   p.spacing = 10.0;
+  p.exterior = exterior;
   auto s = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
   s->outside = std::string(toString(outside));
   installSession(*state, s, buildDisplayMesh(*s, displayMeshOptions(256, 256, outside)));
@@ -99,6 +103,36 @@ TEST(OutsidePanel, MoveEverythingIsRefusedWithoutWeightsOutsideTheCage) {
   EXPECT_FALSE(setOutsideMode(*s, OutsideMode::Deform)) << "the setter refuses it too, with a message";
   EXPECT_EQ(s->outside, OutsideMode::Fixed);
   ASSERT_TRUE(s->session) << "a refused change keeps the session";
+}
+
+TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
+  // A small cage sampled in a band around it (the checker's corners are beyond the band):
+  // choosing Move everything binds again with the whole picture sampled, keeping the pose.
+  test::HeadlessImGui gui;
+  auto s = boundSquare("kc", OutsideMode::Pinned, 100.0, sampling::ExteriorExtent::Band);
+  ASSERT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Band);
+  ASSERT_FALSE(s->capabilities.outsideCage);
+  ASSERT_TRUE(bandNeedsFrameBind(*s));
+  Pose pose = restPose(4);
+  pose[1].translate = Vec2(-12, 9);
+  setPose(*s, pose);
+
+  gui.frame([&] { drawSide(*s); });
+  gui.click(s->widgets["outside_mode"], [&] { drawSide(*s); });
+  gui.frame([&] { drawSide(*s); });
+  ASSERT_TRUE(s->widgets.count("outside_deform"));
+  gui.click(s->widgets["outside_deform"], [&] { drawSide(*s); });  // offered, not greyed
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Frame);
+  EXPECT_TRUE(s->capabilities.outsideCage);
+  EXPECT_EQ(s->outside, OutsideMode::Deform);
+  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
+  EXPECT_EQ(s->session->outside, "deform");
+  ASSERT_EQ(s->pose.size(), 4u);
+  EXPECT_EQ(s->pose[1].translate, Vec2(-12, 9)) << "the pose is kept";
+  EXPECT_GT(cornerMove(*s, s->pose), 0.5) << "deform moves the picture's corners";
+  EXPECT_FALSE(bandNeedsFrameBind(*s));
 }
 
 }  // namespace

@@ -180,8 +180,17 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.weightsReproducible = fromOptimizer;
 }
 
+namespace {
+/// How far a bind samples outside the cage for an outside mode: only Move everything uses the
+/// field's weights up to the picture's border.
+sampling::ExteriorExtent exteriorFor(OutsideMode outside) {
+  return outside == OutsideMode::Deform ? sampling::ExteriorExtent::Frame : sampling::ExteriorExtent::Band;
+}
+}  // namespace
+
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height) {
   app::BindParams params = state.bindParams;
+  params.exterior = exteriorFor(state.outside);
   if (state.autoSpacing) {
     params.spacing = app::BindParams{}.spacing;  // the budget starts from the default, not the last choice
     params.spacing = app::automaticSpacing(cage, width, height, params);
@@ -191,9 +200,11 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
 
 double autoSpacingShown(AppState& state) {
   auto& shown = state.shownSpacing;
-  const app::BindParams& p = state.bindParams;
+  app::BindParams p = state.bindParams;
+  p.exterior = exteriorFor(state.outside);
   const bool same = shown.width == state.source.width && shown.height == state.source.height &&
                     shown.params.backend == p.backend && shown.params.sampler == p.sampler && shown.params.margin == p.margin &&
+                    shown.params.exterior == p.exterior &&
                     shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
                     shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C;
   if (!same) {
@@ -242,8 +253,11 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
     st.lineSelection.clear();
     restoreLineEdit(st, lines);
   };
+  // A bind that does not happen leaves the picture as it was shown, in its outside mode (Move
+  // everything chosen on a band session starts a bind: setOutsideMode).
   auto cancelled = [previous, restoreLines](AppState& st) {
     st.session = previous;
+    if (previous) st.outside = st.mesh.options().outside;
     restoreLines(st);
     postMessage(st, "Bind cancelled.", false);
   };
@@ -273,7 +287,10 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
     } catch (const std::exception& e) {
       const std::string text = std::string("Bind failed: ") + e.what();
       return [previous, text, restoreLines](AppState& st) {
-        if (previous) st.session = previous;
+        if (previous) {
+          st.session = previous;
+          st.outside = st.mesh.options().outside;
+        }
         restoreLines(st);
         postMessage(st, text, true);
       };
@@ -288,8 +305,28 @@ OutsideMode sessionOutsideMode(const app::Session& session) {
   return mode;
 }
 
+bool bandNeedsFrameBind(const AppState& state) {
+  if (!state.bound || !state.session || state.session->params.exterior != sampling::ExteriorExtent::Band) return false;
+  try {
+    return app::backendFor(state.session->params.backend).capabilities().outsideCage;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
 bool setOutsideMode(AppState& state, OutsideMode mode) {
   if (mode == state.outside) return true;
+  if (mode == OutsideMode::Deform && bandNeedsFrameBind(state)) {
+    // The session's weights reach a band around the cage only: bind again over the whole picture.
+    const OutsideMode before = state.outside;
+    state.outside = mode;
+    if (!startBind(state, true, true)) {
+      state.outside = before;
+      return false;
+    }
+    postMessage(state, "Move everything needs weights up to the picture's border: binding again with the whole picture sampled (the pose is kept).", false);
+    return true;
+  }
   if (mode == OutsideMode::Deform && !shownCapabilities(state).outsideCage) {
     postMessage(state, "Move everything needs weights outside the cage: " + shownCapabilities(state).why, false);
     return false;

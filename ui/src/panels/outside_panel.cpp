@@ -42,7 +42,8 @@ void drawOutsidePanel(AppState& state) {
     for (int k = 0; k < 4; ++k) {
       // A session (or, before a bind, a backend) without weights outside the cage (LBC) cannot
       // move the whole picture.
-      const bool unavailable = modes[k].mode == OutsideMode::Deform && !caps.outsideCage;
+      // A session sampled only in a band around the cage offers it through a new bind.
+      const bool unavailable = modes[k].mode == OutsideMode::Deform && !caps.outsideCage && !bandNeedsFrameBind(state);
       const ImGuiSelectableFlags flags = unavailable ? ImGuiSelectableFlags_Disabled : 0;
       if (ImGui::Selectable(modes[k].label, k == current, flags) && k != current) setOutsideMode(state, modes[k].mode);
       markWidget(state, modes[k].id);

@@ -35,14 +35,22 @@ struct BindCost {
 /// The estimate for a bind of `cage` over width×height with `params` (σ automatic: 3h/π).
 BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params);
 
-/// Sample budget of the automatic spacing: about the samples of a 1-megapixel picture at h = 6 px
-/// (a bind of ~9 s and ~400 MB on 2 cores, kc_bench_big_picture).
-inline constexpr double kAutoSpacingSamples = 30000.0;
+/// Sample budget of the automatic spacing, counted over the cage's bounding box and its exterior
+/// band (sampling::ExteriorExtent::Band). Chosen so that a cage's bind costs about the same at
+/// any picture size: the big-picture benchmark's 34-point cage binds with ~1,540 samples at the
+/// 6 px floor on a 0.1 MP picture and with this budget on larger ones (bind time within 2×,
+/// docs/ARCHITECTURE.md "Big pictures"); the bundled examples, which fill their pictures, get
+/// 6.35–8.94 px (checker 6.35, stick 7.28, star 7.80, figure 8.94).
+inline constexpr double kAutoSpacingSamples = 2500.0;
 
-/// The spacing a bind uses when the user gives none: `params.spacing` (the 6 px default) while the
-/// estimated sample count stays within `budget`, else the h ≥ params.spacing whose estimate
-/// (estimateBindCost, ~ domain area / h²) is about `budget`, found by h ← h·√(#S(h)/budget)
-/// (three steps) and rounded up to 0.01 px. Where the cage has a feature narrower than
+/// The spacing a bind uses when the user gives none, from the cage rather than the pixels:
+/// `params.spacing` (the 6 px default, the floor) while the estimated sample count of a band
+/// bind (estimateBindCost with ExteriorExtent::Band: the cage's bounding box grown by
+/// kExteriorBandSpacings·h, ~ its area / h² + perimeter / h) stays within `budget`, else the
+/// h ≥ params.spacing whose estimate is about `budget`, found by h ← h·√(#S(h)/budget) (three
+/// steps) and rounded up to 0.01 px. The count does not depend on the cage's scale: the same cage
+/// 10× larger gets 10× the spacing. A whole-frame bind (params.exterior) uses the same h, grown by
+/// 5% steps while it exceeds kcwarp's limits. Where the cage has a feature narrower than
 /// kNarrowFeatureSpacings·h (narrowestGap), h shrinks to narrowest/kNarrowFeatureSpacings (not
 /// below params.spacing), over the budget but never past kcwarp's limits (checkBindCost). Only
 /// the kc backend samples the picture; for others `params.spacing` is returned.

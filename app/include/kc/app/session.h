@@ -48,6 +48,12 @@ struct BindParams {
   double spacing = 6.0;    ///< h, pixels (sample spacing; a mesh backend's edge length).
   sampling::SamplerKind sampler = sampling::SamplerKind::BlueNoise;
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
+  /// How far outside the cage the kc backend samples: the whole frame (what `--outside deform`
+  /// needs; sessions written before the choice existed read Frame) or a band around the cage
+  /// (sampling::kExteriorBandSpacings·h; what `kcwarp-cli bind` and the GUI use unless asked for
+  /// the frame or the outside mode is deform). A band session has no weights far outside the
+  /// cage: sessionCapabilities() says so and warps refuse `deform` on it.
+  sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Frame;
   std::uint64_t seed = 1;
   KcParams kc;             ///< Used when backend == "kc".
   LbcParams lbc;           ///< Used when backend == "lbc".

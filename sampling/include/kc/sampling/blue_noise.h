@@ -17,6 +17,10 @@ struct BlueNoiseOptions {
   /// Area per free sample in units of h² (sets the free-sample count from the region's area).
   double cellArea = 1.0;
   InverseMeanShiftOptions relax;   ///< `spacing` is overwritten with h.
+  /// When not empty (a band around the cage, ExteriorExtent::Band): the rectangle whose cells
+  /// the jittered start is drawn over (the frame), of which only the points in the sampled domain
+  /// are kept — the same start points there as a sampling of the whole cellGrid with this seed.
+  Rect cellGrid;
 };
 
 /// Upper estimate of the number of samples blue noise puts in `domain` (for limit checks).
@@ -27,9 +31,11 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea);
 /// closer than h/2 to the cage or to the domain's boundary. Rows are interior points first, then
 /// exterior ones; `interiorCount` receives their split. Deterministic in `seed`.
 /// `obstacles` (obstacleEdges: the cage and the structure lines), when given, is what the h/2
-/// distance is measured to instead of the cage.
+/// distance is measured to instead of the cage. `cellGrid`, when given and not empty, is where
+/// the cells are laid and the random stream drawn (see BlueNoiseOptions::cellGrid); it should
+/// contain `domain`.
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
-                     Index& interiorCount, const Cage* obstacles = nullptr);
+                     Index& interiorCount, const Cage* obstacles = nullptr, const Rect* cellGrid = nullptr);
 
 struct BlueNoiseResult {
   SampleSet samples;               ///< controls, edges, frame (Exterior), interior, exterior

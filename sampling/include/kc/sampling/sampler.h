@@ -14,6 +14,15 @@ namespace kc::sampling {
 
 enum class SamplerKind { BlueNoise, Grid };
 
+/// How far outside the cage the free samples go. The field's weights outside the cage are used
+/// by the `deform` outside mode only (pinned takes the exterior from a harmonic extension on the
+/// warp mesh, exterior_weights.h; fixed and transparent move the inside only), so the other modes
+/// need the exterior only as far as it shapes the weights inside and on the cage.
+enum class ExteriorExtent {
+  Frame,  ///< The whole image rectangle plus its margin (what `deform` needs).
+  Band,   ///< The cage's bounding box grown by a band (SamplingOptions::band) on every side, within the frame.
+};
+
 }  // namespace kc::sampling
 
 template <>
@@ -22,11 +31,24 @@ struct kc::EnumNames<kc::sampling::SamplerKind> {
       {{sampling::SamplerKind::BlueNoise, "blue-noise"}, {sampling::SamplerKind::Grid, "grid"}}};
 };
 
+template <>
+struct kc::EnumNames<kc::sampling::ExteriorExtent> {
+  static constexpr std::array<std::pair<sampling::ExteriorExtent, std::string_view>, 2> table{
+      {{sampling::ExteriorExtent::Frame, "frame"}, {sampling::ExteriorExtent::Band, "band"}}};
+};
+
 namespace kc::sampling {
 
 /// Upper bound on the number of samples of one sampling: beyond it `sample` throws
 /// std::invalid_argument naming the spacing that would fit.
 inline constexpr Index kMaxSamples = 400000;
+
+/// Width of the automatic exterior band in sample spacings (σ ≈ 0.95 h, so ≈ 6.3 σ, beyond the
+/// kernel's 5σ cut-off). Measured (docs/ARCHITECTURE.md "Big pictures"): against the whole-frame
+/// bind with the same seed, the weights inside and on the cage change by at most 2.0e-2 (a
+/// smooth 34-point cage; 1e-3–3e-3 on the bundled star and stick figure), where changing the
+/// seed alone changes them by up to 2.2e-1; with 4 spacings the grid sampler's change was 1.7×.
+inline constexpr double kExteriorBandSpacings = 6.0;
 
 struct SamplingOptions {
   double spacing = 6.0;      ///< h: sample spacing in pixels (> 0).
@@ -36,6 +58,10 @@ struct SamplingOptions {
   /// accurate up to the image border, thesis Fig 3.1).
   double margin = -1.0;
   SamplerKind kind = SamplerKind::Grid;
+  /// How far outside the cage to sample (ExteriorExtent). Frame by default.
+  ExteriorExtent exterior = ExteriorExtent::Frame;
+  /// ExteriorExtent::Band: the band's width in pixels; < 0 = automatic (kExteriorBandSpacings·h).
+  double band = -1.0;
   std::uint64_t seed = 1;
   /// Progress callback for long relaxations (fraction in [0, 1]); may be empty. Called on the
   /// calling thread, outside parallel loops: it may throw to cancel (the exception propagates).
@@ -59,16 +85,24 @@ struct SamplingReport {
 
 /// Automatic margin (3h) when options.margin < 0, else options.margin.
 double resolvedMargin(const SamplingOptions& options);
-/// The sampled domain: [0, width] × [0, height] grown by the margin on every side.
+/// The frame: [0, width] × [0, height] grown by the margin on every side (the cage must lie in it).
 Rect samplingDomain(const SamplingOptions& options);
+/// Automatic band width (kExteriorBandSpacings·h) when options.band < 0, else options.band.
+double resolvedBand(const SamplingOptions& options);
+/// The rectangle the free samples cover: the frame (ExteriorExtent::Frame), or the cage's
+/// bounding box grown by resolvedBand on every side and clipped to the frame (Band).
+Rect sampledRegion(const Cage& cage, const SamplingOptions& options);
 
 /// About how many samples `sample` would produce (the estimate it checks against kMaxSamples),
-/// computed from the domain, the margin, h and the cage's perimeter without sampling anything.
+/// computed from the sampled region (sampledRegion), h and the cage's perimeter without sampling anything.
 double estimateSampleCount(const Cage& cage, const SamplingOptions& options);
 
 /// Samples: control points first (0..m−1, thesis 3.18), then every cage edge at a common
-/// spacing ≈ h (kind Edge, with its edge's ends), then free samples covering the domain plus
-/// margin, each labelled Interior or Exterior.
+/// spacing ≈ h (kind Edge, with its edge's ends), then free samples covering sampledRegion (the
+/// frame, or a band around the cage), each labelled Interior or Exterior. A band's free samples
+/// start where the frame's would (the grid is anchored at the origin; blue noise draws its
+/// jittered start over the frame's cells and keeps those in the band), so the inside of a band
+/// sampling differs from the frame's only through the relaxation.
 /// Grid: a regular grid of spacing h, points closer than h/2 to the cage dropped.
 /// BlueNoise: fixed frame points on the domain boundary (kind Exterior, stored right after the
 /// edge samples: report.frame of them), then interior and exterior samples (jittered start at

@@ -20,14 +20,22 @@ WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outs
 
 /// Sets the outside-the-cage mode (view and export). When a session is bound the display mesh is
 /// rebuilt on the worker (the window stays responsive) and the document is marked unsaved.
-/// Returns false (with a message) while another job runs.
+/// Move everything on a session sampled only in a band around the cage (bandNeedsFrameBind)
+/// binds again with the whole picture sampled, keeping the pose. Returns false (with a message)
+/// while another job runs.
 bool setOutsideMode(AppState& state, OutsideMode mode);
+
+/// True when the bound session was sampled in a band around the cage by a backend that can sample
+/// the whole picture: Move everything is offered, through a new bind (setOutsideMode).
+bool bandNeedsFrameBind(const AppState& state);
 
 /// The outside mode a session asks for (its "outside" key), or the default.
 OutsideMode sessionOutsideMode(const app::Session& session);
 
-/// The parameters the next bind of `cage` over width×height uses: the Bind panel's, with the
-/// automatic spacing when state.autoSpacing (app::automaticSpacing from the 6 px default).
+/// The parameters the next bind of `cage` over width×height uses: the Bind panel's, sampling the
+/// whole picture when the outside mode is Move everything and a band around the cage otherwise
+/// (BindParams::exterior), with the automatic spacing when state.autoSpacing
+/// (app::automaticSpacing from the 6 px default).
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
 /// bindParamsFor(state, state.cage, picture size).spacing, recomputed only when the draft cage,
 /// the picture size or the parameters it depends on changed since the last call.
