@@ -234,8 +234,21 @@ TEST(WarpCli, HeatmapOverlayAndOutsideModes) {
   EXPECT_NE(r.out.find("outside pinned"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("corners moved 0.00 px"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("pinned exterior:"), std::string::npos) << r.out;
-  // A session that remembers "outside": "deform" is warped that way unless --outside says otherwise.
-  json j = json::parse(slurpFile(boundSession("star")));
+  // The bundled star's session samples a band around the cage (the default): deform is refused
+  // with the fix named, and nothing is written.
+  ASSERT_NE(slurpFile(boundSession("star")).find("\"exterior\":\"band\""), std::string::npos);
+  r = cli(base + " -o band.png --outside deform", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--exterior frame"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "band.png"));
+  // A session sampled over the whole picture that remembers "outside": "deform" is warped that
+  // way unless --outside says otherwise.
+  r = cli("bind --cage '" + example("star.cage.json") + "' --image '" + example("star.png") +
+              "' --exterior frame -o frame.kcw.json",
+          dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  json j = json::parse(slurpFile(dir / "frame.kcw.json"));
+  EXPECT_EQ(j["params"]["exterior"], "frame");
   j["outside"] = "deform";
   std::ofstream(dir / "deform.kcw.json") << j.dump();
   const std::string viaSession = "warp --session deform.kcw.json --image '" + example("star.png") + "' --pose '" +
