@@ -5,6 +5,8 @@
 //   OneShotWarp `kcwarp-cli warp -o OUT.png` as a child process (process start to PNG)
 //   SessionLoad app::loadSession of that session, in this process
 //   Export      warp mesh + deform + render + PNG encode (default level) + atomic write, in process
+//   PerPose     WarpMesh::deform of the export's mesh (DeformPass::Live, as the GUI while dragging)
+//               along 20 poses from rest to the case's pose, in process; time per pose
 //   Floor       OpenCV imread + one cv::remap + imwrite (default PNG level) of the same picture
 // Counters: peak_MB is the child's peak resident memory (measured by /usr/bin/time), for the rows
 // that run a child; samples / file_MB where they apply. Each row runs once (Iterations(1)): a bind of
@@ -236,6 +238,29 @@ void BM_Export(benchmark::State& state) {
   }
 }
 
+void BM_PerPose(benchmark::State& state) {
+  Case* c = boundCase(state);
+  if (!c) return;
+  const kc::app::Session s = kc::app::loadSession(path(*c, "session.kcw.json"));
+  const kc::Pose target = kc::app::loadPose(path(*c, "pose.json"), s.cage.C);
+  kc::WarpMesh mesh = kc::app::buildWarpMesh(s, kc::app::warpMeshOptionsFor(s));
+  constexpr int kPoses = 20;
+  for (auto _ : state) {
+    double seconds = 0.0, repair = 0.0;
+    for (int k = 1; k <= kPoses; ++k) {
+      kc::Pose pose = target;
+      for (kc::HandlePose& h : pose) h.translate *= double(k) / kPoses;
+      const auto t0 = Clock::now();
+      const kc::DeformReport r = mesh.deform(pose, kc::DeformPass::Live);
+      seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+      repair += r.repairSeconds;
+    }
+    state.SetIterationTime(seconds / kPoses);
+    state.counters["repair_ms"] = 1e3 * repair / kPoses;
+    state.counters["vertices"] = double(mesh.restVertices().rows());
+  }
+}
+
 void BM_Floor(benchmark::State& state) {
   Case& c = caseFor(static_cast<int>(state.range(0)));
   state.SetLabel(std::to_string(c.width) + "x" + std::to_string(c.height));
@@ -267,5 +292,6 @@ BENCHMARK(BM_Bind)->Apply(sizes);
 BENCHMARK(BM_SessionLoad)->Apply(sizes);
 BENCHMARK(BM_Export)->Apply(sizes);
 BENCHMARK(BM_OneShotWarp)->Apply(sizes);
+BENCHMARK(BM_PerPose)->Apply(sizes)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -27,6 +27,26 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
 
+/// The field interpolates s.W: w(x_j) = W_j at every sample (|difference| ≤ 1e-6) and, in exact
+/// mode, its kernel part is orthogonal to the polynomial (Σ_j U_j = 0, Σ_j x_j U_j = 0 up to
+/// 1e-9 of Σ|U_j|·|x_j|) — together they determine [B; U] from W (the augmented system of 6.2 is
+/// non-singular), so coefficients that pass are those a solve would give, up to round-off.
+bool reproducesWeights(const KernelField& field, const Session& s) {
+  if (field.controls() != s.W.cols() || field.nodes() != KernelField::kPolynomialNodes + s.W.rows()) return false;
+  const Weights W = field.weightsAt(s.samples.X);
+  if (!((W - s.W).cwiseAbs().maxCoeff() <= 1e-6)) return false;
+  if (field.interpolator().mode() != InterpMode::Exact) return true;
+  const RowMatrix& U = field.kernelCoefficients().U;
+  const Points& X = s.samples.X;
+  for (int d = 0; d < 3; ++d) {
+    const Eigen::VectorXd x = d == 0 ? Eigen::VectorXd::Ones(X.rows()) : Eigen::VectorXd(X.col(d - 1));
+    const Eigen::RowVectorXd sum = x.transpose() * U, scale = x.cwiseAbs().transpose() * U.cwiseAbs();
+    for (Index k = 0; k < U.cols(); ++k)
+      if (!(std::abs(sum(k)) <= 1e-9 * scale(k) + 1e-12)) return false;
+  }
+  return true;
+}
+
 /// `--init lbc`: the targets W0 of the samples inside the cage (controls, edge and interior
 /// samples) become the LBC weights there (solved on a mesh of the cage interior at the bind's
 /// spacing, barycentric interpolation between mesh vertices); exterior samples keep theirs.
@@ -121,6 +141,11 @@ class KcBackend final : public Backend {
   }
 
   void rebuildField(Session& s) const override {
+    // Coefficients stored with the session (restored by the loader, K not factorized) are kept
+    // when they give the stored weights back at the samples; else the field is solved anew.
+    if (const auto* stored = dynamic_cast<const KernelField*>(s.field.get());
+        stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s))
+      return;
     auto field = std::make_unique<KernelField>();
     const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing), s.params.kc.interp);
     if (r.status != FactorStatus::Ok)

@@ -51,7 +51,12 @@ void toLittleEndian(unsigned char* bytes) {
     for (int i = 0; i < 4; ++i) std::swap(bytes[i], bytes[7 - i]);
 }
 
-Weights parseCompactWeights(const json& block, Index n, Index m, const std::string& where, const std::string& field) {
+/// Stored kernel-field coefficients ([B; U], field.coefficients_b64) may be larger than weights:
+/// U = K⁻¹(W − PB) grows with K's condition number.
+constexpr double kMaxCoefficient = 1e12;
+
+Weights parseCompactWeights(const json& block, Index n, Index m, const std::string& where, const std::string& field,
+                            double limit = kMaxWeight) {
   if (!block.is_object()) throw InputError(where, field + " must be an object {\"shape\", \"dtype\", \"base64\"}");
   const json& shape = require(block, "shape", where);
   if (!shape.is_array() || shape.size() != 2) throw InputError(where, field + ".shape must be [rows, columns]");
@@ -83,9 +88,11 @@ Weights parseCompactWeights(const json& block, Index n, Index m, const std::stri
       toLittleEndian(b);
       double v;
       std::memcpy(&v, b, 8);
-      if (!std::isfinite(v) || std::abs(v) > kMaxWeight)
+      if (!std::isfinite(v) || std::abs(v) > limit)
         throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + json(v).dump() +
-                                    (std::isfinite(v) ? ", beyond kcwarp's limit |w| <= 1e6" : ", not a finite number"));
+                                    (!std::isfinite(v)       ? ", not a finite number"
+                                     : limit == kMaxWeight ? ", beyond kcwarp's limit |w| <= 1e6"
+                                                             : ", beyond kcwarp's limit of " + json(limit).dump()));
       W(i, k) = v;
     }
   return W;
@@ -135,11 +142,14 @@ json fieldToJson(const Session& s, WeightsForm form) {
   }
   if (const auto* kernel = dynamic_cast<const KernelField*>(s.field.get())) {
     const KernelInterpolator& k = kernel->interpolator();
-    return {{"kind", "kernel"},
-            {"nodes", "samples"},
-            {"sigma", k.kernel().sigma},
-            {"spacing", s.params.spacing},
-            {"interp", std::string(toString(k.mode()))}};
+    json block = {{"kind", "kernel"},
+                  {"nodes", "samples"},
+                  {"sigma", k.kernel().sigma},
+                  {"spacing", s.params.spacing},
+                  {"interp", std::string(toString(k.mode()))}};
+    // The solved coefficients [B; U], so that a load needs no factorization (the compact form only).
+    if (form == WeightsForm::Compact && kernel->ready()) block["coefficients_b64"] = weightsToCompactJson(kernel->coefficientColumns());
+    return block;
   }
   return nullptr;
 }
@@ -181,6 +191,17 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
       throw InputError(where, "field.sigma disagrees with params.sigma");
     if (block.contains("interp") && block["interp"] != std::string(toString(s.params.kc.interp)))
       throw InputError(where, "field.interp disagrees with params.interp");
+    if (block.contains("coefficients_b64") && s.sigma > 0) {  // checked against the weights by the backend's rebuildField
+      const Index n = KernelField::kPolynomialNodes + s.samples.size();
+      const RowMatrix coef = parseCompactWeights(block["coefficients_b64"], n, s.cage.size(), where, "field.coefficients_b64", kMaxCoefficient);
+      auto field = std::make_unique<KernelField>();
+      try {
+        field->restore(s.samples.X, GaussianKernel::forSpacing(s.sigma, s.params.spacing), s.params.kc.interp, coef);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(where, std::string("field: ") + e.what());
+      }
+      s.field = std::move(field);
+    }
     return false;
   }
   throw InputError(where, "field.kind " + kind.dump() + " is not one of \"kernel\", \"mesh\"");

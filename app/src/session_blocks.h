@@ -7,13 +7,15 @@
 
 namespace kc::app::detail {
 
-/// {"kind": "kernel", "nodes": "samples", "sigma", "spacing", "interp"} for a KernelField (rebuilt
-/// from the samples and weights.optimized), {"kind": "mesh", "vertices", "triangles", "weights"}
-/// for a MeshField (self-contained). Null json when the session has no field.
+/// {"kind": "kernel", "nodes": "samples", "sigma", "spacing", "interp", "coefficients_b64"} for a
+/// KernelField (coefficients [B; U], (3+#S)×m, in the compact form only; without them rebuilt from
+/// the samples and weights.optimized), {"kind": "mesh", "vertices", "triangles", "weights"} for a
+/// MeshField (self-contained). Null json when the session has no field.
 json fieldToJson(const Session& s, WeightsForm form);
 /// Reads the field block into s: a mesh block builds s.field (returns true); a kernel block is
-/// checked against s.params and σ (returns false: the backend rebuilds it). InputError naming the
-/// bad entry otherwise.
+/// checked against s.params and σ, and its coefficients, when stored, restore s.field without a
+/// factorization (returns false: the backend checks them against the weights or rebuilds the
+/// field). Needs s.samples, s.W and s.params read. InputError naming the bad entry otherwise.
 bool fieldFromJson(const json& block, Session& s, const std::string& where);
 
 json reportsToJson(const SolverReports& r);

@@ -14,6 +14,7 @@
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/field/kernel_field.h"
 
 namespace kc::app {
 namespace {
@@ -78,6 +79,7 @@ TEST(SessionWeights, CompactFormIsTheDefaultAndRoundTripsBitExactly) {
   s.W(7, 1) = 0.1 + 0.2;
   s.W(8, 2) = -0.0;
   s.W0(9, 3) = std::nextafter(1.0, 2.0);
+  s.field->update(s.W);  // the field follows the weights, as after any edit (its coefficients are saved too)
   const std::string path = (dir / "s.kcw.json").string();
   saveSession(path, s);
   const json j = json::parse(readTextFile(path));
@@ -171,6 +173,76 @@ TEST(SessionWeights, CompactValuesAreRangeChecked) {
     EXPECT_NE(e.find("weights.optimized_b64[5][1] is"), std::string::npos) << bad << ": " << e;
     EXPECT_NE(e.find(path), std::string::npos) << e;
   }
+}
+
+/// Points between the samples of square(): a 0.37 px offset grid over the picture.
+Points probePoints() {
+  Points P(21 * 21, 2);
+  for (int i = 0; i < 21; ++i)
+    for (int j = 0; j < 21; ++j) P.row(i * 21 + j) << 0.37 + 3.0 * i, 0.61 + 3.0 * j;
+  return P;
+}
+
+const KernelField& kernelField(const Session& s) {
+  const auto* field = dynamic_cast<const KernelField*>(s.field.get());
+  if (!field) throw std::logic_error("not a kernel session");
+  return *field;
+}
+
+TEST(SessionWeights, StoredCoefficientsLoadTheSameFieldWithoutAFactorization) {
+  const json j = json::parse(sessionToJson(square()));
+  ASSERT_TRUE(j["field"].contains("coefficients_b64"));
+  EXPECT_EQ(j["field"]["coefficients_b64"]["shape"], json::array({square().samples.size() + 3, 4}));
+  const Session loaded = sessionFromJson(j.dump(), "square.kcw.json");
+  EXPECT_FALSE(kernelField(loaded).factorized());
+  EXPECT_TRUE(kernelField(square()).factorized());
+  const Points P = probePoints();
+  EXPECT_EQ((loaded.field->weightsAt(P) - square().field->weightsAt(P)).cwiseAbs().maxCoeff(), 0.0);
+  // Older files (no coefficients) and the rows form are solved on load, to the same field.
+  json old = j;
+  old["field"].erase("coefficients_b64");
+  const Session solved = sessionFromJson(old.dump(), "square.kcw.json");
+  EXPECT_TRUE(kernelField(solved).factorized());
+  EXPECT_LT((solved.field->weightsAt(P) - square().field->weightsAt(P)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_FALSE(json::parse(sessionToJson(square(), WeightsForm::Rows))["field"].contains("coefficients_b64"));
+}
+
+TEST(SessionWeights, ALoadedFieldIsFactorizedWhenEdited) {
+  Session s = editableSquare();
+  auto& field = const_cast<KernelField&>(kernelField(s));
+  ASSERT_FALSE(field.factorized());
+  Weights W = s.W;
+  const Index row = s.samples.size() / 2;  // an interior or exterior sample, not a control
+  W(row, 1) += 0.05;
+  W(row, 2) -= 0.05;
+  const std::vector<Index> columns{1, 2};
+  field.update(W, columns);
+  EXPECT_TRUE(field.factorized());
+  KernelField fresh;
+  ASSERT_EQ(fresh.compute(s.samples.X, field.interpolator().kernel(), field.interpolator().mode()).status, FactorStatus::Ok);
+  fresh.update(W);
+  const Points P = probePoints();
+  EXPECT_LT((field.weightsAt(P) - fresh.weightsAt(P)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((field.weightsAt(s.samples.X.row(row)) - W.row(row)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST(SessionWeights, CoefficientsThatDoNotGiveTheWeightsBackAreSolvedAnew) {
+  // Weights edited in the file after the coefficients were written: the loader solves the field
+  // from the weights (the coefficients are only a stored solve).
+  Session s = editableSquare();
+  const Index row = s.samples.size() / 2;
+  s.W(row, 0) += 0.05;
+  s.W(row, 3) -= 0.05;
+  const Session loaded = sessionFromJson(sessionToJson(s), "square.kcw.json");
+  EXPECT_TRUE(kernelField(loaded).factorized());
+  EXPECT_LT((loaded.field->weightsAt(s.samples.X.row(row)) - s.W.row(row)).cwiseAbs().maxCoeff(), 1e-9);
+  // Corrupt coefficients are named like corrupt weights.
+  const auto dir = test::scratchDir("session_weights_coefficients");
+  json j = json::parse(sessionToJson(square()));
+  std::string& text = j["field"]["coefficients_b64"]["base64"].get_ref<std::string&>();
+  text.resize(text.size() - 8);
+  const std::string e = loadError(j, (dir / "bad.kcw.json").string());
+  EXPECT_NE(e.find("field.coefficients_b64.base64 has"), std::string::npos) << e;
 }
 
 }  // namespace

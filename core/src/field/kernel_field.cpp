@@ -1,6 +1,7 @@
 #include "kc/core/field/kernel_field.h"
 
 #include <stdexcept>
+#include <string>
 
 
 namespace kc {
@@ -10,7 +11,23 @@ InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& k
   return m_interp.compute(X, kernel, mode);
 }
 
+void KernelField::restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef) {
+  if (Coef.rows() != kPolynomialNodes + X.rows() || Coef.cols() == 0)
+    throw std::invalid_argument("kernel field: coefficients have " + std::to_string(Coef.rows()) + " rows but " +
+                                std::to_string(X.rows()) + " samples need " + std::to_string(kPolynomialNodes + X.rows()));
+  if (!Coef.allFinite()) throw std::invalid_argument("kernel field: coefficients must be finite");
+  m_interp.prepare(X, kernel, mode);
+  m_coef.B = Coef.topRows(kPolynomialNodes);
+  m_coef.U = Coef.bottomRows(X.rows());
+}
+
 void KernelField::update(const Weights& W, std::span<const Index> columns) {
+  if (!m_interp.ok() && m_interp.evaluable()) {  // restored: factorize K now
+    const Points X = m_interp.samples();
+    const GaussianKernel kernel = m_interp.kernel();
+    const InterpolatorReport r = m_interp.compute(X, kernel, m_interp.mode());
+    if (r.status != FactorStatus::Ok) throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
+  }
   if (!m_interp.ok()) throw std::logic_error("kernel field: update() without a successful compute()");
   if (columns.empty() || m_coef.U.rows() != W.rows() || m_coef.U.cols() != W.cols())
     m_coef = m_interp.solve(W);
@@ -73,7 +90,7 @@ SparseRowMatrix withPolynomial(const SparseRowMatrix& R, Poly&& poly, Value&& va
 }  // namespace
 
 SparseRowMatrix KernelField::evaluationOperator(const Points& P) const {
-  if (!m_interp.ok()) throw std::logic_error("kernel field: evaluationOperator() without a successful compute()");
+  if (!m_interp.evaluable()) throw std::logic_error("kernel field: evaluationOperator() without a successful compute()");
   const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
   return withPolynomial(
       R, [&](Index p) { return std::vector<std::pair<Index, double>>{{0, 1.0}, {1, P(p, 0)}, {2, P(p, 1)}}; },
@@ -81,7 +98,7 @@ SparseRowMatrix KernelField::evaluationOperator(const Points& P) const {
 }
 
 void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
-  if (!m_interp.ok()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
+  if (!m_interp.evaluable()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
   const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
   const Points& X = m_interp.samples();
   const double inv2 = 1.0 / (m_interp.kernel().sigma * m_interp.kernel().sigma);

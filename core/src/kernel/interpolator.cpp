@@ -37,6 +37,7 @@ struct KernelInterpolator::Impl {
   detail::SupernodalCholesky llt;
   SpatialGrid grid;
   bool ok = false;
+  bool evaluable = false;  // X, kernel, mode and grid set
   // Exact mode: polynomial basis in centred, scaled coordinates x̂ = (x − c)/s.
   Vec2 center = Vec2::Zero();
   double polyScale = 1.0;
@@ -65,7 +66,10 @@ KernelInterpolator::~KernelInterpolator() = default;
 KernelInterpolator::KernelInterpolator(KernelInterpolator&&) noexcept = default;
 KernelInterpolator& KernelInterpolator::operator=(KernelInterpolator&&) noexcept = default;
 
-InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
+namespace {
+/// The checks and the data compute() and prepare() share.
+template <class Impl>
+std::unique_ptr<Impl> newImpl(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
   if (X.rows() == 0) throw std::invalid_argument("interpolator: no samples");
   if (!X.allFinite()) throw std::invalid_argument("interpolator: sample positions must be finite");
   if (!(kernel.sigma > 0.0) || !std::isfinite(kernel.sigma))
@@ -74,6 +78,19 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
   impl->X = X;
   impl->kernel = kernel;
   impl->mode = mode;
+  return impl;
+}
+}  // namespace
+
+void KernelInterpolator::prepare(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
+  auto impl = newImpl<Impl>(X, kernel, mode);
+  impl->grid.build(X, kernel.cutoff());
+  impl->evaluable = true;
+  m_impl = std::move(impl);
+}
+
+InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
+  auto impl = newImpl<Impl>(X, kernel, mode);
   InterpolatorReport report;
 
   auto t0 = std::chrono::steady_clock::now();
@@ -126,11 +143,13 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
   }
   report.factorSeconds = secondsSince(t0);
   impl->ok = report.status == FactorStatus::Ok;
+  impl->evaluable = impl->ok;
   m_impl = std::move(impl);
   return report;
 }
 
 bool KernelInterpolator::ok() const { return m_impl->ok; }
+bool KernelInterpolator::evaluable() const { return m_impl->evaluable; }
 InterpMode KernelInterpolator::mode() const { return m_impl->mode; }
 const GaussianKernel& KernelInterpolator::kernel() const { return m_impl->kernel; }
 const Points& KernelInterpolator::samples() const { return m_impl->X; }

@@ -18,9 +18,17 @@ class KernelField final : public CoordinateField {
   /// The field is ready() after a successful compute() and an update() with all columns.
   InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
 
+  /// A field from coefficients solved earlier (stored with a session): Coef = [B; U]
+  /// ((3+#S)×m, as coefficientColumns()) for samples X, without factorizing K. It is ready() at
+  /// once; the first update() factorizes K (compute) before solving. Throws std::invalid_argument
+  /// on bad shapes or non-finite values.
+  void restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef);
+
   Index controls() const override { return m_coef.U.cols(); }
   Index nodes() const override { return kPolynomialNodes + m_interp.samples().rows(); }
-  bool ready() const override { return m_interp.ok() && m_coef.U.size() > 0; }
+  bool ready() const override { return m_interp.evaluable() && m_coef.U.size() > 0; }
+  /// K is factorized (after compute(), or after a restore() once update() ran).
+  bool factorized() const { return m_interp.ok(); }
 
   /// Row p = [1 x y | k(p, x_j) for |p − x_j| ≤ θ] (3.32), sample columns in increasing j.
   SparseRowMatrix evaluationOperator(const Points& P) const override;
@@ -31,7 +39,8 @@ class KernelField final : public CoordinateField {
   bool contains(const Vec2&) const override { return true; }
 
   /// U, B for the sample weights W (#S×m): all columns (solve, 6.2) when `columns` is empty or the
-  /// field has no coefficients of W's shape yet, otherwise only `columns` (solveColumns).
+  /// field has no coefficients of W's shape yet, otherwise only `columns` (solveColumns). A
+  /// restored field factorizes K first (std::invalid_argument with the advice when it cannot).
   /// Throws std::logic_error when the factorization failed.
   void update(const Weights& W, std::span<const Index> columns = {}) override;
 

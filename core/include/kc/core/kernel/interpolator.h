@@ -51,11 +51,19 @@ class KernelInterpolator {
   /// (non-finite X, σ ≤ 0); a failed factorization is reported, not thrown.
   InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
 
+  /// Sets the samples, kernel and mode for evaluation only, without assembling or factorizing K
+  /// (coefficients stored with a session: evaluate() and the field's operators work, solve() needs
+  /// compute() first). Throws std::invalid_argument on bad input, as compute().
+  void prepare(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
+
+  /// K is factorized (compute() succeeded): solve() and solveColumns() can run.
   bool ok() const;
+  /// Samples and kernel are set (compute() or prepare()): evaluate() and evaluateGradient() can run.
+  bool evaluable() const;
   InterpMode mode() const;
   const GaussianKernel& kernel() const;
   const Points& samples() const;
-  const SparseMatrix& K() const;
+  const SparseMatrix& K() const;  ///< Empty after prepare() alone.
 
   /// Coefficients for weights W (#S×m): U = K⁻¹W (6.2) in Thesis mode; in Exact mode the
   /// augmented system [K P; Pᵀ 0][U; B] = [W; 0] through the Schur complement. Requires ok()
