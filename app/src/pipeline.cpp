@@ -2,6 +2,7 @@
 #include "kc/app/text.h"
 #include "kc/app/errors.h"
 #include "kc/core/kernel/gaussian_kernel.h"
+#include "kc/core/warp_mesh.h"
 
 #include <algorithm>
 #include <chrono>
@@ -74,6 +75,12 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
   so.kind = p.sampler;
   so.seed = p.seed;
   so.exterior = p.exterior;
+  // The band reaches past the outer vertices of the warp-mesh triangles that meet the cage (fixed
+  // and transparent evaluate the field there; they lie within one mesh cell, √2·s, of the cage):
+  // two automatic mesh cells, when that is wider than kExteriorBandSpacings·h (a small cage on a
+  // very large picture, whose mesh spacing follows the picture).
+  if (p.exterior == sampling::ExteriorExtent::Band)
+    so.band = std::max(sampling::kExteriorBandSpacings * p.spacing, 2.0 * automaticMeshSpacing(width, height, p.spacing));
   return so;
 }
 

@@ -21,7 +21,8 @@ using BindProgress = std::function<bool(const char* stage, double fraction)>;
 inline constexpr double kThesisMarginSpacings = 10.0;
 
 /// The sampler's options for a bind of width×height with `p` (what the kc backend samples and
-/// the cost estimate counts): spacing, sampler, seed, and the margin — the user's, else automatic.
+/// the cost estimate counts): spacing, sampler, seed, the margin — the user's, else automatic —
+/// and the exterior extent; a band is max(kExteriorBandSpacings·h, 2·automaticMeshSpacing) wide.
 sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p);
 
 /// What a bind would need, estimated from its inputs before anything is sampled or allocated.
