@@ -37,7 +37,9 @@ void runBind(const BindArgs& a) {
   requireFinite(a.sigma, "--sigma");
   requireFinite(a.locality, "--locality");
   requireFinite(a.margin, "--margin");
-  const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageSize(a.image);
+  // Only the picture's size is needed: its header, checked against the limits, not its pixels
+  // (decoding a 12 MP PNG took longer than the bind itself; warp decodes it).
+  const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageHeaderSize(a.image);
   app::BindParams p;
   p.spacing = a.spacing;
   p.kc.sigma = a.sigma;

@@ -33,6 +33,11 @@ std::pair<int, int> imageSize(const std::string& path) {
   return {img.width, img.height};
 }
 
+std::pair<int, int> imageHeaderSize(const std::string& path) {
+  const app::ImageHeader header = app::readImageFileHeader(path);  // InputError naming the file
+  return {static_cast<int>(header.width), static_cast<int>(header.height)};
+}
+
 void requireFinite(double value, const std::string& option) {
   if (!std::isfinite(value)) throw app::InputError(option, "must be a finite number of pixels");
 }

@@ -39,6 +39,9 @@ E parseOption(const std::string& text, const char* option) {
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
 /// Width and height of an image file; InputError naming the file when it cannot be read.
 std::pair<int, int> imageSize(const std::string& path);
+/// Width and height from the image file's header (format and limits checked, pixels not decoded):
+/// what `bind` needs of a picture.
+std::pair<int, int> imageHeaderSize(const std::string& path);
 /// InputError naming `option` when `value` is NaN or infinite.
 void requireFinite(double value, const std::string& option);
 /// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.

@@ -302,16 +302,16 @@ TEST_F(BadInput, ImageThatIsNotAnImage) {
 }
 
 TEST_F(BadInput, BindSpacingTooFine) {
-  expectRefused("bind --cage cage.json --size 256,256 --spacing 0.5 -o out.kcw.json", "use --spacing");
+  expectRefused("bind --cage cage.json --size 256,256 --spacing 0.5 --exterior frame -o out.kcw.json", "use --spacing");
 }
 
 TEST_F(BadInput, BindSigmaTooWide) {
-  expectRefused("bind --cage cage.json --size 512,512 --spacing 2 --sigma 300 -o out.kcw.json", "--sigma 0");
+  expectRefused("bind --cage cage.json --size 512,512 --spacing 2 --sigma 300 --exterior frame -o out.kcw.json", "--sigma 0");
 }
 
 TEST_F(BadInput, BindSpiralAtHalfPixel) {
   writeText(m_dir / "spiral.json", spiralCage(128, 128, 4.0, 8));
-  expectRefused("bind --cage spiral.json --size 256,256 --spacing 0.5 -o out.kcw.json", "use --spacing");
+  expectRefused("bind --cage spiral.json --size 256,256 --spacing 0.5 --exterior frame -o out.kcw.json", "use --spacing");
 }
 
 TEST_F(BadInput, CageWithFortyThousandPoints) {

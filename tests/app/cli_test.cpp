@@ -18,7 +18,7 @@ bool contains(const std::string& s, const std::string& part) { return s.find(par
 TEST(CliBind, BindEvalStatsOnSquare) {
   const auto dir = scratchDir("cli_bind");
   writeText(dir / "cage.json", kSquare);
-  CliResult r = runCli("bind --cage cage.json --size 96,96 --spacing 4 -o s.kcw.json", dir);
+  CliResult r = runCli("bind --cage cage.json --size 96,96 --spacing 4 --exterior frame -o s.kcw.json", dir);  // stats over the whole image
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "wrote s.kcw.json"));
 
@@ -117,7 +117,7 @@ TEST(CliBind, BadInputExitsTwoWithOneLine) {
       {"truncated", "bind --cage trunc.json --size 96,96 -o s.kcw.json", "trunc.json: malformed JSON"},
       {"bad size", "bind --cage cage.json --size 96 -o s.kcw.json", "--size"},
       {"zero spacing", "bind --cage cage.json --size 96,96 --spacing 0 -o s.kcw.json", "spacing"},
-      {"tiny spacing", "bind --cage cage.json --size 4000,4000 --spacing 0.5 -o s.kcw.json", "samples"},
+      {"tiny spacing", "bind --cage cage.json --size 4000,4000 --spacing 0.5 --exterior frame -o s.kcw.json", "samples"},
       {"absurd size", "bind --cage cage.json --size 100000,100 -o s.kcw.json", "image size"},
       {"unknown method", "bind --cage cage.json --size 96,96 --method newton -o s.kcw.json", "--method: unknown value 'newton'"},
       {"corrupt image", "bind --cage cage.json --image notimage.png -o s.kcw.json", "notimage.png"},
