@@ -11,9 +11,10 @@
 namespace kc {
 
 CageConformingGrid cageConformingGrid(const std::vector<double>& xs, const std::vector<double>& ys, const Cage& cage,
-                                      const std::vector<std::uint8_t>& gridExterior) {
+                                      const std::vector<std::uint8_t>& gridExterior, const std::vector<std::uint8_t>& gridBand) {
   const int nx = int(xs.size()), ny = int(ys.size());
-  if (nx < 2 || ny < 2 || gridExterior.size() != std::size_t(nx) * std::size_t(ny))
+  if (nx < 2 || ny < 2 || gridExterior.size() != std::size_t(nx) * std::size_t(ny) ||
+      (!gridBand.empty() && gridBand.size() != gridExterior.size()))
     throw std::invalid_argument("cage-conforming grid: the grid needs at least 2×2 vertices and one class per vertex");
   const Index ng = Index(nx) * ny;
   const double dx = xs[1] - xs[0], dy = ys[1] - ys[0];
@@ -105,15 +106,28 @@ CageConformingGrid cageConformingGrid(const std::vector<double>& xs, const std::
   std::fill(out.onCage.begin() + ng, out.onCage.end(), 1);
   out.unused.resize(std::size_t(nv), 0);
 
-  // Classify: by a grid vertex of the triangle (at least tol from the cage, so its class is
-  // sure), else by the centroid. Outside first, each side in the triangulation's order.
+  // Classify: by the triangle's grid vertices (at least tol from the cage, so their class is
+  // sure; inside when none is exterior, which matters only at a stick band's edge), else by the
+  // centroid: inside a loop, or in a stick band (the band's flag at the nearest grid vertex).
   Triangles outside, inside;
+  const auto nearestGrid = [&](const Vec2& p) {
+    const auto nearest = [](const std::vector<double>& axis, double x) {
+      const auto it = std::lower_bound(axis.begin(), axis.end(), x);
+      if (it == axis.begin()) return 0;
+      if (it == axis.end()) return int(axis.size()) - 1;
+      return int(it - axis.begin()) - (x - *(it - 1) < *it - x ? 1 : 0);
+    };
+    return std::size_t(nearest(ys, p.y())) * std::size_t(nx) + std::size_t(nearest(xs, p.x()));
+  };
   for (const auto& t : cdt.T) {
     const std::array<int, 3> m{row[std::size_t(t[0])], row[std::size_t(t[1])], row[std::size_t(t[2])]};
-    const auto grid = std::find_if(m.begin(), m.end(), [&](int v) { return v < ng; });
-    bool in = false;
-    if (grid != m.end()) in = !gridExterior[std::size_t(*grid)];
-    else if (hasInterior(cage)) in = insideCage(cage, (out.V.row(m[0]) + out.V.row(m[1]) + out.V.row(m[2])) / 3.0);
+    bool in = true, anyGrid = false;
+    for (const int v : m)
+      if (v < ng) anyGrid = true, in = in && !gridExterior[std::size_t(v)];
+    if (!anyGrid) {
+      const Vec2 centroid = (out.V.row(m[0]) + out.V.row(m[1]) + out.V.row(m[2])) / 3.0;
+      in = (hasInterior(cage) && insideCage(cage, centroid)) || (!gridBand.empty() && gridBand[nearestGrid(centroid)]);
+    }
     (in ? inside : outside).push_back(m);
   }
   out.outsideTriangles = Index(outside.size());

@@ -4,6 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "kc/core/parallel.h"
 #include "sparse_cholesky.h"
@@ -87,7 +90,133 @@ Crossing closestEdgeData(const Cage& cage, const std::vector<std::array<int, 2>>
   return best;
 }
 
+/// Whether p lies in the band of stick A–B: within r of the segment beside it, within capRadius
+/// of its ends beyond them (the picture beyond a stick's end belongs to the background).
+bool inStickBand(const Vec2& p, const Vec2& A, const Vec2& B, double r, double capRadius) {
+  const Vec2 d = B - A;
+  const double t = (p - A).dot(d) / d.squaredNorm();
+  if (t < 0.0) return (p - A).norm() <= capRadius;
+  if (t > 1.0) return (p - B).norm() <= capRadius;
+  return (A + t * d - p).norm() <= r;
+}
+
+/// The grid vertices within a stick band: per open stick, the vertices of its capsule
+/// (radius max(fraction · length, cells · cell diagonal)), found over the capsule's bounding box.
+std::vector<std::uint8_t> stickBandVertices(const std::vector<double>& xs, const std::vector<double>& ys, const Cage& cage,
+                                            const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop,
+                                            const ExteriorWeightsOptions& options) {
+  const int nx = int(xs.size()), ny = int(ys.size());
+  std::vector<std::uint8_t> band(std::size_t(nx) * std::size_t(ny), 0);
+  const double dx = xs[1] - xs[0], dy = ys[1] - ys[0];
+  const double minRadius = options.stickBandCells * std::hypot(dx, dy);
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (onLoop[e]) continue;
+    const Vec2 A = cage.C.row(edges[e][0]), B = cage.C.row(edges[e][1]);
+    const double r = std::max(options.stickBand * (B - A).norm(), minRadius);
+    const auto first = [](const std::vector<double>& axis, double lo) {
+      return int(std::lower_bound(axis.begin(), axis.end(), lo) - axis.begin());
+    };
+    const int i0 = first(xs, std::min(A.x(), B.x()) - r), i1 = first(xs, std::max(A.x(), B.x()) + r + 1e-9);
+    const int j0 = first(ys, std::min(A.y(), B.y()) - r), j1 = first(ys, std::max(A.y(), B.y()) + r + 1e-9);
+    for (int j = j0; j < std::min(j1, ny); ++j)
+      for (int i = i0; i < std::min(i1, nx); ++i)
+        if (inStickBand(Vec2(xs[std::size_t(i)], ys[std::size_t(j)]), A, B, r, minRadius)) band[std::size_t(j * nx + i)] = 1;
+  }
+  return band;
+}
+
 }  // namespace
+
+/// The exterior's linear system A h = B_cage λ + B_band W_band, factorized once.
+struct ExteriorSystem {
+  Index m = 0;
+  double keep = 0.0;                            ///< Entries with |h| ≤ keep are dropped (the anchor absorbs them).
+  std::vector<int> id;                          ///< Grid vertex → unknown (−1: not solved for).
+  std::vector<int> follow;                      ///< Grid vertex → followData index (−1: none).
+  std::vector<Crossing> followData;             ///< Border vertices that follow the cage: edge data there.
+  std::vector<Eigen::Triplet<double>> cageData; ///< (unknown, control, value), sorted by control.
+  std::vector<Eigen::Triplet<double>> bandData; ///< (unknown, grid vertex in the band, coefficient).
+  int unknowns = 0;
+  bool ok = true;
+  detail::SupernodalCholesky llt;
+  mutable std::mutex solving;                   ///< CHOLMOD's workspace is per factorization.
+
+  /// Solves for every control (in blocks of columns, so memory stays #U × block) with the band's
+  /// data from W (null: 0 there) and writes H (#rows = exterior.size()) and the weight range.
+  void fill(ExteriorWeights& out, const Weights* W) const {
+    ExteriorWeightsReport& rep = out.report;
+    const int nu = unknowns;
+    std::vector<std::vector<std::pair<int, double>>> kept(static_cast<std::size_t>(nu));
+    std::vector<double> rowMin(static_cast<std::size_t>(nu), 0.0), rowMax = rowMin, rowSum = rowMin;
+    if (nu > 0 && ok && (bandData.empty() || W)) {
+      std::lock_guard<std::mutex> lock(solving);
+      const Index block = 32;
+      auto next = cageData.begin();
+      for (Index c0 = 0; c0 < m; c0 += block) {
+        const Index nb = std::min(block, m - c0);
+        Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nu, nb);
+        for (; next != cageData.end() && next->col() < c0 + nb; ++next) B(next->row(), next->col() - c0) += next->value();
+        if (W)
+          for (const auto& t : bandData) {  // the field's weights made non-negative: h stays in [0, 1]
+            const auto w = W->row(t.col());
+            const double mass = w.cwiseMax(0.0).sum();
+            if (mass > 0.0) B.row(t.row()) += (t.value() / mass) * w.segment(c0, nb).cwiseMax(0.0);
+          }
+        const Eigen::MatrixXd X = llt.solve(B);
+        parallelFor(nu, [&](Index u) {
+          auto& row = kept[std::size_t(u)];
+          for (Index c = 0; c < nb; ++c) {
+            const double h = X(u, c);
+            rowMin[std::size_t(u)] = std::min(rowMin[std::size_t(u)], h);
+            rowMax[std::size_t(u)] = std::max(rowMax[std::size_t(u)], h);
+            rowSum[std::size_t(u)] += h;
+            if (std::abs(h) > keep) row.emplace_back(int(c0 + c), h);
+          }
+        }, 1024);
+      }
+    }
+    if (nu > 0) {
+      rep.minWeight = *std::min_element(rowMin.begin(), rowMin.end());
+      rep.maxWeight = *std::max_element(rowMax.begin(), rowMax.end());
+      rep.maxSum = *std::max_element(rowSum.begin(), rowSum.end());
+    }
+
+    // H: kept h_i and the anchor 1 − Σ kept h_i per exterior row.
+    const Index nv = Index(out.exterior.size()), ng = Index(id.size());
+    out.H = CompactWeights(nv, m + 1);
+    int* outer = out.H.outerIndexPtr();
+    outer[0] = 0;
+    for (Index v = 0; v < nv; ++v) {
+      const int u = v < ng ? id[std::size_t(v)] : -1;
+      const bool followsCage = v < ng && follow[std::size_t(v)] >= 0;
+      outer[v + 1] = outer[v] + (u >= 0 ? int(kept[std::size_t(u)].size()) + 1
+                                        : (followsCage ? 2 : (out.exterior[std::size_t(v)] ? 1 : 0)));
+    }
+    out.H.resizeNonZeros(outer[nv]);
+    parallelFor(nv, [&](Index v) {
+      int k = outer[v];
+      if (k == outer[v + 1]) return;
+      if (const int f = follow[std::size_t(v)]; f >= 0) {  // λ at the closest cage point, no anchor
+        const Crossing& c = followData[std::size_t(f)];
+        const bool swap = c.b < c.a;  // column order within the row
+        out.H.innerIndexPtr()[k] = swap ? c.b : c.a;
+        out.H.valuePtr()[k] = swap ? c.s : 1.0 - c.s;
+        out.H.innerIndexPtr()[k + 1] = swap ? c.a : c.b;
+        out.H.valuePtr()[k + 1] = swap ? 1.0 - c.s : c.s;
+        return;
+      }
+      double sum = 0.0;
+      if (const int u = id[std::size_t(v)]; u >= 0)
+        for (const auto& [c, h] : kept[std::size_t(u)]) {
+          out.H.innerIndexPtr()[k] = c;
+          out.H.valuePtr()[k++] = h;
+          sum += h;
+        }
+      out.H.innerIndexPtr()[k] = int(m);
+      out.H.valuePtr()[k] = 1.0 - sum;
+    }, 1024);
+  }
+};
 
 ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::vector<double>& ys, const Cage& cage,
                                       const ExteriorWeightsOptions& options) {
@@ -97,6 +226,10 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
   const auto edges = cageEdges(cage);
   ExteriorWeights out;
   ExteriorWeightsReport& rep = out.report;
+  auto system = std::make_shared<ExteriorSystem>();
+  ExteriorSystem& sys = *system;
+  sys.m = m;
+  sys.keep = options.keepThreshold / double(std::max<Index>(m, 1));
 
   // Crossings along rows (y = ys[j]) and columns (x = xs[i]); even-odd interior along rows.
   const std::vector<char> onLoop = loopEdgeFlags(cage);
@@ -112,11 +245,20 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
         out.exterior[std::size_t(j * nx + i)] = ((at.size() - right) % 2 == 1) ? 0 : 1;
       }
     }, 8);
+  const bool sticks = std::find(onLoop.begin(), onLoop.end(), 0) != onLoop.end();
+  if (options.stickBand > 0.0 && sticks) {
+    out.band = stickBandVertices(xs, ys, cage, edges, onLoop, options);
+    for (Index v = 0; v < nv; ++v)
+      if (out.band[std::size_t(v)] && out.exterior[std::size_t(v)]) out.exterior[std::size_t(v)] = 0, ++rep.band;
+      else out.band[std::size_t(v)] = 0;  // inside a loop already
+  }
 
   // Unknowns: exterior vertices off the image border.
   // Border vertices closer than followDistance to the cage take the cage's data there instead.
-  std::vector<int> id(std::size_t(nv), -1), follow(std::size_t(nv), -1);
-  std::vector<Crossing> followData;
+  std::vector<int>& id = sys.id;
+  std::vector<int>& follow = sys.follow;
+  id.assign(std::size_t(nv), -1);
+  follow.assign(std::size_t(nv), -1);
   int nu = 0;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
@@ -127,8 +269,8 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
         double d = 0.0;
         const Crossing c = closestEdgeData(cage, edges, Vec2(xs[std::size_t(i)], ys[std::size_t(j)]), &d);
         if (d < options.followDistance) {
-          follow[v] = int(followData.size());
-          followData.push_back(c);
+          follow[v] = int(sys.followData.size());
+          sys.followData.push_back(c);
           ++rep.following;
         } else {
           ++rep.anchored;
@@ -137,12 +279,13 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
         id[v] = nu++;
       }
     }
-  rep.unknowns = nu;
+  rep.unknowns = sys.unknowns = nu;
 
   // Cotangent weights of the right-triangle grid: dy/dx on horizontal edges, dx/dy on vertical.
   const double dx = xs[1] - xs[0], dy = ys[1] - ys[0];
   const double cx = dy / dx, cy = dx / dy;
-  std::vector<Eigen::Triplet<double>> aTrip, bTrip;
+  std::vector<Eigen::Triplet<double>> aTrip;
+  std::vector<Eigen::Triplet<double>>& bTrip = sys.cageData;
   aTrip.reserve(std::size_t(nu) * 5);
   const auto cutTerm = [&](int u, double c, const Crossing& x, double theta, double& diag) {
     const double w = c / std::max(theta, options.minCutFraction);
@@ -174,8 +317,11 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
         } else if (id[nvtx] >= 0) {
           diag += n.c;
           aTrip.emplace_back(u, id[nvtx], -n.c);
+        } else if (!out.band.empty() && out.band[nvtx]) {
+          diag += n.c;  // the band's edge: the field's weights there (setFieldData)
+          sys.bandData.emplace_back(u, int(nvtx), n.c);
         } else if (follow[nvtx] >= 0) {
-          cutTerm(u, n.c, followData[std::size_t(follow[nvtx])], 1.0, diag);  // a border vertex that follows the cage
+          cutTerm(u, n.c, sys.followData[std::size_t(follow[nvtx])], 1.0, diag);  // a border vertex that follows the cage
         } else if (out.exterior[nvtx]) {
           diag += n.c;  // the pinned border: h = 0
         } else {
@@ -187,81 +333,34 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
     }
   SparseMatrix A(nu, nu);
   A.setFromTriplets(aTrip.begin(), aTrip.end());
+  std::sort(bTrip.begin(), bTrip.end(), [](const auto& p, const auto& q) { return p.col() < q.col(); });
   rep.assembleSeconds = seconds(t0);
 
-  // One factorization, m right-hand sides (in blocks, so memory stays #U×block).
+  // One factorization, m right-hand sides (setFieldData solves again with the band's data).
   t0 = Clock::now();
-  detail::SupernodalCholesky llt;
   if (nu > 0) {
-    llt.compute(A);
-    rep.ok = llt.info() == Eigen::Success;
+    sys.llt.compute(A);
+    sys.ok = sys.llt.info() == Eigen::Success;
   }
+  rep.ok = sys.ok;
   rep.factorSeconds = seconds(t0);
   t0 = Clock::now();
-  const double keep = options.keepThreshold / double(std::max<Index>(m, 1));
-  std::vector<std::vector<std::pair<int, double>>> kept(static_cast<std::size_t>(nu));
-  std::vector<double> rowMin(static_cast<std::size_t>(nu), 0.0), rowMax = rowMin, rowSum = rowMin;
-  if (nu > 0 && rep.ok) {
-    std::sort(bTrip.begin(), bTrip.end(), [](const auto& p, const auto& q) { return p.col() < q.col(); });
-    const Index block = 32;
-    auto next = bTrip.begin();
-    for (Index c0 = 0; c0 < m; c0 += block) {
-      const Index nb = std::min(block, m - c0);
-      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(nu, nb);
-      for (; next != bTrip.end() && next->col() < c0 + nb; ++next) B(next->row(), next->col() - c0) += next->value();
-      const Eigen::MatrixXd X = llt.solve(B);
-      parallelFor(nu, [&](Index u) {
-        auto& row = kept[std::size_t(u)];
-        for (Index c = 0; c < nb; ++c) {
-          const double h = X(u, c);
-          rowMin[std::size_t(u)] = std::min(rowMin[std::size_t(u)], h);
-          rowMax[std::size_t(u)] = std::max(rowMax[std::size_t(u)], h);
-          rowSum[std::size_t(u)] += h;
-          if (std::abs(h) > keep) row.emplace_back(int(c0 + c), h);
-        }
-      }, 1024);
-    }
-  }
-  if (nu > 0) {
-    rep.minWeight = *std::min_element(rowMin.begin(), rowMin.end());
-    rep.maxWeight = *std::max_element(rowMax.begin(), rowMax.end());
-    rep.maxSum = *std::max_element(rowSum.begin(), rowSum.end());
-  }
-
-  // H: kept h_i and the anchor 1 − Σ kept h_i per exterior row.
-  out.H = CompactWeights(nv, m + 1);
-  int* outer = out.H.outerIndexPtr();
-  outer[0] = 0;
-  for (Index v = 0; v < nv; ++v) {
-    const int u = id[std::size_t(v)];
-    outer[v + 1] = outer[v] + (u >= 0 ? int(kept[std::size_t(u)].size()) + 1
-                                      : (follow[std::size_t(v)] >= 0 ? 2 : (out.exterior[std::size_t(v)] ? 1 : 0)));
-  }
-  out.H.resizeNonZeros(outer[nv]);
-  parallelFor(nv, [&](Index v) {
-    int k = outer[v];
-    if (k == outer[v + 1]) return;
-    if (const int f = follow[std::size_t(v)]; f >= 0) {  // λ at the closest cage point, no anchor
-      const Crossing& c = followData[std::size_t(f)];
-      const bool swap = c.b < c.a;  // column order within the row
-      out.H.innerIndexPtr()[k] = swap ? c.b : c.a;
-      out.H.valuePtr()[k] = swap ? c.s : 1.0 - c.s;
-      out.H.innerIndexPtr()[k + 1] = swap ? c.a : c.b;
-      out.H.valuePtr()[k + 1] = swap ? 1.0 - c.s : c.s;
-      return;
-    }
-    double sum = 0.0;
-    if (const int u = id[std::size_t(v)]; u >= 0)
-      for (const auto& [c, h] : kept[std::size_t(u)]) {
-        out.H.innerIndexPtr()[k] = c;
-        out.H.valuePtr()[k++] = h;
-        sum += h;
-      }
-    out.H.innerIndexPtr()[k] = int(m);
-    out.H.valuePtr()[k] = 1.0 - sum;
-  }, 1024);
+  sys.fill(out, nullptr);
   rep.solveSeconds = seconds(t0);
+  if (!sys.bandData.empty()) out.system = std::move(system);
   return out;
+}
+
+void setFieldData(ExteriorWeights& ext, const Weights& W) {
+  if (!ext.system) return;
+  const ExteriorSystem& sys = *ext.system;
+  if (W.rows() < Index(sys.id.size()) || W.cols() != sys.m)
+    throw std::invalid_argument("exterior weights: field weights are " + std::to_string(W.rows()) + "x" +
+                                std::to_string(W.cols()) + ", need at least " + std::to_string(sys.id.size()) + "x" +
+                                std::to_string(sys.m));
+  const auto t0 = Clock::now();
+  sys.fill(ext, &W);
+  ext.report.solveSeconds = seconds(t0);
 }
 
 }  // namespace kc

@@ -109,6 +109,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
   if (options.outside == OutsideMode::Pinned) {  // no culling: vertex ids are grid ids
     ExteriorWeightsOptions eo;
     eo.keepThreshold = options.keepThreshold;
+    eo.stickBand = options.stickBand;
     m_exterior = std::make_shared<const ExteriorWeights>(pinnedExteriorWeights(xs, ys, cage, eo));
     // The picture inside the cage is drawn over its stretched background: triangles wholly
     // outside the cage first, then those across the cage, then the inside (the rasterizer
@@ -128,16 +129,18 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
 void WarpMesh::buildPinned(const std::vector<double>& xs, const std::vector<double>& ys) {
   ExteriorWeightsOptions eo;
   eo.keepThreshold = m_options.keepThreshold;
+  eo.stickBand = m_options.stickBand;
   ExteriorWeights ext = pinnedExteriorWeights(xs, ys, m_cage, eo);
   // The mesh follows the cage: every triangle lies wholly outside (drawn first) or wholly inside
-  // (drawn over its stretched background).
-  CageConformingGrid grid = cageConformingGrid(xs, ys, m_cage, ext.exterior);
+  // (drawn over its stretched background; a stick band counts as inside).
+  CageConformingGrid grid = cageConformingGrid(xs, ys, m_cage, ext.exterior, ext.band);
   m_rest = std::move(grid.V);
   m_triangles = std::move(grid.T);
   m_outsideTriangles = grid.outsideTriangles;
   const Index nv = m_rest.rows();
   // Points on the cage take the field's weights (they belong to the inside's triangles too).
   ext.exterior.resize(std::size_t(nv), 0);
+  if (!ext.band.empty()) ext.band.resize(std::size_t(nv), 0);
   ext.H.conservativeResize(nv, ext.H.cols());
   m_exterior = std::make_shared<const ExteriorWeights>(std::move(ext));
   buildRepair(xs, ys);
@@ -170,7 +173,13 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
   if (!W.allFinite()) throw std::invalid_argument("warp mesh: weights contain NaN or infinity");
   const double keep = m_options.keepThreshold / double(m);
   m_previousFoldFree = false;  // a live repair starts from a picture of these weights only
-  // Pinned mode: rows of exterior vertices come from the harmonic extension (with the anchor).
+  // Pinned mode: rows of exterior vertices come from the harmonic extension (with the anchor);
+  // with a stick band, its data are these weights at the band's edge (solved again here).
+  if (m_exterior && m_exterior->needsFieldData()) {
+    auto ext = std::make_shared<ExteriorWeights>(*m_exterior);
+    setFieldData(*ext, W);
+    m_exterior = std::move(ext);
+  }
   const ExteriorWeights* ext = m_exterior.get();
   const auto exterior = [ext](Index v) { return ext && ext->exterior[std::size_t(v)]; };
 

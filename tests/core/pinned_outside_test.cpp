@@ -126,6 +126,55 @@ TEST(PinnedOutside, ContinuousAcrossTheCage) {
   EXPECT_LT(jumpPinned, 4.0);  // 2δ times the largest stretch the arm pose asks for (~2)
 }
 
+TEST(PinnedOutside, AStickFiguresLimbsMoveWithTheFieldAndTheBorderStays) {
+  // A stick figure with a round head: the limbs are open sticks. Their bands move exactly as the
+  // field moves them (as in the Deform mode), so a raised arm carries its paint; the corners stay.
+  Cage figure;
+  figure.C.resize(9, 2);
+  figure.C << 60, 10, 70, 20, 60, 30, 50, 20,  // head (a loop), bottom point 2
+      60, 55, 85, 45, 35, 60, 50, 85, 70, 85;  // hip 4; hands 5, 6 (arms from the head's point 2); feet 7, 8
+  figure.closed = false;
+  figure.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {2, 4}, {2, 5}, {2, 6}, {4, 7}, {4, 8}};
+  validateCage(figure);
+  const auto build = [&](OutsideMode mode) {
+    WarpMeshOptions o;
+    o.outside = mode;
+    o.spacing = 2.0;
+    WarpMesh mesh(120, 100, figure, o);
+    // The field: the edge data at the nearest cage point (rows sum to 1, values in [0, 1]).
+    Weights W(mesh.restVertices().rows(), figure.size());
+    for (Index v = 0; v < W.rows(); ++v) W.row(v) = edgeDataAt(figure, mesh.restVertices().row(v)).transpose();
+    mesh.setWeights(W);
+    return mesh;
+  };
+  WarpMesh pinned = build(OutsideMode::Pinned), field = build(OutsideMode::Deform);
+  const ExteriorWeights& E = *pinned.exteriorWeights();
+  ASSERT_TRUE(E.needsFieldData());
+  EXPECT_GT(E.report.band, 50);
+  EXPECT_GE(E.report.minWeight, -1e-12);
+  EXPECT_LE(E.report.maxWeight, 1.0 + 1e-12);
+  Pose pose = restPose(figure.size());
+  pose[5] = {Vec2(3, -12), 0.3};  // the right arm's hand up
+  pose[7] = {Vec2(-4, 2), 0.0};
+  const DeformReport r = pinned.deform(pose);
+  field.deform(pose);
+  EXPECT_EQ(r.flippedTriangles, 0);
+  // Both meshes share the grid's vertex numbering; the points on the cage follow it after.
+  const auto xs = gridAxis(120, 2.0), ys = gridAxis(100, 2.0);
+  const Index grid = Index(xs.size() * ys.size());
+  Index checked = 0;
+  for (Index v = 0; v < grid; ++v)
+    if (E.band[std::size_t(v)]) {
+      EXPECT_LT((pinned.deformedVertices().row(v) - field.deformedVertices().row(v)).norm(), 1e-9) << "band vertex " << v;
+      ++checked;
+    }
+  EXPECT_EQ(checked, E.report.band);
+  const Points& F = pinned.deformedVertices();
+  const Points& R = pinned.restVertices();
+  for (const Index corner : {Index(0), Index(xs.size() - 1), grid - Index(xs.size()), grid - 1})
+    EXPECT_EQ((F.row(corner) - R.row(corner)).norm(), 0.0);
+}
+
 TEST(PinnedOutside, ParsesAndIsTheDefault) {
   OutsideMode m = OutsideMode::Deform;
   EXPECT_TRUE(parseName("pinned", m));

@@ -1,7 +1,9 @@
 #pragma once
 // Test support for the warp mesh and the outside modes: mean value coordinates (an independent,
-// closed-form coordinate field) and a small non-convex cage.
+// closed-form coordinate field), the edge data at the nearest cage point (a field for cages with
+// sticks) and a small non-convex cage.
 
+#include <algorithm>
 #include <cmath>
 
 #include "kc/core/cage.h"
@@ -46,6 +48,36 @@ inline Cage lCage() {
   Points C(8, 2);
   C << 15, 10, 70, 12, 72, 45, 105, 48, 108, 90, 40, 92, 12, 88, 30, 50;
   return Cage::polygon(C);
+}
+
+/// λ_i at the cage point closest to p (the piecewise-linear edge data: 1 at a control point,
+/// linear along its edges), #m: a field with partition of unity and values in [0, 1] for any
+/// cage, sticks included.
+inline Eigen::VectorXd edgeDataAt(const Cage& cage, const Vec2& p) {
+  Eigen::VectorXd lambda = Eigen::VectorXd::Zero(cage.size());
+  double best = 1e300;
+  for (const auto& [a, b] : cageEdges(cage)) {
+    const Vec2 A = cage.C.row(a), d = Vec2(cage.C.row(b)) - A;
+    const double s = std::clamp((p - A).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    if (const double dist = (A + s * d - p).norm(); dist < best) {
+      best = dist;
+      lambda.setZero();
+      lambda(a) = 1 - s;
+      lambda(b) = s;
+    }
+  }
+  return lambda;
+}
+
+/// A bent open stick of three points (no interior).
+inline Cage bentStick() {
+  Cage stick;
+  stick.C.resize(3, 2);
+  stick.C << 20, 30, 60, 50, 100, 40;
+  stick.closed = false;
+  stick.edges = {{0, 1}, {1, 2}};
+  validateCage(stick);
+  return stick;
 }
 
 }  // namespace kc

@@ -33,12 +33,15 @@ struct CageConformingGrid {
 /// The cage-conforming triangulation of the grid xs × ys (increasing, uniform steps) for `cage`
 /// (validated by the caller; closed cages by the even-odd rule, open sticks have no inside).
 /// `gridExterior` (#xs·#ys, grid order) classifies the grid vertices (1 outside the cage), as
-/// pinnedExteriorWeights() does; the triangles are classified by a grid vertex they use, or by
-/// their centroid when all three lie on the cage. Grid vertices within tolerance = 0.02·spacing of
+/// pinnedExteriorWeights() does (vertices in a stick band count as inside); `gridBand` (empty, or
+/// one flag per grid vertex) marks the stick band. A triangle is inside when none of its grid
+/// vertices is exterior; one with all three vertices on the cage is inside when its centroid is
+/// inside a loop or its nearest grid vertex is in the band. Grid vertices within tolerance = 0.02·spacing of
 /// the cage are left out, and so are crossings within it of a cage point, so that no triangle is
 /// a sliver. A constrained Delaunay triangulation (CGAL, cage_mesh.h) with the cage-edge pieces as
 /// constraints; cost O(#V log #V), once per mesh.
 CageConformingGrid cageConformingGrid(const std::vector<double>& xs, const std::vector<double>& ys, const Cage& cage,
-                                      const std::vector<std::uint8_t>& gridExterior);
+                                      const std::vector<std::uint8_t>& gridExterior,
+                                      const std::vector<std::uint8_t>& gridBand = {});
 
 }  // namespace kc

@@ -56,6 +56,11 @@ struct WarpMeshOptions {
   /// (exterior_untangle.h), moving only vertices strictly outside the cage (border vertices other
   /// than the corners may slide along the border or move outward, where the cage reaches it).
   bool repairFolds = true;
+  /// Pinned mode: open sticks (edges on no loop: a stick figure's limbs) carry the picture around
+  /// them. Vertices closer to a stick than this fraction of its length (at least 1.5 grid-cell
+  /// diagonals) take the coordinate field's weights, and the background's harmonic extension
+  /// starts at that band's edge (exterior_weights.h). 0: the extension starts on the sticks.
+  double stickBand = 0.2;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
