@@ -135,5 +135,36 @@ TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
   EXPECT_FALSE(bandNeedsFrameBind(*s));
 }
 
+TEST(OutsidePanel, MoveEverythingAsksBeforeABindDropsUnsavedPaint) {
+  // On a band session with an unsaved paint stroke, Move everything would bind again and compute
+  // the weights anew: the unsaved-changes prompt asks first, and nothing changes until it is answered.
+  test::HeadlessImGui gui;
+  auto s = boundSquare("kc", OutsideMode::Pinned, 100.0, sampling::ExteriorExtent::Band);
+  s->unsaved = true;
+  s->undo.push({"paint w1", WeightEdit{{0}, Weights(), Weights(), Weights(), Weights()}});
+  const auto sessionBefore = s->session;
+
+  gui.frame([&] { drawSide(*s); });
+  gui.click(s->widgets["outside_mode"], [&] { drawSide(*s); });
+  gui.frame([&] { drawSide(*s); });
+  gui.click(s->widgets["outside_deform"], [&] { drawSide(*s); });
+  pollWorker(*s);
+  ASSERT_TRUE(s->unsavedPrompt.has_value());
+  EXPECT_EQ(s->unsavedPrompt->what, "Bind again");
+  EXPECT_EQ(s->session, sessionBefore) << "no bind before the answer";
+  EXPECT_EQ(s->outside, OutsideMode::Pinned);
+  EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Band);
+
+  // "Bind again without saving": the prompt's action binds over the whole picture.
+  auto action = std::move(s->unsavedPrompt->run);
+  s->unsavedPrompt.reset();
+  action(*s);
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Frame);
+  EXPECT_EQ(s->outside, OutsideMode::Deform);
+  EXPECT_EQ(s->undo.undoCount() + s->undo.redoCount(), 0u) << "the stroke tied to the old weights is gone from the history";
+}
+
 }  // namespace
 }  // namespace kc::ui

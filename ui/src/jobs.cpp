@@ -95,9 +95,17 @@ void restoreLineEdit(AppState& st, const app::Structure& tried) {
   else if (r && std::holds_alternative<LinesEdit>(r->edit) && sameLines(std::get<LinesEdit>(r->edit).before, tried)) st.undo.popRedo();
 }
 
+/// Edits of the weights that a new bind replaces (the weights are computed anew from the cage).
+bool lostByRebind(const UndoEntry& e) {
+  if (std::holds_alternative<WeightEdit>(e.edit) || std::holds_alternative<RigidityEdit>(e.edit)) return true;
+  const auto* m = std::get_if<MethodEdit>(&e.edit);
+  return m && m->WBefore.rows() > 0;
+}
+
 /// Installs the session of a re-bind after a line edit, keeping the pose (when the cage kept its
 /// points), the tool, the line selection and the undo history without the edits tied to the old
 /// samples (paint strokes, weights from a file).
+
 void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
   const Pose pose = st.pose;
   const Cage cageBefore = st.boundCage;
@@ -113,14 +121,10 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   st.tool = tool;
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
-  const std::size_t dropped = history.removeIf([](const UndoEntry& e) {
-    if (std::holds_alternative<WeightEdit>(e.edit) || std::holds_alternative<RigidityEdit>(e.edit)) return true;
-    const auto* m = std::get_if<MethodEdit>(&e.edit);
-    return m && m->WBefore.rows() > 0;
-  });
+  const std::size_t dropped = history.removeIf(lostByRebind);
   st.undo = std::move(history);
   if (dropped > 0)
-    postMessage(st, "The lines changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
+    postMessage(st, "The new bind changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
   // The painted rigidity belongs to the old samples: carried over to the new ones and re-solved.
   if (anyRigid(oldRigidity)) {
     std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s->samples, s->rigidity, std::max(oldSpacing, s->params.spacing));
@@ -318,14 +322,24 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
   if (mode == state.outside) return true;
   if (mode == OutsideMode::Deform && bandNeedsFrameBind(state)) {
     // The session's weights reach a band around the cage only: bind again over the whole picture.
-    const OutsideMode before = state.outside;
-    state.outside = mode;
-    if (!startBind(state, true, true)) {
-      state.outside = before;
+    const auto bindAgain = [](AppState& st) {
+      const OutsideMode before = st.outside;
+      st.outside = OutsideMode::Deform;
+      if (!startBind(st, true, true)) {
+        st.outside = before;
+        return false;
+      }
+      postMessage(st, "Move everything needs weights up to the picture's border: binding again with the whole picture sampled (the pose is kept).", false);
+      return true;
+    };
+    // The new bind computes the weights anew: unsaved paint strokes are asked about first
+    // ("Save and Bind again", "Bind again without saving", "Cancel").
+    if (state.unsaved && state.undo.any(lostByRebind)) {
+      state.unsavedPrompt = PendingAction{"Bind again", [bindAgain](AppState& st) { bindAgain(st); }};
+      postMessage(state, "Move everything binds again over the whole picture, which computes the weights anew: your paint strokes are not saved yet.", false);
       return false;
     }
-    postMessage(state, "Move everything needs weights up to the picture's border: binding again with the whole picture sampled (the pose is kept).", false);
-    return true;
+    return bindAgain(state);
   }
   if (mode == OutsideMode::Deform && !shownCapabilities(state).outsideCage) {
     postMessage(state, "Move everything needs weights outside the cage: " + shownCapabilities(state).why, false);

@@ -21,7 +21,9 @@ WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outs
 /// Sets the outside-the-cage mode (view and export). When a session is bound the display mesh is
 /// rebuilt on the worker (the window stays responsive) and the document is marked unsaved.
 /// Move everything on a session sampled only in a band around the cage (bandNeedsFrameBind)
-/// binds again with the whole picture sampled, keeping the pose. Returns false (with a message)
+/// binds again with the whole picture sampled, keeping the pose; when that would replace unsaved
+/// paint strokes (weights, rigidity or a method switch: they cannot be carried over), the
+/// unsaved-changes prompt asks first and this returns false. Returns false (with a message)
 /// while another job runs.
 bool setOutsideMode(AppState& state, OutsideMode mode);
 

@@ -88,6 +88,14 @@ class UndoStack {
         else ++it;
     return n;
   }
+  /// Whether an entry (undo or redo) satisfies `pred`.
+  template <class Pred>
+  bool any(Pred pred) const {
+    for (const auto* v : {&m_undo, &m_redo})
+      for (const UndoEntry& e : *v)
+        if (pred(e)) return true;
+    return false;
+  }
   std::size_t undoCount() const { return m_undo.size(); }
   std::size_t redoCount() const { return m_redo.size(); }
 
