@@ -41,11 +41,15 @@ void extendByNearestCagePoint(const Cage& cage, const Points& P, Weights& W) {
 
 }  // namespace
 
-WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside) {
+WarpMeshOptions warpMeshOptionsFor(int width, int height, double fieldSpacing, OutsideMode outside) {
   WarpMeshOptions o;
   o.outside = outside;
-  o.spacing = automaticMeshSpacing(session.imageWidth, session.imageHeight, session.params.spacing);
+  o.spacing = automaticMeshSpacing(width, height, fieldSpacing);
   return o;
+}
+
+WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside) {
+  return warpMeshOptionsFor(session.imageWidth, session.imageHeight, session.params.spacing, outside);
 }
 
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, WarpExportReport* report,

@@ -33,7 +33,7 @@ std::unique_ptr<AppState> boundSquare(const std::string& backend = "kc", Outside
   p.exterior = exterior;
   auto s = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
   s->outside = std::string(toString(outside));
-  installSession(*state, s, buildDisplayMesh(*s, displayMeshOptions(256, 256, outside)));
+  installSession(*state, s, buildDisplayMesh(*s, app::warpMeshOptionsFor(*s, outside)));
   return state;
 }
 

@@ -296,7 +296,7 @@ TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
   p.spacing = 10.0;
   auto session = std::make_shared<app::Session>(app::bind(app::loadCage(dir + "checker.cage.json"), structure, s->source.width,
                                                           s->source.height, p));
-  installSession(*s, session, buildDisplayMesh(*session, displayMeshOptions(*session, OutsideMode::Pinned)), true);
+  installSession(*s, session, buildDisplayMesh(*session, app::warpMeshOptionsFor(*session, OutsideMode::Pinned)), true);
   ASSERT_EQ(s->lines.rigid.size(), 1u);
   ASSERT_EQ(s->boundRigid.size(), 1u);
   EXPECT_EQ(s->boundRigid[0].X.rows(), 4 * 16 + 1);

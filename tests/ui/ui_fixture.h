@@ -46,7 +46,7 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   state->source = app::loadImage(dir + "checker.png");
   state->imagePath = dir + "checker.png";
   auto s = boundChecker(dir, state->source.width, state->source.height, spacing);
-  ui::installSession(*state, s, ui::buildDisplayMesh(*s, ui::displayMeshOptions(*s, OutsideMode::Pinned)),
+  ui::installSession(*state, s, ui::buildDisplayMesh(*s, app::warpMeshOptionsFor(*s, OutsideMode::Pinned)),
                      /*fromOptimizer=*/true);
   state->bindParams = s->params;
   state->autoSpacing = false;

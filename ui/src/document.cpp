@@ -184,7 +184,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
       }
       ctx.progress("warp mesh", 0.8);
       DisplayMesh display =
-          buildDisplayMesh(*s, displayMeshOptions(*s, sessionOutsideMode(*s)));
+          buildDisplayMesh(*s, app::warpMeshOptionsFor(*s, sessionOutsideMode(*s)));
       auto image = std::make_shared<Image>(std::move(img));
       return [s, display, image, imagePath, path, warning](AppState& st) {
         st.source = std::move(*image);

@@ -134,17 +134,6 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
 
 }  // namespace
 
-WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside, double fieldSpacing) {
-  WarpMeshOptions o;
-  o.outside = outside;
-  o.spacing = automaticMeshSpacing(width, height, fieldSpacing);
-  return o;
-}
-
-WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outside) {
-  return app::warpMeshOptionsFor(session, outside);
-}
-
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options) {
   DisplayMesh d;
   d.source = std::make_shared<AppState::MeshSource>();
@@ -240,7 +229,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const app::BindParams params = bindParamsFor(state, cage, w, h);
   const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
   const std::string image = state.imagePath;
-  WarpMeshOptions meshOptions = displayMeshOptions(w, h, state.outside, params.spacing);
+  WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, params.spacing, state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
     // The backend has no weights outside the cage: the outside stays where it is (its default).
     meshOptions.outside = OutsideMode::Fixed;
@@ -353,7 +342,7 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
   const OutsideMode before = state.outside;
   state.outside = mode;  // the panel shows the choice while the mesh is rebuilt
   SessionPtr s = std::move(state.session);
-  const WarpMeshOptions options = displayMeshOptions(*s, mode);
+  const WarpMeshOptions options = app::warpMeshOptionsFor(*s, mode);
   state.worker.submit("Outside the cage", [s, options, before](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("warp mesh", 0.1);

@@ -15,6 +15,9 @@ namespace kc::app {
 /// and its display: outside mode `outside`, spacing kc::automaticMeshSpacing(image size, the
 /// session's sample spacing params.spacing) — max(4, 2h/3, √(w·h/2¹⁶)) px.
 WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside = OutsideMode::Pinned);
+/// The same before a session exists (a bind about to start): a width×height picture whose field
+/// will be sampled at `fieldSpacing` px (0: unknown).
+WarpMeshOptions warpMeshOptionsFor(int width, int height, double fieldSpacing, OutsideMode outside = OutsideMode::Pinned);
 
 /// Options of a full-resolution warp; warpMeshOptionsFor(session) gives `kcwarp-cli warp`'s mesh.
 struct WarpExportOptions {

@@ -12,12 +12,6 @@
 
 namespace kc::ui {
 
-/// Display warp mesh options for an image size and the field's sample spacing h (0: unknown):
-/// the export's mesh (kc::automaticMeshSpacing, app::warpMeshOptionsFor), `outside` as chosen.
-WarpMeshOptions displayMeshOptions(int width, int height, OutsideMode outside = OutsideMode::Pinned, double fieldSpacing = 0.0);
-/// The same for a bound session: app::warpMeshOptionsFor(session, outside).
-WarpMeshOptions displayMeshOptions(const app::Session& session, OutsideMode outside);
-
 /// Sets the outside-the-cage mode (view and export). When a session is bound the display mesh is
 /// rebuilt on the worker (the window stays responsive) and the document is marked unsaved.
 /// Move everything on a session sampled only in a band around the cage (bandNeedsFrameBind)
