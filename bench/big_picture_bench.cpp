@@ -34,6 +34,8 @@
 #include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_io.h"
+#include "kc/core/deform.h"
+#include "mls_peer.h"
 
 extern char** environ;
 
@@ -42,7 +44,7 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-/// One generated case: its folder holds picture.png, cage.json, pose.json, and after the bind row
+/// One generated case (or the scaled figure): its folder holds picture.png, cage.json, pose.json, and after the bind row
 /// session.kcw.json.
 struct Case {
   int width = 0, height = 0;
@@ -105,11 +107,12 @@ Case& caseFor(int tenths) {
   static Cases all;
   std::map<int, Case>& cases = all.byTenths;
   Case& c = cases[tenths];
-  if (c.width == 0) {
-    c.width = sizeForTenthsOfMegapixels(tenths, true);
-    c.height = sizeForTenthsOfMegapixels(tenths, false);
+  if (c.dir.empty()) {
     c.dir = fs::temp_directory_path() / ("kc_bench_big_" + std::to_string(::getpid()) + "_" + std::to_string(tenths));
     fs::create_directories(c.dir);
+    if (tenths <= 0) return c;  // a case of its own (figureCase)
+    c.width = sizeForTenthsOfMegapixels(tenths, true);
+    c.height = sizeForTenthsOfMegapixels(tenths, false);
     writePicture(c.dir / "picture.png", c.width, c.height);
     writeCageAndPose(c);
   }
@@ -178,8 +181,7 @@ void bindCase(benchmark::State& state, Case& c) {
 }
 
 /// The case of this row, bound (by the Bind row, or here when it was filtered out).
-Case* boundCase(benchmark::State& state) {
-  Case& c = caseFor(static_cast<int>(state.range(0)));
+Case* boundCase(benchmark::State& state, Case& c) {
   state.SetLabel(std::to_string(c.width) + "x" + std::to_string(c.height));
   if (!c.bound) {
     const ChildRun r = runCli(c, {"bind", "--cage", path(c, "cage.json"), "--image", path(c, "picture.png"), "-o",
@@ -189,6 +191,7 @@ Case* boundCase(benchmark::State& state) {
   }
   return c.bound ? &c : nullptr;
 }
+Case* boundCase(benchmark::State& state) { return boundCase(state, caseFor(static_cast<int>(state.range(0)))); }
 
 void BM_Bind(benchmark::State& state) {
   Case& c = caseFor(static_cast<int>(state.range(0)));
@@ -196,8 +199,7 @@ void BM_Bind(benchmark::State& state) {
   for (auto _ : state) bindCase(state, c);
 }
 
-void BM_OneShotWarp(benchmark::State& state) {
-  Case* c = boundCase(state);
+void oneShotWarp(benchmark::State& state, Case* c) {
   for (auto _ : state) {
     if (!c) break;
     const ChildRun r = runCli(*c, {"warp", "--session", path(*c, "session.kcw.json"), "--image", path(*c, "picture.png"),
@@ -210,6 +212,7 @@ void BM_OneShotWarp(benchmark::State& state) {
     state.counters["peak_MB"] = r.peakMB;
   }
 }
+void BM_OneShotWarp(benchmark::State& state) { oneShotWarp(state, boundCase(state)); }
 
 void BM_SessionLoad(benchmark::State& state) {
   Case* c = boundCase(state);
@@ -280,6 +283,60 @@ void BM_Floor(benchmark::State& state) {
   }
 }
 
+/// The bundled figure scaled to 2048×2048 (picture, cage and pose; rotations kept), its key in
+/// Cases −1. Against the rigid-MLS peer of bench/mls_peer.h on the same picture and points.
+Case& figureCase() {
+  static Case* made = nullptr;
+  if (made) return *made;
+  Case& c = caseFor(-1);
+  const std::string base = std::string(KC_SOURCE_DIR) + "/images/figure";
+  const cv::Mat small = cv::imread(base + ".png", cv::IMREAD_UNCHANGED);
+  const double sx = 2048.0 / small.cols, sy = 2048.0 / small.rows;
+  cv::Mat big;
+  cv::resize(small, big, cv::Size(2048, 2048), 0, 0, cv::INTER_CUBIC);
+  cv::imwrite(path(c, "picture.png"), big, {cv::IMWRITE_PNG_COMPRESSION, kc::app::kDefaultPngCompression});
+  const kc::Cage cage = kc::app::loadCage(base + ".cage.json");
+  const kc::Pose pose = kc::app::loadPose(base + ".pose.json", cage.C);
+  std::string cageJson = R"({"version": 1, "closed": true, "points": [)", poseJson = R"({"version": 1, "handles": [)";
+  for (kc::Index i = 0; i < cage.size(); ++i) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s[%.4f, %.4f]", i ? ", " : "", cage.C(i, 0) * sx, cage.C(i, 1) * sy);
+    cageJson += buf;
+    const kc::HandlePose& h = pose[std::size_t(i)];
+    std::snprintf(buf, sizeof buf, R"(%s{"translate": [%.4f, %.4f], "rotate": %.6f})", i ? ", " : "", h.translate.x() * sx,
+                  h.translate.y() * sy, h.rotate);
+    poseJson += buf;
+  }
+  std::ofstream(c.dir / "cage.json") << cageJson << "]}\n";
+  std::ofstream(c.dir / "pose.json") << poseJson << "]}\n";
+  c.width = c.height = 2048;
+  made = &c;
+  return c;
+}
+
+void BM_FigureOneShotWarp(benchmark::State& state) { oneShotWarp(state, boundCase(state, figureCase())); }
+
+/// The peer: read, rigid MLS on a 5-px grid with the cage points as handles, remap, write (same
+/// PNG level as kcwarp), in this process (no process start, unlike the row above).
+void BM_FigureMlsPeer(benchmark::State& state) {
+  Case& c = figureCase();
+  state.SetLabel("2048x2048");
+  const kc::Cage cage = kc::app::loadCage(path(c, "cage.json"));
+  const kc::Points posed = kc::posedControls(cage.C, kc::app::loadPose(path(c, "pose.json"), cage.C));
+  std::vector<kc::bench::Complex> from, to;
+  for (kc::Index i = 0; i < cage.size(); ++i) {
+    from.emplace_back(cage.C(i, 0), cage.C(i, 1));
+    to.emplace_back(posed(i, 0), posed(i, 1));
+  }
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    const cv::Mat img = cv::imread(path(c, "picture.png"), cv::IMREAD_UNCHANGED);
+    cv::imwrite(path(c, "mls.png"), kc::bench::rigidMlsWarp(img, from, to),
+                {cv::IMWRITE_PNG_COMPRESSION, kc::app::kDefaultPngCompression});
+    state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int tenths : {1, 10, 40, 120}) b->Arg(tenths);
   b->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
@@ -293,5 +350,7 @@ BENCHMARK(BM_SessionLoad)->Apply(sizes);
 BENCHMARK(BM_Export)->Apply(sizes);
 BENCHMARK(BM_OneShotWarp)->Apply(sizes);
 BENCHMARK(BM_PerPose)->Apply(sizes)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FigureMlsPeer)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FigureOneShotWarp)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
