@@ -1,11 +1,18 @@
 #include "kc/core/exterior_untangle.h"
 
+#include "kc/core/exterior_relax.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 
 namespace kc {
+
+Vec2 exteriorOutwardAt(const ExteriorRepairFrame& f, const Vec2& p) {
+  return {p.x() == f.x0 ? -1.0 : (p.x() == f.x1 ? 1.0 : 0.0), p.y() == f.y0 ? -1.0 : (p.y() == f.y1 ? 1.0 : 0.0)};
+}
+
 namespace {
 
 double signedArea2(const Points& P, const std::array<int, 3>& t) {
@@ -15,12 +22,6 @@ double signedArea2(const Points& P, const std::array<int, 3>& t) {
 }
 
 double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) { return 0.5 * signedArea2(P, t) / restArea; }
-
-/// The outward direction at a point of the frame's border: the side's unit normal, (±1, ±1) at a
-/// corner, 0 off the border.
-Vec2 outwardAt(const ExteriorRepairFrame& f, const Vec2& p) {
-  return {p.x() == f.x0 ? -1.0 : (p.x() == f.x1 ? 1.0 : 0.0), p.y() == f.y0 ? -1.0 : (p.y() == f.y1 ? 1.0 : 0.0)};
-}
 
 /// det J of a star triangle as an affine function of its vertex v's position p: n·p + e.
 struct AffineJacobian {
@@ -263,11 +264,11 @@ class Repair {
   /// A border vertex stays on the image's side of its border line or beyond it (n·(p − p0) ≥ 0).
   bool allowed(int v, double x, double y) const {
     if (topo.free[std::size_t(v)] != 2) return true;
-    const Vec2 n = outwardAt(topo.frame, rest.row(v).transpose());
+    const Vec2 n = exteriorOutwardAt(topo.frame, rest.row(v).transpose());
     return n.x() * (x - rest(v, 0)) + n.y() * (y - rest(v, 1)) >= -1e-9 * topo.spacing;
   }
   Vec2 tangent(int v) const {
-    const Vec2 n = outwardAt(topo.frame, rest.row(v).transpose());
+    const Vec2 n = exteriorOutwardAt(topo.frame, rest.row(v).transpose());
     return {-n.y(), n.x()};
   }
   /// fs = det J of v's star triangles as affine functions of v's position.
@@ -366,7 +367,7 @@ ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangle
     const int ga = int(vertices + k), gb = int(vertices + (k + 1) % ng);
     g.ghosts.push_back({a, b, gb});
     g.ghosts.push_back({a, gb, ga});
-    g.outward.push_back(outwardAt(g.frame, rest.row(a).transpose()));
+    g.outward.push_back(exteriorOutwardAt(g.frame, rest.row(a).transpose()));
     g.spacing = std::max(g.spacing, (rest.row(b) - rest.row(a)).norm());
   }
   const Index all = nt + Index(g.ghosts.size());
@@ -383,7 +384,7 @@ ExteriorRepairTopology exteriorRepairTopology(const Points& rest, const Triangle
       g.free[std::size_t(v)] = 1;
       continue;
     }
-    const Vec2 n = outwardAt(g.frame, rest.row(v).transpose());
+    const Vec2 n = exteriorOutwardAt(g.frame, rest.row(v).transpose());
     g.free[std::size_t(v)] = ng > 0 && (n.x() == 0.0) != (n.y() == 0.0) ? 2 : 0;  // corners stay
   }
   // A free vertex's star must be closed: no triangle of the inside may use it.
@@ -471,6 +472,8 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
     }
     ds = std::min(ds0, 2.0 * (next - before.s));
   }
+  if (options.relaxSweeps > 0 && r.badAround(0.0, nullptr).empty())
+    rep.relaxSweeps = relaxExteriorRegion(restX, P, triangles, nt, topology, r.region, options.relaxSweeps).sweeps;
   rep.regionVertices = r.revertWhereWorse();
   rep.borderVertices = r.keptBorder;
   deformed = P.topRows(nv);

@@ -21,6 +21,9 @@ using Clock = std::chrono::steady_clock;
 /// halves the mean per-frame repair before the border and cuts it 6× past it; 12 of 101 frames
 /// before the border keep folds until the release.)
 const double kLiveRepairBudget = 1.0;
+/// DeformPass::Live: relaxation sweeps per frame (ExteriorRepairOptions::relaxSweeps; Final: 300).
+/// While dragging, each frame starts from the last relaxed picture, so the sweeps add up.
+const int kLiveRelaxSweeps = 20;
 
 double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -297,7 +300,10 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     // While dragging, the continuation starts from the last picture when that one was fold-free.
     const bool warm = pass == DeformPass::Live && m_previousFoldFree && m_previous.rows() == nv;
     ExteriorRepairOptions options;
-    if (pass == DeformPass::Live) options.budget = kLiveRepairBudget;
+    if (pass == DeformPass::Live) {
+      options.budget = kLiveRepairBudget;
+      options.relaxSweeps = kLiveRelaxSweeps;
+    }
     const Points harmonic = warm ? m_deformed : Points();
     ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, options,
                                                  warm ? ExteriorRepairStart{&m_previous} : ExteriorRepairStart{});

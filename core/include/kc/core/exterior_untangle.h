@@ -46,6 +46,9 @@
 /// 1/(16·steps)); after a step that leaves none the next may double again. The work is budgeted
 /// (ExteriorRepairOptions::budget).
 ///
+/// Once the continuation leaves the region fold-free, the relaxation of exterior_relax.h spreads
+/// the squeeze evenly over it (the untangling stops at det J = minJacobian, which leaves slivers).
+///
 /// 4. Fallback: per connected part of the region, if the repair left more folded triangles around
 ///    it than the harmonic map had, the part goes back to the harmonic positions. That happens
 ///    where no placement of the free vertices removes a fold — the deformed cage overlaps itself
@@ -65,6 +68,9 @@ struct ExteriorRepairOptions {
   int warmSteps = 4;          ///< Continuation steps from an earlier result (ExteriorRepairStart).
   int maxSweeps = 30;         ///< Untangling sweeps over the region per step.
   int smoothSweeps = 3;       ///< Smoothing sweeps over the region per step.
+  /// Sweeps of the relaxation that spreads a squeeze over the region once it is fold-free
+  /// (exterior_relax.h; stops earlier when the energy settles). 0: none.
+  int relaxSweeps = 300;
   /// Work budget of the adaptive continuation, in vertex visits of the untangling: budget ×
   /// steps × maxSweeps × the first region's size (a fixed schedule whose every step runs out of
   /// sweeps costs 1, without the region growing). Once spent, the continuation jumps to the end
@@ -81,6 +87,7 @@ struct ExteriorRepairReport {
   bool warmStart = false;    ///< The continuation started from an earlier result (ExteriorRepairStart).
   int sweeps = 0;            ///< Untangling sweeps run, over all steps.
   int retries = 0;           ///< Continuation steps taken back and halved (they left a fold).
+  int relaxSweeps = 300;       ///< Relaxation sweeps run (0: none, or the region kept a fold).
 };
 
 /// The image rectangle whose border vertices may give way (x0 < x1, y0 < y1: the rest positions
@@ -88,6 +95,10 @@ struct ExteriorRepairReport {
 struct ExteriorRepairFrame {
   double x0 = 0.0, y0 = 0.0, x1 = 0.0, y1 = 0.0;
 };
+
+/// The outward direction at a point of the frame's border: the side's unit normal, (±1, ±1) at a
+/// corner, 0 off the border.
+Vec2 exteriorOutwardAt(const ExteriorRepairFrame& f, const Vec2& p);
 
 /// The exterior triangles around each vertex (CSR: triangles around[start[v] .. start[v+1]) of
 /// vertex v; index t < exteriorTriangles is a mesh triangle, t ≥ exteriorTriangles the ghost
