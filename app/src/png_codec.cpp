@@ -3,10 +3,16 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <vector>
+
+#include "kc/core/parallel.h"
 
 namespace kc::app::detail {
 namespace {
@@ -19,7 +25,6 @@ struct Io {
   const unsigned char* data = nullptr;  // decoding: the file content
   std::size_t size = 0;
   std::size_t pos = 0;
-  std::string* out = nullptr;           // encoding: the file being written
   std::vector<png_bytep> rows;
   char message[256] = "";
 };
@@ -37,10 +42,6 @@ void readBytes(png_structp png, png_bytep dst, std::size_t n) {
   std::memcpy(dst, io->data + io->pos, n);
   io->pos += n;
 }
-void writeBytes(png_structp png, png_bytep src, std::size_t n) {
-  static_cast<Io*>(png_get_io_ptr(png))->out->append(reinterpret_cast<const char*>(src), n);
-}
-void flushBytes(png_structp) {}
 
 /// Decodes into `out` with the transforms of decodePng; false after a libpng error (io.message).
 bool decodeInto(Io& io, Image& out) {
@@ -80,40 +81,167 @@ bool decodeInto(Io& io, Image& out) {
   return true;
 }
 
-/// Encodes `image` into *io.out; false after a libpng error (io.message).
-bool encodeFrom(Io& io, const Image& image, int level) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &io, onError, onWarning);
-  if (!png) return std::snprintf(io.message, sizeof io.message, "out of memory"), false;
-  png_infop info = png_create_info_struct(png);
-  if (!info) {
-    png_destroy_write_struct(&png, nullptr);
-    return std::snprintf(io.message, sizeof io.message, "out of memory"), false;
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_set_write_fn(png, &io, writeBytes, flushBytes);
-  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGBA,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, level);
-  // Every row filtered with Up instead of libpng's per-row choice among five (which filters each
-  // row five ways). Level 1 on 12 MP, one run: photo 1.14 s / 7.7 MB against 2.75 s / 8.6 MB,
-  // noisy 2.0 s / 10.4 MB against 4.0 s / 10.1 MB, flat illustration 0.36 s against 1.13 s (same
-  // size); the sample plot of `kcwarp-cli sample` is smaller too. One filter for every level keeps
-  // a higher level from giving a larger file.
-  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_UP);
-  // zlib's default strategy: libpng picks Z_FILTERED for filtered rows, which at levels 4..9 drops
-  // the short matches that drawings and plots are made of (the sample plot of `kcwarp-cli sample`
-  // came out 28% larger at level 9 than at level 1).
-  png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);
-  png_write_info(png, info);
-  png_write_image(png, io.rows.data());
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
+constexpr std::size_t kStripBytes = std::size_t(1) << 19;  // filtered bytes per compressed strip
+constexpr std::size_t kWindowBytes = 32768;                 // deflate's window: a strip's priming
+
+/// Rows per strip for rows of `rowBytes` filtered bytes (filter byte included), at least one.
+int stripRows(std::size_t rowBytes) { return int(std::max<std::size_t>(1, kStripBytes / rowBytes)); }
+
+/// Whether every pixel's alpha is 255 (the picture can be written as RGB without a loss).
+bool everyAlphaOpaque(const Image& image) {
+  std::atomic<bool> transparent{false};
+  parallelForRange(Index(image.height), 64, [&](Index y0, Index y1) {
+    if (transparent.load(std::memory_order_relaxed)) return;
+    const std::uint8_t* p = image.pixel(0, int(y0));
+    const std::size_t n = std::size_t(y1 - y0) * std::size_t(image.width);
+    std::uint8_t all = 255;
+    for (std::size_t i = 0; i < n; ++i) all &= p[4 * i + 3];
+    if (all != 255) transparent.store(true, std::memory_order_relaxed);
+  });
+  return !transparent.load();
 }
 
+/// Rows [y0, y1) of `image` as PNG filtered rows at `out`: the filter byte, Up (2) or None (0) for
+/// the image's first row, then each byte minus the one above it; `channels` 3 drops alpha.
+template <int channels>
+void filterRows(const Image& image, int y0, int y1, unsigned char* out) {
+  const std::size_t w = std::size_t(image.width);
+  for (int y = y0; y < y1; ++y) {
+    const std::uint8_t* row = image.pixel(0, y);
+    const std::uint8_t* up = y > 0 ? image.pixel(0, y - 1) : nullptr;
+    *out++ = up ? 2 : 0;
+    if (!up) {
+      for (std::size_t x = 0; x < w; ++x)
+        for (int c = 0; c < channels; ++c) out[channels * x + c] = row[4 * x + c];
+    } else {
+      for (std::size_t x = 0; x < w; ++x)
+        for (int c = 0; c < channels; ++c) out[channels * x + c] = std::uint8_t(row[4 * x + c] - up[4 * x + c]);
+    }
+    out += channels * w;
+  }
+}
+
+/// One strip's part of the IDAT stream.
+struct Piece {
+  std::unique_ptr<unsigned char[]> deflated;  // raw deflate data ending with a full flush (the last strip: Z_FINISH)
+  std::size_t size = 0;                       // bytes in `deflated`
+  uLong crc = 0;                              // CRC-32 of `deflated`
+  uLong adler = 1;                            // Adler-32 of the strip's filtered rows
+  std::size_t filteredBytes = 0;
+};
+
+/// A raw-deflate compressor that ends itself.
+struct Deflater {
+  z_stream zs{};
+  bool open = false;
+  Deflater(int level) {
+    open = deflateInit2(&zs, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) == Z_OK;
+    if (!open) throw std::runtime_error("zlib could not start compressing (out of memory)");
+  }
+  ~Deflater() { deflateEnd(&zs); }
+  Deflater(const Deflater&) = delete;
+  Deflater& operator=(const Deflater&) = delete;
+};
+
+/// Filters rows [y0, y1) and deflates them as one piece, its window primed with the filtered rows
+/// of up to 32 KB before y0 (which the decoder has just produced when it reaches this piece).
+template <int channels>
+void compressStrip(const Image& image, int level, int y0, int y1, bool last, Piece& piece) {
+  const std::size_t rowBytes = 1 + std::size_t(channels) * std::size_t(image.width);
+  const int primeRows = std::min(y0, int((kWindowBytes + rowBytes - 1) / rowBytes));
+  const std::size_t primed = std::size_t(primeRows) * rowBytes, n = std::size_t(y1 - y0) * rowBytes;
+  const auto filtered = std::make_unique_for_overwrite<unsigned char[]>(primed + n);
+  filterRows<channels>(image, y0 - primeRows, y1, filtered.get());
+  const unsigned char* input = filtered.get() + primed;
+  piece.filteredBytes = n;
+  piece.adler = adler32(1, input, uInt(n));
+
+  Deflater d(level);
+  if (primed > 0) {
+    const std::size_t window = std::min(primed, kWindowBytes);
+    if (deflateSetDictionary(&d.zs, input - window, uInt(window)) != Z_OK)
+      throw std::runtime_error("zlib could not prime a strip's window");
+  }
+  std::size_t capacity = deflateBound(&d.zs, uLong(n)) + 64;  // + the flush's empty stored block
+  piece.deflated = std::make_unique_for_overwrite<unsigned char[]>(capacity);
+  d.zs.next_in = const_cast<unsigned char*>(input);
+  d.zs.avail_in = uInt(n);
+  for (;;) {
+    d.zs.next_out = piece.deflated.get() + piece.size;
+    d.zs.avail_out = uInt(capacity - piece.size);
+    const int status = deflate(&d.zs, last ? Z_FINISH : Z_FULL_FLUSH);
+    piece.size = capacity - d.zs.avail_out;
+    if (status == Z_STREAM_ERROR) throw std::runtime_error("zlib could not compress a strip");
+    if (last ? status == Z_STREAM_END : d.zs.avail_in == 0 && d.zs.avail_out != 0) break;
+    auto larger = std::make_unique_for_overwrite<unsigned char[]>(2 * capacity);  // never expected
+    std::memcpy(larger.get(), piece.deflated.get(), piece.size);
+    piece.deflated = std::move(larger);
+    capacity *= 2;
+  }
+  piece.crc = crc32(0, piece.deflated.get(), uInt(piece.size));
+}
+
+void putBe32(std::string& file, std::uint32_t v) {
+  const char b[4] = {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+  file.append(b, 4);
+}
+
+/// Appends a chunk: length, type, `head`, the `body` bytes whose CRC-32 is `bodyCrc`, `tail`, and
+/// the CRC-32 of all but the length.
+void appendChunk(std::string& file, const char* type, const std::string& head, const unsigned char* body,
+                 std::size_t bodySize, uLong bodyCrc, const std::string& tail) {
+  putBe32(file, std::uint32_t(head.size() + bodySize + tail.size()));
+  const std::size_t start = file.size();
+  file.append(type, 4);
+  file += head;
+  uLong crc = crc32(0, reinterpret_cast<const Bytef*>(file.data() + start), uInt(file.size() - start));
+  file.append(reinterpret_cast<const char*>(body), bodySize);
+  crc = crc32_combine(crc, bodyCrc, z_off_t(bodySize));
+  file += tail;
+  crc = crc32(crc, reinterpret_cast<const Bytef*>(tail.data()), uInt(tail.size()));
+  putBe32(file, std::uint32_t(crc));
+}
+
+/// The 2-byte zlib header of a deflate stream with a 32 KB window at `level` (RFC 1950).
+std::string zlibHeader(int level) {
+  const unsigned flevel = level < 2 ? 0 : level < 6 ? 1 : level == 6 ? 2 : 3;
+  unsigned header = (0x78u << 8) | (flevel << 6);
+  header += 31 - header % 31;
+  return {char(header >> 8), char(header & 0xFF)};
+}
+
+template <int channels>
+std::string encodeAs(const Image& image, int level) {
+  const int rows = stripRows(1 + std::size_t(channels) * std::size_t(image.width));
+  const int strips = (image.height + rows - 1) / rows;
+  std::vector<Piece> pieces(static_cast<std::size_t>(strips));
+  parallelFor(strips, [&](Index k) {
+    const int y0 = int(k) * rows;
+    compressStrip<channels>(image, level, y0, std::min(image.height, y0 + rows), k + 1 == strips,
+                            pieces[std::size_t(k)]);
+  }, 1);
+  uLong adler = pieces[0].adler;
+  std::size_t total = 8 + 25 + 12 + 6;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (k > 0) adler = adler32_combine(adler, pieces[k].adler, z_off_t(pieces[k].filteredBytes));
+    total += 12 + pieces[k].size;
+  }
+  std::string file;
+  file.reserve(total);
+  file.append("\x89PNG\r\n\x1a\n", 8);
+  std::string ihdr;
+  putBe32(ihdr, std::uint32_t(image.width));
+  putBe32(ihdr, std::uint32_t(image.height));
+  ihdr += {char(8), char(channels == 3 ? 2 : 6), 0, 0, 0};  // 8 bit, RGB or RGBA, deflate, adaptive filters, not interlaced
+  appendChunk(file, "IHDR", ihdr, nullptr, 0, 0, "");
+  std::string trailer;
+  putBe32(trailer, std::uint32_t(adler));
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    appendChunk(file, "IDAT", k == 0 ? zlibHeader(level) : "", pieces[k].deflated.get(), pieces[k].size, pieces[k].crc,
+                k + 1 == pieces.size() ? trailer : "");
+  appendChunk(file, "IEND", "", nullptr, 0, 0, "");
+  return file;
+}
 }  // namespace
 
 bool decodePng(const std::string& bytes, Image& out, std::string& problem) {
@@ -126,14 +254,7 @@ bool decodePng(const std::string& bytes, Image& out, std::string& problem) {
 }
 
 std::string encodePng(const Image& image, int level) {
-  std::string file;
-  Io io;
-  io.out = &file;
-  file.reserve(image.rgba.size() / 2 + 1024);
-  io.rows.resize(std::size_t(image.height));
-  for (int y = 0; y < image.height; ++y) io.rows[std::size_t(y)] = const_cast<png_bytep>(image.pixel(0, y));
-  if (!encodeFrom(io, image, level)) throw std::runtime_error(std::string("libpng could not encode the image: ") + io.message);
-  return file;
+  return everyAlphaOpaque(image) ? encodeAs<3>(image, level) : encodeAs<4>(image, level);
 }
 
 }  // namespace kc::app::detail

@@ -1,9 +1,9 @@
 #pragma once
-/// PNG ↔ RGBA8 through libpng directly. PNG is kcwarp's own format (examples, exports, heatmaps),
-/// and libpng with zlib loads in about a millisecond, where OpenCV's image codecs pull in ~140
-/// shared libraries (0.2 s CPU, 0.5 s wall on a busy machine) on first use: with this, a command or
-/// a test that only reads and writes PNG never loads them. Other formats go through OpenCV
-/// (image_codecs.h).
+/// PNG ↔ RGBA8. Reading goes through libpng directly; writing is kcwarp's own (zlib, in parallel
+/// strips). PNG is kcwarp's own format (examples, exports, heatmaps), and libpng with zlib loads in
+/// about a millisecond, where OpenCV's image codecs pull in ~140 shared libraries (0.2 s CPU, 0.5 s
+/// wall on a busy machine) on first use: with this, a command or a test that only reads and writes
+/// PNG never loads them. Other formats go through OpenCV (image_codecs.h).
 
 #include <string>
 
@@ -19,9 +19,15 @@ namespace kc::app::detail {
 /// when the content cannot be decoded; `out` is then unspecified.
 bool decodePng(const std::string& bytes, Image& out, std::string& problem);
 
-/// Encodes an RGBA8 image (non-empty, validated by the caller) as an 8-bit RGBA PNG with zlib
-/// level `level` (0..9, checked by the caller), every row filtered with Up (fast; as small as
-/// libpng's per-row choice on photos and drawings). Throws std::runtime_error if libpng fails.
+/// Encodes an RGBA8 image (non-empty, validated by the caller) as an 8-bit PNG with zlib level
+/// `level` (0..9, checked by the caller): colour type RGB when every alpha is 255 (lossless: a
+/// decoder gives alpha 255 back), RGBA otherwise; every row filtered with Up (row 0: None), zlib's
+/// default strategy. The IDAT stream is one zlib stream made of independent deflate pieces, one per
+/// strip of rows (about 512 KB of filtered rows, at least one row), compressed in parallel (kc::parallelFor) and each ended with
+/// a full flush so that they concatenate; each piece's window is primed with the 32 KB of filtered
+/// rows before it, so the pieces compress nearly as one stream would. Each piece is its own IDAT
+/// chunk, the zlib header in the first and the Adler-32 (combined from the pieces') in the last.
+/// The bytes do not depend on the thread count. Throws std::runtime_error if zlib fails.
 std::string encodePng(const Image& image, int level);
 
 }  // namespace kc::app::detail

@@ -89,6 +89,13 @@ fs::path boundSession(const std::string& name) {
   return s;
 }
 
+/// A picture kcwarp wrote, as BGRA (a picture without transparent pixels is written as RGB).
+cv::Mat readBgra(const fs::path& file) {
+  cv::Mat m = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  if (m.channels() == 3) cv::cvtColor(m, m, cv::COLOR_BGR2BGRA);
+  return m;
+}
+
 /// PSNR over the BGR channels of pixels where mask ≠ 0.
 double psnr(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
   double sum = 0;
@@ -123,8 +130,7 @@ double affineCase(const std::string& name, const Eigen::Matrix2d& A, const Eigen
   const cv::Mat M = (cv::Mat_<double>(2, 3) << A(0, 0), A(0, 1), b.x(), A(1, 0), A(1, 1), b.y());
   cv::Mat ref;
   cv::warpAffine(srcBgra, ref, M, src.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(0, 0, 0, 0));
-  const cv::Mat out = cv::imread((dir / "out.png").string(), cv::IMREAD_UNCHANGED);
-  EXPECT_EQ(out.type(), CV_8UC4);
+  const cv::Mat out = readBgra(dir / "out.png");
   EXPECT_EQ(out.size(), src.size());
   cv::Mat mask(src.size(), CV_8U, cv::Scalar(0));
   std::vector<cv::Point> poly;
@@ -152,7 +158,7 @@ TEST(WarpCli, RestPoseReproducesTheImage) {
     const cv::Mat src = cv::imread(example(name + ".png"), cv::IMREAD_UNCHANGED);
     cv::Mat srcBgra;
     cv::cvtColor(src, srcBgra, cv::COLOR_BGR2BGRA);
-    const cv::Mat out = cv::imread((dir / "out.png").string(), cv::IMREAD_UNCHANGED);
+    const cv::Mat out = readBgra(dir / "out.png");
     cv::Mat covered;
     cv::extractChannel(out, covered, 3);
     EXPECT_GT(cv::countNonZero(covered), out.rows * out.cols * 99 / 100) << name;
@@ -193,7 +199,7 @@ TEST(WarpCli, MovingOneStarTipLeavesTheFarLegsUnchanged) {
   const cv::Mat src = cv::imread(example("star.png"), cv::IMREAD_UNCHANGED);
   cv::Mat srcBgra;
   cv::cvtColor(src, srcBgra, cv::COLOR_BGR2BGRA);
-  const cv::Mat out = cv::imread((dir / "out.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat out = readBgra(dir / "out.png");
   const std::vector<Eigen::Vector2d> C = cagePoints("star");
   for (int leg : {4, 6}) {  // a disc around the far leg's tip
     cv::Mat mask(src.size(), CV_8U, cv::Scalar(0));
@@ -220,12 +226,12 @@ TEST(WarpCli, HeatmapOverlayAndOutsideModes) {
   r = cli(base + " -o t.png --outside transparent --supersample --overlay --mesh-spacing 3", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("flipped triangles"), std::string::npos) << r.out;
-  const cv::Mat t = cv::imread((dir / "t.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat t = readBgra(dir / "t.png");
   EXPECT_EQ(t.at<cv::Vec4b>(2, 2)[3], 0);       // outside the cage: transparent
   EXPECT_EQ(t.at<cv::Vec4b>(168, 160)[3], 255);  // the star's centre
   r = cli(base + " -o f.png --outside fixed", dir);
   ASSERT_EQ(r.code, 0) << r.err;
-  const cv::Mat f = cv::imread((dir / "f.png").string(), cv::IMREAD_UNCHANGED);
+  const cv::Mat f = readBgra(dir / "f.png");
   const cv::Mat src = cv::imread(example("star.png"), cv::IMREAD_UNCHANGED);
   for (int c = 0; c < 3; ++c) EXPECT_EQ(f.at<cv::Vec4b>(3, 3)[c], src.at<cv::Vec4b>(3, 3)[c]);
   // The default is pinned: the image corners stay, and the CLI says so.
