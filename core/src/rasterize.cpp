@@ -123,7 +123,9 @@ bool setupTriangle(const Points& V, const Points& F, const std::array<int, 3>& t
   return true;
 }
 
-/// Scan-converts rows [rowBegin, rowEnd] of one triangle into target.
+/// Scan-converts rows [rowBegin, rowEnd] of one triangle into target. A pixel is drawn when all
+/// three edge functions (with tie bias) are non-negative at its centre; along a row each is linear
+/// in x with an integer step, so the drawn pixels are one span, found exactly in integers.
 void drawRows(Image& target, const Image& source, const TriangleSetup& s, int rowBegin, int rowEnd) {
   const std::int64_t unit = std::int64_t(1) << kSubBits;
   std::int64_t stepX[3];
@@ -131,22 +133,26 @@ void drawRows(Image& target, const Image& source, const TriangleSetup& s, int ro
   float col[4];
   for (int y = std::max(rowBegin, s.y0); y <= std::min(rowEnd, s.y1); ++y) {
     const std::int64_t py = std::int64_t(y) * unit, px = std::int64_t(s.x0) * unit;
-    std::int64_t e[3];
+    // The span [s.x0 + first, s.x0 + last]: e_k(x0 + i) = e_k + i·step_k ≥ 0 for every k.
+    std::int64_t first = 0, last = s.x1 - s.x0;
     for (int k = 0; k < 3; ++k) {
       const int b = (k + 1) % 3;
-      e[k] = (s.X[b] - s.X[k]) * (py - s.Y[k]) - (s.Y[b] - s.Y[k]) * (px - s.X[k]) + s.bias[k] - 1;
-    }
-    std::uint8_t* row = target.pixel(0, y);
-    for (int x = s.x0; x <= s.x1; ++x) {
-      if ((e[0] | e[1] | e[2]) >= 0) {  // all three edge functions (with tie bias) non-negative
-        const double u = s.A[0][0] * x + s.A[0][1] * y + s.A[0][2];
-        const double v = s.A[1][0] * x + s.A[1][1] * y + s.A[1][2];
-        sampleInto(source, u, v, col);
-        blendOver(row + std::size_t(x) * 4, col);
+      const std::int64_t e = (s.X[b] - s.X[k]) * (py - s.Y[k]) - (s.Y[b] - s.Y[k]) * (px - s.X[k]) + s.bias[k] - 1;
+      if (stepX[k] > 0) {
+        if (e < 0) first = std::max(first, (-e + stepX[k] - 1) / stepX[k]);  // i ≥ ⌈−e/step⌉
+      } else if (e < 0) {
+        last = -1;  // negative and not growing along the row
+      } else if (stepX[k] < 0) {
+        last = std::min(last, e / -stepX[k]);  // i ≤ ⌊e/(−step)⌋
       }
-      e[0] += stepX[0];
-      e[1] += stepX[1];
-      e[2] += stepX[2];
+    }
+    if (first > last) continue;
+    std::uint8_t* row = target.pixel(0, y);
+    for (int x = s.x0 + int(first); x <= s.x0 + int(last); ++x) {
+      const double u = s.A[0][0] * x + s.A[0][1] * y + s.A[0][2];
+      const double v = s.A[1][0] * x + s.A[1][1] * y + s.A[1][2];
+      sampleInto(source, u, v, col);
+      blendOver(row + std::size_t(x) * 4, col);
     }
   }
 }
@@ -243,7 +249,8 @@ void downsample2x2(const Image& fine, Image& coarse) {
 
 Image::Image(int w, int h, Rgba fill) : width(w), height(h) {
   if (w < 0 || h < 0) throw std::invalid_argument("image size must not be negative");
-  rgba.resize(pixelCount() * 4);
+  rgba.resize(pixelCount() * 4);  // zeros: transparent black
+  if (fill == Rgba{}) return;
   for (std::size_t i = 0; i < pixelCount(); ++i) {
     rgba[4 * i] = fill.r;
     rgba[4 * i + 1] = fill.g;

@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 
 #include "kc/core/parallel.h"
@@ -50,6 +51,36 @@ TEST(Rasterize, IdentityMeshCoversEveryPixelExactlyOnce) {
   const Image out = rasterizeMesh(src, V, V, T, 67, 45, {}, &rep);
   EXPECT_EQ(out.rgba, src.rgba);
   EXPECT_EQ(rep.trianglesDrawn, Index(T.size()));
+}
+
+TEST(Rasterize, JitteredMeshCoversEveryPixelExactlyOnce) {
+  // Interior vertices moved by up to a quarter cell, every third one then snapped onto a pixel
+  // centre and every third onto a half-pixel (where the tie rule decides); edges of every slope.
+  const int w = 83, h = 61, cells = 9;
+  const Image src = testImage(w, h, 128);
+  Points V;
+  Triangles T;
+  gridMesh(w, h, cells, V, T);
+  Points F = V;
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> jitter(-0.25, 0.25);
+  for (int j = 1; j < cells; ++j)
+    for (int i = 1; i < cells; ++i) {
+      const Index v = j * (cells + 1) + i;
+      F(v, 0) += jitter(rng) * w / cells;
+      F(v, 1) += jitter(rng) * h / cells;
+      if (v % 3 == 0) F.row(v) = F.row(v).array().round();
+      if (v % 3 == 1) F.row(v) = (F.row(v).array() + 0.5).round() - 0.5;
+    }
+  for (const auto& t : T) {  // no fold-overs: the premise of "exactly once"
+    const Vec2 a = F.row(t[0]), b = F.row(t[1]), c = F.row(t[2]);
+    ASSERT_GT((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x(), 0.0);
+  }
+  const Image out = rasterizeMesh(src, V, F, T, w, h);
+  int wrong = 0;  // drawn twice: alpha 192; never: 0
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) wrong += out.at(x, y).a != 128;
+  EXPECT_EQ(wrong, 0);
 }
 
 TEST(Rasterize, IntegerTranslationShiftsPixels) {
