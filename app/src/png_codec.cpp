@@ -103,6 +103,10 @@ bool everyAlphaOpaque(const Image& image) {
 
 /// Rows [y0, y1) of `image` as PNG filtered rows at `out`: the filter byte, Up (2) or None (0) for
 /// the image's first row, then each byte minus the one above it; `channels` 3 drops alpha.
+/// Up for every row instead of libpng's per-row choice among five (which filters each row five
+/// ways): measured with libpng at level 1 on 12 MP, photo 1.14 s / 7.7 MB against 2.75 s / 8.6 MB,
+/// noisy 2.0 s / 10.4 MB against 4.0 s / 10.1 MB, flat illustration 0.36 s against 1.13 s (same
+/// size). One filter for every level keeps a higher level from giving a larger file.
 template <int channels>
 void filterRows(const Image& image, int y0, int y1, unsigned char* out) {
   const std::size_t w = std::size_t(image.width);
@@ -130,13 +134,15 @@ struct Piece {
   std::size_t filteredBytes = 0;
 };
 
-/// A raw-deflate compressor that ends itself.
+/// A raw-deflate compressor (no zlib header or trailer: the pieces share the file's) that ends
+/// itself. zlib's default strategy: Z_FILTERED (libpng's pick for filtered rows) drops, at levels
+/// 4..9, the short matches that drawings and plots are made of (the sample plot of `kcwarp-cli
+/// sample` came out 28% larger at level 9 than at level 1).
 struct Deflater {
   z_stream zs{};
-  bool open = false;
-  Deflater(int level) {
-    open = deflateInit2(&zs, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) == Z_OK;
-    if (!open) throw std::runtime_error("zlib could not start compressing (out of memory)");
+  explicit Deflater(int level) {
+    if (deflateInit2(&zs, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK)
+      throw std::runtime_error("zlib could not start compressing (out of memory)");
   }
   ~Deflater() { deflateEnd(&zs); }
   Deflater(const Deflater&) = delete;
@@ -236,9 +242,11 @@ std::string encodeAs(const Image& image, int level) {
   appendChunk(file, "IHDR", ihdr, nullptr, 0, 0, "");
   std::string trailer;
   putBe32(trailer, std::uint32_t(adler));
-  for (std::size_t k = 0; k < pieces.size(); ++k)
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
     appendChunk(file, "IDAT", k == 0 ? zlibHeader(level) : "", pieces[k].deflated.get(), pieces[k].size, pieces[k].crc,
                 k + 1 == pieces.size() ? trailer : "");
+    pieces[k].deflated.reset();  // the file grows as the pieces go
+  }
   appendChunk(file, "IEND", "", nullptr, 0, 0, "");
   return file;
 }
