@@ -4,7 +4,6 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -86,20 +85,6 @@ constexpr std::size_t kWindowBytes = 32768;                 // deflate's window:
 
 /// Rows per strip for rows of `rowBytes` filtered bytes (filter byte included), at least one.
 int stripRows(std::size_t rowBytes) { return int(std::max<std::size_t>(1, kStripBytes / rowBytes)); }
-
-/// Whether every pixel's alpha is 255 (the picture can be written as RGB without a loss).
-bool everyAlphaOpaque(const Image& image) {
-  std::atomic<bool> transparent{false};
-  parallelForRange(Index(image.height), 64, [&](Index y0, Index y1) {
-    if (transparent.load(std::memory_order_relaxed)) return;
-    const std::uint8_t* p = image.pixel(0, int(y0));
-    const std::size_t n = std::size_t(y1 - y0) * std::size_t(image.width);
-    std::uint8_t all = 255;
-    for (std::size_t i = 0; i < n; ++i) all &= p[4 * i + 3];
-    if (all != 255) transparent.store(true, std::memory_order_relaxed);
-  });
-  return !transparent.load();
-}
 
 /// Rows [y0, y1) of `image` as PNG filtered rows at `out`: the filter byte, Up (2) or None (0) for
 /// the image's first row, then each byte minus the one above it; `channels` 3 drops alpha.
@@ -262,7 +247,7 @@ bool decodePng(const std::string& bytes, Image& out, std::string& problem) {
 }
 
 std::string encodePng(const Image& image, int level) {
-  return everyAlphaOpaque(image) ? encodeAs<3>(image, level) : encodeAs<4>(image, level);
+  return encodeAs<4>(image, level);  // always RGBA: ARCHITECTURE.md's contract for what `warp` writes
 }
 
 }  // namespace kc::app::detail

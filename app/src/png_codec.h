@@ -20,8 +20,8 @@ namespace kc::app::detail {
 bool decodePng(const std::string& bytes, Image& out, std::string& problem);
 
 /// Encodes an RGBA8 image (non-empty, validated by the caller) as an 8-bit PNG with zlib level
-/// `level` (0..9, checked by the caller): colour type RGB when every alpha is 255 (lossless: a
-/// decoder gives alpha 255 back), RGBA otherwise; every row filtered with Up (row 0: None), zlib's
+/// `level` (0..9, checked by the caller): colour type RGBA, opaque or not (what `warp` promises in
+/// ARCHITECTURE.md); every row filtered with Up (row 0: None), zlib's
 /// default strategy. The IDAT stream is one zlib stream made of independent deflate pieces, one per
 /// strip of rows (about 512 KB of filtered rows, at least one row), compressed in parallel (kc::parallelFor) and each ended with
 /// a full flush so that they concatenate; each piece's window is primed with the 32 KB of filtered

@@ -55,13 +55,13 @@ TEST(ImageIo, EveryPngCompressionLevelIsLosslessAndLevelsTradeSizeForTime) {
     const std::string bytes = encodeImage(img, ".png", level);
     sizes.push_back(bytes.size());
     const cv::Mat m = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
-    ASSERT_EQ(m.type(), CV_8UC3) << "level " << level;  // every alpha 255: written as RGB
+    ASSERT_EQ(m.type(), CV_8UC4) << "level " << level;  // RGBA even when every alpha is 255
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x)
         for (int c = 0; c < 3; ++c)
-          ASSERT_EQ(m.at<cv::Vec3b>(y, x)[2 - c], img.pixel(x, y)[c]) << "level " << level << " at " << x << "," << y;
+          ASSERT_EQ(m.at<cv::Vec4b>(y, x)[2 - c], img.pixel(x, y)[c]) << "level " << level << " at " << x << "," << y;
   }
-  EXPECT_GT(sizes[0], std::size_t(img.width) * img.height * 3);  // stored: at least the raw RGB pixels
+  EXPECT_GT(sizes[0], std::size_t(img.width) * img.height * 4);  // stored: at least the raw RGBA pixels
   EXPECT_LT(sizes[kDefaultPngCompression] * 4, sizes[0]);     // the fast default still compresses
   EXPECT_LE(sizes[9], sizes[kDefaultPngCompression]);
   EXPECT_THROW(encodeImage(img, ".png", -1), std::invalid_argument);

@@ -191,8 +191,8 @@ Image testPicture(int w, int h, bool opaque, unsigned seed) {
 }
 
 TEST(PngCodec, WrittenFilesDecodeInLibpngAndOpenCvToTheSamePixelsAtEverySizeAndLevel) {
-  // 333×1000: 2 strips (RGB) or 3 (RGBA) of about 512 KB, the last one shorter; 70001×3: 1 row
-  // per strip (RGBA, the window primed from inside the row above) or 2 (RGB: 2 + 1).
+  // 333×1000: 3 strips of about 512 KB, the last one shorter; 70001×3: 1 row per strip (the
+  // window primed from inside the row above).
   struct Size {
     int w, h;
   };
@@ -204,11 +204,11 @@ TEST(PngCodec, WrittenFilesDecodeInLibpngAndOpenCvToTheSamePixelsAtEverySizeAndL
                      " level " + std::to_string(level));
         const std::string bytes = encodeImage(img, ".png", level);
         ASSERT_GT(bytes.size(), 33u);
-        EXPECT_EQ(int(std::uint8_t(bytes[25])), opaque ? 2 : 6);  // IHDR colour type: RGB exactly when every alpha is 255
+        EXPECT_EQ(int(std::uint8_t(bytes[25])), 6);  // IHDR colour type: RGBA, opaque or not (the `warp` contract)
         EXPECT_EQ(maxDifference(viaLibpng(bytes), img), 0);
         const cv::Mat m = openCvDecode(bytes);
         ASSERT_FALSE(m.empty());
-        EXPECT_EQ(m.channels(), opaque ? 3 : 4);
+        EXPECT_EQ(m.channels(), 4);
         EXPECT_EQ(maxDifference(viaOpenCv(m), img), 0);
       }
     }
@@ -270,7 +270,7 @@ TEST(PngCodec, IdatChunksHoldOneZlibStreamOfUpFilteredRowsAsSmallAsOneDeflateCal
         if (c.type == "IDAT") stream += c.data, ++idat;
       EXPECT_GE(idat, 2);  // strips compressed apart
       // One zlib stream (uncompress checks its Adler-32) of exactly the filtered rows.
-      const std::size_t channels = opaque ? 3 : 4, rowBytes = 1 + channels * std::size_t(img.width);
+      const std::size_t channels = 4, rowBytes = 1 + channels * std::size_t(img.width);
       std::string rows(rowBytes * std::size_t(img.height) + 1, '\0');
       uLongf n = uLongf(rows.size());
       ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(rows.data()), &n, reinterpret_cast<const Bytef*>(stream.data()),

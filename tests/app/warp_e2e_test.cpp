@@ -89,7 +89,7 @@ fs::path boundSession(const std::string& name) {
   return s;
 }
 
-/// A picture kcwarp wrote, as BGRA (a picture without transparent pixels is written as RGB).
+/// A picture kcwarp wrote, as BGRA (kcwarp writes RGBA; any other kind is converted).
 cv::Mat readBgra(const fs::path& file) {
   cv::Mat m = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
   if (m.channels() == 3) cv::cvtColor(m, m, cv::COLOR_BGR2BGRA);

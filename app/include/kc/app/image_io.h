@@ -27,8 +27,8 @@ ImageHeader checkImageFile(const std::string& bytes, const std::string& path);
 /// up to 40× slower for files up to 40% smaller (docs/ARCHITECTURE.md has the measurements).
 inline constexpr int kDefaultPngCompression = 1;
 
-/// Saves an RGBA8 image; the format follows the extension (.png keeps alpha — RGB when every
-/// alpha is 255 —, .jpg/.jpeg drop it).
+/// Saves an RGBA8 image; the format follows the extension (.png keeps alpha: RGBA always, .jpg/.jpeg
+/// drop it).
 /// `pngCompression` 0..9 as in encodeImage (ignored for JPEG).
 /// Atomic: encoded in memory, written to a temporary file in the same folder, then renamed.
 /// Throws InputError naming the file on an unknown extension or a failed write.
