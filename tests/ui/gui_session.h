@@ -1,58 +1,16 @@
 #pragma once
 // Test support for end-to-end GUI tests: kcwarp in a real window under its own Xvfb (Mesa
-// llvmpipe), driven with real X input events (xdotool). The app's --ready-file state (JSON) says
-// when it is idle and where things are on screen.
+// llvmpipe), driven with real X input events (xdotool, gui_driver.h). The app's --ready-file
+// state (JSON) says when it is idle and where things are on screen.
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <chrono>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <functional>
-#include <nlohmann/json.hpp>
-#include <thread>
 
 #include "cli_run.h"
+#include "gui_driver.h"
 #include "kc/app/image_io.h"
 
 namespace kc::test {
 
-namespace fs = std::filesystem;
-using nlohmann::json;
-
-inline pid_t spawn(const std::vector<std::string>& argv, const std::string& display, const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (!display.empty()) setenv("DISPLAY", display.c_str(), 1);
-    FILE* f = std::fopen(log.c_str(), "w");
-    if (f) {
-      dup2(fileno(f), 1);
-      dup2(fileno(f), 2);
-    }
-    std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-inline void stop(pid_t pid) {
-  if (pid <= 0) return;
-  kill(pid, SIGTERM);
-  for (int k = 0; k < 50; ++k) {
-    if (waitpid(pid, nullptr, WNOHANG) == pid) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-}
-
-class GuiSession : public ::testing::Test {
+class GuiSession : public ::testing::Test, protected GuiDriver {
  protected:
   void SetUp() override {
     dir = scratchDir(std::string("gui_e2e_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -60,34 +18,17 @@ class GuiSession : public ::testing::Test {
     setenv("XDG_CONFIG_HOME", (dir / "config").c_str(), 1);
     setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
     setenv("KCWARP_NO_NATIVE_DIALOG", "1", 1);
-    for (int n = 50 + getpid() % 40; n < 140; ++n)  // a free display number
-      if (!fs::exists("/tmp/.X11-unix/X" + std::to_string(n)) && !fs::exists("/tmp/.X" + std::to_string(n) + "-lock")) {
-        display = ":" + std::to_string(n);
-        break;
-      }
-    ASSERT_FALSE(display.empty());
-    xvfb = spawn({"Xvfb", display, "-screen", "0", "1600x1000x24", "-nolisten", "tcp"}, "", dir / "xvfb.log");
-    for (int k = 0; k < 100 && !fs::exists("/tmp/.X11-unix/X" + display.substr(1)); ++k)
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    ASSERT_TRUE(fs::exists("/tmp/.X11-unix/X" + display.substr(1))) << "Xvfb did not start";
+    ASSERT_TRUE(startXvfb()) << "Xvfb did not start";
   }
-  void TearDown() override {
-    stop(app);
-    stop(xvfb);
-  }
+  void TearDown() override { shutDown(); }
 
   /// Starts kcwarp with the state file, screenshots, frame log and recovery path in `dir`;
   /// `withExport` also gives it --export (Ctrl+E then writes there without asking).
   void startApp(const std::vector<std::string>& extra, bool withExport = true) {
-    std::vector<std::string> argv = {KC_GUI_PATH,      "--ready-file", (dir / "state.json").string(),
-                                     "--screenshot-dir", (dir / "shots").string(),
-                                     "--recovery",     (dir / "recovery.kcw.json").string(), "--frame-log",
-                                     (dir / "frames.csv").string()};
-    if (withExport) argv.insert(argv.end(), {"--export", (dir / "export.png").string()});
-    argv.insert(argv.end(), extra.begin(), extra.end());
-    std::error_code ec;
-    fs::remove(dir / "state.json", ec);
-    app = spawn(argv, display, dir / "app.log");
+    std::vector<std::string> args;
+    if (withExport) args = {"--export", (dir / "export.png").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    launch(KC_GUI_PATH, args);
   }
   /// Gives the app's window the keyboard focus (Xvfb has no window manager: after a window
   /// closes, the focus does not move to the next one by itself).
@@ -105,53 +46,15 @@ class GuiSession : public ::testing::Test {
     return -1;
   }
 
-  json state() {
-    std::ifstream in(dir / "state.json");
-    json j;
-    try {
-      in >> j;
-    } catch (...) {
-    }
+  /// Waits up to `seconds` for pred(state) to hold (a test failure when it does not).
+  json waitFor(const std::function<bool(const json&)>& pred, double seconds = 30.0) {
+    bool ok = false;
+    json j = waitUntil(pred, seconds, ok);
+    if (!ok) ADD_FAILURE() << "timed out; last state: " << j.dump().substr(0, 2000) << "\napp log: " << slurp(dir / "app.log");
     return j;
   }
 
-  /// Waits up to `seconds` for pred(state) to hold.
-  json waitFor(const std::function<bool(const json&)>& pred, double seconds = 30.0) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) {
-      json j = state();
-      if (!j.is_null() && pred(j)) return j;
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    ADD_FAILURE() << "timed out; last state: " << state().dump().substr(0, 2000) << "\napp log: " << slurp(dir / "app.log");
-    return state();
-  }
-
-  void xdo(const std::string& args) {
-    const std::string cmd = "DISPLAY=" + display + " xdotool " + args;
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  }
-  void pause(int ms) { std::this_thread::sleep_for(std::chrono::milliseconds(ms)); }
-  /// ImGui 1.86 samples key and button state once per frame: hold each event for a few frames.
-  void key(const std::string& k) {
-    xdo("keydown " + k);
-    pause(250);
-    xdo("keyup " + k);
-    pause(250);
-  }
-  void drag(double x0, double y0, double x1, double y1, int button, int steps = 15) {
-    xdo("mousemove " + std::to_string(int(x0)) + " " + std::to_string(int(y0)));
-    pause(150);
-    xdo("mousedown " + std::to_string(button));
-    pause(400);  // a frame must see the press before the mouse moves (frames are slow on a loaded software renderer)
-    for (int k = 1; k <= steps; ++k) {
-      xdo("mousemove " + std::to_string(int(x0 + (x1 - x0) * k / steps)) + " " + std::to_string(int(y0 + (y1 - y0) * k / steps)));
-      pause(40);
-    }
-    pause(150);
-    xdo("mouseup " + std::to_string(button));
-    pause(200);
-  }
+  void xdo(const std::string& args) { ASSERT_TRUE(runXdo(args)) << "xdotool " << args; }
   void click(double x, double y) { drag(x, y, x, y, 1, 0); }
   /// Takes a screenshot (F12) and returns its path.
   fs::path screenshot(const std::string& name) {
@@ -178,10 +81,6 @@ class GuiSession : public ::testing::Test {
     for (const char* f : files)
       fs::copy_file(dir / f, fs::path("/tmp/kcwarp-shots") / (prefix + f), fs::copy_options::overwrite_existing, ec);
   }
-
-  fs::path dir;
-  std::string display;
-  pid_t xvfb = -1, app = -1;
 };
 
 /// Pixels (in the rectangle x0..x1 × y0..y1) whose RGB differs by more than `tol`.

@@ -1,6 +1,9 @@
 // End to end: kcwarp in a real window under its own Xvfb (Mesa llvmpipe), driven with real X
 // input events (xdotool): drag a control point, paint a stroke, switch method, export, save,
-// undo. The app's --ready-file state (JSON) says when it is idle and where things are on screen.
+// undo; a picture wider than the display texture, fitted and zoomed in. The app's --ready-file
+// state (JSON) says when it is idle and where things are on screen.
+#include <cmath>
+
 #include "gui_session.h"
 
 namespace kc::test {
@@ -78,6 +81,77 @@ TEST_F(GuiSession, DragPaintSwitchMethodExportSaveUndo) {
 
   // Keep a few screenshots for people to look at.
   keepShots("e2e-", {"01-rest.png", "02-dragged.png", "03-painted.png", "04-l1.png"});
+}
+
+
+/// 8192×600: a colour ramp (red along x, green along y) with a band of one-pixel black and white
+/// checks in the middle. The display texture (4096 wide: half the picture) averages each 2×2 of
+/// them to one flat grey; only the full-resolution picture shows them.
+Image rampWithFineChecks() {
+  Image img(8192, 600);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      const bool checks = x >= 3996 && x < 4196 && y >= 250 && y < 350;
+      const std::uint8_t v = (x + y) % 2 ? 255 : 0;
+      p[0] = checks ? v : static_cast<std::uint8_t>(255 * x / img.width);
+      p[1] = checks ? v : static_cast<std::uint8_t>(255 * y / img.height);
+      p[2] = checks ? v : 80;
+      p[3] = 255;
+    }
+  return img;
+}
+
+/// Standard deviation of red in the rectangle of `shot`: about 127 where one-pixel black and
+/// white checks are drawn sharp (or magnified), near 0 where they are averaged to grey.
+double contrast(const Image& shot, int x0, int y0, int x1, int y1) {
+  double sum = 0.0, sum2 = 0.0;
+  long n = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++n) {
+      const double r = shot.pixel(x, y)[0];
+      sum += r;
+      sum2 += r * r;
+    }
+  return n ? std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n))) : 0.0;
+}
+
+TEST_F(GuiSession, BigPictureIsDrawnFromAScreenSizedTextureAndSharpWhenZoomedIn) {
+  const Image picture = rampWithFineChecks();
+  app::saveImage((dir / "wide.png").string(), picture);
+  startApp({(dir / "wide.png").string()});
+  json s = waitFor([](const json& j) { return j.value("image_size", json::array()) == json::array({8192, 600}) && !j.value("busy", true); });
+  // The display texture: the longest side at 4096 (the floor of the limit for this window), not 8192.
+  EXPECT_EQ(s["display_texture"], json::array({4096, 300}));
+  EXPECT_EQ(s["detail_texture"]["size"], json::array({0, 0})) << "the fitted view needs no detail";
+  const int wx = s["window"][0], wy = s["window"][1];
+  const Image fitted = app::loadImage(screenshot("01-fitted.png").string());
+  // The ramp is where the picture is: the screenshot's colour at picture points away from the checks.
+  for (const Vec2& p : {Vec2(300, 100), Vec2(1500, 500), Vec2(6000, 300), Vec2(7800, 50), Vec2(2000, 300)}) {
+    const Vec2 q = screenOf(s, p) - Vec2(wx, wy);
+    const std::uint8_t* got = fitted.pixel(int(q.x()), int(q.y()));
+    EXPECT_NEAR(got[0], 255.0 * p.x() / 8192, 12) << p.transpose();
+    EXPECT_NEAR(got[1], 255.0 * p.y() / 600, 12) << p.transpose();
+    EXPECT_NEAR(got[2], 80, 12) << p.transpose();
+  }
+  const Vec2 a = screenOf(s, Vec2(4016, 260)) - Vec2(wx, wy), b = screenOf(s, Vec2(4176, 340)) - Vec2(wx, wy);
+  EXPECT_LT(contrast(fitted, int(a.x()), int(a.y()), int(b.x()), int(b.y())), 8) << "checks finer than a screen pixel average to grey";
+
+  // Zoom in on the checks (wheel) past one screen pixel per picture pixel: the detail texture
+  // (the part on screen at full resolution) shows every check.
+  const Vec2 centre = screenOf(s, Vec2(4096, 300));
+  xdo("mousemove " + std::to_string(int(centre.x())) + " " + std::to_string(int(centre.y())));
+  pause(200);
+  xdo("click --repeat 16 --delay 80 4");
+  s = waitFor([](const json& j) { return j["view"]["zoom"].get<double>() >= 1.0 && j["detail_texture"]["scale"].get<double>() == 1.0; });
+  const Image zoomed = app::loadImage(screenshot("02-zoomed.png").string());
+  const Vec2 c = screenOf(s, Vec2(4016, 260)) - Vec2(wx, wy), d = screenOf(s, Vec2(4176, 340)) - Vec2(wx, wy);
+  // (From the display texture they would be flat grey, magnified.)
+  EXPECT_GT(contrast(zoomed, int(c.x()), int(c.y()), int(d.x()), int(d.y())), 25) << "the checks are blurred: no full-resolution detail";
+  EXPECT_LT(s["detail_texture"]["size"][0].get<int>(), 4096) << "the detail covers the screen, not the picture";
+  const Vec2 ramp = screenOf(s, Vec2(3900, 100)) - Vec2(wx, wy);  // left of the checks, on screen
+  EXPECT_NEAR(zoomed.pixel(int(ramp.x()), int(ramp.y()))[0], 255.0 * 3900 / 8192, 8);
+  keepShots("big-", {"01-fitted.png", "02-zoomed.png"});
 }
 
 }  // namespace

@@ -83,11 +83,23 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   json messages = json::array();
   for (const Message& m : state.messages) messages.push_back({{"text", m.text}, {"error", m.error}});
   j["messages"] = messages;
-  j["timings"] = {{"release_to_picture_ms", state.timings.releaseToPictureMs},
-                  {"reoptimize_ms", state.timings.reoptimizeMs},
-                  {"reoptimize_samples", state.timings.reoptimizeSamples},
-                  {"mesh_weights_ms", state.timings.meshWeightsMs},
-                  {"bind_s", state.timings.bindSeconds}};
+  const Timings& t = state.timings;
+  j["timings"] = {{"release_to_picture_ms", t.releaseToPictureMs},
+                  {"release_job_ms", t.releaseJobMs},
+                  {"release_frame_ms", t.releaseFrameMs},
+                  {"reoptimize_ms", t.reoptimizeMs},
+                  {"reoptimize_samples", t.reoptimizeSamples},
+                  {"mesh_weights_ms", t.meshWeightsMs},
+                  {"mesh_set_weights_ms", t.meshSetWeightsMs},
+                  {"deform_ms", t.deformMs},
+                  {"upload_ms", t.uploadMs},
+                  {"upload_bytes", t.uploadBytes},
+                  {"open_ms", t.openMs},
+                  {"texture_ms", t.textureMs},
+                  {"detail_ms", t.detailMs},
+                  {"bind_s", t.bindSeconds}};
+  j["display_texture"] = {state.display.width, state.display.height};
+  j["detail_texture"] = {{"size", {state.display.detailWidth, state.display.detailHeight}}, {"scale", state.display.detailScale}};
   return j.dump(1);
 }
 
@@ -121,11 +133,11 @@ bool saveScreenshot(const std::string& path, int fbWidth, int fbHeight) {
 bool FrameLog::write(const std::string& path) const {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(f, "frame,time_s,frame_ms,deform_ms,upload_ms,dragging,deformed,vertices\n");
+  std::fprintf(f, "frame,time_s,frame_ms,deform_ms,upload_ms,dragging,deformed,vertices,upload_bytes,apply_ms,ui_ms,gl_ms,swap_ms\n");
   for (std::size_t k = 0; k < m_rows.size(); ++k) {
     const Row& r = m_rows[k];
-    std::fprintf(f, "%zu,%.4f,%.3f,%.3f,%.3f,%d,%d,%ld\n", k, r.time, r.frameMs, r.deformMs, r.uploadMs, r.dragging ? 1 : 0,
-                 r.deformed ? 1 : 0, r.vertices);
+    std::fprintf(f, "%zu,%.4f,%.3f,%.3f,%.3f,%d,%d,%ld,%ld,%.3f,%.3f,%.3f,%.3f\n", k, r.time, r.frameMs, r.deformMs, r.uploadMs,
+                 r.dragging ? 1 : 0, r.deformed ? 1 : 0, r.vertices, r.uploadBytes, r.applyMs, r.uiMs, r.glMs, r.swapMs);
   }
   return std::fclose(f) == 0;
 }

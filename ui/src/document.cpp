@@ -83,6 +83,7 @@ bool fileExists(AppState& state, const std::string& path) {
 
 bool openImage(AppState& state, const std::string& path) {
   Image img;
+  const double t0 = nowSeconds();
   try {
     img = app::loadImage(path);
   } catch (const std::exception& e) {
@@ -94,6 +95,7 @@ bool openImage(AppState& state, const std::string& path) {
     return false;
   }
   clearDocument(state);
+  state.timings.openMs = 1e3 * (nowSeconds() - t0);
   state.source = std::move(img);
   state.imagePath = fs::absolute(path).string();
   rememberFile(state, path);

@@ -18,6 +18,10 @@ using SourcePtr = std::shared_ptr<AppState::MeshSource>;
 /// Milliseconds since t0 (any thread).
 double msSince(std::chrono::steady_clock::time_point t0);
 
+/// A stroke's (or a method switch's) job has its result, started at t0 (its release): records the
+/// job's share of timings.releaseToPictureMs; the window completes it after the frame that shows it.
+void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0);
+
 /// Installs a new display mesh (after a weight change; none when `mesh` is null) and hands the
 /// session and the mesh's weight source back; refreshes the display copies (method, reports,
 /// lines, rigidity).

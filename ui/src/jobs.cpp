@@ -20,6 +20,12 @@ double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0) {
+  state.timings.releaseJobMs = msSince(t0);
+  state.timings.releaseToPictureMs = state.timings.releaseJobMs;  // until the frame is drawn
+  state.releaseStart = std::chrono::duration<double>(t0.time_since_epoch()).count();  // nowSeconds()'s clock
+}
+
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
   state.method = state.session->params.kc.method;
@@ -376,10 +382,10 @@ namespace {
 /// on the main thread after success, `undoFailure` on the worker when the optimization threw.
 bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, const char* title,
                       std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure) {
+  const auto t0 = std::chrono::steady_clock::now();
   SessionPtr s = std::move(state.session);
   SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
-  const auto t0 = std::chrono::steady_clock::now();
   state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("optimization", 0.1);
@@ -391,16 +397,19 @@ bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, c
       const auto t2 = std::chrono::steady_clock::now();
       // Only the controls whose weights changed are re-evaluated at the mesh vertices.
       source->sampler.updateColumns(*s->field, columns, source->W);
-      mesh->setWeights(source->W);
       const double meshMs = msSince(t2);
-      return [s, mesh, source, done, r, reoptimizeMs, meshMs, t0](AppState& st) {
+      const auto t3 = std::chrono::steady_clock::now();
+      mesh->setWeights(source->W);
+      const double setWeightsMs = msSince(t3);
+      return [s, mesh, source, done, r, reoptimizeMs, meshMs, setWeightsMs, t0](AppState& st) {
         takeBack(st, s, mesh, source);
         if (done) done(st);
         st.unsaved = true;
         st.timings.reoptimizeMs = reoptimizeMs;
         st.timings.reoptimizeSamples = r.solved;
         st.timings.meshWeightsMs = meshMs;
-        st.timings.releaseToPictureMs = msSince(t0);  // + this frame's deform and upload
+        st.timings.meshSetWeightsMs = setWeightsMs;
+        noteReleaseResult(st, t0);
         postSolverProblems(st, r, "Re-optimization");
       };
     } catch (const std::exception& ex) {

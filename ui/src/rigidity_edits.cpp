@@ -129,6 +129,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
     return false;
   }
   if (!state.session || !state.meshSource || !canStart(state, "change the rigidity")) return false;
+  const auto t0 = std::chrono::steady_clock::now();
   SessionPtr s = std::move(state.session);
   SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
@@ -136,7 +137,6 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
   before.resize(static_cast<std::size_t>(s->samples.size()), 0.0);
   state.rigidity = rho;  // the tint shows the stroke while it is solved
   ++state.rigidityRevision;
-  const auto t0 = std::chrono::steady_clock::now();
   state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, record, t0](JobContext& ctx) -> Worker::Apply {
     const Weights W = s->W;
     const std::vector<double> stored = s->rigidity;
@@ -171,7 +171,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
         st.timings.reoptimizeMs = 1e3 * u.seconds;
         st.timings.reoptimizeSamples = static_cast<Index>(u.rows.size());
         st.timings.meshWeightsMs = meshMs;
-        st.timings.releaseToPictureMs = msSince(t0);  // + this frame's deform and upload
+        noteReleaseResult(st, t0);
         if (u.report.nodes > 0) postMessage(st, rigiditySolveSummary(u), !u.report.solver.converged);
       };
     } catch (const std::exception& ex) {

@@ -185,11 +185,13 @@ int runWindow(const WindowOptions& o) {
       }
       const auto t0 = std::chrono::steady_clock::now();
       pollWorker(*state);
+      const auto tApplied = std::chrono::steady_clock::now();
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();
       const bool deformed = drawFrame(*state);
       ImGui::Render();
+      const auto tUi = std::chrono::steady_clock::now();
       int fbw = 0, fbh = 0;
       glfwGetFramebufferSize(window, &fbw, &fbh);
       glViewport(0, 0, fbw, fbh);
@@ -204,12 +206,20 @@ int runWindow(const WindowOptions& o) {
         std::filesystem::create_directories(o.screenshotDir);
         if (!saveScreenshot((std::filesystem::path(o.screenshotDir) / name).string(), fbw, fbh)) --screenshots;
       }
-      glfwSwapBuffers(window);
+      const auto tSubmitted = std::chrono::steady_clock::now();
+      glfwSwapBuffers(window);  // a software renderer draws here
       const auto t1 = std::chrono::steady_clock::now();
       state->timings.frameMs = msBetween(t0, t1);
+      if (state->releaseStart > 0.0) {  // this frame drew a stroke's (or method switch's) result
+        state->timings.releaseToPictureMs = 1e3 * (nowSeconds() - state->releaseStart);
+        state->timings.releaseFrameMs = state->timings.frameMs;
+        state->releaseStart = 0.0;
+      }
       if (!o.frameLog.empty())
         frameLog.add({std::chrono::duration<double>(t1 - start).count(), msBetween(previous, t1), state->timings.deformMs * deformed,
-                      state->timings.uploadMs, state->canvasDrag.button >= 0, deformed, long(state->mesh.restVertices().rows())});
+                      state->timings.uploadMs, state->canvasDrag.button >= 0, deformed, long(state->mesh.restVertices().rows()),
+                      long(state->timings.uploadBytes), msBetween(t0, tApplied), msBetween(tApplied, tUi), msBetween(tUi, tSubmitted),
+                      msBetween(tSubmitted, t1)});
       previous = t1;
 
       if (const std::string t = windowTitle(*state); t != title) glfwSetWindowTitle(window, (title = t).c_str());

@@ -65,8 +65,25 @@ struct Timings {
   double reoptimizeMs = 0.0;     ///< Last re-optimization (optimizer + field solve).
   Index reoptimizeSamples = 0;
   double meshWeightsMs = 0.0;    ///< Weights at the display mesh's vertices.
-  double releaseToPictureMs = 0.0;  ///< Stroke release (or method switch) → updated picture.
+  double meshSetWeightsMs = 0.0;  ///< The display mesh taking the new weights (compact rows, pinned exterior data).
+  /// Stroke release (or method switch) → the end of the frame that shows the new weights (its
+  /// deform, uploads, draw and buffer swap included).
+  double releaseToPictureMs = 0.0;
+  double releaseJobMs = 0.0;      ///< Of releaseToPictureMs: release → the job's result (reoptimizeMs + mesh weights).
+  double releaseFrameMs = 0.0;    ///< Of releaseToPictureMs: the frame that took the result (deform, uploads, draw).
   double frameMs = 0.0, deformMs = 0.0, uploadMs = 0.0;
+  std::size_t uploadBytes = 0;    ///< Vertex data sent to the GPU by the last frame.
+  double openMs = 0.0;            ///< Reading the last picture opened from a file.
+  double textureMs = 0.0;         ///< Display texture of the last picture: resampling + upload.
+  double detailMs = 0.0;          ///< Last detail texture: crop + resampling + upload.
+};
+
+/// What the renderer draws the picture from (renderer.h): the display texture's size and the
+/// detail texture in use (0×0: none).
+struct DisplayTextures {
+  int width = 0, height = 0;
+  int detailWidth = 0, detailHeight = 0;
+  double detailScale = 0.0;  ///< Detail texels per picture pixel.
 };
 
 /// What the canvas is doing with the mouse between press and release.
@@ -92,7 +109,7 @@ struct PendingAction {
 
 struct AppState {
   // --- Document -------------------------------------------------------------------------------
-  Image source;                            ///< The picture (RGBA8), uploaded once as a texture.
+  Image source;                            ///< The picture (RGBA8), full resolution (the export's; drawn from textures sized for the screen).
   std::string imagePath;
   std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
   /// The bound session; null when nothing is bound or while a worker job holds it.
@@ -198,7 +215,10 @@ struct AppState {
   Worker worker;
   std::vector<Message> messages;
   Timings timings;
-  double releaseStart = 0.0;               ///< Seconds at stroke release (for releaseToPictureMs).
+  /// Seconds (nowSeconds) at the stroke release whose picture is not shown yet, 0 when none: the
+  /// job's result sets it, the window turns it into timings.releaseToPictureMs after the frame.
+  double releaseStart = 0.0;
+  DisplayTextures display;                 ///< Set by the renderer.
   bool helpOpen = false;                   ///< Help > How to / shortcuts window shown.
   bool quitRequested = false;              ///< Close asked while unsaved: confirm dialog open.
   bool quitConfirmed = false;              ///< The user agreed to close.

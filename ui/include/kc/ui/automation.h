@@ -27,6 +27,11 @@ class FrameLog {
     double time = 0.0, frameMs = 0.0, deformMs = 0.0, uploadMs = 0.0;
     bool dragging = false, deformed = false;
     long vertices = 0;
+    long uploadBytes = 0;  ///< Vertex data sent to the GPU in the frame.
+    /// Of frameMs: a finished job's result taken (pollWorker), the user interface built (panels,
+    /// tools, deformation), the picture and the interface sent to OpenGL (uploads included), the
+    /// buffer swap (where a software renderer draws).
+    double applyMs = 0.0, uiMs = 0.0, glMs = 0.0, swapMs = 0.0;
   };
   void add(const Row& row) { m_rows.push_back(row); }
   bool write(const std::string& path) const;
