@@ -110,5 +110,16 @@ TEST(DisplayImage, APictureThatFitsIsCopiedABigOneAveraged) {
   EXPECT_EQ(shown.rgba, resampleArea(big, {0, 0, 128, 64}, 64, 32).rgba);
 }
 
+TEST(MipmapLevels, HalveDownToOnePixelAsOpenGLExpects) {
+  const Image base = randomImage(37, 10, 7);
+  const std::vector<Image> levels = mipmapLevels(base);
+  const std::vector<std::pair<int, int>> sizes = {{18, 5}, {9, 2}, {4, 1}, {2, 1}, {1, 1}};
+  ASSERT_EQ(levels.size(), sizes.size());
+  for (std::size_t k = 0; k < sizes.size(); ++k) EXPECT_EQ(std::make_pair(levels[k].width, levels[k].height), sizes[k]) << k;
+  EXPECT_EQ(levels[0].rgba, resampleArea(base, {0, 0, 37, 10}, 18, 5).rgba);
+  EXPECT_EQ(levels[2].rgba, resampleArea(levels[1], {0, 0, 9, 2}, 4, 1).rgba);
+  EXPECT_TRUE(mipmapLevels(Image(1, 1)).empty());
+}
+
 }  // namespace
 }  // namespace kc::ui

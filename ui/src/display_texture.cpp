@@ -100,6 +100,17 @@ Image resampleArea(const Image& source, const PixelRect& crop, int outWidth, int
   return out;
 }
 
+std::vector<Image> mipmapLevels(const Image& base) {
+  std::vector<Image> levels;
+  for (;;) {
+    const Image& previous = levels.empty() ? base : levels.back();
+    if (previous.width <= 1 && previous.height <= 1) return levels;
+    Image next = resampleArea(previous, {0, 0, previous.width, previous.height}, std::max(1, previous.width / 2),
+                              std::max(1, previous.height / 2));
+    levels.push_back(std::move(next));  // (after the read: push_back may move `previous`)
+  }
+}
+
 Image displayImage(const Image& source, int limit) {
   const auto [w, h] = displayTextureSize(source.width, source.height, limit);
   if (w == source.width && h == source.height) return source;

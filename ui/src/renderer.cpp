@@ -192,12 +192,24 @@ void Renderer::drawImageQuad(const AppState& state, int flat) {
 }
 
 void Renderer::uploadImage(const Image& image, PictureTexture& texture, bool mipmaps) {
-  if (!texture.id) glGenTextures(1, &texture.id);
-  glBindTexture(GL_TEXTURE_2D, texture.id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
-  if (mipmaps) glGenerateMipmap(GL_TEXTURE_2D);
+  // Mipmaps made on the CPU: glGenerateMipmap is slow in a software OpenGL (display_texture.h).
+  // Storage for all levels at once (a level added to a defined texture can make the driver copy it).
+  const std::vector<Image> levels = mipmaps ? mipmapLevels(image) : std::vector<Image>{};
+  if (texture.width != image.width || texture.height != image.height || texture.levels != int(levels.size()) + 1) {
+    glDeleteTextures(1, &texture.id);  // immutable storage: a new size is a new texture
+    glGenTextures(1, &texture.id);
+    glBindTexture(GL_TEXTURE_2D, texture.id);
+    glTexStorage2D(GL_TEXTURE_2D, static_cast<GLsizei>(levels.size()) + 1, GL_RGBA8, image.width, image.height);
+  } else {
+    glBindTexture(GL_TEXTURE_2D, texture.id);
+  }
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE, image.rgba.data());
+  for (std::size_t k = 0; k < levels.size(); ++k)
+    glTexSubImage2D(GL_TEXTURE_2D, static_cast<GLint>(k) + 1, 0, 0, levels[k].width, levels[k].height, GL_RGBA, GL_UNSIGNED_BYTE,
+                    levels[k].rgba.data());
+  texture.levels = static_cast<int>(levels.size()) + 1;
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

@@ -98,6 +98,11 @@ void openStartup(AppState& state, const WindowOptions& o) {
   }
 }
 
+/// A job's first seconds without progress redraws: a stroke's re-optimization (or a small bind)
+/// usually ends within them, and a frame drawn meanwhile takes cores from it (a software renderer
+/// spends 0.1–0.3 s on one) and makes its result wait for the frame's end.
+constexpr double kQuietJobSeconds = 0.4;
+
 double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
@@ -161,18 +166,25 @@ int runWindow(const WindowOptions& o) {
     int screenshots = 0;
     bool readyWritten = false;
     int settleFrames = 3;
+    bool wasBusy = false;
+    double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
     auto previous = std::chrono::steady_clock::now();
     const auto start = previous;
     while (!state->quitConfirmed && !g_terminate) {
       // Display rate while dragging or for a few frames after an event (ImGui settles hover and
-      // popups over two or three frames); a running job gets a few progress redraws per second;
+      // popups over two or three frames); a running job gets a few progress redraws per second
+      // once it has run kQuietJobSeconds (before that, only input or its end wakes the loop);
       // otherwise sleep until input arrives (no redraw while nothing changes). A timeout wakes
       // the loop only for a blinking text cursor and for the next autosave of unsaved work.
-      if (state->canvasDrag.button >= 0 || settleFrames > 0) {
+      const bool busy = state->worker.busy();
+      if (busy && !wasBusy) jobSince = nowSeconds();
+      wasBusy = busy;
+      const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
+      if (state->canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
         glfwPollEvents();
         --settleFrames;
       } else {
-        if (state->worker.busy()) glfwWaitEventsTimeout(0.1);
+        if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
         else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
         else if (state->unsaved) glfwWaitEventsTimeout(std::max(1.0, state->lastAutosave + kAutosaveSeconds - nowSeconds()));
         else if (waker.waitsForever()) glfwWaitEvents();

@@ -6,6 +6,7 @@
 /// Plain CPU functions: the renderer uploads what they return.
 
 #include <utility>
+#include <vector>
 
 #include "kc/core/rasterize.h"
 
@@ -38,6 +39,12 @@ struct PixelRect {
 /// (no dark fringes at transparent edges). Parallel over output rows. Throws
 /// std::invalid_argument for a crop outside the picture or a bad output size.
 Image resampleArea(const Image& source, const PixelRect& crop, int outWidth, int outHeight);
+
+/// The mipmap levels 1, 2, … of a texture whose level 0 is `base`: each half the previous one
+/// (⌊w/2⌋×⌊h/2⌋, at least 1×1, as OpenGL expects) by resampleArea, down to 1×1. Made on the CPU
+/// (parallel) because a software OpenGL builds them slowly (glGenerateMipmap: 0.7 s for 12 MP
+/// under Mesa llvmpipe, against tens of milliseconds here).
+std::vector<Image> mipmapLevels(const Image& base);
 
 /// The whole picture at the display texture's size for `limit` (displayTextureSize): the picture
 /// itself (a copy) when it fits.

@@ -46,7 +46,8 @@ class Renderer {
     unsigned id = 0;
     PixelRect rect;
     double scale = 1.0;
-    int width = 0, height = 0;  ///< Texels.
+    int width = 0, height = 0;  ///< Texels (level 0).
+    int levels = 0;             ///< Mipmap levels of its storage.
   };
   /// The display texture (and the cage mask, dropped) for a new picture or a larger framebuffer.
   void updateDisplayTexture(AppState& state, int limit);
