@@ -121,5 +121,14 @@ TEST(MipmapLevels, HalveDownToOnePixelAsOpenGLExpects) {
   EXPECT_TRUE(mipmapLevels(Image(1, 1)).empty());
 }
 
+TEST(MipmapLevels, EvenSizesGiveWhatAreaAveragingGives) {
+  // Even sides take a faster integer path: the same bytes as resampleArea, transparency included.
+  const Image base = randomImage(64, 48, 8, /*opaque=*/false);
+  const std::vector<Image> levels = mipmapLevels(base);
+  ASSERT_GE(levels.size(), 2u);
+  EXPECT_EQ(levels[0].rgba, resampleArea(base, {0, 0, 64, 48}, 32, 24).rgba);
+  EXPECT_EQ(levels[1].rgba, resampleArea(levels[0], {0, 0, 32, 24}, 16, 12).rgba);
+}
+
 }  // namespace
 }  // namespace kc::ui

@@ -38,6 +38,29 @@ Footprints footprints(int offset, int n, int out) {
   return fp;
 }
 
+/// resampleArea(image, whole, w/2, h/2) for even w and h, in integers: each output pixel the
+/// alpha-weighted mean of a 2×2 block, rounded half up (as resampleArea rounds), about four
+/// times faster.
+Image halveEven(const Image& image) {
+  Image out(image.width / 2, image.height / 2);
+  parallelForRange(out.height, 16, [&](Index begin, Index end) {
+    for (Index j = begin; j < end; ++j) {
+      const std::uint8_t* r0 = image.pixel(0, static_cast<int>(2 * j));
+      const std::uint8_t* r1 = image.pixel(0, static_cast<int>(2 * j + 1));
+      std::uint8_t* dst = out.pixel(0, static_cast<int>(j));
+      for (int i = 0; i < out.width; ++i, r0 += 8, r1 += 8, dst += 4) {
+        const unsigned a = unsigned(r0[3]) + r0[7] + r1[3] + r1[7];
+        for (int c = 0; c < 3; ++c) {
+          const unsigned sum = unsigned(r0[c]) * r0[3] + unsigned(r0[4 + c]) * r0[7] + unsigned(r1[c]) * r1[3] + unsigned(r1[4 + c]) * r1[7];
+          dst[c] = a ? static_cast<std::uint8_t>((2 * sum + a) / (2 * a)) : 0;
+        }
+        dst[3] = static_cast<std::uint8_t>((a + 2) / 4);
+      }
+    }
+  });
+  return out;
+}
+
 }  // namespace
 
 int displayTextureLimit(int fbWidth, int fbHeight, int maxTextureSize) {
@@ -105,8 +128,10 @@ std::vector<Image> mipmapLevels(const Image& base) {
   for (;;) {
     const Image& previous = levels.empty() ? base : levels.back();
     if (previous.width <= 1 && previous.height <= 1) return levels;
-    Image next = resampleArea(previous, {0, 0, previous.width, previous.height}, std::max(1, previous.width / 2),
-                              std::max(1, previous.height / 2));
+    Image next = previous.width % 2 == 0 && previous.height % 2 == 0
+                     ? halveEven(previous)
+                     : resampleArea(previous, {0, 0, previous.width, previous.height}, std::max(1, previous.width / 2),
+                                    std::max(1, previous.height / 2));
     levels.push_back(std::move(next));  // (after the read: push_back may move `previous`)
   }
 }
