@@ -195,13 +195,20 @@ void Renderer::uploadImage(const Image& image, PictureTexture& texture, bool mip
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
   // Mipmaps made on the CPU: glGenerateMipmap is slow in a software OpenGL (display_texture.h).
-  // Storage for all levels at once (a level added to a defined texture can make the driver copy it).
+  // Storage for all levels at once (a level added to a defined texture can make the driver copy
+  // it), allocated level by level with glTexImage2D: glTexStorage2D needs OpenGL 4.2 and the
+  // window asks for 3.3.
   const std::vector<Image> levels = mipmaps ? mipmapLevels(image) : std::vector<Image>{};
   if (texture.width != image.width || texture.height != image.height || texture.levels != int(levels.size()) + 1) {
-    glDeleteTextures(1, &texture.id);  // immutable storage: a new size is a new texture
+    glDeleteTextures(1, &texture.id);  // a new size is a new texture
     glGenTextures(1, &texture.id);
     glBindTexture(GL_TEXTURE_2D, texture.id);
-    glTexStorage2D(GL_TEXTURE_2D, static_cast<GLsizei>(levels.size()) + 1, GL_RGBA8, image.width, image.height);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    for (std::size_t k = 0; k < levels.size(); ++k)
+      glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(k) + 1, GL_RGBA8, levels[k].width, levels[k].height, 0, GL_RGBA,
+                   GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(levels.size()));
   } else {
     glBindTexture(GL_TEXTURE_2D, texture.id);
   }
