@@ -370,4 +370,44 @@ BENCHMARK(BM_PerPose)->Apply(sizes)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FigureMlsPeer)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FigureOneShotWarp)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
+namespace {
+
+/// Peak memory of a bind at a fine resolution: the bundled star scaled ×5 onto 1600×1600 and bound
+/// at h = 6 px, so about 20,000 samples lie inside the cage or on it (the vertices of a 20k-vertex
+/// mesh of its interior), plus the default exterior band (its bounding box). `kcwarp-cli bind` as a
+/// child process; counters: peak_MB (its peak resident memory), samples (in all), inside (inside the
+/// cage or on it).
+void BM_BindStar20k(benchmark::State& state) {
+  Case c;
+  c.width = c.height = 1600;
+  c.dir = fs::temp_directory_path() / ("kc_bench_star20k_" + std::to_string(::getpid()));
+  fs::create_directories(c.dir);
+  kc::Cage star = kc::app::loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json");
+  star.C *= 5.0;
+  kc::app::saveCage(path(c, "cage.json"), star);
+  for (auto _ : state) {
+    const ChildRun r = runCli(c, {"bind", "--cage", path(c, "cage.json"), "--size", "1600,1600", "--spacing", "6", "-o",
+                                  path(c, "session.kcw.json")});
+    if (r.status != 0) {
+      state.SkipWithError(("bind failed: " + lastLogLine(c)).c_str());
+      break;
+    }
+    state.SetIterationTime(r.seconds);
+    state.counters["peak_MB"] = r.peakMB;
+    const kc::app::Session s = kc::app::loadSession(path(c, "session.kcw.json"));
+    state.counters["samples"] = double(s.samples.size());
+    double inside = 0;
+    for (const kc::SampleKind k : s.samples.kind) inside += k != kc::SampleKind::Exterior;
+    state.counters["inside"] = inside;
+  }
+  if (!std::getenv("KC_BENCH_KEEP")) {
+    std::error_code ec;
+    fs::remove_all(c.dir, ec);
+  }
+}
+
+}  // namespace
+
+BENCHMARK(BM_BindStar20k)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+
 BENCHMARK_MAIN();

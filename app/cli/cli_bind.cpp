@@ -88,6 +88,7 @@ void runBind(const BindArgs& a) {
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
+  app::releaseFactorization(s);  // not needed to save: the save's text then never meets the factor in memory
   app::saveSession(a.output, s);
 
   if (s.reports.lbcMesh > 0) {

@@ -1,6 +1,7 @@
 #include "kc/app/pipeline.h"
 #include "kc/app/text.h"
 #include "kc/app/errors.h"
+#include "kc/core/field/kernel_field.h"
 #include "kc/core/kernel/gaussian_kernel.h"
 #include "kc/core/warp_mesh.h"
 
@@ -218,5 +219,9 @@ OptimizeReport reoptimize(Session& session, Method method, std::span<const Index
 }
 
 void refreshField(Session& session) { backendFor(session.params.backend).rebuildField(session); }
+
+void releaseFactorization(Session& session) {
+  if (auto* kernel = dynamic_cast<KernelField*>(session.field.get())) kernel->releaseFactorization();
+}
 
 }  // namespace kc::app

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 
 namespace kc {
@@ -9,6 +10,11 @@ namespace kc {
 InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
   m_coef = {};
   return m_interp.compute(X, kernel, mode);
+}
+
+InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode, SparseMatrix&& K) {
+  m_coef = {};
+  return m_interp.compute(X, kernel, mode, std::move(K));
 }
 
 void KernelField::restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef) {

@@ -33,8 +33,7 @@ struct KernelInterpolator::Impl {
   Points X;
   GaussianKernel kernel;
   InterpMode mode = InterpMode::Exact;
-  SparseMatrix K;
-  detail::SupernodalCholesky llt;
+  detail::PermutedCholesky llt;  // of K; K itself is not kept
   SpatialGrid grid;
   bool ok = false;
   bool evaluable = false;  // X, kernel, mode and grid set
@@ -90,23 +89,34 @@ void KernelInterpolator::prepare(const Points& X, const GaussianKernel& kernel, 
 }
 
 InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SparseMatrix K = assembleKernelMatrix(X, kernel);
+  const double assembly = secondsSince(t0);
+  InterpolatorReport report = compute(X, kernel, mode, std::move(K));
+  report.assembleSeconds += assembly;
+  return report;
+}
+
+InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode, SparseMatrix&& K) {
   auto impl = newImpl<Impl>(X, kernel, mode);
+  if (K.rows() != X.rows() || K.cols() != X.rows())
+    throw std::invalid_argument("interpolator: K is " + std::to_string(K.rows()) + "×" + std::to_string(K.cols()) + " but there are " +
+                                std::to_string(X.rows()) + " samples");
   InterpolatorReport report;
 
   auto t0 = std::chrono::steady_clock::now();
-  impl->K = assembleKernelMatrix(X, kernel);
   impl->grid.build(X, kernel.cutoff());
-  report.nonZeros = impl->K.nonZeros();
+  report.nonZeros = K.nonZeros();
   report.assembleSeconds = secondsSince(t0);
 
   t0 = std::chrono::steady_clock::now();
-  impl->llt.compute(impl->K);
+  impl->llt.compute(std::move(K));
   report.status = FactorStatus::Ok;
   if (impl->llt.outOfMemory()) {
     report.status = FactorStatus::OutOfMemory;
     report.advice = "the Cholesky factor of the kernel matrix (" + std::to_string(X.rows()) + " samples, " +
                     std::to_string(report.nonZeros) + " non-zeros) does not fit in memory: use a larger spacing or a smaller sigma";
-  } else if (impl->llt.info() != Eigen::Success) {
+  } else if (!impl->llt.ok()) {
     report.status = FactorStatus::NotPositiveDefinite;
     report.advice = kSigmaAdvice;
   } else {
@@ -149,11 +159,16 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
 }
 
 bool KernelInterpolator::ok() const { return m_impl->ok; }
+void KernelInterpolator::releaseFactorization() {
+  m_impl->llt.release();
+  m_impl->P = Poly();
+  m_impl->KinvP = Poly();
+  m_impl->ok = false;
+}
 bool KernelInterpolator::evaluable() const { return m_impl->evaluable; }
 InterpMode KernelInterpolator::mode() const { return m_impl->mode; }
 const GaussianKernel& KernelInterpolator::kernel() const { return m_impl->kernel; }
 const Points& KernelInterpolator::samples() const { return m_impl->X; }
-const SparseMatrix& KernelInterpolator::K() const { return m_impl->K; }
 
 KernelCoefficients KernelInterpolator::solve(const Weights& W, int refinementSteps) const {
   const Impl& d = *m_impl;
@@ -167,9 +182,11 @@ KernelCoefficients KernelInterpolator::solve(const Weights& W, int refinementSte
   ColMatrix U;
   Eigen::Matrix<double, 3, Eigen::Dynamic> Bn;
   d.augmentedSolve(Wc, Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, m), U, Bn);
-  // Optional iterative refinement on the full system (each step costs one more solve).
+  // Optional iterative refinement on the full system (each step costs one more solve; K is
+  // assembled again for it, the factorization does not keep it).
+  const SparseMatrix K = refinementSteps > 0 ? assembleKernelMatrix(d.X, d.kernel) : SparseMatrix();
   for (int step = 0; step < refinementSteps; ++step) {
-    ColMatrix R1 = Wc - d.K * U;
+    ColMatrix R1 = Wc - K * U;
     Eigen::Matrix<double, 3, Eigen::Dynamic> R2 = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, m);
     if (d.mode == InterpMode::Exact) {
       R1.noalias() -= d.P * Bn;

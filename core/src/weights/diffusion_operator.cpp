@@ -76,11 +76,26 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
       row.emplace_back(j, it.value());
     }
   });
-  std::vector<Eigen::Triplet<double>> trip;
-  for (Index i = 0; i < n; ++i)
-    for (const auto& [j, v] : rows[static_cast<std::size_t>(i)]) trip.emplace_back(i, j, v);
+  // Compressed directly from the rows (each in increasing column order, as K's columns are),
+  // each row freed once copied.
+  std::size_t nnz = 0;
+  for (const auto& row : rows) nnz += row.size();
   SparseRowMatrix R(n, n);
-  R.setFromTriplets(trip.begin(), trip.end());
+  R.resizeNonZeros(static_cast<Index>(nnz));
+  auto* outer = R.outerIndexPtr();
+  auto* inner = R.innerIndexPtr();
+  double* value = R.valuePtr();
+  std::size_t k = 0;
+  outer[0] = 0;
+  for (Index i = 0; i < n; ++i) {
+    auto& row = rows[static_cast<std::size_t>(i)];
+    for (const auto& [j, v] : row) {
+      inner[k] = static_cast<SparseRowMatrix::StorageIndex>(j);
+      value[k++] = v;
+    }
+    outer[i + 1] = static_cast<SparseRowMatrix::StorageIndex>(k);
+    std::vector<std::pair<Index, double>>().swap(row);
+  }
   return R;
 }
 

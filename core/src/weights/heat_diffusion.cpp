@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kc/core/parallel.h"
@@ -40,26 +41,43 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
   if (nu == 0) return true;
   std::vector<Index> slot(static_cast<std::size_t>(R.rows()), -1);
   for (Index f = 0; f < nu; ++f) slot[static_cast<std::size_t>(unknown[static_cast<std::size_t>(f)])] = f;
-  std::vector<Eigen::Triplet<double>> trip;
+  // A is symmetric (within a stage the operator is), so only its lower triangle is built: column
+  // f holds row f's entries in columns s ≥ f (unknown is increasing, so they come in order).
+  std::vector<int> start(static_cast<std::size_t>(nu) + 1, 0);
+  for (Index f = 0; f < nu; ++f) {
+    int count = 1;  // the diagonal
+    for (SparseRowMatrix::InnerIterator e(R, unknown[static_cast<std::size_t>(f)]); e; ++e)
+      count += slot[static_cast<std::size_t>(e.col())] > f;
+    start[static_cast<std::size_t>(f) + 1] = start[static_cast<std::size_t>(f)] + count;
+  }
+  SparseMatrix A(nu, nu);
+  A.resizeNonZeros(start.back());
+  std::copy(start.begin(), start.end(), A.outerIndexPtr());
+  int* row = A.innerIndexPtr();
+  double* value = A.valuePtr();
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nu, W.cols());
   for (Index f = 0; f < nu; ++f) {
     const Index i = unknown[static_cast<std::size_t>(f)];
-    trip.emplace_back(f, f, (1.0 + mu) * D(i));
+    int k = start[static_cast<std::size_t>(f)];
+    row[k] = static_cast<int>(f);
+    value[k++] = (1.0 + mu) * D(i);
     for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) {
       const Index s = slot[static_cast<std::size_t>(e.col())];
-      if (s >= 0)
-        trip.emplace_back(f, s, -e.value());
-      else
+      if (s < 0) {
         rhs.row(f) += e.value() * W.row(e.col());
+      } else if (s == f) {
+        value[start[static_cast<std::size_t>(f)]] += -e.value();
+      } else if (s > f) {
+        row[k] = static_cast<int>(s);
+        value[k++] = -e.value();
+      }
     }
   }
-  SparseMatrix A(nu, nu);
-  A.setFromTriplets(trip.begin(), trip.end());
-  detail::SupernodalCholesky solver;
-  solver.compute(A);
-  if (solver.info() != Eigen::Success) return false;
+  detail::PermutedCholesky solver;
+  solver.compute(std::move(A));
+  if (!solver.ok()) return false;
   const Eigen::MatrixXd WU = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !WU.allFinite()) return false;
+  if (!WU.allFinite()) return false;
   for (Index f = 0; f < nu; ++f) {
     const double sum = WU.row(f).sum();
     const Index i = unknown[static_cast<std::size_t>(f)];

@@ -95,4 +95,10 @@ OptimizeReport reoptimize(Session& session, Method method, std::span<const Index
 /// Rebuilds session.field from what a session file holds (after loading it), through its backend.
 void refreshField(Session& session);
 
+/// Frees what only further solves of session.field need — the kernel factorization, the largest
+/// allocation a bind keeps (e.g. 215 MB of its 250 MB at 60,000 samples) — for a caller that only
+/// saves or evaluates the session. The field still evaluates; its next update() (a paint stroke, a
+/// method switch) factorizes again first, which costs about what the bind's factorization did.
+void releaseFactorization(Session& session);
+
 }  // namespace kc::app

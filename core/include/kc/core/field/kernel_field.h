@@ -17,6 +17,8 @@ class KernelField final : public CoordinateField {
   /// Assembles K for samples X and factorizes it (KernelInterpolator::compute, thesis 6.1).
   /// The field is ready() after a successful compute() and an update() with all columns.
   InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
+  /// The same with K = assembleKernelMatrix(X, kernel) given, and consumed (KernelInterpolator::compute).
+  InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode, SparseMatrix&& K);
 
   /// A field from coefficients solved earlier (stored with a session): Coef = [B; U]
   /// ((3+#S)×m, as coefficientColumns()) for samples X, without factorizing K. It is ready() at
@@ -29,6 +31,9 @@ class KernelField final : public CoordinateField {
   bool ready() const override { return m_interp.evaluable() && m_coef.U.size() > 0; }
   /// K is factorized (after compute(), or after a restore() once update() ran).
   bool factorized() const { return m_interp.ok(); }
+  /// Frees the factorization, keeping the coefficients (KernelInterpolator::releaseFactorization):
+  /// the field evaluates as before and its next update() factorizes K again, as after restore().
+  void releaseFactorization() { m_interp.releaseFactorization(); }
 
   /// Row p = [1 x y | k(p, x_j) for |p − x_j| ≤ θ] (3.32), sample columns in increasing j.
   SparseRowMatrix evaluationOperator(const Points& P) const override;

@@ -50,6 +50,10 @@ class KernelInterpolator {
   /// Schur complement PᵀK⁻¹P of the polynomial block. Throws std::invalid_argument on bad input
   /// (non-finite X, σ ≤ 0); a failed factorization is reported, not thrown.
   InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode = InterpMode::Exact);
+  /// The same with K already assembled (assembleKernelMatrix(X, kernel)), which is consumed: it is
+  /// released before its factor is allocated (the factorization keeps neither K nor a copy).
+  /// Throws std::invalid_argument as above, and when K is not #S×#S.
+  InterpolatorReport compute(const Points& X, const GaussianKernel& kernel, InterpMode mode, SparseMatrix&& K);
 
   /// Sets the samples, kernel and mode for evaluation only, without assembling or factorizing K
   /// (coefficients stored with a session: evaluate() and the field's operators work, solve() needs
@@ -58,12 +62,14 @@ class KernelInterpolator {
 
   /// K is factorized (compute() succeeded): solve() and solveColumns() can run.
   bool ok() const;
+  /// Frees the factorization of K (the largest allocation, several times K's size): ok() becomes
+  /// false, evaluable() stays as it was (as after prepare()); compute() factorizes again.
+  void releaseFactorization();
   /// Samples and kernel are set (compute() or prepare()): evaluate() and evaluateGradient() can run.
   bool evaluable() const;
   InterpMode mode() const;
   const GaussianKernel& kernel() const;
   const Points& samples() const;
-  const SparseMatrix& K() const;  ///< Empty after prepare() alone.
 
   /// Coefficients for weights W (#S×m): U = K⁻¹W (6.2) in Thesis mode; in Exact mode the
   /// augmented system [K P; Pᵀ 0][U; B] = [W; 0] through the Schur complement. Requires ok()
