@@ -99,6 +99,20 @@ TEST_P(KernelFieldModes, ColumnUpdateEqualsAFullSolve) {
   EXPECT_TRUE(b.field.kernelCoefficients().U.col(0) == b.coef.U.col(0));
 }
 
+TEST_P(KernelFieldModes, ReleasedFactorizationStillEvaluatesAndFactorsAgainOnUpdate) {
+  Bound b = bindBoth(GetParam());
+  const Points P = randomPoints(100, 0.0, 50.0, 12);
+  const Weights before = b.field.weightsAt(P);
+  b.field.releaseFactorization();
+  EXPECT_FALSE(b.field.factorized());
+  ASSERT_TRUE(b.field.ready());
+  EXPECT_TRUE(b.field.weightsAt(P) == before);
+  b.field.update(b.W);
+  EXPECT_TRUE(b.field.factorized());
+  EXPECT_TRUE(b.field.kernelCoefficients().U == b.coef.U) << "the same factor again, the same coefficients";
+  EXPECT_TRUE(b.field.kernelCoefficients().B == b.coef.B);
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, KernelFieldModes, ::testing::Values(InterpMode::Exact, InterpMode::Thesis),
                          [](const auto& info) { return info.param == InterpMode::Exact ? "Exact" : "Thesis"; });
 
