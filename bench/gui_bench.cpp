@@ -1,6 +1,6 @@
 // The GUI as a person uses it on a big picture: kcwarp in a real 1400×900 window under its own
 // Xvfb (Mesa llvmpipe, software OpenGL), driven with real X input events (xdotool), on a
-// generated photo-like picture of 0.1 or 12 megapixels (4:3) with the big-picture benchmark's
+// generated photo-like picture of 0.1, 1, 4 or 12 megapixels (4:3) with the big-picture benchmark's
 // 34-point cage over a quarter of it (tests/support/quarter_cage.h). One row per size; counters:
 //   open_bind_s      process start → the bound picture on screen (`kcwarp PICTURE --cage CAGE`)
 //   open_ms          reading the picture; texture_ms: the display texture (resampling + upload)
@@ -178,6 +178,6 @@ void BM_Gui(benchmark::State& bench) {
 
 }  // namespace
 
-BENCHMARK(BM_Gui)->Arg(1)->Arg(120)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
+BENCHMARK(BM_Gui)->Arg(1)->Arg(10)->Arg(40)->Arg(120)->Iterations(1)->UseManualTime()->Unit(benchmark::kSecond);
 
 BENCHMARK_MAIN();
