@@ -209,7 +209,8 @@ TEST(ExteriorRepair, TheRelaxationSpreadsTheSqueezeOverTheRegion) {
     plain.deform(pose);
     const Points harmonic = plain.deformedVertices();
     Points untangled = harmonic, relaxed = harmonic;
-    ExteriorRepairOptions none;
+    ExteriorRepairOptions none;  // the continuation without its barrier: halving and untangling only
+    none.stepRelaxSweeps = 0;
     none.relaxSweeps = 0;
     const ExteriorRepairReport u = repairExteriorFolds(rest, untangled, T, topo, nt, area, none);
     const ExteriorRepairReport r = repairExteriorFolds(rest, relaxed, T, topo, nt, area);
@@ -223,7 +224,9 @@ TEST(ExteriorRepair, TheRelaxationSpreadsTheSqueezeOverTheRegion) {
     worstUntangled = std::min(worstUntangled, ju);
     worstRelaxed = std::min(worstRelaxed, jr);
     for (Index v = 0; v < rest.rows(); ++v)  // only free vertices of the region move
-      if (!topo.free[std::size_t(v)]) EXPECT_EQ(relaxed.row(v), harmonic.row(v)) << "vertex " << v;
+      if (!topo.free[std::size_t(v)]) {
+        EXPECT_EQ(relaxed.row(v), harmonic.row(v)) << "vertex " << v;
+      }
   }
   std::printf("%d untangled poses: the relaxation raised the smallest det J on %d; worst %.3g untangled, %.3g relaxed\n", compared,
               raised, worstUntangled, worstRelaxed);

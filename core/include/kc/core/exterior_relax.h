@@ -1,9 +1,8 @@
 #pragma once
-/// The last stage of the pinned outside mode's fold repair (exterior_untangle.h): relaxing a
-/// fold-free but crumpled region. The untangling stops as soon as every triangle's det J reaches
-/// its small target, which leaves slivers where the background is squeezed (between an arm raised
-/// towards the head and the head, say): a picture drawn on them shows a crumpled patch. The
-/// relaxation lowers the symmetric Dirichlet energy of the region's stars,
+/// The pinned outside mode's fold repair (exterior_untangle.h) relaxes its region after every
+/// continuation step and once more at the end. Without it the background is squeezed into slivers
+/// (between an arm raised towards the head and the head, say), which a picture drawn on them shows
+/// as a crumpled patch, and the next step has no room to move. The relaxation lowers the symmetric Dirichlet energy of the region's stars,
 ///     E = Σ_t A_t (‖J_t‖²_F + ‖J_t⁻¹‖²_F),
 /// which is smallest for rotations and grows without bound as a triangle degenerates (Smith and
 /// Schaefer 2015, "Bijective parameterization with free boundaries"), so the squeeze spreads

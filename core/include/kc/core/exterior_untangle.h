@@ -17,9 +17,8 @@
 /// program, and keeps the border curve simple (a ghost triangle folds if the border crosses
 /// itself). Where the deformed cage reaches past the border, no map with a fixed border is
 /// one-to-one; with the ghost ring, one exists whenever the deformed cage is simple and leaves the
-/// four corners outside it. Border vertices move only when their star is folded, and the
-/// smoothing pulls them back towards the border as far as their star allows, so they move only as
-/// far as needed, and nowhere else.
+/// four corners outside it. Border vertices move only where the region reaches them, and only as
+/// the barrier's relaxation needs.
 ///
 /// 1. Region: the free vertices of exterior triangles with det J ≤ minJacobian, grown by `rings`
 ///    rings of free neighbours (regrown when a fold reaches the region's edge).
@@ -31,28 +30,28 @@
 ///    vertex the program has one more constraint, n·(p − p₀) ≥ 0 (n the outward normal, p₀ its
 ///    rest position), so pairs of the affine functions meeting on the border line are tried too.
 ///    Gauss–Seidel sweeps until no region triangle is below minJacobian or `maxSweeps`.
-/// 3. Smoothing: the correction δ(v) = p(v) − h(v) (h the harmonic position) is relaxed towards
-///    its neighbour average (a discrete harmonic correction that vanishes at the region's edge);
-///    a border vertex's δ is relaxed towards 0 (back to the border). Each step is shortened
-///    (1, 1/2, 1/4, …) until the star keeps det J ≥ minJacobian, so the smoothing never folds.
-///    The repaired background therefore equals the harmonic one outside the region and bends
-///    smoothly inside it.
-///
-/// The untangling runs as a continuation: the region starts at the start positions (rest, or a
-/// fold-free earlier result: ExteriorRepairStart) and moves in increments of at most 1/steps
-/// towards the harmonic positions while the vertices around it move to start + s·(harmonic −
-/// start), s from 0 to 1; each step is untangled and smoothed, so the configuration stays close to
-/// a fold-free one. A step that leaves a folded triangle is taken back and halved (down to
-/// 1/(16·steps)); after a step that leaves none the next may double again. The work is budgeted
-/// (ExteriorRepairOptions::budget).
-///
-/// Once the continuation leaves the region fold-free, the relaxation of exterior_relax.h spreads
-/// the squeeze evenly over it (the untangling stops at det J = minJacobian, which leaves slivers).
-///
+/// 3. Continuation under a barrier: the region starts at the start positions (rest, or a
+///    fold-free earlier result: ExteriorRepairStart) and moves in increments of at most 1/steps by
+///    its harmonic displacement while the vertices around it move to start + s·(harmonic −
+///    start), s from 0 to 1. A step that folds a region triangle is taken back and halved (down to
+///    1/(16·steps)); a step that folds none is relaxed by `stepRelaxSweeps` sweeps of the
+///    symmetric Dirichlet energy (exterior_relax.h), which grows without bound as a triangle
+///    degenerates: the squeeze of the cage's move spreads over the region instead of collapsing
+///    triangles, so the next step starts with room to move. Where a squeezed triangle (det J <
+///    0.3) reaches the region's edge, the region grows by `rings` rings. Only a step that still
+///    folds at the smallest size is untangled as in 2. After a step that folds nothing, the next
+///    may double again. The work is budgeted (ExteriorRepairOptions::budget). Once the
+///    continuation ends fold-free, the relaxation runs again over the region (`relaxSweeps`).
+///    Outside the region the background is the harmonic one.
+///    (Before the barrier, each step was untangled by the max–min moves and then smoothed towards
+///    the harmonic correction. That left slivers and, on the bundled stick figure with its hand
+///    turned, 48–52 folds with the border pushed 99 px out to the ghost ring; at a mesh spacing of
+///    3 or 4 px even its full pose kept 140–242 folds. With the barrier all of these end fold-free
+///    with the border in place.)
 /// 4. Fallback: per connected part of the region, if the repair left more folded triangles around
 ///    it than the harmonic map had, the part goes back to the harmonic positions. That happens
 ///    where no placement of the free vertices removes a fold — the deformed cage overlaps itself
-///    or a corner — and the max–min moves only spread it. The report counts what is left.
+///    or a corner. The report counts what is left.
 
 #include <cstdint>
 #include <vector>
@@ -66,12 +65,13 @@ struct ExteriorRepairOptions {
   int rings = 3;              ///< Rings of free neighbours added around the folded triangles.
   int steps = 32;             ///< Continuation steps from rest (0) to the harmonic positions (1).
   int warmSteps = 4;          ///< Continuation steps from an earlier result (ExteriorRepairStart).
-  int maxSweeps = 30;         ///< Untangling sweeps over the region per step.
-  int smoothSweeps = 3;       ///< Smoothing sweeps over the region per step.
+  int maxSweeps = 30;         ///< Untangling sweeps per step (only a step that folds at the smallest size).
+  int stepRelaxSweeps = 10;   ///< Relaxation sweeps over the region after each continuation step (0: none).
   /// Sweeps of the relaxation that spreads a squeeze over the region once it is fold-free
   /// (exterior_relax.h; stops earlier when the energy settles). 0: none.
   int relaxSweeps = 300;
-  /// Work budget of the adaptive continuation, in vertex visits of the untangling: budget ×
+  /// Work budget of the adaptive continuation, in vertex visits of its sweeps (untangling and
+  /// relaxation): budget ×
   /// steps × maxSweeps × the first region's size (a fixed schedule whose every step runs out of
   /// sweeps costs 1, without the region growing). Once spent, the continuation jumps to the end
   /// and the fallback decides: this bounds the cost of poses no placement untangles.
