@@ -3,6 +3,10 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 #include "kc/ui/document.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
@@ -13,14 +17,25 @@ namespace kc::ui {
 
 void handleShortcuts(AppState& state) {
   const ImGuiIO& io = ImGui::GetIO();
+  const std::vector<std::pair<int, int>> tapped = std::exchange(state.tappedKeys, {});
   state.showOriginal = false;
   if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
-  auto pressed = [](int key) { return ImGui::IsKeyPressed(key, false); };
-  if (io.KeyCtrl) {
-    if (pressed(GLFW_KEY_Z)) io.KeyShift ? redo(state) : undo(state);
+  // A key counts when ImGui sees it go down this frame or when it was tapped since the last frame
+  // (then with the modifiers it was tapped with).
+  bool ctrl = io.KeyCtrl, shift = io.KeyShift;
+  for (const auto& [key, mods] : tapped) {
+    ctrl = ctrl || (mods & GLFW_MOD_CONTROL) != 0;
+    shift = shift || (mods & GLFW_MOD_SHIFT) != 0;
+  }
+  auto pressed = [&tapped](int key) {
+    return ImGui::IsKeyPressed(key, false) ||
+           std::any_of(tapped.begin(), tapped.end(), [key](const std::pair<int, int>& t) { return t.first == key; });
+  };
+  if (ctrl) {
+    if (pressed(GLFW_KEY_Z)) shift ? redo(state) : undo(state);
     if (pressed(GLFW_KEY_Y)) redo(state);
-    if (pressed(GLFW_KEY_S) && state.bound) saveCommand(state, io.KeyShift);
-    if (pressed(GLFW_KEY_E) && state.bound) exportCommand(state, io.KeyShift);
+    if (pressed(GLFW_KEY_S) && state.bound) saveCommand(state, shift);
+    if (pressed(GLFW_KEY_E) && state.bound) exportCommand(state, shift);
     if (pressed(GLFW_KEY_O)) requestPath(state, PathPurpose::Open, state.imagePath);
     if (pressed(GLFW_KEY_N)) unlessUnsaved(state, "New", newDocument);
     if (pressed(GLFW_KEY_R)) resetPose(state);

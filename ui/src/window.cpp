@@ -148,6 +148,12 @@ int runWindow(const WindowOptions& o) {
     state->recentFilesPath = defaultRecentFilesPath();
     state->recentFiles = loadRecentFiles(state->recentFilesPath);
     glfwSetWindowUserPointer(window, state.get());
+    // After ImGui's backend installed its callbacks: this one forwards to it and also keeps the
+    // presses for handleShortcuts (AppState::tappedKeys).
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+      ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
+      if (action == GLFW_PRESS) static_cast<AppState*>(glfwGetWindowUserPointer(w))->tappedKeys.emplace_back(key, mods);
+    });
     glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
       auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
       for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
@@ -253,6 +259,7 @@ int runWindow(const WindowOptions& o) {
     pollWorker(*state);
     glfwHideWindow(window);  // the window goes at once; an abandoned bind may still end its solver call
     glfwSetDropCallback(window, nullptr);
+    glfwSetKeyCallback(window, ImGui_ImplGlfw_KeyCallback);
     glfwSetWindowUserPointer(window, nullptr);
   }
   ImGui_ImplOpenGL3_Shutdown();

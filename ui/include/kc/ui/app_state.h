@@ -232,6 +232,10 @@ struct AppState {
   std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
   std::function<void(AppState&)> afterSave;    ///< Runs after the next successful save (prompt's "Save and ...").
   std::vector<std::string> droppedPaths;   ///< Files dropped onto the window, handled next frame.
+  /// Keys pressed since the last frame (GLFW key, modifier bits), from the window's key callback:
+  /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
+  /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
+  std::vector<std::pair<int, int>> tappedKeys;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
