@@ -7,6 +7,7 @@
 
 #include "kc/core/parallel.h"
 #include "kc/core/spatial_grid.h"
+#include "../sparse_lists.h"
 
 namespace kc {
 namespace {
@@ -20,13 +21,13 @@ void checkKernel(const GaussianKernel& kernel) {
     throw std::invalid_argument("kernel: scale must be positive and finite");
 }
 
-using Entry = std::pair<Index, double>;  // (sample index, kernel value)
+using Entry = detail::SparseList::value_type;  // (sample index, kernel value)
 
 /// For every query row, the kernel values of the samples within the cut-off, sorted by index.
 /// Each parallel task writes only its own rows.
-std::vector<std::vector<Entry>> neighbourLists(const Points& X, const Points& P, const GaussianKernel& kernel) {
+std::vector<detail::SparseList> neighbourLists(const Points& X, const Points& P, const GaussianKernel& kernel) {
   const SpatialGrid grid(X, kernel.cutoff());
-  std::vector<std::vector<Entry>> rows(static_cast<std::size_t>(P.rows()));
+  std::vector<detail::SparseList> rows(static_cast<std::size_t>(P.rows()));
   parallelFor(P.rows(), [&](Index p) {
     auto& row = rows[static_cast<std::size_t>(p)];
     grid.forEachWithin(P.row(p).transpose(), kernel.cutoff(),
@@ -36,43 +37,20 @@ std::vector<std::vector<Entry>> neighbourLists(const Points& X, const Points& P,
   return rows;
 }
 
-/// Compressed storage from per-outer-index lists (outer = column for column-major K, row for rows).
-template <class Sparse>
-Sparse compress(Index rows, Index cols, const std::vector<std::vector<Entry>>& lists) {
-  Sparse M(rows, cols);
-  std::size_t nnz = 0;
-  for (const auto& l : lists) nnz += l.size();
-  M.resizeNonZeros(static_cast<Index>(nnz));
-  auto* outer = M.outerIndexPtr();
-  auto* inner = M.innerIndexPtr();
-  double* value = M.valuePtr();
-  std::size_t k = 0;
-  outer[0] = 0;
-  for (std::size_t o = 0; o < lists.size(); ++o) {
-    for (const auto& [j, v] : lists[o]) {
-      inner[k] = static_cast<typename Sparse::StorageIndex>(j);
-      value[k] = v;
-      ++k;
-    }
-    outer[o + 1] = static_cast<typename Sparse::StorageIndex>(k);
-  }
-  return M;
-}
-
 }  // namespace
 
 SparseMatrix assembleKernelMatrix(const Points& X, const GaussianKernel& kernel) {
   checkKernel(kernel);
   if (!X.allFinite()) throw std::invalid_argument("kernel matrix: sample positions must be finite");
   // K is symmetric, so column i holds the same entries as row i: build the columns directly.
-  return compress<SparseMatrix>(X.rows(), X.rows(), neighbourLists(X, X, kernel));
+  return detail::compressLists<SparseMatrix>(X.rows(), X.rows(), neighbourLists(X, X, kernel));
 }
 
 SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel) {
   checkKernel(kernel);
   if (!X.allFinite()) throw std::invalid_argument("kernel rows: sample positions must be finite");
   if (!P.allFinite()) throw std::invalid_argument("kernel rows: query points must be finite");
-  return compress<SparseRowMatrix>(P.rows(), X.rows(), neighbourLists(X, P, kernel));
+  return detail::compressLists<SparseRowMatrix>(P.rows(), X.rows(), neighbourLists(X, P, kernel));
 }
 
 }  // namespace kc

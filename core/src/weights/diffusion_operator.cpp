@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "kc/core/cage.h"
 #include "kc/core/cage_edge_grid.h"
 #include "kc/core/parallel.h"
+#include "../sparse_lists.h"
 
 namespace kc::detail {
 namespace {
@@ -51,7 +53,7 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
   const bool closed = hasInterior(cage);  // open sticks alone: one region
   const CageQueries queries(cage);
 
-  std::vector<std::vector<std::pair<Index, double>>> rows(static_cast<std::size_t>(n));
+  std::vector<detail::SparseList> rows(static_cast<std::size_t>(n));
   parallelFor(n, [&](Index i) {
     auto& row = rows[static_cast<std::size_t>(i)];
     const Region ri = regionOf(S.kind[static_cast<std::size_t>(i)], closed);
@@ -76,27 +78,8 @@ SparseRowMatrix diffusionOperator(const SampleSet& S, const Cage& cage, const Sp
       row.emplace_back(j, it.value());
     }
   });
-  // Compressed directly from the rows (each in increasing column order, as K's columns are),
-  // each row freed once copied.
-  std::size_t nnz = 0;
-  for (const auto& row : rows) nnz += row.size();
-  SparseRowMatrix R(n, n);
-  R.resizeNonZeros(static_cast<Index>(nnz));
-  auto* outer = R.outerIndexPtr();
-  auto* inner = R.innerIndexPtr();
-  double* value = R.valuePtr();
-  std::size_t k = 0;
-  outer[0] = 0;
-  for (Index i = 0; i < n; ++i) {
-    auto& row = rows[static_cast<std::size_t>(i)];
-    for (const auto& [j, v] : row) {
-      inner[k] = static_cast<SparseRowMatrix::StorageIndex>(j);
-      value[k++] = v;
-    }
-    outer[i + 1] = static_cast<SparseRowMatrix::StorageIndex>(k);
-    std::vector<std::pair<Index, double>>().swap(row);
-  }
-  return R;
+  // Each row is in increasing column order, as K's columns are.
+  return detail::compressLists<SparseRowMatrix>(n, n, std::move(rows));
 }
 
 /// Unknown samples from which some known sample can be reached through the operator's rows.
