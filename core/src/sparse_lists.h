@@ -14,13 +14,14 @@ namespace kc::detail {
 using SparseList = std::vector<std::pair<Index, double>>;
 
 /// A rows × cols matrix of storage order Sparse (Eigen::SparseMatrix) whose outer index o holds
-/// lists[o]. Each list is freed once copied, so the peak is the lists plus the matrix, not twice
-/// the lists (no triplets, no sort).
-template <class Sparse>
-Sparse compressLists(Index rows, Index cols, std::vector<SparseList>&& lists) {
+/// lists[o] ((inner index, value) pairs, increasing inner index; any integer index type). Each list
+/// is freed once copied, so the peak is the lists plus the matrix, not twice the lists (no
+/// triplets, no sort).
+template <class Sparse, class Entry>
+Sparse compressLists(Index rows, Index cols, std::vector<std::vector<Entry>>&& lists) {
   Sparse M(rows, cols);
   std::size_t nnz = 0;
-  for (const SparseList& l : lists) nnz += l.size();
+  for (const auto& l : lists) nnz += l.size();
   M.resizeNonZeros(static_cast<Index>(nnz));
   auto* outer = M.outerIndexPtr();
   auto* inner = M.innerIndexPtr();
@@ -33,7 +34,7 @@ Sparse compressLists(Index rows, Index cols, std::vector<SparseList>&& lists) {
       value[k++] = v;
     }
     outer[o + 1] = static_cast<typename Sparse::StorageIndex>(k);
-    SparseList().swap(lists[o]);
+    std::vector<Entry>().swap(lists[o]);
   }
   return M;
 }

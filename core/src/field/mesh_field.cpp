@@ -4,34 +4,15 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "kc/core/parallel.h"
+#include "../sparse_lists.h"
 
 namespace kc {
 namespace {
 
 double cross(const Vec2& u, const Vec2& v) { return u.x() * v.y() - u.y() * v.x(); }
-
-/// A sparse #P×n matrix from per-row (node, value) lists (each sorted by node).
-SparseRowMatrix fromRows(Index n, const std::vector<std::vector<std::pair<int, double>>>& rows) {
-  SparseRowMatrix E(static_cast<Index>(rows.size()), n);
-  std::size_t nnz = 0;
-  for (const auto& r : rows) nnz += r.size();
-  E.resizeNonZeros(static_cast<Index>(nnz));
-  auto* outer = E.outerIndexPtr();
-  auto* inner = E.innerIndexPtr();
-  double* val = E.valuePtr();
-  std::size_t k = 0;
-  outer[0] = 0;
-  for (std::size_t p = 0; p < rows.size(); ++p) {
-    for (const auto& [node, v] : rows[p]) {
-      inner[k] = node;
-      val[k++] = v;
-    }
-    outer[p + 1] = static_cast<SparseRowMatrix::StorageIndex>(k);
-  }
-  return E;
-}
 
 /// Three (vertex, value) pairs sorted by vertex.
 std::vector<std::pair<int, double>> sortedTriple(const std::array<int, 3>& t, const Eigen::Vector3d& v) {
@@ -146,7 +127,7 @@ SparseRowMatrix MeshField::evaluationOperator(const Points& P) const {
     const Index t = locate(P.row(p).transpose(), &l);
     if (t >= 0) rows[static_cast<std::size_t>(p)] = sortedTriple(m_T[static_cast<std::size_t>(t)], l);
   });
-  return fromRows(nodes(), rows);
+  return detail::compressLists<SparseRowMatrix>(Index(rows.size()), nodes(), std::move(rows));
 }
 
 void MeshField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
@@ -168,8 +149,8 @@ void MeshField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRo
     gx[static_cast<std::size_t>(p)] = sortedTriple(tri, dx);
     gy[static_cast<std::size_t>(p)] = sortedTriple(tri, dy);
   });
-  Ex = fromRows(nodes(), gx);
-  Ey = fromRows(nodes(), gy);
+  Ex = detail::compressLists<SparseRowMatrix>(Index(gx.size()), nodes(), std::move(gx));
+  Ey = detail::compressLists<SparseRowMatrix>(Index(gy.size()), nodes(), std::move(gy));
 }
 
 RowMatrix MeshField::coefficientColumns(std::span<const Index> columns) const {
