@@ -24,7 +24,7 @@ std::unique_ptr<AppState> threadedState(StageGate& gate) {
 
 TEST(BindCancel, DuringTheFactorizationTheWindowIsIdleBeforeTheWorkerHasFinished) {
   test::HeadlessImGui gui;
-  StageGate gate("kernel");  // the stage of the kernel factorization, one CHOLMOD call
+  StageGate gate("factorization");  // the kernel matrix's factorization, one CHOLMOD call
   auto s = threadedState(gate);
   auto draw = [&] { drawFrame(*s); };
   const app::Session* before = s->session.get();
@@ -35,7 +35,7 @@ TEST(BindCancel, DuringTheFactorizationTheWindowIsIdleBeforeTheWorkerHasFinished
   gate.waitInside();
   ASSERT_TRUE(s->worker.busy());
   EXPECT_EQ(s->session, nullptr) << "the bind holds the session while it runs";
-  EXPECT_EQ(s->worker.stage(), "kernel");
+  EXPECT_EQ(s->worker.stage(), "factorization");
 
   gui.frame(draw);
   gui.clickLabel(*s, "Cancel", draw);  // the status bar's Cancel
@@ -73,7 +73,7 @@ TEST(BindCancel, DuringTheFactorizationTheWindowIsIdleBeforeTheWorkerHasFinished
 
 TEST(BindCancel, EveryStageGivesTheSessionBackAtOnce) {
   auto s = test::boundState(20.0);
-  test::expectCancelInEveryStage(*s, {"sampling", "kernel", "initial weights", "optimization", "interpolation", "warp mesh"});
+  test::expectCancelInEveryStage(*s, {"sampling", "kernel", "initial weights", "factorization", "optimization", "interpolation", "warp mesh"});
 }
 
 }  // namespace
