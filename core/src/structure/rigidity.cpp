@@ -33,18 +33,64 @@ Points rowsOf(const Points& X, std::span<const Index> idx) {
   return P;
 }
 
-/// Columns 3 + N of a field operator E (#P×(3 + #S)) as a #P×|N| matrix (node = position in N).
-SparseMatrix nodeColumns(const SparseRowMatrix& E, const std::vector<Index>& nodeOf, Index nodes) {
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(E.nonZeros()));
-  for (Index p = 0; p < E.rows(); ++p)
-    for (SparseRowMatrix::InnerIterator it(E, p); it; ++it) {
-      const Index s = it.col() - KernelField::kPolynomialNodes;
-      if (s >= 0 && nodeOf[std::size_t(s)] >= 0) t.emplace_back(p, nodeOf[std::size_t(s)], it.value());
+/// The node columns of the field's gradient operators ∂E/∂x, ∂E/∂y at P (KernelField::
+/// gradientOperators: ∇k(p, x_j) = −k(p, x_j)(p − x_j)/σ², thesis 3.42), from the kernel rows of
+/// the nodes XN alone (a #P×|N| matrix, node = position in N) instead of all samples' columns.
+void nodeGradients(const Points& XN, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx, SparseRowMatrix& Gy) {
+  Gx = kernelRows(XN, P, kernel);
+  Gy = Gx;
+  const double inv2 = 1.0 / (kernel.sigma * kernel.sigma);
+  for (Index p = 0; p < P.rows(); ++p) {
+    SparseRowMatrix::InnerIterator y(Gy, p);
+    for (SparseRowMatrix::InnerIterator x(Gx, p); x; ++x, ++y) {
+      const Index j = x.col();
+      x.valueRef() *= -inv2 * (P(p, 0) - XN(j, 0));
+      y.valueRef() *= -inv2 * (P(p, 1) - XN(j, 1));
     }
-  SparseMatrix M(E.rows(), nodes);
-  M.setFromTriplets(t.begin(), t.end());
-  return M;
+  }
+}
+
+/// Adds Σ_p w_p M_pᵀ M_p (M's rows, column indices ascending) to the lower triangle of the dense H:
+/// one pass over the rows' non-zeros, for Gram matrices of short rows (a kernel row has a few dozen
+/// node entries), where a sparse-sparse product spends most of its time merging index lists.
+void addRowGram(const SparseRowMatrix& M, const Eigen::VectorXd& w, Eigen::MatrixXd& H) {
+  const auto* outer = M.outerIndexPtr();
+  const auto* inner = M.innerIndexPtr();
+  const double* value = M.valuePtr();
+  for (Index p = 0; p < M.rows(); ++p) {
+    if (w(p) == 0.0) continue;
+    for (auto a = outer[p]; a < outer[p + 1]; ++a) {
+      const double va = w(p) * value[a];
+      double* column = H.col(inner[a]).data();
+      for (auto b = a; b < outer[p + 1]; ++b) column[inner[b]] += va * value[b];
+    }
+  }
+}
+
+/// H = κ (GxᵀDρGx + GyᵀDρGy) + Krᵀ Df Kr (|N|×|N|). Up to `denseNodes` nodes it is accumulated in
+/// a dense matrix (the solver factorizes it dense there anyway), beyond by sparse products.
+SparseMatrix rigidityHessian(const SparseRowMatrix& Gx, const SparseRowMatrix& Gy, const Eigen::VectorXd& rhoQ,
+                             const SparseRowMatrix& Kr, const Eigen::VectorXd& fid, double kappa, Index denseNodes) {
+  const Index n = Kr.cols();
+  if (n <= denseNodes) {
+    Eigen::MatrixXd H(n, n);  // the lower triangle only (the upper half's memory stays untouched)
+    for (Index j = 0; j < n; ++j) H.col(j).tail(n - j).setZero();
+    const Eigen::VectorXd w = kappa * rhoQ;
+    addRowGram(Gx, w, H);
+    addRowGram(Gy, w, H);
+    addRowGram(Kr, fid, H);
+    SparseMatrix S(n, n);  // both triangles, column by column: H(i, j) = H(j, i) above the diagonal
+    for (Index j = 0; j < n; ++j) {
+      S.startVec(j);
+      for (Index i = 0; i < n; ++i)
+        if (const double v = i >= j ? H(i, j) : H(j, i); v != 0.0) S.insertBack(i, j) = v;
+    }
+    S.finalize();
+    return S;
+  }
+  const SparseMatrix X = Gx, Y = Gy, K = Kr;
+  const SparseMatrix DGx = rhoQ.asDiagonal() * X, DGy = rhoQ.asDiagonal() * Y, DK = fid.asDiagonal() * K;
+  return kappa * (SparseMatrix(X.transpose()) * DGx + SparseMatrix(Y.transpose()) * DGy) + SparseMatrix(K.transpose()) * DK;
 }
 
 /// Quadrature points of the rigidity energy (5.12) over the painted region: the points of a grid of
@@ -226,28 +272,26 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
   Points XI;
   Eigen::VectorXd rhoI;
   quadrature(grid, X, rho, region, options.quadratureStep * sigma, 2.0 * sigma, XI, rhoI);
-  const Points XCh = rowsOf(X, Ch);
-  const SparseMatrix Kr = nodeColumns(field.evaluationOperator(XCh), nodeOf, nN);
-  SparseRowMatrix Ex, Ey;
-  field.gradientOperators(XI, Ex, Ey);
-  const SparseMatrix Gx = nodeColumns(Ex, nodeOf, nN), Gy = nodeColumns(Ey, nodeOf, nN);
+  const Points XCh = rowsOf(X, Ch), XN = rowsOf(X, N);
+  const SparseRowMatrix Kr = kernelRows(XN, XCh, kernel);  // K(Ch, N): the evaluation operator's node columns
+  SparseRowMatrix Gx, Gy;
+  nodeGradients(XN, XI, kernel, Gx, Gy);
   Weights dWdx, dWdy;
   field.gradientsAt(XI, dWdx, dWdy);
 
   // Objective (docs/rigidity.md): H = σ² (GxᵀDρGx + GyᵀDρGy) + Krᵀ D(1−ρ) Kr, G = σ² (GxᵀDρ∂xW + GyᵀDρ∂yW).
   Eigen::VectorXd fid(nCh);
   for (Index k = 0; k < nCh; ++k) fid(k) = 1.0 - rho[std::size_t(Ch[std::size_t(k)])];
-  const SparseMatrix DGx = rhoI.asDiagonal() * Gx, DGy = rhoI.asDiagonal() * Gy, DKr = fid.asDiagonal() * Kr;
   const double kappa = options.rigidityWeight * s2;
-  qp.H = kappa * (SparseMatrix(Gx.transpose()) * DGx + SparseMatrix(Gy.transpose()) * DGy) + SparseMatrix(Kr.transpose()) * DKr;
-  qp.G = kappa * (SparseMatrix(DGx.transpose()) * dWdx + SparseMatrix(DGy.transpose()) * dWdy);
+  qp.H = rigidityHessian(Gx, Gy, rhoI, Kr, fid, kappa, options.solver.maxDenseNodes);
+  qp.G = kappa * (Gx.transpose() * (rhoI.asDiagonal() * dWdx) + Gy.transpose() * (rhoI.asDiagonal() * dWdy));
   rep.energyBefore = s2 * (rhoI.asDiagonal() * (dWdx.rowwise().squaredNorm() + dWdy.rowwise().squaredNorm())).sum();
 
   // Equalities: the held samples, rows scaled to unit length. Exact mode's side condition PᵀΔU = 0
   // is not imposed (docs/rigidity.md): the new data weights are interpolated again, which keeps
   // partition of unity and reproduction for any data that have them at the samples.
   std::vector<Eigen::RowVectorXd> eq;
-  const SparseRowMatrix KrRows = Kr;
+  const SparseRowMatrix& KrRows = Kr;
   std::vector<Index> constrained;  // rows of Kr bounded below: region samples (and nodes), ΔW ≥ −W⁺
   for (Index k = 0; k < nCh; ++k) {
     const Index i = Ch[std::size_t(k)];

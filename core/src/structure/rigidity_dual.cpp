@@ -4,7 +4,7 @@
 
 namespace kc::detail {
 
-bool blockedCholesky(Eigen::MatrixXd& A, const Tick& tick, Index block) {
+bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block) {
   const Index n = A.rows();
   for (Index k = 0; k < n; k += block) {
     const Index b = std::min(block, n - k), rest = n - k - b;
@@ -31,9 +31,16 @@ Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& S, double rankTole
 }
 
 bool DenseConstrainedSolve::compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick) {
-  m_L = Eigen::MatrixXd(M);
+  // The lower triangle of M only: the factorization and the solves read nothing else, and the
+  // upper half's memory is never touched (fresh pages cost faults).
+  const Index n = M.rows();
+  m_L.resize(n, n);
+  for (Index j = 0; j < n; ++j) {
+    m_L.col(j).tail(n - j).setZero();
+    for (SparseMatrix::InnerIterator it(M, j); it; ++it)
+      if (it.row() >= j) m_L(it.row(), j) = it.value();
+  }
   if (!blockedCholesky(m_L, tick)) return false;
-  m_L.triangularView<Eigen::StrictlyUpper>().setZero();
   m_V.resize(M.rows(), 0);
   m_Splus.resize(0, 0);
   if (A.rows() == 0) return true;
@@ -77,7 +84,7 @@ Eigen::MatrixXd DenseConstrainedSolve::gram(const Eigen::MatrixXd& W, const Tick
     K.selfadjointView<Eigen::Lower>().rankUpdate(W.middleRows(i, std::min(kBlock, n - i)).transpose());
     if (tick) tick();
   }
-  K = K.selfadjointView<Eigen::Lower>();
+  K.triangularView<Eigen::StrictlyUpper>() = K.transpose();
   if (m_V.cols() > 0) {
     const Eigen::MatrixXd T = m_V.transpose() * W;  // a×c
     K -= T.transpose() * (m_Splus * T);
@@ -93,9 +100,8 @@ void PairSystem::setShift(double eps) {
   m_eps = eps;
 }
 
-void PairSystem::fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::MatrixXd& out) const {
+void PairSystem::fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::Ref<Eigen::MatrixXd> out, bool lower) const {
   const Index m = m_P.rows(), nr = Index(rows.size());
-  out.resize(nr, Index(cols.size()));
   std::vector<Index> ri(rows.size()), ki(rows.size());
   for (std::size_t a = 0; a < rows.size(); ++a) ri[a] = rows[a] / m, ki[a] = rows[a] % m;
   for (std::size_t b = 0; b < cols.size(); ++b) {
@@ -103,7 +109,7 @@ void PairSystem::fill(const std::vector<Index>& rows, const std::vector<Index>& 
     const double* kq = m_Kq.col(j).data();
     const double* p = m_P.col(l).data();
     double* o = out.col(Index(b)).data();
-    for (Index a = 0; a < nr; ++a) o[a] = kq[ri[std::size_t(a)]] * p[ki[std::size_t(a)]];
+    for (Index a = lower ? Index(b) : 0; a < nr; ++a) o[a] = kq[ri[std::size_t(a)]] * p[ki[std::size_t(a)]];
     if (const auto at = std::lower_bound(rows.begin(), rows.end(), cols[b]); at != rows.end() && *at == cols[b])
       o[at - rows.begin()] += m_eps;
   }
@@ -114,15 +120,21 @@ bool PairSystem::factorize(const std::vector<Index>& set) {
   m_pos.clear();
   for (std::size_t a = 0; a < set.size(); ++a) m_pos.emplace(set[a], Index(a));
   m_columns.clear();
-  fill(m_base, m_base, m_L);
+  const Index nb = Index(set.size());
+  if (m_capacity < nb * nb) {  // kept: a smaller set reuses the memory (left uninitialized: fill writes what is read)
+    m_store.reset(new double[std::size_t(nb * nb)]);
+    m_capacity = nb * nb;
+  }
+  fill(m_base, m_base, base(), true);  // the factorization reads the lower triangle only
   ++m_factorizations;
-  m_factored = blockedCholesky(m_L, m_tick);
+  m_factored = blockedCholesky(base(), m_tick);
   return m_factored;
 }
 
 void PairSystem::solveBase(Eigen::Ref<Eigen::MatrixXd> v) const {
-  m_L.triangularView<Eigen::Lower>().solveInPlace(v);
-  m_L.triangularView<Eigen::Lower>().transpose().solveInPlace(v);
+  const Eigen::Map<const Eigen::MatrixXd> L(m_store.get(), Index(m_base.size()), Index(m_base.size()));
+  L.triangularView<Eigen::Lower>().solveInPlace(v);
+  L.triangularView<Eigen::Lower>().transpose().solveInPlace(v);
 }
 
 void PairSystem::addColumns(const std::vector<Index>& pairs) {
@@ -133,7 +145,7 @@ void PairSystem::addColumns(const std::vector<Index>& pairs) {
   if (added.empty() && missing.empty()) return;
   Eigen::MatrixXd U(nb, na + Index(missing.size()));  // [Q(B, added) e_removed]: one multi-column solve
   if (na > 0) {
-    Eigen::MatrixXd QBD;
+    Eigen::MatrixXd QBD(nb, na);
     fill(m_base, added, QBD);
     U.leftCols(na) = QBD;
   }
@@ -178,6 +190,8 @@ bool PairSystem::solve(const std::vector<Index>& set, const Eigen::VectorXd& b, 
   for (Index j = 0; j < ne; ++j) X.col(nd + j) = m_columns.at(removed[std::size_t(j)]);
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(ns, ns), QBD, QDD;
   if (nd > 0) {
+    QBD.resize(nb, nd);
+    QDD.resize(nd, nd);
     fill(m_base, added, QBD);
     fill(added, added, QDD);
     S.topLeftCorner(nd, nd) = QDD - QBD.transpose() * X.leftCols(nd);

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <functional>
 #include <iterator>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -24,7 +25,7 @@ using Tick = std::function<void()>;
 /// left in it), right-looking by panels of `block` columns (factor the diagonal block, solve the
 /// panel below it, update the trailing block), with tick() after each panel. Returns false when a
 /// pivot is not positive (A is then partly overwritten).
-bool blockedCholesky(Eigen::MatrixXd& A, const Tick& tick, Index block = 192);
+bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block = 192);
 
 /// The pseudo-inverse of a symmetric S (a×a): its eigenvalues below rankTolerance × the largest
 /// magnitude are treated as zero.
@@ -36,7 +37,8 @@ Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& S, double rankTole
 /// (S's pseudo-inverse: held samples close together make it nearly singular).
 class DenseConstrainedSolve {
  public:
-  /// Factorizes M (dense copy) and forms V and S⁺; false when M is not positive definite.
+  /// Factorizes M (a dense copy of its lower triangle; L's upper triangle is left unset) and forms
+  /// V and S⁺; false when M is not positive definite.
   bool compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick);
   /// M⁻¹_A rhs for rhs n×k.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
@@ -77,8 +79,11 @@ class PairSystem {
 
  private:
   static constexpr std::size_t kMinUpdate = 32;  // changes always handled by the update
-  /// out(a, b) = Q(rows[a], cols[b]) (+ ε where the pairs are equal).
-  void fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::MatrixXd& out) const;
+  /// out(a, b) = Q(rows[a], cols[b]) (+ ε where the pairs are equal), out sized |rows|×|cols|; with
+  /// `lower` (rows = cols) only a ≥ b is written (the upper triangle is left unset and untouched).
+  void fill(const std::vector<Index>& rows, const std::vector<Index>& cols, Eigen::Ref<Eigen::MatrixXd> out, bool lower = false) const;
+  /// The factor of Q_BB + εI (|B|×|B|, column-major) in m_store.
+  Eigen::Map<Eigen::MatrixXd> base() { return {m_store.get(), Index(m_base.size()), Index(m_base.size())}; }
   bool factorize(const std::vector<Index>& set);
   /// Q_BB⁻¹ u into m_columns for the pairs not there yet: u = Q(B, p) for p ∉ B (added), u = e_p for
   /// p ∈ B (removed); one solve with all of them as columns.
@@ -92,7 +97,8 @@ class PairSystem {
   Tick m_tick;
   std::vector<Index> m_base;                  // B (ascending)
   std::unordered_map<Index, Index> m_pos;     // pair → position in B
-  Eigen::MatrixXd m_L;                        // Q_BB + εI = L Lᵀ
+  std::unique_ptr<double[]> m_store;          // Q_BB + εI = L Lᵀ (L in the lower triangle); grows only: fresh
+  Index m_capacity = 0;                       // memory costs page faults, and a smaller set reuses it
   std::unordered_map<Index, Eigen::VectorXd> m_columns;  // X's columns by pair
   bool m_factored = false;
   int m_factorizations = 0;

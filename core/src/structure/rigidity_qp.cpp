@@ -136,7 +136,8 @@ RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
 /// conditions: Λ ≥ 0, slack ≥ 0, Λ ∘ slack = 0). Q = Kq ⊗ P is never formed: Q Λ = Kq Λ P.
 class BoundDual {
  public:
-  BoundDual(Eigen::MatrixXd Kq, Eigen::MatrixXd P, Eigen::MatrixXd R) : m_Kq(std::move(Kq)), m_P(std::move(P)), m_R(std::move(R)) {}
+  /// Kq and P are referenced (the working Gram matrix, c×c, is not copied).
+  BoundDual(const Eigen::MatrixXd& Kq, const Eigen::MatrixXd& P, Eigen::MatrixXd R) : m_Kq(Kq), m_P(P), m_R(std::move(R)) {}
   Index rows() const { return m_R.rows(); }
   Index cols() const { return m_R.cols(); }
   const Eigen::MatrixXd& R() const { return m_R; }
@@ -149,7 +150,9 @@ class BoundDual {
   const Eigen::MatrixXd& P() const { return m_P; }
 
  private:
-  Eigen::MatrixXd m_Kq, m_P, m_R;
+  const Eigen::MatrixXd& m_Kq;
+  const Eigen::MatrixXd& m_P;
+  Eigen::MatrixXd m_R;
 };
 
 /// Solves (Q_FF + δI) d = b on the free pairs F by conjugate gradients preconditioned with the
@@ -232,9 +235,14 @@ class WorkingGram {
     m_rows.insert(m_rows.end(), rows.begin(), rows.end());
     Eigen::MatrixXd Kon, Knn;  // Kq(old, new), Kq(new, new)
     if (m_dense) {
-      const Eigen::MatrixXd Wn = m_dense->halfSolve(subRows(rows), m_tick);
+      Eigen::MatrixXd Wn = m_dense->halfSolve(subRows(rows), m_tick);
       Knn = m_dense->gram(Wn, m_tick);
-      if (co > 0) Kon = m_dense->cross(m_W, Wn);
+      if (co == 0) {  // the first rows: no copies of the (large) blocks
+        m_W = std::move(Wn);
+        m_Kq = std::move(Knn);
+        return;
+      }
+      Kon = m_dense->cross(m_W, Wn);
       m_W.conservativeResize(Wn.rows(), co + cn);
       m_W.rightCols(cn) = Wn;
     } else {
