@@ -34,7 +34,7 @@ Cage blobCage(int m, double size) {
 
 void benchLines(const std::string& cagePath, int sets, int repeats);  // cli_bench_lines.cpp
 void benchEdges(const std::string& folder, int repeats);                // cli_bench_lines.cpp
-void benchRigid(const std::string& imagesDir, int repeats);                // cli_bench_rigid.cpp
+void benchRigid(const std::string& imagesDir, int repeats, const std::string& speedOnly);  // cli_bench_rigid.cpp
 
 namespace {
 
@@ -49,6 +49,7 @@ struct BenchArgs {
   int threads = 0;
   bool lines = false, edges = false;
   bool rigid = false;
+  std::string rigidSpeed;
   std::string images = "images";
   int lineSets = 10;
   std::string cage = "images/star.cage.json";
@@ -169,14 +170,17 @@ void addBenchCommand(CLI::App& app) {
                 "Only the linear-edges table: the bundled examples (the folder of --cage) with and without --linear-edges");
   sub->add_flag("--rigid", a->rigid, "Only the rigid-regions table (thesis Fig 6.37 set-up on the star, brush-release times; issue 13)");
   sub->add_option("--images", a->images, "--rigid: the folder of the bundled examples (star, figure)")->capture_default_str();
+  sub->add_option("--rigid-speed", a->rigidSpeed, "--rigid: only the brush-release speed rows: star, figure or both");
   sub->add_option("--line-sets", a->lineSets, "--lines: random sets of lines")->capture_default_str();
   sub->add_option("--cage", a->cage, "--lines: the cage (default: the bundled star)")->capture_default_str();
   sub->callback([a] {
     if (a->samples < 100 || a->samples > 1000000) throw app::InputError("--samples", "must be within 100..1000000");
     if (a->repeats < 1 || a->repeats > 100) throw app::InputError("--repeats", "must be within 1..100");
     const ScopedThreadCount threads(a->threads);
+    if (!a->rigidSpeed.empty() && a->rigidSpeed != "star" && a->rigidSpeed != "figure" && a->rigidSpeed != "both")
+      throw app::InputError("--rigid-speed", "must be star, figure or both (got '" + a->rigidSpeed + "')");
     if (a->rigid) {
-      benchRigid(a->images, a->repeats);
+      benchRigid(a->images, a->repeats, a->rigidSpeed);
       return;
     }
     if (a->edges) {
