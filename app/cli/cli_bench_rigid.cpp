@@ -123,8 +123,9 @@ void benchSpeed(const std::string& dir, const std::string& name, Index count, do
 void printSpeedHeader(int repeats) {
   std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
   std::printf("  (release: on a factorized field, as in the GUI after a bind or a stroke; K ms: factorizing K and solving\n"
-              "  every column on a loaded session, which its first release pays on top; QP it: active-set rounds, or ADMM iterations when marked *; progress: calls per\n"
-              "  release and the longest gap between two, i.e. how long a Cancel can wait; faults: minor page faults per release)\n");
+              "  every column on a loaded session, which its first release pays on top; QP it: active-set rounds, or ADMM\n"
+              "  iterations when marked *; progress: calls per release and the longest gap between two, i.e. how long a\n"
+              "  Cancel can wait; faults: minor page faults per release)\n");
   std::printf("  %-7s %7s %8s %7s %9s %9s %11s %9s %10s %9s %9s %8s %8s %8s %16s\n", "example", "region", "nodes", "active", "controls",
               "rows", "release ms", "K ms", "QP ms", "QP it", "factor ms", "progress", "gap ms", "faults", "QP objective");
 }
