@@ -11,6 +11,7 @@
 #include "kc/app/structure.h"
 #include "kc/app/limits.h"
 #include "kc/app/pipeline.h"
+#include "kc/app/text.h"
 
 namespace kc::cli {
 namespace {
@@ -62,7 +63,11 @@ void runBind(const BindArgs& a) {
   app::asUserInput("--backend", [&] { app::backendFor(p.backend); });
   if (a.spacingOption && a.spacingOption->count() == 0) {
     p.spacing = app::automaticSpacing(cage, w, h, p);
-    if (p.spacing != a.spacing)
+    if (p.kc.init.method == InitMethod::Lbc && p.backend == "kc")
+      std::printf("spacing: automatic %.3g px, the LBC mesh %.3g px (a sample budget of %.0f over the cage and a band around it "
+                  "sets the mesh; the samples are %.3g times as far apart; --spacing overrides)\n",
+                  p.spacing, p.spacing / app::kLbcTargetSampling, app::kAutoSpacingSamples, app::kLbcTargetSampling);
+    else if (p.spacing != a.spacing)
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
                   p.spacing, app::kAutoSpacingSamples);
   }
@@ -133,7 +138,8 @@ void addBindCommand(CLI::App& app) {
   sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
   sub->add_option("--init", a->init,
                   "Initial weights: heat-linear | heat-impulse | inverse-distance | lbc (local barycentric coordinates inside the "
-                  "cage, heat-linear outside; --lbc-* options apply)")
+                  "cage, heat-linear outside, solved on a mesh of spacing --spacing / " + app::shortNumber(app::kLbcTargetSampling) +
+                  ", the automatic --spacing being that fraction of a heat-linear bind's; --lbc-* options apply)")
       ->capture_default_str();
   sub->add_option("--heat-iterations", a->heatIterations,
                   "Heat diffusion iterations, 0.." + std::to_string(app::kMaxHeatIterations) + " (0 = converged steady state)")

@@ -184,7 +184,7 @@ void addWarpCommand(CLI::App& app) {
   sub->add_option("--outside", a->outside, std::string(kOutsideHelp) + ". Default: the session's choice, else pinned");
   sub->add_flag("--supersample", a->supersample, "2x2 supersampling");
   sub->add_option("--mesh-spacing", a->meshSpacing,
-                  "Warp mesh spacing in pixels (default automatic: max(4, 2h/3, sqrt(W*H/65536)), h the session's sample spacing)");
+                  "Warp mesh spacing in pixels (default automatic: max(4, 2h/3, sqrt(W*H/65536)), h the session's sample spacing, with --init lbc its LBC mesh's)");
   sub->add_option("--background", a->background, "Colour of uncovered pixels R,G,B[,A] (default transparent)");
   addPngCompressionOption(sub, a->pngCompression);
   sub->callback([a] {

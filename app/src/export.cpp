@@ -10,6 +10,7 @@
 
 #include "kc/app/backend.h"
 #include "kc/app/errors.h"
+#include "kc/app/pipeline.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qec.h"
 
@@ -49,7 +50,7 @@ WarpMeshOptions warpMeshOptionsFor(int width, int height, double fieldSpacing, O
 }
 
 WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside) {
-  return warpMeshOptionsFor(session.imageWidth, session.imageHeight, session.params.spacing, outside);
+  return warpMeshOptionsFor(session.imageWidth, session.imageHeight, weightSpacing(session.params), outside);
 }
 
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, WarpExportReport* report,

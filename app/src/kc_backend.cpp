@@ -49,10 +49,13 @@ bool reproducesWeights(const KernelField& field, const Session& s) {
 }
 
 /// `--init lbc`: the targets W0 of the samples inside the cage (controls, edge and interior
-/// samples) become the LBC weights there (solved on a mesh of the cage interior at the bind's
-/// spacing, barycentric interpolation between mesh vertices); exterior samples keep theirs.
+/// samples) become the LBC weights there (solved on a mesh of the cage interior whose spacing is
+/// the bind's divided by kLbcTargetSampling, barycentric interpolation between mesh vertices);
+/// exterior samples keep theirs.
 void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>& step) {
-  LbcBind b = solveLbcForBind(s.cage, s.params, step);
+  BindParams mesh = s.params;
+  mesh.spacing = s.params.spacing / kLbcTargetSampling;
+  LbcBind b = solveLbcForBind(s.cage, mesh, step);
   const MeshField lbc(b.mesh.V, b.mesh.T, std::move(b.result.W));
   std::vector<Index> inside;
   for (Index i = 0; i < s.samples.size(); ++i)

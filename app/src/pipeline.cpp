@@ -81,7 +81,7 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
   // two automatic mesh cells, when that is wider than kExteriorBandSpacings·h (a small cage on a
   // very large picture, whose mesh spacing follows the picture).
   if (p.exterior == sampling::ExteriorExtent::Band)
-    so.band = std::max(sampling::kExteriorBandSpacings * p.spacing, 2.0 * automaticMeshSpacing(width, height, p.spacing));
+    so.band = std::max(sampling::kExteriorBandSpacings * p.spacing, 2.0 * automaticMeshSpacing(width, height, weightSpacing(p)));
   return so;
 }
 
@@ -98,8 +98,22 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
   c.bytes = kDenseBytesPerWeight * c.samples * c.controls + kBytesPerKernelNonZero * c.kernelNonZeros;
   return c;
 }
+
+double weightSpacing(const BindParams& params) {
+  return params.backend == "kc" && params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
+}
+
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget) {
   if (!backendFor(params.backend).capabilities().outsideCage) return params.spacing;
+  if (params.kc.init.method == InitMethod::Lbc) {  // the LBC mesh at a plain bind's spacing, samples denser
+    BindParams plain = params;
+    plain.kc.init.method = InitMethod::HeatLinear;
+    BindParams p = params;
+    for (p.spacing = automaticSpacing(cage, width, height, plain, budget) * kLbcTargetSampling;
+         bindLimitFactor(estimateBindCost(cage, width, height, p)) > 1.0 && p.spacing < 1e6; p.spacing *= 1.05) {
+    }
+    return std::ceil(p.spacing * 100.0) / 100.0;
+  }
   // The budget is counted over the cage and a band around it whatever the extent sampled, so the
   // spacing follows the cage: the same cage 10× larger gets 10× the spacing and the same count.
   BindParams p = params;

@@ -192,6 +192,9 @@ const BackendCase kCases[] = {
     kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance, {{"checker", 0.0056}, {"star", 0.11}, {"figure", 0.41}},
        {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
     kcLinearEdges({{"checker", 0.024}, {"star", 0.13}, {"figure", 1.2}}),
+    // KC on LBC targets (--init lbc: LBC on a mesh of 2h inside, heat-linear outside).
+    kc("kc_qp_exact_lbc_init", Method::QP, InterpMode::Exact, InitMethod::Lbc, {{"checker", 0.0018}, {"star", 0.023}, {"figure", 0.12}},
+       {{"checker", 0.0017}, {"star", 0.012}, {"figure", 0.18}}),
     lbc("lbc_square", LbcTau::Square),
 };
 

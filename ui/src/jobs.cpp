@@ -235,7 +235,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const app::BindParams params = bindParamsFor(state, cage, w, h);
   const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
   const std::string image = state.imagePath;
-  WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, params.spacing, state.outside);
+  WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, app::weightSpacing(params), state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
     // The backend has no weights outside the cage: the outside stays where it is (its default).
     meshOptions.outside = OutsideMode::Fixed;

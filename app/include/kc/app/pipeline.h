@@ -44,6 +44,22 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
 /// 6.35–8.94 px (checker 6.35, stick 7.28, star 7.80, figure 8.94).
 inline constexpr double kAutoSpacingSamples = 2500.0;
 
+/// Kernel coordinates on LBC targets (`--init lbc`) sample the cage at this fraction of the LBC
+/// mesh's spacing: the LBC weights are solved on a mesh of spacing h / kLbcTargetSampling and the
+/// kernel samples lie h apart (h = BindParams::spacing). A kernel field rings where it interpolates
+/// targets that fall to exactly 0 with a kink, and the ring reaches about a sample spacing past
+/// each weight's support; sampling twice as densely as the mesh halves that halo, while the LBC
+/// solve, the bind's slowest stage, keeps its cost. Measured with `kcwarp-cli stats` (controls
+/// above 10⁻³/m per point inside the cage, automatic spacing): figure 9.30 → 6.83, star 4.82 → 4.31
+/// (docs/ARCHITECTURE.md, "KC on LBC targets").
+inline constexpr double kLbcTargetSampling = 0.5;
+
+/// The spacing of the weights' detail, which the warp mesh follows (automaticMeshSpacing): the
+/// sample spacing, or with `--init lbc` (kc backend) the LBC mesh's, spacing / kLbcTargetSampling
+/// (the samples there are denser than the weights' detail; a warp mesh as fine as they are only
+/// costs more per pose).
+double weightSpacing(const BindParams& params);
+
 /// The spacing a bind uses when the user gives none, from the cage rather than the pixels:
 /// `params.spacing` (the 6 px default, the floor) while the estimated sample count of a band
 /// bind (estimateBindCost with ExteriorExtent::Band: the cage's bounding box grown by
@@ -54,7 +70,9 @@ inline constexpr double kAutoSpacingSamples = 2500.0;
 /// 5% steps while it exceeds kcwarp's limits. Where the cage has a feature narrower than
 /// kNarrowFeatureSpacings·h (narrowestGap), h shrinks to narrowest/kNarrowFeatureSpacings (not
 /// below params.spacing), over the budget but never past kcwarp's limits (checkBindCost). Only
-/// the kc backend samples the picture; for others `params.spacing` is returned.
+/// the kc backend samples the picture; for others `params.spacing` is returned. With `--init lbc`
+/// (kc backend) it is kLbcTargetSampling times the spacing of the same bind with heat-linear
+/// targets (which the LBC mesh then uses), grown by 5% steps while it exceeds kcwarp's limits.
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget = kAutoSpacingSamples);
 
 /// "" when every cage feature is at least kNarrowFeatureSpacings·spacing wide (or narrower than
