@@ -177,7 +177,7 @@ TEST(LbcBackend, KernelCoordinatesOnLbcTargetsAreAsLocalAsBoundedBiharmonicWeigh
   plain.spacing = BindParams{}.spacing;
   plain.kc.init.method = InitMethod::HeatLinear;
   EXPECT_LE(p.spacing, kLbcTargetSampling * automaticSpacing(cage, 320, 320, plain) + 0.01);
-  const Session s = bind(cage, 320, 320, p);
+  Session s = bind(cage, 320, 320, p);
   const Diagnostics d = diagnose(s);
   std::printf("[measured] star, --init lbc at %.2f px: %.2f controls above 1e-3/m per point inside\n", p.spacing,
               d.locality.meanInfluencing);
@@ -185,7 +185,30 @@ TEST(LbcBackend, KernelCoordinatesOnLbcTargetsAreAsLocalAsBoundedBiharmonicWeigh
   EXPECT_LE(d.inside.partitionOfUnity, 1e-9);
   EXPECT_LE(d.inside.reproduction, 1e-9);
   EXPECT_LE(d.lagrange, 1e-9);
-  EXPECT_TRUE(sessionCapabilities(s).painting);
+  ASSERT_TRUE(sessionCapabilities(s).painting);
+
+  // A brush stroke (the targets of the samples within 20 px of the centre moved towards control 0,
+  // those rows re-optimized) moves those weights and keeps the exact properties.
+  std::vector<Index> rows;
+  for (Index i = 0; i < s.samples.size(); ++i)
+    if (s.samples.kind[std::size_t(i)] == SampleKind::Interior && (s.samples.X.row(i) - Vec2(160, 160).transpose()).norm() < 20.0) {
+      rows.push_back(i);
+      s.W0.row(i) *= 0.7;
+      s.W0(i, 0) += 0.3;
+    }
+  ASSERT_GT(rows.size(), 10u);
+  const Weights before = s.W;
+  reoptimize(s, s.params.kc.method, rows);
+  double raised = 0.0;
+  for (Index i : rows) {
+    raised += s.W(i, 0) - before(i, 0);
+    EXPECT_NEAR(s.W.row(i).sum(), 1.0, 1e-12);
+    EXPECT_LT((s.W.row(i) * cage.C - s.samples.X.row(i)).norm(), 1e-9);
+  }
+  EXPECT_GT(raised / double(rows.size()), 0.01) << "control 0's weight where it was painted";
+  const Diagnostics painted = diagnose(s, 20000);
+  EXPECT_LE(painted.inside.partitionOfUnity, 1e-9);
+  EXPECT_LE(painted.inside.reproduction, 1e-9);
 }
 
 }  // namespace
