@@ -50,7 +50,8 @@ WarpMeshOptions warpMeshOptionsFor(int width, int height, double fieldSpacing, O
 }
 
 WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside) {
-  return warpMeshOptionsFor(session.imageWidth, session.imageHeight, weightSpacing(session.params), outside);
+  const double detail = session.lbcMeshSpacing > 0.0 ? session.lbcMeshSpacing : weightSpacing(session.params);
+  return warpMeshOptionsFor(session.imageWidth, session.imageHeight, detail, outside);
 }
 
 WarpMesh buildWarpMesh(const Session& session, const WarpMeshOptions& options, WarpExportReport* report,

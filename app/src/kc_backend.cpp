@@ -54,7 +54,8 @@ bool reproducesWeights(const KernelField& field, const Session& s) {
 /// exterior samples keep theirs.
 void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>& step) {
   BindParams mesh = s.params;
-  mesh.spacing = s.params.spacing / kLbcTargetSampling;
+  mesh.spacing = weightSpacing(s.params);
+  s.lbcMeshSpacing = mesh.spacing;
   LbcBind b = solveLbcForBind(s.cage, mesh, step);
   const MeshField lbc(b.mesh.V, b.mesh.T, std::move(b.result.W));
   std::vector<Index> inside;

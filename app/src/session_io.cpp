@@ -91,6 +91,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"margin", p.margin},
                  {"exterior", std::string(toString(p.exterior))},
                  {"seed", p.seed}};
+  if (s.lbcMeshSpacing > 0.0) params["lbc_mesh_spacing"] = s.lbcMeshSpacing;
   if (p.backend == "lbc")
     params["lbc"] = {{"tau", std::string(toString(p.lbc.tau))}, {"tolerance", p.lbc.tolerance}, {"max_iterations", p.lbc.maxIterations}};
   json j = {{"version", 1},
@@ -180,6 +181,12 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   }
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, where);
   p.exterior = parseEnum(params, "exterior", sampling::ExteriorExtent::Frame, where);  // older sessions sampled the frame
+  if (params.contains("lbc_mesh_spacing")) {
+    s.lbcMeshSpacing = detail::boundedNumber(params["lbc_mesh_spacing"], kMaxCoordinate, where, "params.lbc_mesh_spacing");
+    if (!(s.lbcMeshSpacing > 0.0)) throw InputError(where, "params.lbc_mesh_spacing must be a positive number of pixels");
+  } else if (p.backend == "kc" && p.kc.init.method == InitMethod::Lbc) {
+    s.lbcMeshSpacing = p.spacing;  // written before the samples were made denser than the LBC mesh: the mesh was at h
+  }
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");

@@ -161,6 +161,28 @@ TEST(LbcBackend, KernelCoordinatesOnLbcTargets) {
     ASSERT_EQ(local.W0.row(i), heat.W0.row(i)) << i;
   }
   EXPECT_TRUE(sessionCapabilities(local).painting);
+
+  // The session records the LBC mesh's spacing, which the warp mesh follows; it survives a save.
+  // A file written before the samples were made denser than the mesh has no such key: its mesh was
+  // at the sample spacing, so its warp mesh follows that, as it did when it was written.
+  EXPECT_EQ(local.lbcMeshSpacing, weightSpacing(p));
+  EXPECT_EQ(heat.lbcMeshSpacing, 0.0);
+  const Session reloaded = sessionFromJson(sessionToJson(local), "local.kcw.json");
+  EXPECT_EQ(reloaded.lbcMeshSpacing, local.lbcMeshSpacing);
+  EXPECT_EQ(warpMeshOptionsFor(reloaded).spacing, automaticMeshSpacing(320, 320, weightSpacing(p)));
+  nlohmann::json older = nlohmann::json::parse(sessionToJson(local));
+  older["params"].erase("lbc_mesh_spacing");
+  const Session old = sessionFromJson(older.dump(), "older.kcw.json");
+  EXPECT_EQ(old.lbcMeshSpacing, p.spacing);
+  EXPECT_EQ(warpMeshOptionsFor(old).spacing, automaticMeshSpacing(320, 320, p.spacing));
+  older["params"]["lbc_mesh_spacing"] = -3.0;
+  try {
+    (void)sessionFromJson(older.dump(), "bad.kcw.json");
+    ADD_FAILURE() << "a negative LBC mesh spacing was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.kcw.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("lbc_mesh_spacing"), std::string::npos) << e.what();
+  }
 }
 
 TEST(LbcBackend, KernelCoordinatesOnLbcTargetsAreAsLocalAsBoundedBiharmonicWeights) {

@@ -13,7 +13,8 @@ namespace kc::app {
 
 /// The warp mesh options of a session's picture, the same for `kcwarp-cli warp`, the GUI's export
 /// and its display: outside mode `outside`, spacing kc::automaticMeshSpacing(image size, h =
-/// weightSpacing(session.params), the sample spacing but for `--init lbc`) — max(4, 2h/3, √(w·h/2¹⁶)) px.
+/// weightSpacing(session.params), the sample spacing but for `--init lbc`, whose session records its
+/// LBC mesh's spacing: Session::lbcMeshSpacing) — max(4, 2h/3, √(w·h/2¹⁶)) px.
 WarpMeshOptions warpMeshOptionsFor(const Session& session, OutsideMode outside = OutsideMode::Pinned);
 /// The same before a session exists (a bind about to start): a width×height picture whose field
 /// will be sampled at `fieldSpacing` px (0: unknown).

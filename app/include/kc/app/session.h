@@ -104,6 +104,11 @@ struct Session {
   /// The user's outside-the-cage choice ("pinned", "deform", "fixed", "transparent"; kc::OutsideMode
   /// names), empty when none was made: warps then use WarpMeshOptions' default (pinned).
   std::string outside;
+  /// Kernel coordinates on LBC targets (`--init lbc`, kc backend): the spacing of the LBC mesh the
+  /// targets were solved on, which the warp mesh follows (warpMeshOptionsFor). Sessions written
+  /// before the samples were made denser than that mesh read their sample spacing (their mesh was
+  /// at it). 0: not such a session, or one built in memory: weightSpacing(params).
+  double lbcMeshSpacing = 0.0;
   BindTimings timings;         ///< How long the bind took.
   SolverReports reports;       ///< What the solvers reported.
   /// The coordinate field: the only way to weights at points. Built by the backend (bind) or
