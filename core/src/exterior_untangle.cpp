@@ -451,7 +451,7 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
         }
       }
     }
-    if (options.stepRelaxSweeps > 0 && r.badAround(0.0, nullptr).empty()) {
+    if (options.stepRelaxSweeps > 0) {  // (a region the untangling left folded is not relaxed: its energy is infinite)
       const ExteriorRelaxReport relaxed = relaxExteriorRegion(restX, P, triangles, nt, topology, r.region, options.stepRelaxSweeps);
       visits += double(r.region.size()) * relaxed.sweeps;
     }

@@ -87,7 +87,7 @@ struct ExteriorRepairReport {
   bool warmStart = false;    ///< The continuation started from an earlier result (ExteriorRepairStart).
   int sweeps = 0;            ///< Untangling sweeps run, over all steps.
   int retries = 0;           ///< Continuation steps taken back and halved (they left a fold).
-  int relaxSweeps = 300;       ///< Relaxation sweeps run (0: none, or the region kept a fold).
+  int relaxSweeps = 0;       ///< Relaxation sweeps run at the end (0: none, or the region kept a fold).
 };
 
 /// The image rectangle whose border vertices may give way (x0 < x1, y0 < y1: the rest positions
