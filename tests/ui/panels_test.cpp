@@ -264,5 +264,18 @@ TEST(BindPanel, AutoSpacingFollowsThePictureAndTheSliderWinsWhenOff) {
   EXPECT_DOUBLE_EQ(bindParamsFor(state, cageOver(4000, 3000), 4000, 3000).spacing, 3.5);
 }
 
+/// The spacing shown next to "Auto spacing" is the one Bind will use: switching Initialization to
+/// LBC (whose kernel samples lie at half a plain bind's spacing) changes it at once.
+TEST(BindPanel, AutoSpacingShownFollowsTheInitialization) {
+  auto s = test::boundState();
+  s->autoSpacing = true;
+  s->bindParams.kc.init.method = InitMethod::HeatLinear;
+  const double plain = autoSpacingShown(*s);
+  s->bindParams.kc.init.method = InitMethod::Lbc;
+  const double lbc = autoSpacingShown(*s);
+  EXPECT_EQ(lbc, bindParamsFor(*s, s->cage, s->source.width, s->source.height).spacing);
+  EXPECT_LT(lbc, 0.75 * plain) << "plain " << plain << ", lbc " << lbc;
+}
+
 }  // namespace
 }  // namespace kc::ui

@@ -205,6 +205,7 @@ double autoSpacingShown(AppState& state) {
                     shown.params.backend == p.backend && shown.params.sampler == p.sampler && shown.params.margin == p.margin &&
                     shown.params.exterior == p.exterior &&
                     shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
+                    shown.params.kc.init.method == p.kc.init.method &&  // --init lbc samples at half the spacing
                     shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C;
   if (!same) {
     shown = {state.cage.C, state.source.width, state.source.height, p,
