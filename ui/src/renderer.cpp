@@ -299,12 +299,15 @@ void Renderer::updateDetailTexture(AppState& state, double texelsPerPixel, bool 
   const PixelRect need = restRegion(0.05);
   if (need.empty()) return;
   const PixelRect& have = m_detail.rect;
-  if (!have.empty() && m_detail.scale >= 0.95 * want && have.x0 <= need.x0 && have.y0 <= need.y0 &&
-      have.x0 + have.width >= need.x0 + need.width && have.y0 + have.height >= need.y0 + need.height)
-    return;
+  const bool covers = !have.empty() && have.x0 <= need.x0 && have.y0 <= need.y0 &&
+                      have.x0 + have.width >= need.x0 + need.width && have.y0 + have.height >= need.y0 + need.height;
+  // Within 5% of the wanted scale is kept, except at 100% and beyond: there a detail short of full
+  // resolution (made on the way in, one wheel step per frame) blurs one-pixel detail.
+  if (covers && m_detail.scale >= 0.95 * want && (want < 1.0 || m_detail.scale >= 1.0)) return;
   const auto t0 = std::chrono::steady_clock::now();
   const PixelRect crop = restRegion(0.3);
   const double scale = std::min(want, double(m_displayLimit) / std::max(crop.width, crop.height));
+  if (covers && scale <= m_detail.scale) return;  // nothing finer fits the texture limit
   const int ow = std::clamp(static_cast<int>(std::lround(crop.width * scale)), 1, crop.width);
   const int oh = std::clamp(static_cast<int>(std::lround(crop.height * scale)), 1, crop.height);
   if (scale <= m_display.scale * 1.05) return;  // no finer than the display texture
