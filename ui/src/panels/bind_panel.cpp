@@ -116,11 +116,18 @@ void drawBindPanel(AppState& state) {
   float spacing = static_cast<float>(p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
   ImGui::EndDisabled();
-  tooltip(lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels.\n"
-                "Smaller: finer detail, slower Bind. Larger: faster, coarser."
-              : spacingFixed ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
-                             : "Distance between the sample points the weights are computed at, in pixels.\n"
-                               "Smaller: finer detail, slower Bind. Larger: faster, smoother.");
+  std::string tip = lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels.\n"
+                          "Smaller: finer detail, slower Bind. Larger: faster, coarser."
+                        : spacingFixed ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
+                                       : "Distance between the sample points the weights are computed at, in pixels.\n"
+                                         "Smaller: finer detail, slower Bind. Larger: faster, smoother.";
+  if (!lbc && p.kc.init.method == InitMethod::Lbc) {
+    char line[128];
+    std::snprintf(line, sizeof line, "\nWith LBC initialization the LBC mesh's edges are %.3g times this spacing.",
+                  1.0 / app::kLbcTargetSampling);
+    tip += line;
+  }
+  tooltip(tip.c_str());
   if (lbc) {
     lbcControls(state);
     ImGui::PopItemWidth();
