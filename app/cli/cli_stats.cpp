@@ -10,6 +10,7 @@
 #include "kc/app/text.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
+#include "kc/app/line_metrics.h"
 
 namespace kc::cli {
 namespace {
@@ -77,9 +78,25 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
   if (d.sticks) std::printf("%-38s %14.3e\n", "  on the sticks alone       max dev.", d.stickLinearity);
 }
 
+/// Structure lines: how straight and parallel they stay under random translations (issue 13's
+/// measurement: every control moved by up to ±40 px, 50 poses).
+constexpr int kLineTrials = 50;
+constexpr double kLineTranslation = 40.0;
+
+void printLines(const app::Session& s) {
+  if (s.structure.lines.empty() || !s.hasField()) return;
+  const app::LineFigures f = app::measureLines(s, s.structure.lines, kLineTrials, kLineTranslation);
+  std::printf("%-38s %14.3e  (%zu lines; %d random translations of every control by up to +-%g px)\n",
+              "structure lines  bend px", f.deviation, s.structure.lines.size(), kLineTrials, kLineTranslation);
+  bool grouped = false;
+  for (const StructureLine& l : s.structure.lines) grouped = grouped || l.group >= 0;
+  if (grouped) std::printf("%-38s %14.3e\n", "  parallel groups  angle deg", f.angle);
+}
+
 void printText(const app::Session& s, const app::Diagnostics& d, const std::string& path) {
   printHeader(s, path);
   printProperties(s, d);
+  printLines(s);
   std::printf("\nlocality inside the cage (LBC eq. 19-21, every %d px):\n%s", d.pixelStep, localityText(d, "  ").c_str());
   std::printf("\n%s\n", s.reports.summary().c_str());
   if (s.reports.lbcMesh > 0) std::printf("%s", lbcSolverText(s, "  ").c_str());
@@ -148,6 +165,11 @@ void addStatsCommand(CLI::App& app) {
               {"timings",
                {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                 {"optimize", t.optimize}, {"solve", t.solve}, {"total", t.total}, {"evaluate", d.evalSeconds}}}};
+    if (!s.structure.lines.empty() && s.hasField()) {
+      const app::LineFigures f = app::measureLines(s, s.structure.lines, kLineTrials, kLineTranslation);
+      j["lines"] = {{"count", s.structure.lines.size()}, {"bend_px", f.deviation}, {"parallel_angle_deg", f.angle},
+                    {"trials", kLineTrials}, {"max_translation_px", kLineTranslation}};
+    }
     if (s.reports.lbcMesh > 0) {
       const LbcReport& r = s.reports.lbc;
       j["solver"]["lbc"] = {{"mesh_vertices", s.reports.lbcMesh},

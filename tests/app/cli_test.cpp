@@ -61,6 +61,34 @@ TEST(CliBind, BindEvalStatsOnSquare) {
   EXPECT_TRUE(contains(r.out, "Lagrange"));
 }
 
+TEST(CliBind, StatsMeasureHowStraightTheStructureLinesStay) {
+  const auto dir = scratchDir("cli_stats_lines");
+  writeText(dir / "cage.json", R"({"version": 1, "points": [[8,8],[152,8],[152,152],[8,152]], "closed": true})");
+  writeText(dir / "lines.json", R"({"version": 1, "lines": [{"points": [[40,50],[120,60]], "parallel": "p"},
+                                                          {"points": [[40,100],[120,110]], "parallel": "p"}]})");
+  CliResult r = runCli("bind --cage cage.json --size 160,160 --spacing 5 --structure lines.json -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = runCli("stats --session s.kcw.json --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.contains("lines")) << r.out;
+  EXPECT_EQ(j["lines"]["count"], 2);
+  EXPECT_LE(j["lines"]["bend_px"].get<double>(), 0.1);
+  EXPECT_GT(j["lines"]["bend_px"].get<double>(), 0.0);  // measured, not a placeholder: a kernel field is never exactly linear
+  EXPECT_LE(j["lines"]["parallel_angle_deg"].get<double>(), 0.05);
+  r = runCli("stats --session s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "structure lines  bend px")) << r.out;
+  EXPECT_TRUE(contains(r.out, "parallel groups  angle deg")) << r.out;
+
+  // A session without lines has no such row.
+  r = runCli("bind --cage cage.json --size 160,160 --spacing 5 -o plain.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = runCli("stats --session plain.kcw.json --json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_FALSE(nlohmann::json::parse(r.out).contains("lines"));
+}
+
 TEST(CliSample, WritesSamplesMetricsAndPicture) {
   const auto dir = scratchDir("cli_sample");
   writeText(dir / "cage.json", kSquare);

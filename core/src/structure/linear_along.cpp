@@ -66,11 +66,13 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   for (int sweep = 0; sweep < std::max(1, options.sweeps); ++sweep)
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec2 a = segments[s].a, b = segments[s].b;
-    std::vector<Index> nodes, held, onLine, own, others;  // onLine: held samples on the segment (fit, not held)
+    std::vector<Index> nodes, held, onLine, own, others, loose;  // onLine: held samples on the segment (fit, not held)
     for (Index j = 0; j < n; ++j) {
       const double d = pointSegmentDistance(X.row(j), a, b);
       if (d <= radius) nodes.push_back(j);
-      if (d <= radius + theta && keep[std::size_t(j)]) (d <= 1e-9 * (1.0 + X.row(j).cwiseAbs().maxCoeff()) ? onLine : held).push_back(j);
+      if (d > radius + theta) continue;
+      if (keep[std::size_t(j)]) (d <= 1e-9 * (1.0 + X.row(j).cwiseAbs().maxCoeff()) ? onLine : held).push_back(j);
+      else if (options.freeWeight > 0.0) loose.push_back(j);
     }
     for (Index q = 0; q < total; ++q) {
       if (owner[std::size_t(q)] == s) own.push_back(q);
@@ -80,7 +82,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     // One least-norm least-squares system: the fit rows, then the side conditions weighted by
     // options.holdWeight.
     const Index cols = Index(nodes.size());
-    const Index rows = Index(own.size() + onLine.size() + held.size() + others.size()) + (exact ? 3 : 0);
+    const Index rows = Index(own.size() + onLine.size() + held.size() + others.size() + loose.size()) + (exact ? 3 : 0);
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, cols), rhs = Eigen::MatrixXd::Zero(rows, m);
     auto kernelRow = [&](Index r, const Vec2& p, double weight) {
       for (Index c = 0; c < cols; ++c) A(r, c) = weight * kernel((p - Vec2(X.row(nodes[std::size_t(c)]))).squaredNorm());
@@ -94,6 +96,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     const double w = options.holdWeight;
     for (Index i : held) kernelRow(r++, X.row(i), w);
     for (Index q : others) kernelRow(r++, F.row(q), w);
+    for (Index i : loose) kernelRow(r++, X.row(i), options.freeWeight);
     if (exact) {
       for (Index c = 0; c < cols; ++c) {
         A(r, c) = w;

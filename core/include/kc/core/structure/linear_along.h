@@ -25,6 +25,8 @@ struct LinearityOptions {
                                  ///< moved at the fit points of earlier ones, as at the corners of a cage).
   double holdWeight = 1.0;       ///< Weight of the side conditions (held samples, other lines, PᵀΔU = 0) against the fit
                                  ///< (larger weights make the COD drop fit directions: 10 gave a 40× looser fit on the star).
+  double freeWeight = 0.003;     ///< Weight of k(x_i, X_N) ΔU ≈ 0 at the samples that are not held but within the change's
+                                 ///< reach: keeps their weights near the optimized ones (0: only the least-norm ΔU limits them).
 };
 
 struct LinearityReport {
@@ -44,6 +46,7 @@ struct LinearityReport {
 ///                         line samples: Lagrange and the other lines' weights stay as they are),
 ///   k(F_t, X_N) ΔU = 0   at the fit points of every other segment t within that reach,
 ///   [1 x y]_Nᵀ ΔU = 0    (exact mode: the polynomial side condition PᵀU = 0 of 1.9 / 6.2),
+///   k(x_i, X_N) ΔU ≈ 0   softly (weight freeWeight) at the other samples within the change's reach,
 /// and W += K(·, N) ΔU. The field's coefficients become U + ΔU with B unchanged: every change is
 /// a sum of kernels within reach·σ + θ of the segment (weights farther away are untouched), and
 /// since each row of ΔU is a combination of rows w(F) − linear(F), which satisfy 1ᵀe = 0 and
