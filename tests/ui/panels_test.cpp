@@ -138,6 +138,24 @@ TEST(ToolsPanel, RadioButtonsSelectTools) {
   EXPECT_EQ(s->tool, Tool::Cage);
 }
 
+TEST(WeightsPanel, HeatmapBoxIsTickedOnlyWhereThePictureShowsTheHeatmap) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  s->heat.show = true;  // the Brush tool's heatmap is on by default
+  gui.frame(draw);
+  gui.clickLabel(*s, "Rigid (R)", draw);
+  ASSERT_EQ(s->tool, Tool::Rigid);
+  gui.frame(draw);
+  gui.clickLabel(*s, "Heatmap", draw);  // disabled here: the rigidity tint is drawn, not the heatmap
+  EXPECT_TRUE(s->heat.show) << "a click on the disabled box changed the Brush tool's heatmap";
+  gui.clickLabel(*s, "Pose (P)", draw);
+  gui.frame(draw);
+  const bool before = s->heat.showInPose;
+  gui.clickLabel(*s, "Heatmap", draw);
+  EXPECT_NE(s->heat.showInPose, before) << "in the Pose tool the box switches the heatmap";
+}
+
 TEST(DiagnosticsPanel, MeasuresTheBoundSession) {
   test::HeadlessImGui gui;
   auto s = test::boundState();

@@ -76,8 +76,15 @@ void drawWeightsPanel(AppState& state) {
     ImGui::TextDisabled("Bind a cage to see and edit its influence.");
     return;
   }
-  checkbox(state, "Heatmap", state.tool == Tool::Pose ? &state.heat.showInPose : &state.heat.show,
-           "Colour the picture by how strongly the active point pulls on it.");
+  // The picture shows the heatmap in the Pose and Brush tools only (the others draw their own
+  // overlays: cage, lines, rigidity); elsewhere the box is shown off and disabled, not ticked.
+  const bool heatTool = state.tool == Tool::Pose || state.tool == Tool::Brush;
+  bool noHeat = false;
+  ImGui::BeginDisabled(!heatTool);
+  checkbox(state, "Heatmap", !heatTool ? &noHeat : state.tool == Tool::Pose ? &state.heat.showInPose : &state.heat.show,
+           heatTool ? "Colour the picture by how strongly the active point pulls on it."
+                    : "Colour the picture by how strongly the active point pulls on it (in the Pose and Brush tools).");
+  ImGui::EndDisabled();
   ImGui::SameLine();
   if (radio(state, "Linear", !state.heat.log, "Colours proportional to the influence.")) state.heat.log = false;
   ImGui::SameLine();
