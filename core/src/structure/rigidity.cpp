@@ -9,6 +9,7 @@
 #include <string>
 
 #include "kc/core/spatial_grid.h"
+#include "../huge_pages.h"
 
 namespace kc {
 namespace {
@@ -74,6 +75,7 @@ SparseMatrix rigidityHessian(const SparseRowMatrix& Gx, const SparseRowMatrix& G
   const Index n = Kr.cols();
   if (n <= denseNodes) {
     Eigen::MatrixXd H(n, n);  // the lower triangle only (the upper half's memory stays untouched)
+    detail::preferHugePages(H);
     for (Index j = 0; j < n; ++j) H.col(j).tail(n - j).setZero();
     const Eigen::VectorXd w = kappa * rhoQ;
     addRowGram(Gx, w, H);

@@ -2,19 +2,20 @@
 
 #include <algorithm>
 
+#include "../dense_blas.h"
+
 namespace kc::detail {
 
 bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block) {
   const Index n = A.rows();
   for (Index k = 0; k < n; k += block) {
     const Index b = std::min(block, n - k), rest = n - k - b;
-    Eigen::Ref<Eigen::MatrixXd> A11 = A.block(k, k, b, b);
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(A11);  // in place: L11 in A11's lower triangle
-    if (llt.info() != Eigen::Success) return false;
+    auto A11 = A.block(k, k, b, b);
+    if (!blas::cholesky(A11)) return false;  // L11 in A11's lower triangle
     if (rest > 0) {
-      Eigen::Ref<Eigen::MatrixXd> A21 = A.block(k + b, k, rest, b);
-      A11.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(A21);  // L21 = A21 L11⁻ᵀ
-      A.block(k + b, k + b, rest, rest).selfadjointView<Eigen::Lower>().rankUpdate(A21, -1.0);  // A22 −= L21 L21ᵀ
+      auto A21 = A.block(k + b, k, rest, b);
+      blas::solveLowerTransposeRight(A11, A21);                           // L21 = A21 L11⁻ᵀ
+      blas::rankUpdateLower(A.block(k + b, k + b, rest, rest), A21, -1.0, 1.0);  // A22 −= L21 L21ᵀ
     }
     if (tick) tick();
   }
@@ -30,48 +31,55 @@ Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& S, double rankTole
   return eig.eigenvectors() * inv.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-bool DenseConstrainedSolve::compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick) {
-  // The lower triangle of M only: the factorization and the solves read nothing else, and the
-  // upper half's memory is never touched (fresh pages cost faults).
-  const Index n = M.rows();
+bool DenseConstrainedSolve::compute(const SparseMatrix& H, double scale, double shift, const RowMatrix& A, double rankTolerance,
+                                    const Tick& tick) {
+  // The lower triangle of M = scale·H + shift·I only: the factorization and the solves read nothing
+  // else, and the upper half's memory is never touched (fresh pages cost faults).
+  const Index n = H.rows();
   m_L.resize(n, n);
+  preferHugePages(m_L);
   for (Index j = 0; j < n; ++j) {
     m_L.col(j).tail(n - j).setZero();
-    for (SparseMatrix::InnerIterator it(M, j); it; ++it)
-      if (it.row() >= j) m_L(it.row(), j) = it.value();
+    for (SparseMatrix::InnerIterator it(H, j); it; ++it)
+      if (it.row() >= j) m_L(it.row(), j) = scale * it.value();
+    m_L(j, j) += shift;
   }
   if (!blockedCholesky(m_L, tick)) return false;
-  m_V.resize(M.rows(), 0);
+  m_V.resize(n, 0);
   m_Splus.resize(0, 0);
   if (A.rows() == 0) return true;
   m_V = A.transpose();
-  m_L.triangularView<Eigen::Lower>().solveInPlace(m_V);
+  blas::solveLower(m_L, m_V);
   m_Splus = symmetricPseudoInverse(m_V.transpose() * m_V, rankTolerance);
   return true;
 }
 
 Eigen::MatrixXd DenseConstrainedSolve::solve(const Eigen::MatrixXd& rhs) const {
   Eigen::MatrixXd w = rhs;
-  m_L.triangularView<Eigen::Lower>().solveInPlace(w);
+  blas::solveLower(m_L, w);
   if (m_V.cols() > 0) w -= m_V * (m_Splus * (m_V.transpose() * w));
-  m_L.triangularView<Eigen::Lower>().transpose().solveInPlace(w);
+  blas::solveLower(m_L, w, true);
   return w;
 }
 
 Eigen::MatrixXd DenseConstrainedSolve::halfSolve(const SparseMatrix& Kc, const Tick& tick) const {
   const Index c = Kc.rows();
   constexpr Index kBlock = 128;
-  Eigen::MatrixXd W = Eigen::MatrixXd(SparseMatrix(Kc.transpose()));  // n×c
+  Eigen::MatrixXd W(Kc.cols(), c);  // n×c: Kcᵀ, dense
+  preferHugePages(W);
+  W.setZero();
+  for (Index j = 0; j < Kc.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(Kc, j); it; ++it) W(j, it.row()) = it.value();
   for (Index j = 0; j < c; j += kBlock) {
-    auto Wj = W.middleCols(j, std::min(kBlock, c - j));
-    m_L.triangularView<Eigen::Lower>().solveInPlace(Wj);
+    blas::solveLower(m_L, W.middleCols(j, std::min(kBlock, c - j)));
     if (tick) tick();
   }
   return W;
 }
 
 Eigen::MatrixXd DenseConstrainedSolve::cross(const Eigen::MatrixXd& W1, const Eigen::MatrixXd& W2) const {
-  Eigen::MatrixXd K = W1.transpose() * W2;
+  Eigen::MatrixXd K(W1.cols(), W2.cols());
+  blas::multiply(K, W1, true, W2, false);
   if (m_V.cols() > 0) K -= (m_V.transpose() * W1).transpose() * (m_Splus * (m_V.transpose() * W2));
   return K;
 }
@@ -79,9 +87,11 @@ Eigen::MatrixXd DenseConstrainedSolve::cross(const Eigen::MatrixXd& W1, const Ei
 Eigen::MatrixXd DenseConstrainedSolve::gram(const Eigen::MatrixXd& W, const Tick& tick) const {
   const Index n = W.rows(), c = W.cols();
   constexpr Index kBlock = 128;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(c, c);
+  Eigen::MatrixXd K(c, c);
+  preferHugePages(K);
+  for (Index j = 0; j < c; ++j) K.col(j).tail(c - j).setZero();
   for (Index i = 0; i < n; i += kBlock) {  // K += W_iᵀ W_i over blocks of W's rows
-    K.selfadjointView<Eigen::Lower>().rankUpdate(W.middleRows(i, std::min(kBlock, n - i)).transpose());
+    blas::rankUpdateLower(K, W.middleRows(i, std::min(kBlock, n - i)), 1.0, 1.0, true);
     if (tick) tick();
   }
   K.triangularView<Eigen::StrictlyUpper>() = K.transpose();
@@ -122,7 +132,7 @@ bool PairSystem::factorize(const std::vector<Index>& set) {
   m_columns.clear();
   const Index nb = Index(set.size());
   if (m_capacity < nb * nb) {  // kept: a smaller set reuses the memory (left uninitialized: fill writes what is read)
-    m_store.reset(new double[std::size_t(nb * nb)]);
+    m_store = allocateHuge(std::size_t(nb * nb));
     m_capacity = nb * nb;
   }
   fill(m_base, m_base, base(), true);  // the factorization reads the lower triangle only
@@ -133,8 +143,8 @@ bool PairSystem::factorize(const std::vector<Index>& set) {
 
 void PairSystem::solveBase(Eigen::Ref<Eigen::MatrixXd> v) const {
   const Eigen::Map<const Eigen::MatrixXd> L(m_store.get(), Index(m_base.size()), Index(m_base.size()));
-  L.triangularView<Eigen::Lower>().solveInPlace(v);
-  L.triangularView<Eigen::Lower>().transpose().solveInPlace(v);
+  blas::solveLower(L, v);
+  blas::solveLower(L, v, true);
 }
 
 void PairSystem::addColumns(const std::vector<Index>& pairs) {

@@ -14,6 +14,7 @@
 
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
+#include "../huge_pages.h"
 
 namespace kc::detail {
 
@@ -23,8 +24,9 @@ using Tick = std::function<void()>;
 
 /// A = L Lᵀ in place for a symmetric positive definite A (n×n; the lower triangle is read, L is
 /// left in it), right-looking by panels of `block` columns (factor the diagonal block, solve the
-/// panel below it, update the trailing block), with tick() after each panel. Returns false when a
-/// pivot is not positive (A is then partly overwritten).
+/// panel below it, update the trailing block: LAPACK's dpotrf, BLAS's dtrsm and dsyrk, see
+/// dense_blas.h), with tick() after each panel. Returns false when a pivot is not positive (A is
+/// then partly overwritten).
 bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block = 192);
 
 /// The pseudo-inverse of a symmetric S (a×a): its eigenvalues below rankTolerance × the largest
@@ -37,9 +39,9 @@ Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& S, double rankTole
 /// (S's pseudo-inverse: held samples close together make it nearly singular).
 class DenseConstrainedSolve {
  public:
-  /// Factorizes M (a dense copy of its lower triangle; L's upper triangle is left unset) and forms
-  /// V and S⁺; false when M is not positive definite.
-  bool compute(const SparseMatrix& M, const RowMatrix& A, double rankTolerance, const Tick& tick);
+  /// Factorizes M = scale·H + shift·I (a dense copy of its lower triangle; L's upper triangle is
+  /// left unset) and forms V and S⁺; false when M is not positive definite.
+  bool compute(const SparseMatrix& H, double scale, double shift, const RowMatrix& A, double rankTolerance, const Tick& tick);
   /// M⁻¹_A rhs for rhs n×k.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& rhs) const;
   /// W = L⁻¹ Kcᵀ (n×c) for rows Kc (c×n), by blocks of 128 columns with tick() between them.
@@ -97,8 +99,8 @@ class PairSystem {
   Tick m_tick;
   std::vector<Index> m_base;                  // B (ascending)
   std::unordered_map<Index, Index> m_pos;     // pair → position in B
-  std::unique_ptr<double[]> m_store;          // Q_BB + εI = L Lᵀ (L in the lower triangle); grows only: fresh
-  Index m_capacity = 0;                       // memory costs page faults, and a smaller set reuses it
+  HugeArray m_store;                          // Q_BB + εI = L Lᵀ (L in the lower triangle); grows only: fresh
+  Index m_capacity = 0;                       // memory costs page faults (huge pages: fewer), and a smaller set reuses it
   std::unordered_map<Index, Eigen::VectorXd> m_columns;  // X's columns by pair
   bool m_factored = false;
   int m_factorizations = 0;

@@ -309,20 +309,23 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   const detail::Tick tick = [&] {
     if (!goOn(options, stage)) throw RigidityQpCancelled();
   };
-  const SparseMatrix H2 = 2.0 * qp.H;
-  SparseMatrix M = H2;
-  SparseMatrix shift(n, n);
-  shift.setIdentity();
-  M += (1e-13 * std::max(H2.diagonal().sum() / double(n), 1e-300)) * shift;
-  M.makeCompressed();
+  // M = 2H + a tiny diagonal shift (definite where H is only semi-definite).
+  const double shift = 1e-13 * std::max(2.0 * qp.H.diagonal().sum() / double(n), 1e-300);
   const auto tf = std::chrono::steady_clock::now();
   // (2H)⁻¹_A: a dense factorization up to maxDenseNodes (Kq's blocks then cost a triangular solve
   // and products), CHOLMOD's sparse one beyond.
   const bool dense = n <= options.maxDenseNodes;
   detail::DenseConstrainedSolve denseSolver;
   ConstrainedSolve sparseSolver;
-  if (dense ? !denseSolver.compute(M, qp.A, options.rankTolerance, tick) : !sparseSolver.compute(M, qp.A, options.rankTolerance))
-    return false;
+  if (dense) {
+    if (!denseSolver.compute(qp.H, 2.0, shift, qp.A, options.rankTolerance, tick)) return false;
+  } else {
+    SparseMatrix M = 2.0 * qp.H, I(n, n);
+    I.setIdentity();
+    M += shift * I;
+    M.makeCompressed();
+    if (!sparseSolver.compute(M, qp.A, options.rankTolerance)) return false;
+  }
   auto solveA = [&](const Eigen::MatrixXd& rhs) { return dense ? denseSolver.solve(rhs) : sparseSolver.solve(rhs); };
   rep.factorSeconds = secondsSince(tf);
   stage = 0.1;
