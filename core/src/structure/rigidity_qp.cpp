@@ -1,6 +1,7 @@
 #include "kc/core/structure/rigidity_qp.h"
 
 #include <Eigen/Dense>
+#include <omp.h>
 #include <chrono>
 #include <algorithm>
 #include <cmath>
@@ -288,6 +289,22 @@ class WorkingGram {
   Eigen::MatrixXd m_W, m_Kq;
 };
 
+/// Eigen's own products on the calling thread while it lives (the OpenMP thread count of this thread
+/// only; BLAS keeps its threads). The active set's Eigen products are small (Q Λ = Kq Λ P is ~5 MFlop
+/// per round on a 500-sample region): split over two threads, each waits for the other to be
+/// scheduled, and with the machine's other cores busy that made the star's 500-sample release about
+/// 2.5× slower (510–570 ms against 190–200 ms with this guard, load 5–6 on 2 cores; docs/rigidity.md).
+class SerialEigen {
+ public:
+  SerialEigen() : m_before(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SerialEigen() { omp_set_num_threads(m_before); }
+  SerialEigen(const SerialEigen&) = delete;
+  SerialEigen& operator=(const SerialEigen&) = delete;
+
+ private:
+  int m_before;
+};
+
 /// The bounds' dual d(Λ) over Λ ≥ 0 (BoundDual above) after one factorization of 2H with A
 /// through its Schur complement, by proximal point steps (docs/rigidity.md): each step minimizes
 /// d(Λ) + ε/2‖Λ − Λ_k‖², a linear complementarity problem with the positive definite Q + εI, by
@@ -304,6 +321,7 @@ class WorkingGram {
 /// converge within maxActiveSetRounds (the caller falls back to ADMM); throws
 /// RigidityQpCancelled when options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
+  const SerialEigen serial;
   const Index n = qp.H.rows(), c = qp.Kc.rows();
   double stage = 0.0;  // the share reported between blocks of dense work
   const detail::Tick tick = [&] {
