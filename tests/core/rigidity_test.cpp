@@ -275,6 +275,40 @@ TEST(Rigidity, FlattensTheRegionKeepsPropertiesAndLeavesFarWeights) {
   EXPECT_LE((reloaded.weightsAt(P) - after).cwiseAbs().maxCoeff(), 1e-10);
 }
 
+// The large-region path (RigidityQpMethod::Splitting, to a moderate tolerance) on the same region:
+// after the row projection every painted sample keeps its bound exactly, partition of unity and
+// reproduction stay exact, and the energy is the active set's to 1%.
+TEST(Rigidity, SplittingPathKeepsBoundsAndPropertiesExactly) {
+  RigidRegion region;
+  region.polygon.resize(3, 2);
+  region.polygon << 20, 22, 42, 24, 30, 42;
+  double energy[2] = {0.0, 0.0};
+  for (const RigidityQpMethod method : {RigidityQpMethod::ActiveSet, RigidityQpMethod::Splitting}) {
+    Square s;
+    bindSquare(s, InterpMode::Exact);
+    const std::vector<double> rho = rigidityOfRegions(s.S.X, std::span(&region, 1));
+    std::vector<char> keep(rho.size(), 0);
+    for (int i = 0; i < 8; ++i) keep[std::size_t(i)] = 1;
+    Weights W = s.W;
+    RigidityOptions o;
+    o.solver.method = method;
+    const RigidityReport rep = makeRigid(s.field, s.C, rho, keep, W, o);
+    ASSERT_EQ(rep.solver.method, method);
+    energy[method == RigidityQpMethod::Splitting] = rep.energyAfter;
+    for (Index i = 0; i < W.rows(); ++i)
+      if (rho[std::size_t(i)] > 0.0 && !keep[std::size_t(i)]) {
+        EXPECT_GE((W.row(i) - s.W.row(i).cwiseMin(0.0)).minCoeff(), 0.0) << "sample " << i;
+      }
+    EXPECT_LE((W.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-12);
+    EXPECT_LE((W * s.C - s.S.X).cwiseAbs().maxCoeff(), 1e-10);
+    const Points P = test::randomPointsIn(500, 6.0, 54.0, 9);
+    const Weights after = s.field.weightsAt(P);
+    EXPECT_LE((after.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
+    EXPECT_LE((after * s.C - P).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  EXPECT_NEAR(energy[1], energy[0], 0.01 * energy[0]);
+}
+
 TEST(Rigidity, StrengthBlendsFromUnconstrainedToRigid) {
   double last = 0.0;
   for (double strength : {0.0, 0.25, 0.5, 1.0}) {

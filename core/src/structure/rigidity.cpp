@@ -10,6 +10,7 @@
 
 #include "kc/core/spatial_grid.h"
 #include "../huge_pages.h"
+#include "rigidity_admm.h"
 
 namespace kc {
 namespace {
@@ -318,8 +319,13 @@ RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const do
 
   const RowMatrix dU = solveRigidityQp(qp, options.solver, &rep.solver);
 
-  // Apply: W(Ch) += K(Ch, N) ΔU; re-solve the active columns.
-  const RowMatrix dW = Kr * dU;
+  // Apply: W(Ch) += K(Ch, N) ΔU, the constrained rows projected onto their bounds (exact
+  // non-negativity at the solver's tolerance's cost; docs/rigidity.md, "Large regions"); re-solve
+  // the active columns.
+  RowMatrix dW = Kr * dU;
+  const detail::RowProjection projected = detail::projectRows(qp.Z, qp.L, constrained, dW);
+  rep.projectedRows = projected.changed;
+  rep.projectionChange = projected.largest;
   rep.minWeight = std::numeric_limits<double>::infinity();
   for (Index k = 0; k < nCh; ++k) {
     const Index i = Ch[std::size_t(k)];

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "../sparse_cholesky.h"
+#include "rigidity_admm.h"
 #include "rigidity_dual.h"
 
 namespace kc {
@@ -503,6 +504,9 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
     return RowMatrix::Zero(n, m);
   }
   const bool upper = qp.Up.size() > 0 && qp.Up.array().isFinite().any();
+  const Index pairs = c * Index(detail::RowPolytope(qp.Z).size());
+  if (!upper && (options.method == RigidityQpMethod::Splitting || (options.method == RigidityQpMethod::ActiveSet && pairs > options.largePairs)))
+    return detail::solveSplitting(qp, options, rep);
   if (options.method == RigidityQpMethod::ActiveSet && !upper) {
     RowMatrix dU;
     if (solveActiveSet(qp, options, rep, dU)) {

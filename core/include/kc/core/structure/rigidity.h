@@ -56,6 +56,8 @@ struct RigidityReport {
   double energyBefore = 0.0; ///< Σ_i ρ_i σ² ‖∇w(x_i)‖²_F over the region's samples, before.
   double energyAfter = 0.0;  ///< The same after.
   double minWeight = 0.0;    ///< Smallest changed weight at a constrained sample (region and nodes), after.
+  Index projectedRows = 0;   ///< Constrained samples whose new weights missed a bound and were projected onto it (partition of unity and reproduction kept).
+  double projectionChange = 0.0;  ///< The largest weight change that projection made.
   RigidityQpReport solver;
   double seconds = 0.0;
 };
@@ -71,7 +73,9 @@ struct RigidityReport {
 /// where Q is a grid of spacing quadratureStep·σ over the painted region (ρ_q = ρ of the nearest
 /// sample, scaled so that Σ_q ρ_q = Σ_{i∈I} ρ_i), ΔW = K(·, N) ΔU and ∇ΔW(x) = ∂E/∂x, ∂E/∂y (the
 /// field's gradient operators) times ΔU;
-/// then W += K(Ch, N) ΔU (W #S×m, the field's data weights) and the field is re-solved in the
+/// then W += K(Ch, N) ΔU (W #S×m, the field's data weights; each bounded row that misses its bound
+/// by the solver's tolerance projected onto it, keeping its partition of unity and reproduction:
+/// docs/rigidity.md, "Large regions") and the field is re-solved in the
 /// active columns: it interpolates the new W (in exact mode the coefficients become U + ΔU
 /// − K⁻¹P b, B + b with b = (PᵀK⁻¹P)⁻¹PᵀΔU, a global term of measured size ≤ 1e-4; plain mode
 /// U + ΔU; docs/rigidity.md). `rho` and `keep`

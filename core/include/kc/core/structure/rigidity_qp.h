@@ -9,7 +9,9 @@
 /// matrix Kq ⊗ P with Kq = Kc (2H)⁻¹_A Kcᵀ; proximal point steps, each by block principal pivoting
 /// with Q_AA + εI's factorization updated as pairs enter and leave), or by ADMM
 /// (Boyd et al. 2011, §3; OSQP's splitting) on one factorization of 2H + μ KcᵀKc shared by all
-/// columns of Y — when upper bounds are given or the dual method does not converge.
+/// columns of Y — when upper bounds are given or the dual method does not converge; beyond
+/// largePairs bound pairs by that ADMM with the split variable projected onto each row's polytope,
+/// accelerated, to a moderate tolerance (RigidityQpMethod::Splitting; docs/rigidity.md, "Large regions").
 
 #include <exception>
 #include <functional>
@@ -31,8 +33,11 @@ struct RigidityQp {
 };
 
 /// How the QP is solved: the bounds' active set, found on their dual (one factorization of 2H;
-/// falls back to ADMM when it does not converge), or ADMM throughout.
-enum class RigidityQpMethod { ActiveSet, Admm };
+/// falls back to ADMM when it does not converge; beyond largePairs bound pairs the splitting
+/// path), ADMM throughout, or the splitting path for large regions: ADMM with the split variable
+/// projected onto each constrained sample's row polytope, to splittingTolerance only (the caller
+/// projects the rows of the stored weights: detail::projectRows, docs/rigidity.md, "Large regions").
+enum class RigidityQpMethod { ActiveSet, Admm, Splitting };
 
 struct RigidityQpOptions {
   RigidityQpMethod method = RigidityQpMethod::ActiveSet;
@@ -46,6 +51,11 @@ struct RigidityQpOptions {
   double tolerance = 1e-8;     ///< Stop when the largest constraint violation (weights) ≤ tolerance and the
   double dualTolerance = 1e-6; ///< dual residual ≤ dualTolerance · max|2 G Z|.
   int maxIterations = 20000;
+  Index largePairs = 20000;       ///< ActiveSet: beyond this many bound pairs (constrained rows × active controls), Splitting.
+  double splittingTolerance = 1e-4;      ///< Splitting: largest violation of a bound (weights) at the stop,
+  double splittingDualTolerance = 1e-3;  ///< and the dual residual relative to max|2 G Z|.
+  int splittingIterations = 300;         ///< Splitting: iterations before it returns the last iterate (converged = false).
+  int splittingRefactorizations = 2;     ///< Splitting: new factorizations for a changed penalty.
   double rankTolerance = 1e-12;  ///< Relative eigenvalue below which A's Schur complement is treated as singular.
   /// Called with the share done (in [0, 1]) between the solver's steps (at least every ~0.1 s on a
   /// 2,000-node problem); returning false stops the solve with RigidityQpCancelled.
