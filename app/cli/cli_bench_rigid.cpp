@@ -86,6 +86,9 @@ Release timedRelease(app::Session& s, const std::vector<double>& rho) {
   return r;
 }
 
+/// After the QP iterations: "*" for ADMM, "~" for the large-region splitting path, " " for the active set.
+const char* methodMark(RigidityQpMethod m) { return m == RigidityQpMethod::Admm ? "*" : m == RigidityQpMethod::Splitting ? "~" : " "; }
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -116,7 +119,7 @@ void benchSpeed(const std::string& dir, const std::string& name, Index count, do
   const RigidityReport& q = r.u.report;
   std::printf("  %-7s %7ld %8ld %7ld %9ld %9ld %11.1f %9.1f %10.1f %8d%s %9.1f %8d %8.1f %8.0f %16.10g  (goal %.0f ms)\n", name.c_str(),
               long(q.region), long(q.nodes), long(q.controls), long(cage.size()), long(r.u.rows.size()), median(ms), median(factor),
-              1e3 * q.solver.seconds, q.solver.iterations, q.solver.method == RigidityQpMethod::Admm ? "*" : " ",
+              1e3 * q.solver.seconds, q.solver.iterations, methodMark(q.solver.method),
               1e3 * q.solver.factorSeconds, calls / repeats, 1e3 * gap, median(faults), q.solver.objective, goalMs);
 }
 
@@ -124,8 +127,8 @@ void printSpeedHeader(int repeats) {
   std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
   std::printf("  (release: on a factorized field, as in the GUI after a bind or a stroke; K ms: factorizing K and solving\n"
               "  every column on a loaded session, which its first release pays on top; QP it: active-set rounds, or ADMM\n"
-              "  iterations when marked *; progress: calls per release and the longest gap between two, i.e. how long a\n"
-              "  Cancel can wait; faults: minor page faults per release)\n");
+              "  iterations when marked * (~: the large-region splitting path's ADMM); progress: calls per release and the\n"
+              "  longest gap between two, i.e. how long a Cancel can wait; faults: minor page faults per release)\n");
   std::printf("  %-7s %7s %8s %7s %9s %9s %11s %9s %10s %9s %9s %8s %8s %8s %16s\n", "example", "region", "nodes", "active", "controls",
               "rows", "release ms", "K ms", "QP ms", "QP it", "factor ms", "progress", "gap ms", "faults", "QP objective");
 }
@@ -205,7 +208,7 @@ void benchRigid(const std::string& dir, int repeats, const std::string& speedOnl
     const double change = farChange(s, plain, rho, 6.0 * sigma);
     std::printf("  %8.2f %8ld %10.4f %10.2g %12.2g %10.3g %12.2g %9.1f %6d%s %8.3g\n", strength, long(u.report.region), f.distortion,
                 f.unity, f.reproduction, f.minWeight, change, 1e3 * u.seconds, u.report.solver.iterations,
-                u.report.solver.method == RigidityQpMethod::Admm ? "*" : " ",
+                methodMark(u.report.solver.method),
                 u.report.energyAfter / std::max(u.report.energyBefore, 1e-300));
     if (strength == 1.0) atOne = f.distortion, unity = f.unity, repro = f.reproduction, far = change;
   }

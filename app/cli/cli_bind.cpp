@@ -112,7 +112,7 @@ void runBind(const BindArgs& a) {
     std::printf("rigid: %zu regions, %ld samples, rigidity energy %.4g -> %.4g (%ld nodes, %ld controls, %d %s%s, %.3f s)\n",
                 st.rigid.size(), static_cast<long>(r.rigidity.region), r.rigidity.energyBefore, r.rigidity.energyAfter,
                 static_cast<long>(r.rigidity.nodes), static_cast<long>(r.rigidity.controls), r.rigidity.solver.iterations,
-                r.rigidity.solver.method == RigidityQpMethod::Admm ? "ADMM iterations" : "active-set rounds",
+                r.rigidity.solver.method != RigidityQpMethod::ActiveSet ? "ADMM iterations" : "active-set rounds",
                 r.rigidity.solver.converged ? "" : ", NOT converged", r.rigidity.seconds);
   if (!st.lines.empty())
     std::printf("lines: %zu, field linear along them to %.2e (was %.2e; %ld samples adjusted, %.3f s)\n", st.lines.size(),

@@ -55,14 +55,15 @@ Worker::Apply strokeTakenBack(const SessionPtr& s, const SourcePtr& source) {
 
 std::string rigiditySolveSummary(const app::RigidityUpdate& u) {
   const RigidityQpReport& q = u.report.solver;
-  const bool admm = q.method == RigidityQpMethod::Admm;
+  const bool admm = q.method != RigidityQpMethod::ActiveSet;  // ADMM: the fallback, or the large-region path
+  const char* method = q.method == RigidityQpMethod::Splitting ? "ADMM (large region)" : admm ? "ADMM (fallback)" : "active set";
   char text[240];
   if (!q.converged)
     std::snprintf(text, sizeof text, "Rigidity: the %s stopped after %d %s without converging (weights kept as far as it got).",
                   admm ? "ADMM" : "active set", q.iterations, admm ? "iterations" : "rounds");
   else
     std::snprintf(text, sizeof text, "Rigidity: %ld samples rigid, %ld controls; %s, %d %s; %.0f ms.", long(u.report.region),
-                  long(u.report.controls), admm ? "ADMM (fallback)" : "active set", q.iterations, admm ? "iterations" : "rounds",
+                  long(u.report.controls), method, q.iterations, admm ? "iterations" : "rounds",
                   1e3 * u.seconds);
   return text;
 }
