@@ -189,6 +189,25 @@ TEST(RigidityQp, LargeProblemsTakeTheSplittingPath) {
   EXPECT_EQ(rep.method, RigidityQpMethod::ActiveSet);
 }
 
+// An active set that does not settle within its rounds falls back to the splitting path (a few
+// dozen iterations), not to the plain ADMM to 1e-8, and the answer is near the optimum.
+TEST(RigidityQp, AnUnsettledActiveSetFallsBackToTheSplittingPath) {
+  Eigen::MatrixXd Q3;
+  const RigidityQp qp = randomQp(80, 9, 3, 41, Q3);
+  RigidityQpReport exact, limited;
+  const double fA = rigidityObjective(qp, solveRigidityQp(qp, {}, &exact));
+  ASSERT_EQ(exact.method, RigidityQpMethod::ActiveSet);
+  ASSERT_GT(exact.iterations, 1) << "the bounds must need more than one round here";
+  RigidityQpOptions o;
+  o.maxActiveSetRounds = 1;
+  const RowMatrix dU = solveRigidityQp(qp, o, &limited);
+  EXPECT_EQ(limited.method, RigidityQpMethod::Splitting);
+  EXPECT_TRUE(limited.converged) << limited.iterations << " iterations";
+  EXPECT_LE(limited.iterations, o.splittingIterations);
+  EXPECT_NEAR(rigidityObjective(qp, dU), fA, 1e-3 * std::abs(fA));
+  EXPECT_LE((dU * Q3).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(RigidityQp, SplittingHearsCancel) {
   Eigen::MatrixXd Q3;
   const RigidityQp qp = randomQp(80, 9, 3, 6, Q3);

@@ -517,7 +517,11 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
       rep.seconds = secondsSince(t0);
       return dU;
     }
+    // Not settled (e.g. a nearly singular H): the splitting path gives a near-optimal answer in a
+    // few hundred iterations at most, whose bounds the caller makes exact row by row; the plain
+    // ADMM to 1e-8 could take tens of thousands.
     rep = {};
+    return detail::solveSplitting(qp, options, rep);
   }
   rep.method = RigidityQpMethod::Admm;
   return solveAdmm(qp, options, rep, t0);

@@ -9,9 +9,10 @@
 /// matrix Kq ⊗ P with Kq = Kc (2H)⁻¹_A Kcᵀ; proximal point steps, each by block principal pivoting
 /// with Q_AA + εI's factorization updated as pairs enter and leave), or by ADMM
 /// (Boyd et al. 2011, §3; OSQP's splitting) on one factorization of 2H + μ KcᵀKc shared by all
-/// columns of Y — when upper bounds are given or the dual method does not converge; beyond
-/// largePairs bound pairs by that ADMM with the split variable projected onto each row's polytope,
-/// accelerated, to a moderate tolerance (RigidityQpMethod::Splitting; docs/rigidity.md, "Large regions").
+/// columns of Y — when upper bounds are given; beyond largePairs bound pairs, or when the dual
+/// method does not converge, by that ADMM with the split variable projected onto each row's
+/// polytope, accelerated, to a moderate tolerance (RigidityQpMethod::Splitting; docs/rigidity.md,
+/// "Large regions").
 
 #include <exception>
 #include <functional>
@@ -33,7 +34,7 @@ struct RigidityQp {
 };
 
 /// How the QP is solved: the bounds' active set, found on their dual (one factorization of 2H;
-/// falls back to ADMM when it does not converge; beyond largePairs bound pairs the splitting
+/// falls back to the splitting path when it does not converge; beyond largePairs bound pairs the splitting
 /// path), ADMM throughout, or the splitting path for large regions: ADMM with the split variable
 /// projected onto each constrained sample's row polytope, to splittingTolerance only (the caller
 /// projects the rows of the stored weights: detail::projectRows, docs/rigidity.md, "Large regions").
@@ -41,7 +42,7 @@ enum class RigidityQpMethod { ActiveSet, Admm, Splitting };
 
 struct RigidityQpOptions {
   RigidityQpMethod method = RigidityQpMethod::ActiveSet;
-  int maxActiveSetRounds = 500;  ///< Active-set rounds (all proximal steps together) before falling back to ADMM.
+  int maxActiveSetRounds = 500;  ///< Active-set rounds (all proximal steps together) before falling back to the splitting path.
   double proximal = 1e-3;        ///< ε of the proximal term ε/2‖Λ − Λ_k‖², relative to the mean diagonal of the dual's Q (grows tenfold when a step does not settle).
   Index maxDensePairs = 4000;    ///< Active pairs up to which Q_AA + εI is factorized (dense); beyond, conjugate gradients.
   Index maxDenseNodes = 3000;    ///< Nodes up to which 2H is factorized dense (Kq by a triangular solve and a rank update); beyond, CHOLMOD.
