@@ -273,7 +273,10 @@ void Renderer::updateDetailTexture(AppState& state, double texelsPerPixel, bool 
   }
   // Built once the view, the pose and the mouse are still (the frame after the last change):
   // meanwhile the last detail texture is drawn where it covers, the display texture elsewhere.
-  if (moved || state.canvasDrag.button >= 0) return;
+  if (moved || state.canvasDrag.button >= 0) {
+    state.frameWanted = true;
+    return;
+  }
   const int W = state.source.width, H = state.source.height;
   // The rest-position rectangle of the picture on screen (around the canvas by `margin` of its size).
   auto restRegion = [&](double margin) {

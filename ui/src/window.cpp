@@ -1,5 +1,6 @@
 #include "kc/ui/window.h"
 
+#include <algorithm>
 #include <GL/gl.h>
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -216,7 +217,9 @@ int runWindow(const WindowOptions& o) {
       glClearColor(0.13f, 0.13f, 0.15f, 1.0f);
       glClear(GL_COLOR_BUFFER_BIT);
       const ImVec2 display = ImGui::GetIO().DisplaySize;
+      state->frameWanted = false;
       renderer.draw(*state, fbw, fbh, display.x, display.y);
+      if (state->frameWanted) settleFrames = std::max(settleFrames, 1);  // e.g. the detail texture, once the view is still
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
       if (ImGui::IsKeyPressed(GLFW_KEY_F12, false) && !o.screenshotDir.empty()) {
         char name[64];

@@ -236,6 +236,10 @@ struct AppState {
   /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
   /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
   std::vector<std::pair<int, int>> tappedKeys;
+  /// Set by a frame that left work for the next one (the renderer defers the detail texture while
+  /// the view moves): the window draws one more frame before it sleeps. Input that arrives during
+  /// the few frames drawn after an event does not itself extend them.
+  bool frameWanted = false;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
