@@ -14,6 +14,7 @@
 #include "kc/core/field/kernel_field.h"
 #include "kc/core/field/mesh_field.h"
 #include "kc/sampling/sigma.h"
+#include "kc/core/timing.h"
 
 namespace kc::app {
 namespace {
@@ -21,10 +22,6 @@ namespace {
 /// Where each stage starts on the bind's progress bar (sampling, kernel, initial weights,
 /// factorization, optimization, interpolation), roughly proportional to measured stage times.
 constexpr double kStageStart[] = {0.0, 0.5, 0.6, 0.72, 0.9, 0.95};
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
 

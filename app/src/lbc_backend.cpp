@@ -14,6 +14,7 @@
 #include "kc/core/field/mesh_field.h"
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/lbc/lbc_solver.h"
+#include "kc/core/timing.h"
 
 namespace kc::app {
 namespace {
@@ -23,10 +24,6 @@ constexpr double kStageStart[] = {0.0, 0.05, 0.15};
 
 /// Mesh vertices kcwarp accepts for one LBC bind (≈ 16 kB per vertex for 30 controls).
 constexpr Index kMaxLbcVertices = 400'000;
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 
 }  // namespace

@@ -8,16 +8,13 @@
 #include "kc/core/parallel.h"
 #include "kc/core/spatial_grid.h"
 #include "../sparse_cholesky.h"
+#include "kc/core/timing.h"
 
 namespace kc {
 namespace {
 
 using ColMatrix = Eigen::MatrixXd;
 using Poly = Eigen::Matrix<double, Eigen::Dynamic, 3>;  // #S×3 polynomial basis [1 x̂ ŷ]
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Relative pivot below which K is treated as numerically singular (its condition number is then
 /// ≳ 1e12 and the interpolant is dominated by round-off).

@@ -31,13 +31,10 @@
 #include "kc/core/lbc/heat_geodesic.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qp.h"
+#include "kc/core/timing.h"
 
 namespace kc {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Σ of per-row partial sums in a fixed order (bit-identical for any thread count).
 double sum(const std::vector<double>& parts) {
