@@ -86,8 +86,8 @@ Release timedRelease(app::Session& s, const std::vector<double>& rho) {
   return r;
 }
 
-/// After the QP iterations: "*" for ADMM, "~" for the large-region splitting path, " " for the active set.
-const char* methodMark(RigidityQpMethod m) { return m == RigidityQpMethod::Admm ? "*" : m == RigidityQpMethod::Splitting ? "~" : " "; }
+/// After the QP iterations: "~" for the splitting path's ADMM iterations, " " for active-set rounds.
+const char* methodMark(RigidityQpMethod m) { return m == RigidityQpMethod::Splitting ? "~" : " "; }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -127,7 +127,7 @@ void printSpeedHeader(int repeats) {
   std::printf("speed: app::setRigidity (brush release: restore, QP, field columns), median of %d runs\n", repeats);
   std::printf("  (release: on a factorized field, as in the GUI after a bind or a stroke; K ms: factorizing K and solving\n"
               "  every column on a loaded session, which its first release pays on top; QP it: active-set rounds, or ADMM\n"
-              "  iterations when marked * (~: the large-region splitting path's ADMM); progress: calls per release and the\n"
+              "  iterations when marked ~ (the splitting path of large regions); progress: calls per release and the\n"
               "  longest gap between two, i.e. how long a Cancel can wait; faults: minor page faults per release)\n");
   std::printf("  %-7s %7s %8s %7s %9s %9s %11s %9s %10s %9s %9s %8s %8s %8s %16s\n", "example", "region", "nodes", "active", "controls",
               "rows", "release ms", "K ms", "QP ms", "QP it", "factor ms", "progress", "gap ms", "faults", "QP objective");

@@ -190,7 +190,7 @@ TEST(RigidityQp, LargeProblemsTakeTheSplittingPath) {
 }
 
 // An active set that does not settle within its rounds falls back to the splitting path (a few
-// dozen iterations), not to the plain ADMM to 1e-8, and the answer is near the optimum.
+// dozen iterations), and the answer is near the optimum.
 TEST(RigidityQp, AnUnsettledActiveSetFallsBackToTheSplittingPath) {
   Eigen::MatrixXd Q3;
   const RigidityQp qp = randomQp(80, 9, 3, 41, Q3);

@@ -111,17 +111,19 @@ bool clpReference(const RandomQp& r, RowMatrix& dU) {
 }
 
 TEST(RigidityQp, MatchesClpOnRandomProblems) {
-  int compared = 0, binding = 0, settled = 0;  // settled: solved by the active set itself (no ADMM fallback)
+  int compared = 0, binding = 0, settled = 0;  // settled: solved by the active set itself (no fallback)
   for (unsigned trial = 0; trial < 12; ++trial) {
     const RandomQp r = randomQp(8 + int(trial % 5), 6 + int(trial % 3), int(trial % 3), 100 + trial);
     RowMatrix ref;
     ASSERT_TRUE(clpReference(r, ref)) << "trial " << trial;
     const double fRef = rigidityObjective(r.qp, ref);
-    for (const RigidityQpMethod method : {RigidityQpMethod::ActiveSet, RigidityQpMethod::Admm}) {
+    for (const RigidityQpMethod method : {RigidityQpMethod::ActiveSet, RigidityQpMethod::Splitting}) {
       RigidityQpOptions o;
       o.method = method;
       o.tolerance = 1e-9;
-      o.maxIterations = 200000;
+      o.splittingTolerance = 1e-10;  // the splitting path run to the end: an independent second solver
+      o.splittingDualTolerance = 1e-10;
+      o.splittingIterations = 200000;
       RigidityQpReport rep;
       const RowMatrix dU = solveRigidityQp(r.qp, o, &rep);
       const bool activeSet = method == RigidityQpMethod::ActiveSet;

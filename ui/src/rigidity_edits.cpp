@@ -55,8 +55,8 @@ Worker::Apply strokeTakenBack(const SessionPtr& s, const SourcePtr& source) {
 
 std::string rigiditySolveSummary(const app::RigidityUpdate& u) {
   const RigidityQpReport& q = u.report.solver;
-  const bool admm = q.method != RigidityQpMethod::ActiveSet;  // ADMM: the fallback, or the large-region path
-  const char* method = q.method == RigidityQpMethod::Splitting ? "ADMM (large region)" : admm ? "ADMM (fallback)" : "active set";
+  const bool admm = q.method == RigidityQpMethod::Splitting;  // a large region, or an active set that did not settle
+  const char* method = admm ? "ADMM" : "active set";
   char text[240];
   if (!q.converged)
     std::snprintf(text, sizeof text, "Rigidity: the %s stopped after %d %s without converging (weights kept as far as it got).",

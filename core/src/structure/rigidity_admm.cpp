@@ -6,13 +6,10 @@
 #include <limits>
 
 #include "rigidity_dual.h"
+#include "kc/core/timing.h"
 
 namespace kc::detail {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Anderson acceleration's memory (the splitting's iterations): differences of this many past iterates.
 constexpr int kMemory = 5;
@@ -40,6 +37,12 @@ bool RowPolytope::project(const double* v, const double* l, double* s, Eigen::Ve
   const Eigen::Map<const Eigen::VectorXd> V(v, m), Lo(l, m);
   Eigen::Map<Eigen::VectorXd> S(s, m);
   const double tol = 1e-14 * (1.0 + V.cwiseAbs().maxCoeff() + Lo.cwiseAbs().maxCoeff());
+  // Most rows are inside their polytope already (in the splitting's iterations, V keeps the
+  // moments): they are their own projection.
+  if ((V.array() >= Lo.array()).all() && (m_B.transpose() * V).cwiseAbs().maxCoeff() <= tol) {
+    S = V;
+    return true;
+  }
   // The dual q(ν) = min_{s ≥ l} ½‖s − v‖² + νᵀBᵀs is concave, with gradient Bᵀs(ν) and
   // generalized Hessian −BᵀDB (D: the entries of v − Bν above their bound).
   auto dual = [&](const Eigen::Vector3d& x, Eigen::VectorXd& sx) {
@@ -158,9 +161,7 @@ RowMatrix solveSplitting(const RigidityQp& qp, const RigidityQpOptions& options,
   rep.method = RigidityQpMethod::Splitting;
   const Index n = qp.H.rows(), c = qp.Kc.rows();
   double stage = 0.0;
-  const Tick tick = [&] {
-    if (options.progress && !options.progress(std::clamp(stage, 0.0, 1.0))) throw RigidityQpCancelled();
-  };
+  const Tick tick = progressTick(options.progress, stage);
   const RowPolytope poly(qp.Z);
   const std::vector<Index>& ctl = poly.controls();
   const Index m = poly.size();

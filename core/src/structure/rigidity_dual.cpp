@@ -3,8 +3,16 @@
 #include <algorithm>
 
 #include "../dense_blas.h"
+#include "kc/core/structure/rigidity_qp.h"
 
 namespace kc::detail {
+
+Tick progressTick(const std::function<bool(double)>& progress, const double& stage) {
+  return [&progress, &stage] {
+    if (progress && !progress(std::clamp(stage, 0.0, 1.0))) throw RigidityQpCancelled();
+  };
+}
+
 
 bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block) {
   const Index n = A.rows();

@@ -13,18 +13,10 @@
 #include "../sparse_cholesky.h"
 #include "rigidity_admm.h"
 #include "rigidity_dual.h"
+#include "kc/core/timing.h"
 
 namespace kc {
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// Asks options.progress (when set) whether to go on, with a fraction in [0, 1].
-bool goOn(const RigidityQpOptions& options, double fraction) {
-  return !options.progress || options.progress(std::clamp(fraction, 0.0, 1.0));
-}
 
 /// Solves M̂ Y = rhs subject to A Y = 0 through the factorization of M̂ and the pseudo-inverse of
 /// the a×a Schur complement A M̂⁻¹ Aᵀ: Y = Y0 − F (S⁺ A Y0), Y0 = M̂⁻¹ rhs, F = M̂⁻¹ Aᵀ.
@@ -59,77 +51,6 @@ double rigidityObjective(const RigidityQp& qp, const RowMatrix& dU) {
 }
 
 namespace {
-
-/// ADMM (the splitting above) from S = Λ = 0.
-RowMatrix solveAdmm(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep,
-                    std::chrono::steady_clock::time_point t0) {
-  const Index n = qp.H.rows(), m = qp.G.cols(), c = qp.Kc.rows();
-  RowMatrix dU = RowMatrix::Zero(n, m);
-  const Eigen::MatrixXd GZ = qp.G * qp.Z;  // n×r
-  const SparseMatrix H2 = 2.0 * qp.H;
-  const double traceH = H2.diagonal().sum();
-  SparseMatrix KtK;
-  double mu = 0.0;
-  if (c > 0) {
-    KtK = SparseMatrix(qp.Kc.transpose()) * qp.Kc;
-    mu = options.penalty > 0.0 ? options.penalty : traceH / std::max(KtK.diagonal().sum(), 1e-300);
-  }
-  rep.penalty = mu;
-  SparseMatrix M = c > 0 ? SparseMatrix(H2 + mu * KtK) : H2;
-  // A tiny diagonal shift keeps the factorization definite where H is only semi-definite.
-  SparseMatrix shift(n, n);
-  shift.setIdentity();
-  M += (1e-13 * std::max(traceH / double(n), 1e-300)) * shift;
-  M.makeCompressed();
-  const auto tf = std::chrono::steady_clock::now();
-  ConstrainedSolve solver;
-  if (!solver.compute(M, qp.A, options.rankTolerance)) {
-    rep.factorFailed = true;
-    rep.seconds = secondsSince(t0);
-    return dU;
-  }
-  rep.factorSeconds = secondsSince(tf);
-
-  Eigen::MatrixXd Y;
-  if (c == 0) {  // no inequalities: one equality-constrained solve
-    Y = solver.solve(-2.0 * GZ);
-    dU = Y * qp.Z.transpose();
-    rep.converged = true;
-    rep.objective = rigidityObjective(qp, dU);
-    rep.seconds = secondsSince(t0);
-    return dU;
-  }
-
-  const SparseMatrix KcT = qp.Kc.transpose();
-  const double alpha = options.relaxation;
-  const double dualScale = std::max(2.0 * GZ.cwiseAbs().maxCoeff(), 1e-300);
-  RowMatrix S = RowMatrix::Zero(c, m), Lambda = RowMatrix::Zero(c, m), KY(c, m), V(c, m), Snew(c, m);
-  for (int it = 1; it <= options.maxIterations; ++it) {
-    const Eigen::MatrixXd rhs = -2.0 * GZ + mu * (KcT * ((S - Lambda) * qp.Z));
-    Y = solver.solve(rhs);
-    KY = (qp.Kc * Y) * qp.Z.transpose();
-    V = alpha * KY + (1.0 - alpha) * S;
-    Snew = (V + Lambda).cwiseMax(qp.L);
-    if (qp.Up.size() > 0) Snew = Snew.cwiseMin(qp.Up);
-    Lambda += V - Snew;
-    rep.primalResidual = (KY - Snew).cwiseAbs().maxCoeff();
-    rep.dualResidual = mu * (KcT * ((Snew - S) * qp.Z)).cwiseAbs().maxCoeff();
-    S.swap(Snew);
-    rep.iterations = it;
-    if (it % 5 == 0 && !goOn(options, double(it) / options.maxIterations)) throw RigidityQpCancelled();
-    if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.dualTolerance * dualScale) {
-      rep.converged = true;
-      break;
-    }
-  }
-  dU = Y * qp.Z.transpose();
-  const RowMatrix KdU = qp.Kc * dU;
-  rep.violation = std::max(0.0, (qp.L - KdU).maxCoeff());
-  if (qp.Up.size() > 0) rep.violation = std::max(rep.violation, (KdU - qp.Up).maxCoeff());
-  rep.objective = rigidityObjective(qp, dU);
-  rep.seconds = secondsSince(t0);
-  return dU;
-}
 
 /// The bounds' dual (docs/rigidity.md, "The QP and its solver"): with F = (2H)⁻¹_A Kcᵀ (n×c),
 /// Kq = Kc F (c×c), the active controls' rows Z' of Z (m'×r), P = Z'Z'ᵀ and S0 = Kc Y0 Z'ᵀ, the
@@ -319,15 +240,13 @@ class SerialEigen {
 /// a positive multiplier are at their bounds. The dual is taken over working rows only — those the
 /// equality-constrained optimum Y0 violates, then those the primal of the dual's solution violates
 /// — so that Kq's columns are formed only for rows that may bind. Returns false when it does not
-/// converge within maxActiveSetRounds (the caller falls back to ADMM); throws
+/// converge within maxActiveSetRounds (the caller falls back to the splitting path); throws
 /// RigidityQpCancelled when options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
   const SerialEigen serial;
   const Index n = qp.H.rows(), c = qp.Kc.rows();
   double stage = 0.0;  // the share reported between blocks of dense work
-  const detail::Tick tick = [&] {
-    if (!goOn(options, stage)) throw RigidityQpCancelled();
-  };
+  const detail::Tick tick = detail::progressTick(options.progress, stage);
   // M = 2H + a tiny diagonal shift (definite where H is only semi-definite).
   const double shift = 1e-13 * std::max(2.0 * qp.H.diagonal().sum() / double(n), 1e-300);
   const auto tf = std::chrono::steady_clock::now();
@@ -496,35 +415,27 @@ RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options
   rep = {};
   const Index n = qp.H.rows(), m = qp.G.cols(), r = qp.Z.cols(), c = qp.Kc.rows();
   if (qp.H.cols() != n || qp.G.rows() != n || qp.Z.rows() != m || (qp.A.rows() > 0 && qp.A.cols() != n) ||
-      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)) ||
-      (qp.Up.size() > 0 && (qp.Up.rows() != c || qp.Up.cols() != m)))
+      (c > 0 && (qp.Kc.cols() != n || qp.L.rows() != c || qp.L.cols() != m)))
     throw std::invalid_argument("solveRigidityQp: inconsistent shapes");
   if (n == 0 || r == 0) {
     rep.converged = true;
     return RowMatrix::Zero(n, m);
   }
-  const bool upper = qp.Up.size() > 0 && qp.Up.array().isFinite().any();
   const Index pairs = c * Index(detail::RowPolytope(qp.Z).size());
-  if (!upper && (options.method == RigidityQpMethod::Splitting || (options.method == RigidityQpMethod::ActiveSet && pairs > options.largePairs)))
-    return detail::solveSplitting(qp, options, rep);
-  if (options.method == RigidityQpMethod::ActiveSet && !upper) {
-    RowMatrix dU;
-    if (solveActiveSet(qp, options, rep, dU)) {
-      rep.method = RigidityQpMethod::ActiveSet;
-      const RowMatrix KdU = qp.Kc * dU;
-      rep.violation = c > 0 ? std::max(0.0, (qp.L - KdU).maxCoeff()) : 0.0;
-      rep.objective = rigidityObjective(qp, dU);
-      rep.seconds = secondsSince(t0);
-      return dU;
-    }
-    // Not settled (e.g. a nearly singular H): the splitting path gives a near-optimal answer in a
-    // few hundred iterations at most, whose bounds the caller makes exact row by row; the plain
-    // ADMM to 1e-8 could take tens of thousands.
-    rep = {};
-    return detail::solveSplitting(qp, options, rep);
+  if (options.method == RigidityQpMethod::Splitting || pairs > options.largePairs) return detail::solveSplitting(qp, options, rep);
+  RowMatrix dU;
+  if (solveActiveSet(qp, options, rep, dU)) {
+    rep.method = RigidityQpMethod::ActiveSet;
+    const RowMatrix KdU = qp.Kc * dU;
+    rep.violation = c > 0 ? std::max(0.0, (qp.L - KdU).maxCoeff()) : 0.0;
+    rep.objective = rigidityObjective(qp, dU);
+    rep.seconds = secondsSince(t0);
+    return dU;
   }
-  rep.method = RigidityQpMethod::Admm;
-  return solveAdmm(qp, options, rep, t0);
+  // Not settled (e.g. a nearly singular H): the splitting path gives a near-optimal answer in a
+  // few hundred iterations at most, whose bounds the caller makes exact row by row.
+  rep = {};
+  return detail::solveSplitting(qp, options, rep);
 }
 
 }  // namespace kc

@@ -4,15 +4,14 @@
 ///   min_ΔU  tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G)
 ///   s.t.    ΔU = Y Zᵀ            (every row of ΔU in span Z: partition of unity and reproduction)
 ///           A ΔU = 0             (polynomial side condition PᵀΔU = 0, held samples unchanged)
-///           L ≤ Kc ΔU ≤ Up       (non-negativity of the constrained samples' weights)
-/// solved on the lower bounds' dual (one factorization of 2H, dense up to maxDenseNodes; the dual's
+///           Kc ΔU ≥ L            (non-negativity of the constrained samples' weights)
+/// solved on the bounds' dual (one factorization of 2H, dense up to maxDenseNodes; the dual's
 /// matrix Kq ⊗ P with Kq = Kc (2H)⁻¹_A Kcᵀ; proximal point steps, each by block principal pivoting
-/// with Q_AA + εI's factorization updated as pairs enter and leave), or by ADMM
-/// (Boyd et al. 2011, §3; OSQP's splitting) on one factorization of 2H + μ KcᵀKc shared by all
-/// columns of Y — when upper bounds are given; beyond largePairs bound pairs, or when the dual
-/// method does not converge, by that ADMM with the split variable projected onto each row's
-/// polytope, accelerated, to a moderate tolerance (RigidityQpMethod::Splitting; docs/rigidity.md,
-/// "Large regions").
+/// with Q_AA + εI's factorization updated as pairs enter and leave); beyond largePairs bound
+/// pairs, or when the dual method does not settle, by ADMM (Boyd et al. 2011, §3; OSQP's
+/// splitting) on one factorization of 2H + μ KcᵀKc shared by all columns of Y, its split variable
+/// projected onto each row's polytope, accelerated, to a moderate tolerance
+/// (RigidityQpMethod::Splitting; docs/rigidity.md, "Large regions").
 
 #include <exception>
 #include <functional>
@@ -30,15 +29,14 @@ struct RigidityQp {
   RowMatrix A;      ///< a×n equality rows A ΔU = 0 (may be empty).
   SparseMatrix Kc;  ///< c×n constraint operator (may be empty).
   RowMatrix L;      ///< c×m lower bounds of Kc ΔU, ≤ 0 (ΔU = 0 is feasible).
-  RowMatrix Up;     ///< c×m upper bounds, ≥ 0 (+∞ allowed); empty: all +∞.
 };
 
 /// How the QP is solved: the bounds' active set, found on their dual (one factorization of 2H;
-/// falls back to the splitting path when it does not converge; beyond largePairs bound pairs the splitting
-/// path), ADMM throughout, or the splitting path for large regions: ADMM with the split variable
-/// projected onto each constrained sample's row polytope, to splittingTolerance only (the caller
-/// projects the rows of the stored weights: detail::projectRows, docs/rigidity.md, "Large regions").
-enum class RigidityQpMethod { ActiveSet, Admm, Splitting };
+/// beyond largePairs bound pairs, or when it does not settle, the splitting path), or the
+/// splitting path throughout: ADMM with the split variable projected onto each constrained
+/// sample's row polytope, to splittingTolerance (the caller projects the rows of the stored
+/// weights: detail::projectRows, docs/rigidity.md, "Large regions").
+enum class RigidityQpMethod { ActiveSet, Splitting };
 
 struct RigidityQpOptions {
   RigidityQpMethod method = RigidityQpMethod::ActiveSet;
@@ -47,11 +45,9 @@ struct RigidityQpOptions {
   Index maxDensePairs = 4000;    ///< Active pairs up to which Q_AA + εI is factorized (dense); beyond, conjugate gradients.
   Index maxDenseNodes = 3000;    ///< Nodes up to which 2H is factorized dense (Kq by a triangular solve and a rank update); beyond, CHOLMOD.
   int maxCgIterations = 2000;    ///< Conjugate-gradient iterations per round beyond maxDensePairs.
-  double penalty = 0.0;        ///< ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
-  double relaxation = 1.6;     ///< Over-relaxation α ∈ (0, 2).
-  double tolerance = 1e-8;     ///< Stop when the largest constraint violation (weights) ≤ tolerance and the
-  double dualTolerance = 1e-6; ///< dual residual ≤ dualTolerance · max|2 G Z|.
-  int maxIterations = 20000;
+  double tolerance = 1e-8;       ///< Active set: stop when max |min(s Λ, slack)| ≤ tolerance (weights; docs/rigidity.md).
+  double penalty = 0.0;          ///< Splitting: the initial ADMM penalty μ; ≤ 0: trace(2H) / trace(KcᵀKc).
+  double relaxation = 1.6;       ///< Splitting: over-relaxation α ∈ (0, 2).
   Index largePairs = 20000;       ///< ActiveSet: beyond this many bound pairs (constrained rows × active controls), Splitting.
   double splittingTolerance = 1e-4;      ///< Splitting: largest violation of a bound (weights) at the stop,
   double splittingDualTolerance = 1e-3;  ///< and the dual residual relative to max|2 G Z|.
@@ -76,13 +72,13 @@ struct RigidityQpReport {
   int cgIterations = 0;         ///< Conjugate-gradient iterations (active set beyond maxDensePairs).
   Index workingRows = 0;       ///< Active set: constrained rows the dual was taken over (the rest never violated).
   int workingSets = 0;          ///< Active set: working sets solved (1 + the times violated rows joined).
-  double primalResidual = 0.0;  ///< max |Kc ΔU − S| (S the projected split variable).
+  double primalResidual = 0.0;  ///< Splitting: max |Kc ΔU − S| (S the projected split variable).
   double dualResidual = 0.0;
-  double violation = 0.0;       ///< max(0, L − Kc ΔU, Kc ΔU − Up): how far the bounds are missed.
+  double violation = 0.0;       ///< max(0, L − Kc ΔU): how far the bounds are missed.
   double objective = 0.0;       ///< tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G) at the returned ΔU.
   double penalty = 0.0;
   double factorSeconds = 0.0, seconds = 0.0;
-  bool factorFailed = false;    ///< 2H + μ KcᵀKc could not be factorized (ΔU = 0 returned).
+  bool factorFailed = false;    ///< Splitting: 2H + μ KcᵀKc could not be factorized (ΔU = 0 returned).
 };
 
 /// tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G) for ΔU n×m.
