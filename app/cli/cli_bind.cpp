@@ -23,6 +23,7 @@ struct BindArgs {
   std::string exterior = "band";
   int heatIterations = 0;
   bool linearEdges = false;
+  bool uniformSpacing = false;
   double locality = 0.0;  // unscreened
   std::uint64_t seed = 1;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
@@ -53,6 +54,7 @@ void runBind(const BindArgs& a) {
   p.kc.method = parseOption<Method>(a.method, "--method");
   p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
   p.kc.linearEdges = a.linearEdges;
+  p.graded = !a.uniformSpacing;
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   p.exterior = parseOption<sampling::ExteriorExtent>(a.exterior, "--exterior");
   p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
@@ -71,7 +73,7 @@ void runBind(const BindArgs& a) {
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
                   p.spacing, app::kAutoSpacingSamples);
   }
-  if (const std::string warning = p.backend == "kc" ? app::narrowFeatureWarning(cage, p.spacing) : ""; !warning.empty()) {
+  if (const std::string warning = p.backend == "kc" ? app::narrowFeatureWarning(cage, p.spacing, p) : ""; !warning.empty()) {
     std::fflush(stdout);
     std::fprintf(stderr, "kcwarp-cli: warning: %s\n", warning.c_str());
   }
@@ -89,7 +91,7 @@ void runBind(const BindArgs& a) {
     st = app::loadStructure(a.structure);
     if (!app::backendFor(p.backend).capabilities().lines)
       throw app::InputError(a.structure, "lines and rigid regions are supported by the kernel backend (--backend kc), not by '" + p.backend + "'");
-    app::checkStructure(st, cage, p.spacing, a.structure);
+    app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p));
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
@@ -105,6 +107,9 @@ void runBind(const BindArgs& a) {
     std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
                 static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
                 static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
+    if (s.sizing)
+      std::printf("graded: spacing %.3g-%.3g px (sigma %.3g-%.3g px) for the cage's narrow places\n", s.sizing->hMin(),
+                  s.sizing->hMax(), s.sigma * s.sizing->hMin() / s.sizing->hMax(), s.sigma);
     std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
   }
   const app::BindTimings& t = s.timings;
@@ -149,6 +154,9 @@ void addBindCommand(CLI::App& app) {
                   "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
+  sub->add_flag("--uniform-spacing", a->uniformSpacing,
+                "One spacing everywhere (the default grades it: finer at the cage's narrow places, down to what the "
+                "narrowest needs; narrow places then need --spacing at most their width)");
   sub->add_flag("--linear-edges", a->linearEdges,
                 "Post-process the samples near every edge of the cage's loops (not sticks) so that the field is linear "
                 "along it, not only at its samples (thesis 5.3.3; deepens the negative lobes near the controls)");

@@ -23,7 +23,13 @@ namespace {
 /// factorization, optimization, interpolation), roughly proportional to measured stage times.
 constexpr double kStageStart[] = {0.0, 0.5, 0.6, 0.72, 0.9, 0.95};
 
-GaussianKernel kernelFor(double sigma, double spacing) { return GaussianKernel::forSpacing(sigma, spacing); }
+/// The kernel of a session: σ and the scale for the spacing, with the width following the sizing
+/// field of a graded sampling (GaussianKernel).
+GaussianKernel kernelFor(double sigma, double spacing, const std::shared_ptr<const SizingField>& sizing) {
+  GaussianKernel k = GaussianKernel::forSpacing(sigma, spacing);
+  k.width = sizing;
+  return k;
+}
 
 /// The field interpolates s.W: w(x_j) = W_j at every sample (|difference| ≤ 1e-6) and, in exact
 /// mode, its kernel part is orthogonal to the polynomial (Σ_j U_j = 0, Σ_j x_j U_j = 0 up to
@@ -83,6 +89,7 @@ class KcBackend final : public Backend {
     sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
     so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
     so.lines = s.structure.lines;
+    so.sizing = s.sizing = bindSizing(s.cage, s.structure, params);
     s.samples = sampling::sample(s.cage, so, &r.sampling);
     // The session records what was sampled: a band that reaches the frame on every side is the frame.
     if (so.exterior == sampling::ExteriorExtent::Band) {
@@ -94,8 +101,8 @@ class KcBackend final : public Backend {
     // K serves the initial weights, then is handed to its factorization, which releases it: the
     // diffusion's factor and K's factor, the two largest allocations of a bind, never coexist.
     step("kernel", kStageStart[1]);
-    s.sigma = kc.sigma > 0.0 ? kc.sigma : sampling::suggestSigma(s.samples);
-    const GaussianKernel kernel = kernelFor(s.sigma, params.spacing);
+    s.sigma = kc.sigma > 0.0 ? kc.sigma : s.sizing ? sampling::suggestSigma(s.samples.X, *s.sizing) : sampling::suggestSigma(s.samples);
+    const GaussianKernel kernel = kernelFor(s.sigma, params.spacing, s.sizing);
     auto t0 = std::chrono::steady_clock::now();
     SparseMatrix K = assembleKernelMatrix(s.samples.X, kernel);
     const double assembleSeconds = secondsSince(t0);
@@ -158,7 +165,7 @@ class KcBackend final : public Backend {
         stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s))
       return;
     auto field = std::make_unique<KernelField>();
-    const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing), s.params.kc.interp);
+    const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing, s.sizing), s.params.kc.interp);
     if (r.status != FactorStatus::Ok)
       throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
     field->update(s.W);

@@ -61,7 +61,29 @@ void checkCageScale(const Cage& cage, double spacing) {
 }
 
 
+/// True when a bind with `p` samples with a sizing field: graded, blue noise, a backend that samples
+/// the picture (kc).
+bool gradedBind(const BindParams& p) {
+  return p.graded && p.sampler == sampling::SamplerKind::BlueNoise && backendFor(p.backend).capabilities().outsideCage;
+}
+
 }  // namespace
+
+bool gradedSampling(const BindParams& params) { return gradedBind(params); }
+
+std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params) {
+  if (!gradedBind(params)) return nullptr;
+  std::vector<FeatureSegment> extra;
+  for (const StructureLine& l : structure.lines) extra.push_back({l.a, l.b});
+  for (const RigidRegion& r : structure.rigid)
+    for (Index i = 0; i < r.polygon.rows(); ++i) extra.push_back({r.polygon.row(i), r.polygon.row((i + 1) % r.polygon.rows())});
+  SizingOptions o;
+  o.hMax = params.spacing;
+  o.hMin = std::min(kMinSpacing, params.spacing);
+  auto sizing = std::make_shared<SizingField>(featureSizing(cage, extra, o));
+  if (!sizing->graded()) return nullptr;
+  return sizing;
+}
 
 double automaticSigma(double spacing) { return 3.0 * spacing / std::numbers::pi; }
 
@@ -86,7 +108,8 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
 }
 
 BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params) {
-  const sampling::SamplingOptions so = samplingOptions(width, height, params);
+  sampling::SamplingOptions so = samplingOptions(width, height, params);
+  so.sizing = bindSizing(cage, Structure{}, params);
   BindCost c;
   c.samples = sampling::estimateSampleCount(cage, so);
   c.controls = static_cast<double>(cage.size());
@@ -116,8 +139,10 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
   }
   // The budget is counted over the cage and a band around it whatever the extent sampled, so the
   // spacing follows the cage: the same cage 10× larger gets 10× the spacing and the same count.
+  // The budget is that of the uniform sampling: a graded one adds what its narrow places need.
   BindParams p = params;
   p.exterior = sampling::ExteriorExtent::Band;
+  p.graded = false;
   double h = params.spacing;
   if (estimateBindCost(cage, width, height, p).samples > budget) {
     for (int step = 0; step < 3; ++step) p.spacing *= std::sqrt(estimateBindCost(cage, width, height, p).samples / budget);
@@ -129,7 +154,7 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
   for (p.spacing = h; bindLimitFactor(estimateBindCost(cage, width, height, p)) > 1.0 && p.spacing < 1e6; p.spacing *= 1.05) {
   }
   h = std::ceil(p.spacing * 100.0) / 100.0;
-  if (h == params.spacing) return h;
+  if (h == params.spacing || gradedBind(params)) return h;  // a graded sampling resolves its narrow places itself
   // A narrow place of the cage keeps about kNarrowFeatureSpacings samples across it, over the
   // budget if need be, but not past the limits: h grows from there by 5% until the bind fits.
   if (!edgesAtLeast(cage, kMinFeatureSpacings * params.spacing)) return h;  // bind() refuses it anyway
@@ -141,6 +166,11 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
     if (bindLimitFactor(estimateBindCost(cage, width, height, p)) <= 1.0) return narrow;
   }
   return h;
+}
+
+std::string narrowFeatureWarning(const Cage& cage, double spacing, const BindParams& params) {
+  if (gradedBind(params)) return "";
+  return narrowFeatureWarning(cage, spacing);
 }
 
 std::string narrowFeatureWarning(const Cage& cage, double spacing) {
@@ -192,11 +222,11 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     const Backend& b = backendFor(params.backend);
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
       checkBindCost(estimateBindCost(cage, width, height, params), params);
-    checkCageScale(cage, params.spacing);
+    if (!gradedBind(params)) checkCageScale(cage, params.spacing);  // a graded sampling refines its narrow places
     if (!structure.empty() && !b.capabilities().lines)
       throw std::invalid_argument("lines and rigid regions are supported by the kernel backend (--backend kc), not by '" +
                                   std::string(b.name()) + "'");
-    validateLines(cage, structure.lines, params.spacing);
+    validateLines(cage, structure.lines, params.spacing, gradedBind(params));
     if (params.kc.linearEdges && loopEdges(cage).size() != cageEdges(cage).size())
       throw std::invalid_argument("--linear-edges needs a cage without sticks (measured on the stick figure: the sticks' "
                                   "linearity went from 0.031 to 0.089 and the head's lobe from -0.05 to -0.83)");

@@ -196,7 +196,9 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
       const RowMatrix coef = parseCompactWeights(block["coefficients_b64"], n, s.cage.size(), where, "field.coefficients_b64", kMaxCoefficient);
       auto field = std::make_unique<KernelField>();
       try {
-        field->restore(s.samples.X, GaussianKernel::forSpacing(s.sigma, s.params.spacing), s.params.kc.interp, coef);
+        GaussianKernel kernel = GaussianKernel::forSpacing(s.sigma, s.params.spacing);
+        kernel.width = s.sizing;
+        field->restore(s.samples.X, kernel, s.params.kc.interp, coef);
       } catch (const std::invalid_argument& e) {
         throw InputError(where, std::string("field: ") + e.what());
       }

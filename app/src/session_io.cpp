@@ -90,7 +90,8 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
                  {"exterior", std::string(toString(p.exterior))},
-                 {"seed", p.seed}};
+                 {"seed", p.seed},
+                 {"graded", p.graded}};
   if (s.lbcMeshSpacing > 0.0) params["lbc_mesh_spacing"] = s.lbcMeshSpacing;
   if (p.backend == "lbc")
     params["lbc"] = {{"tau", std::string(toString(p.lbc.tau))}, {"tolerance", p.lbc.tolerance}, {"max_iterations", p.lbc.maxIterations}};
@@ -105,6 +106,12 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
             {"image", s.image}};
   putWeights(j["weights"], "optimized", s.W, form);
   if (s.W0.rows() > 0) putWeights(j["weights"], "initial", s.W0, form);  // a backend without targets has none
+  if (s.sizing && s.sizing->graded()) {
+    json seeds = json::array();
+    for (Index i = 0; i < s.sizing->seeds().rows(); ++i)
+      seeds.push_back({s.sizing->seeds()(i, 0), s.sizing->seeds()(i, 1), s.sizing->sizes()(i)});
+    j["sizing"] = {{"gradation", s.sizing->gradation()}, {"seeds", seeds}};
+  }
   if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.reports);
   if (std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) {
@@ -119,6 +126,31 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                   {"optimize", t.optimize}, {"solve", t.solve},       {"total", t.total}};
   return j.dump() + "\n";
+}
+
+/// The `sizing` block: {"gradation": g, "seeds": [[x, y, h], ...]} with hMax = params.spacing.
+static std::shared_ptr<const SizingField> sizingFromJson(const json& block, double hMax, const std::string& where) {
+  if (!block.is_object()) throw InputError(where, "sizing must be an object");
+  const double g = detail::boundedNumber(detail::require(block, "gradation", where), 1.0, where, "sizing.gradation");
+  const json& seeds = detail::require(block, "seeds", where);
+  if (!seeds.is_array()) throw InputError(where, "sizing.seeds must be an array of [x, y, h]");
+  if (seeds.size() > std::size_t(sampling::kMaxSamples))
+    throw InputError(where, "sizing.seeds has " + std::to_string(seeds.size()) + " entries, more than " + std::to_string(sampling::kMaxSamples));
+  Points P(Index(seeds.size()), 2);
+  Eigen::VectorXd H(Index(seeds.size()));
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const json& e = seeds[i];
+    const std::string name = "sizing.seeds[" + std::to_string(i) + "]";
+    if (!e.is_array() || e.size() != 3) throw InputError(where, name + " must be [x, y, h]");
+    P(Index(i), 0) = detail::boundedNumber(e[0], kMaxCoordinate, where, name);
+    P(Index(i), 1) = detail::boundedNumber(e[1], kMaxCoordinate, where, name);
+    H(Index(i)) = detail::boundedNumber(e[2], kMaxCoordinate, where, name);
+  }
+  try {
+    return std::make_shared<const SizingField>(hMax, g, P, H);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where, std::string("sizing: ") + e.what());
+  }
 }
 
 Session sessionFromJson(const std::string& text, const std::string& where) {
@@ -188,6 +220,11 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     s.lbcMeshSpacing = p.spacing;  // written before the samples were made denser than the LBC mesh: the mesh was at h
   }
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");
+  p.graded = false;  // sessions written before graded sampling were sampled uniformly
+  if (params.contains("graded")) {
+    if (!params["graded"].is_boolean()) throw InputError(where, "params.graded must be true or false");
+    p.graded = params["graded"].get<bool>();
+  }
   if (params.contains("seed")) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
     p.seed = params["seed"].get<std::uint64_t>();
@@ -284,6 +321,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     s.timings = {get("sampling"), get("assemble"), get("factor"), get("init"), get("optimize"), get("solve"), get("total")};
   }
   if (j.contains("reports")) s.reports = detail::reportsFromJson(j["reports"]);
+  if (j.contains("sizing") && !j["sizing"].is_null()) s.sizing = sizingFromJson(j["sizing"], p.spacing, where);
   // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
   const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
   if (!built) {

@@ -101,9 +101,9 @@ Structure structureFromJson(const std::string& text, const std::string& where) {
 
 Structure loadStructure(const std::string& path) { return structureFromJson(readTextFile(path), path); }
 
-void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where) {
+void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where, bool graded) {
   asUserInput(where, [&] {
-    validateLines(cage, structure.lines, h);
+    validateLines(cage, structure.lines, h, graded);
     validateRigidRegions(cage, structure.rigid);
   });
 }

@@ -57,6 +57,48 @@ std::vector<Vec2> jitteredCells(const Rect& rect, double c, std::mt19937_64& rng
   return pts;
 }
 
+/// splitmix64: a portable hash of one 64-bit word (the per-cell random stream of the graded start).
+std::uint64_t splitmix(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+/// Visits the cells of the graded start: root cells of side c0 = √cellArea·hMax over `rect`
+/// (those meeting `keep` when given), each split into four while its side exceeds
+/// √cellArea·h(centre); f(cell rectangle, probability, id) for every leaf, the probability
+/// side² / (cellArea·h(centre)²) ≤ 1 of its one sample, so the expected density is 1/(cellArea·h²).
+/// Leaves below a side of hMin·√cellArea/2 are not split further.
+template <class F>
+void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, const Rect* keep, F&& f) {
+  const double root = std::sqrt(cellArea);
+  const CellGrid g = cellGridOf(rect, root * sizing.hMax());
+  const double floorSide = 0.5 * root * sizing.hMin();
+  auto visit = [&](auto&& self, const Rect& cell, std::uint64_t id) -> void {
+    if (keep && (cell.x1 < keep->x0 || cell.x0 > keep->x1 || cell.y1 < keep->y0 || cell.y0 > keep->y1)) return;
+    const Vec2 centre(0.5 * (cell.x0 + cell.x1), 0.5 * (cell.y0 + cell.y1));
+    const double hc = sizing(centre);
+    const double side = std::max(cell.width(), cell.height());
+    if (side > root * hc && side > floorSide) {
+      const double xm = centre.x(), ym = centre.y();
+      const std::uint64_t child = splitmix(id);
+      self(self, {cell.x0, cell.y0, xm, ym}, child + 1);
+      self(self, {xm, cell.y0, cell.x1, ym}, child + 2);
+      self(self, {cell.x0, ym, xm, cell.y1}, child + 3);
+      self(self, {xm, ym, cell.x1, cell.y1}, child + 4);
+      return;
+    }
+    f(cell, std::min(1.0, cell.area() / (cellArea * hc * hc)), id);
+  };
+  for (Index j = 0; j < g.ny; ++j)
+    for (Index i = 0; i < g.nx; ++i) {
+      const Rect cell{rect.x0 + static_cast<double>(i) * g.cx, rect.y0 + static_cast<double>(j) * g.cy,
+                      rect.x0 + static_cast<double>(i + 1) * g.cx, rect.y0 + static_cast<double>(j + 1) * g.cy};
+      visit(visit, cell, static_cast<std::uint64_t>(j * g.nx + i));
+    }
+}
+
 Points toPoints(const std::vector<Vec2>& v) {
   Points P(static_cast<Index>(v.size()), 2);
   for (std::size_t k = 0; k < v.size(); ++k) P.row(static_cast<Index>(k)) = v[k].transpose();
@@ -68,6 +110,46 @@ Points toPoints(const std::vector<Vec2>& v) {
 double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea) {
   const double perimeter = 2.0 * (domain.width() + domain.height());
   return domain.area() / (cellArea * h * h) + perimeter / h + 4.0;
+}
+
+double gradedCountEstimate(const Rect& domain, const SizingField& sizing, double cellArea) {
+  double n = 0.0;
+  gradedCells(domain, sizing, cellArea, nullptr, [&](const Rect& cell, double p, std::uint64_t) {
+    (void)cell;
+    n += p;
+  });
+  return n;
+}
+
+Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizing, double cellArea, std::uint64_t seed,
+                   Index& interiorCount, const Cage* obstacles, const Rect* cellGrid) {
+  const bool anchored = cellGrid && cellGrid->area() > 0.0;
+  const CageEdgeGrid locator(obstacles ? *obstacles : cage, sizing.hMax());
+  const CageQueries queries(cage);
+  std::vector<Vec2> inside, outside;
+  // Cells whose probability is below 1 (the refined ones) keep a sample when the running sum of
+  // their probabilities, in the quadtree's order, passes a whole number: the count over any run of
+  // neighbouring cells is then within one of its expectation (no Poisson clumps and holes for the
+  // relaxation to smooth out). The sum starts at a random offset; positions are random per cell.
+  double carry = static_cast<double>(splitmix(seed) >> 11) * 0x1.0p-53;
+  gradedCells(anchored ? *cellGrid : domain, sizing, cellArea, anchored ? &domain : nullptr,
+              [&](const Rect& cell, double probability, std::uint64_t id) {
+                const std::uint64_t base = splitmix(seed ^ splitmix(id));
+                auto draw = [&](std::uint64_t k) { return static_cast<double>(splitmix(base + k) >> 11) * 0x1.0p-53; };
+                if (probability < 1.0) {
+                  carry += probability;
+                  if (carry < 1.0) return;
+                  carry -= 1.0;
+                }
+                const Vec2 p(cell.x0 + draw(1) * cell.width(), cell.y0 + draw(2) * cell.height());
+                const double minDistance = 0.5 * sizing(p);
+                if (domain.insideDistance(p) < minDistance) return;
+                if (locator.distance(p, minDistance) < minDistance) return;
+                (queries.inside(p) ? inside : outside).push_back(p);
+              });
+  interiorCount = static_cast<Index>(inside.size());
+  inside.insert(inside.end(), outside.begin(), outside.end());
+  return toPoints(inside);
 }
 
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
@@ -94,16 +176,20 @@ BlueNoiseResult blueNoiseSample(const Cage& cage, const Rect& domain, double h, 
                                 const BlueNoiseOptions& options, std::span<const StructureLine> lines) {
   BlueNoiseResult result;
   SampleSet& S = result.samples;
-  S = boundarySamples(cage, h);
-  appendLineSamples(S, lines, h);
+  const SizingField* sizing = options.relax.sizing && options.relax.sizing->graded() ? options.relax.sizing : nullptr;
+  const SizingField local = sizing ? *sizing : SizingField::uniform(h);
+  S = boundarySamples(cage, local);
+  appendLineSamples(S, lines, local);
   const Cage obstacles = obstacleEdges(cage, lines);
-  const Points frame = dropNearCage(cage, framePoints(domain, h), 0.5 * h);
+  const Points frame = dropNearCage(cage, framePoints(domain, local), local, 0.5);
   appendSamples(S, frame, SampleKind::Exterior);
   result.frameCount = frame.rows();
   const Index firstFree = S.size();
 
-  const Points start =
-      jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount, &obstacles, &options.cellGrid);
+  const Points start = sizing ? gradedStart(cage, domain, *sizing, options.cellArea, seed, result.interiorCount, &obstacles,
+                                            &options.cellGrid)
+                              : jitteredStart(cage, domain, h, options.cellArea, seed, result.interiorCount, &obstacles,
+                                              &options.cellGrid);
   result.exteriorCount = start.rows() - result.interiorCount;
   appendSamples(S, start.topRows(result.interiorCount), SampleKind::Interior);
   appendSamples(S, start.bottomRows(result.exteriorCount), SampleKind::Exterior);

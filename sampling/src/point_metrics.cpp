@@ -85,6 +85,43 @@ PointSetMetrics pointSetMetrics(const Points& X, double h, const Rect& domain, I
   return m;
 }
 
+PointSetMetrics gradedPointSetMetrics(const Points& X, const SizingField& sizing, const Rect& domain, Index first) {
+  PointSetMetrics m;
+  const Eigen::VectorXd d = nearestNeighbourDistances(X), h = sizing.at(X);
+  if (first < X.rows()) {
+    const Index n = X.rows() - first;
+    const Eigen::ArrayXd t = d.tail(n).array() / h.tail(n).array();
+    m.separation = t.minCoeff();
+    m.nnMean = t.mean();
+    m.nnCv = std::sqrt((t - t.mean()).square().mean()) / t.mean();
+  }
+  // Probes at the centres of cells split until their side is at most h(centre)/8.
+  std::vector<Vec2> probes;
+  auto visit = [&](auto&& self, double x0, double y0, double side) -> void {
+    const Vec2 c(x0 + 0.5 * side, y0 + 0.5 * side);
+    if (side > sizing(c) / 8.0) {
+      const double s2 = 0.5 * side;
+      for (int k = 0; k < 4; ++k) self(self, x0 + (k % 2) * s2, y0 + (k / 2) * s2, s2);
+      return;
+    }
+    if (domain.contains(c)) probes.push_back(c);
+  };
+  const double root = sizing.hMax();
+  for (double y = domain.y0; y < domain.y1; y += root)
+    for (double x = domain.x0; x < domain.x1; x += root) visit(visit, x, y, root);
+  const SpatialGrid grid(X, root);
+  std::vector<double> worst(probes.size(), 0.0);
+  parallelFor(static_cast<Index>(probes.size()), [&](Index k) {
+    const Vec2& p = probes[static_cast<std::size_t>(k)];
+    const double hp = sizing(p), reach = 2.0 * hp;
+    double best = reach * reach;
+    grid.forEachWithin(p, reach, [&](Index, double d2) { best = std::min(best, d2); });
+    worst[static_cast<std::size_t>(k)] = std::sqrt(best) / hp;
+  });
+  for (double w : worst) m.fill = std::max(m.fill, w);
+  return m;
+}
+
 RadialSpectrum radialPowerSpectrum(const Points& X, const RadialSpectrumOptions& options) {
   RadialSpectrum s;
   const Index n = X.rows();

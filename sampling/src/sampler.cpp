@@ -48,15 +48,24 @@ void checkCount(double count, double h) {
                               "; use a spacing of at least " + num(fits));
 }
 
-double perimeterSamples(const Cage& cage, double h) {
+const SizingField* gradedSizing(const SamplingOptions& o) {
+  return o.sizing && o.sizing->graded() && o.kind == SamplerKind::BlueNoise ? o.sizing.get() : nullptr;
+}
+
+double perimeterSamples(const Cage& cage, const SamplingOptions& o) {
   double n = static_cast<double>(cage.size());
-  for (const auto& [a, b] : cageEdges(cage)) n += static_cast<double>(edgePieces((cage.C.row(a) - cage.C.row(b)).norm(), h));
+  const SizingField* sizing = gradedSizing(o);
+  for (const auto& [a, b] : cageEdges(cage))
+    n += sizing ? static_cast<double>(segmentDivision(cage.C.row(a), cage.C.row(b), *sizing).size()) - 1.0
+                : static_cast<double>(edgePieces((cage.C.row(a) - cage.C.row(b)).norm(), o.spacing));
   return n;
 }
 
-double lineSampleCount(const std::vector<StructureLine>& lines, double h) {
+double lineSampleCount(const SamplingOptions& o) {
   double n = 0.0;
-  for (const StructureLine& l : lines) n += static_cast<double>(lineSamplePoints(l, h).rows());
+  const SizingField* sizing = gradedSizing(o);
+  for (const StructureLine& l : o.lines)
+    n += static_cast<double>(sizing ? lineSamplePoints(l, *sizing).rows() : lineSamplePoints(l, o.spacing).rows());
   return n;
 }
 
@@ -87,15 +96,22 @@ Rect sampledRegion(const Cage& cage, const SamplingOptions& options) {
 double estimateSampleCount(const Cage& cage, const SamplingOptions& options) {
   const double h = options.spacing;
   const Rect domain = sampledRegion(cage, options);
-  return (options.kind == SamplerKind::Grid ? gridPointCount(domain, h)
-                                            : blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea)) +
-         perimeterSamples(cage, h) + lineSampleCount(options.lines, h);
+  const SizingField* sizing = gradedSizing(options);
+  const double free = options.kind == SamplerKind::Grid ? gridPointCount(domain, h)
+                      : sizing ? gradedCountEstimate(domain, *sizing, options.blueNoise.cellArea) +
+                                     2.0 * (domain.width() + domain.height()) / h + 4.0
+                               : blueNoiseCountEstimate(domain, h, options.blueNoise.cellArea);
+  return free + perimeterSamples(cage, options) + lineSampleCount(options);
 }
 
 SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingReport* report) {
   const auto start = std::chrono::steady_clock::now();
   validate(cage, options);
   const double h = options.spacing;
+  if (options.sizing && options.sizing->graded() && options.kind == SamplerKind::Grid)
+    throw std::invalid_argument("sampling: the grid sampler is uniform and this cage has narrow places: use the blue-noise sampler");
+  if (options.sizing && options.sizing->hMax() != h)
+    throw std::invalid_argument("sampling: the sizing field's largest spacing must be the spacing");
   const Rect domain = sampledRegion(cage, options);
   SamplingReport r;
   SampleSet S;
@@ -109,6 +125,7 @@ SampleSet sample(const Cage& cage, const SamplingOptions& options, SamplingRepor
     BlueNoiseOptions bo = options.blueNoise;
     if (options.exterior == ExteriorExtent::Band) bo.cellGrid = samplingDomain(options);
     if (options.progress) bo.relax.progress = options.progress;
+    bo.relax.sizing = gradedSizing(options);
     BlueNoiseResult b = blueNoiseSample(cage, domain, h, options.seed, bo, options.lines);
     S = std::move(b.samples);
     r.frame = b.frameCount;

@@ -25,6 +25,18 @@ double suggestSigma(const Points& X) {
 
 double suggestSigma(const SampleSet& S) { return suggestSigma(S.X); }
 
+double suggestSigma(const Points& X, const SizingField& sizing) {
+  if (!sizing.graded()) return suggestSigma(X);
+  if (X.rows() < 2) throw std::invalid_argument("suggestSigma: need at least two samples");
+  const Eigen::VectorXd nn = nearestNeighbourDistances(X), h = sizing.at(X);
+  double sum = 0.0;
+  Index n = 0;
+  for (Index i = 0; i < X.rows(); ++i)
+    if (std::isfinite(nn(i))) sum += nn(i) / h(i), ++n;
+  if (n == 0) throw std::invalid_argument("suggestSigma: need at least two samples");
+  return sigmaFromSpacing(sum / static_cast<double>(n) * sizing.hMax());
+}
+
 SpectralSigma spectralSigma(const Points& X, const SpectralSigmaOptions& options) {
   SpectralSigma result;
   if (X.rows() < 2) return result;

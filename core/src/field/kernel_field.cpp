@@ -105,6 +105,15 @@ SparseRowMatrix KernelField::evaluationOperator(const Points& P) const {
 
 void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
   if (!m_interp.evaluable()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
+  if (m_interp.kernel().variable()) {  // the Gibbs kernel's gradient (kernelGradientRows)
+    SparseRowMatrix Gx, Gy;
+    kernelGradientRows(m_interp.samples(), P, m_interp.kernel(), Gx, Gy);
+    Ex = withPolynomial(
+        Gx, [](Index) { return std::vector<std::pair<Index, double>>{{1, 1.0}}; }, [](Index, Index, double v) { return v; });
+    Ey = withPolynomial(
+        Gy, [](Index) { return std::vector<std::pair<Index, double>>{{2, 1.0}}; }, [](Index, Index, double v) { return v; });
+    return;
+  }
   const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
   const Points& X = m_interp.samples();
   const double inv2 = 1.0 / (m_interp.kernel().sigma * m_interp.kernel().sigma);

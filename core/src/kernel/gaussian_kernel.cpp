@@ -15,4 +15,20 @@ GaussianKernel GaussianKernel::forSpacing(double sigma, double T) {
   return k;
 }
 
+double GaussianKernel::widthAt(const Vec2& x, Vec2& gradient) const {
+  if (!variable()) {
+    gradient.setZero();
+    return sigma;
+  }
+  const double f = sigma / width->hMax();
+  const double h = width->valueAndGradient(x, gradient);
+  gradient *= f;
+  return f * h;
+}
+
+Eigen::VectorXd GaussianKernel::widthsAt(const Points& X) const {
+  if (!variable()) return Eigen::VectorXd::Constant(X.rows(), sigma);
+  return (sigma / width->hMax()) * width->at(X);
+}
+
 }  // namespace kc

@@ -32,6 +32,7 @@ struct KernelInterpolator::Impl {
   InterpMode mode = InterpMode::Exact;
   detail::PermutedCholesky llt;  // of K; K itself is not kept
   SpatialGrid grid;
+  Eigen::VectorXd widths;  // σ at each sample (variable-width kernel only)
   bool ok = false;
   bool evaluable = false;  // X, kernel, mode and grid set
   // Exact mode: polynomial basis in centred, scaled coordinates x̂ = (x − c)/s.
@@ -74,6 +75,7 @@ std::unique_ptr<Impl> newImpl(const Points& X, const GaussianKernel& kernel, Int
   impl->X = X;
   impl->kernel = kernel;
   impl->mode = mode;
+  if (kernel.variable()) impl->widths = kernel.widthsAt(X);
   return impl;
 }
 }  // namespace
@@ -245,6 +247,14 @@ Weights KernelInterpolator::evaluate(const KernelCoefficients& coef, const Point
     const Vec2 x = P.row(p).transpose();
     auto row = out.row(p);
     row = coef.B.row(0) + x.x() * coef.B.row(1) + x.y() * coef.B.row(2);
+    if (d.kernel.variable()) {
+      const double sx = d.kernel.widthAt(x);
+      d.grid.forEachWithin(x, d.kernel.reach(sx), [&](Index j, double d2) {
+        const double k = d.kernel(d2, sx, d.widths(j));
+        if (k != 0.0) row.noalias() += k * coef.U.row(j);
+      });
+      return;
+    }
     d.grid.forEachWithin(x, theta, [&](Index j, double d2) { row.noalias() += d.kernel(d2) * coef.U.row(j); });
   });
   return out;
@@ -265,6 +275,18 @@ void KernelInterpolator::evaluateGradient(const KernelCoefficients& coef, const 
     auto gy = dWdy.row(p);
     gx = coef.B.row(1);
     gy = coef.B.row(2);
+    if (d.kernel.variable()) {  // the Gibbs kernel's gradient (GaussianKernel::gradientFactor)
+      Vec2 g = Vec2::Zero();
+      const double sx = d.kernel.widthAt(x, g);
+      d.grid.forEachWithin(x, d.kernel.reach(sx), [&](Index j, double d2) {
+        const double k = d.kernel(d2, sx, d.widths(j));
+        if (k == 0.0) return;
+        const Vec2 f = k * d.kernel.gradientFactor(x - Vec2(d.X.row(j)), sx, g, d.widths(j));
+        gx.noalias() += f.x() * coef.U.row(j);
+        gy.noalias() += f.y() * coef.U.row(j);
+      });
+      return;
+    }
     // ∇k(x, x_j) = −k(x, x_j)(x − x_j)/σ² (3.42).
     d.grid.forEachWithin(x, theta, [&](Index j, double d2) {
       const double k = d.kernel(d2) * inv2;

@@ -28,6 +28,21 @@ using Entry = detail::SparseList::value_type;  // (sample index, kernel value)
 std::vector<detail::SparseList> neighbourLists(const Points& X, const Points& P, const GaussianKernel& kernel) {
   const SpatialGrid grid(X, kernel.cutoff());
   std::vector<detail::SparseList> rows(static_cast<std::size_t>(P.rows()));
+  if (kernel.variable()) {  // Gibbs kernel: the widths at the samples and at each query point
+    const Eigen::VectorXd sx = kernel.widthsAt(X);
+    const bool same = &X == &P;
+    parallelFor(P.rows(), [&](Index p) {
+      auto& row = rows[static_cast<std::size_t>(p)];
+      const Vec2 q = P.row(p).transpose();
+      const double sp = same ? sx(p) : kernel.widthAt(q);
+      grid.forEachWithin(q, kernel.reach(sp), [&](Index j, double d2) {
+        const double v = kernel(d2, sp, sx(j));
+        if (v != 0.0) row.emplace_back(j, v);
+      });
+      std::sort(row.begin(), row.end(), [](const Entry& a, const Entry& b) { return a.first < b.first; });
+    });
+    return rows;
+  }
   parallelFor(P.rows(), [&](Index p) {
     auto& row = rows[static_cast<std::size_t>(p)];
     grid.forEachWithin(P.row(p).transpose(), kernel.cutoff(),
@@ -44,6 +59,31 @@ SparseMatrix assembleKernelMatrix(const Points& X, const GaussianKernel& kernel)
   if (!X.allFinite()) throw std::invalid_argument("kernel matrix: sample positions must be finite");
   // K is symmetric, so column i holds the same entries as row i: build the columns directly.
   return detail::compressLists<SparseMatrix>(X.rows(), X.rows(), neighbourLists(X, X, kernel));
+}
+
+void kernelGradientRows(const Points& X, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx,
+                        SparseRowMatrix& Gy) {
+  Gx = kernelRows(X, P, kernel);
+  Gy = Gx;
+  const bool variable = kernel.variable();
+  const double inv2 = 1.0 / (kernel.sigma * kernel.sigma);
+  parallelFor(P.rows(), [&](Index p) {
+    const Vec2 q = P.row(p).transpose();
+    Vec2 gp = Vec2::Zero();
+    const double sp = variable ? kernel.widthAt(q, gp) : kernel.sigma;
+    SparseRowMatrix::InnerIterator y(Gy, p);
+    for (SparseRowMatrix::InnerIterator x(Gx, p); x; ++x, ++y) {
+      const Index j = x.col();
+      if (!variable) {  // ∇k(p, x_j) = −k(p, x_j)(p − x_j)/σ² (3.42)
+        x.valueRef() *= -inv2 * (q.x() - X(j, 0));
+        y.valueRef() *= -inv2 * (q.y() - X(j, 1));
+        continue;
+      }
+      const Vec2 f = kernel.gradientFactor(q - Vec2(X.row(j)), sp, gp, kernel.widthAt(X.row(j)));
+      x.valueRef() *= f.x();
+      y.valueRef() *= f.y();
+    }
+  });
 }
 
 SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel) {

@@ -35,7 +35,15 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   const Index n = X.rows(), m = W.cols();
   if (W.rows() != n || static_cast<Index>(keep.size()) != n) throw std::invalid_argument("makeLinearAlong: W and keep need one row per sample");
   const bool exact = interp.mode() == InterpMode::Exact;
-  const double sigma = kernel.sigma, radius = options.reach * sigma, theta = kernel.cutoff();
+  const double theta = kernel.cutoff();
+  // The kernel's width near each segment (its smallest at the ends and the middle; σ when constant):
+  // fit points, the reach of the correction and the scaling of the polynomial rows follow it.
+  std::vector<double> segmentSigma(segments.size(), kernel.sigma);
+  if (kernel.variable())
+    for (std::size_t s = 0; s < segments.size(); ++s)
+      segmentSigma[s] = std::min({kernel.widthAt(segments[s].a), kernel.widthAt(segments[s].b),
+                                  kernel.widthAt(0.5 * (segments[s].a + segments[s].b))});
+  const Eigen::VectorXd widthX = kernel.widthsAt(X);
 
   // All fit points, their segment and their targets; e = w(F) − target, kept up to date.
   std::vector<Points> P(segments.size());
@@ -43,7 +51,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   Index total = 0;
   for (std::size_t s = 0; s < segments.size(); ++s) {
     if (segments[s].wa.size() != m || segments[s].wb.size() != m) throw std::invalid_argument("makeLinearAlong: end weights need m entries");
-    fitPoints(segments[s], options.fitSpacing * sigma, P[s], T[s]);
+    fitPoints(segments[s], options.fitSpacing * segmentSigma[s], P[s], T[s]);
     total += P[s].rows();
   }
   Points F(total, 2);
@@ -56,6 +64,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     at += std::size_t(P[s].rows());
   }
   Weights e = field.weightsAt(F) - target;
+  const Eigen::VectorXd widthF = kernel.widthsAt(F);
   report.before = e.cwiseAbs().maxCoeff();
 
   std::vector<Index> keptRows;  // their rows are put back exactly at the end
@@ -66,6 +75,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   for (int sweep = 0; sweep < std::max(1, options.sweeps); ++sweep)
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec2 a = segments[s].a, b = segments[s].b;
+    const double sigma = segmentSigma[s], radius = options.reach * sigma;
     std::vector<Index> nodes, held, onLine, own, others, loose;  // onLine: held samples on the segment (fit, not held)
     for (Index j = 0; j < n; ++j) {
       const double d = pointSegmentDistance(X.row(j), a, b);
@@ -84,19 +94,23 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     const Index cols = Index(nodes.size());
     const Index rows = Index(own.size() + onLine.size() + held.size() + others.size() + loose.size()) + (exact ? 3 : 0);
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, cols), rhs = Eigen::MatrixXd::Zero(rows, m);
-    auto kernelRow = [&](Index r, const Vec2& p, double weight) {
-      for (Index c = 0; c < cols; ++c) A(r, c) = weight * kernel((p - Vec2(X.row(nodes[std::size_t(c)]))).squaredNorm());
+    // k(p, x_node) for p of width sp (the constant kernel ignores the widths).
+    auto k = [&](const Vec2& p, double sp, Index node) {
+      return kernel((p - Vec2(X.row(node))).squaredNorm(), sp, widthX(node));
+    };
+    auto kernelRow = [&](Index r, const Vec2& p, double sp, double weight) {
+      for (Index c = 0; c < cols; ++c) A(r, c) = weight * k(p, sp, nodes[std::size_t(c)]);
     };
     Index r = 0;
     for (Index q : own) {
-      kernelRow(r, F.row(q), 1.0);
+      kernelRow(r, F.row(q), widthF(q), 1.0);
       rhs.row(r++) = -e.row(q);
     }
-    for (Index i : onLine) kernelRow(r++, X.row(i), 1.0);  // their rows are the linear targets already: no change
+    for (Index i : onLine) kernelRow(r++, X.row(i), widthX(i), 1.0);  // their rows are the linear targets already: no change
     const double w = options.holdWeight;
-    for (Index i : held) kernelRow(r++, X.row(i), w);
-    for (Index q : others) kernelRow(r++, F.row(q), w);
-    for (Index i : loose) kernelRow(r++, X.row(i), options.freeWeight);
+    for (Index i : held) kernelRow(r++, X.row(i), widthX(i), w);
+    for (Index q : others) kernelRow(r++, F.row(q), widthF(q), w);
+    for (Index i : loose) kernelRow(r++, X.row(i), widthX(i), options.freeWeight);
     if (exact) {
       for (Index c = 0; c < cols; ++c) {
         A(r, c) = w;
@@ -114,8 +128,8 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
       if (pointSegmentDistance(X.row(i), a, b) > radius + theta) continue;
       Eigen::RowVectorXd dw = Eigen::RowVectorXd::Zero(m);
       for (Index c = 0; c < cols; ++c) {
-        const double k = kernel((Vec2(X.row(i)) - Vec2(X.row(nodes[std::size_t(c)]))).squaredNorm());
-        if (k != 0.0) dw += k * dU.row(c);
+        const double kc = k(X.row(i), widthX(i), nodes[std::size_t(c)]);
+        if (kc != 0.0) dw += kc * dU.row(c);
       }
       if (dw.cwiseAbs().maxCoeff() > 0.0) {
         W.row(i) += dw;
@@ -125,8 +139,8 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     for (Index q = 0; q < total; ++q) {
       if (pointSegmentDistance(F.row(q), a, b) > radius + theta) continue;
       for (Index c = 0; c < cols; ++c) {
-        const double k = kernel((Vec2(F.row(q)) - Vec2(X.row(nodes[std::size_t(c)]))).squaredNorm());
-        if (k != 0.0) e.row(q) += k * dU.row(c);
+        const double kc = k(F.row(q), widthF(q), nodes[std::size_t(c)]);
+        if (kc != 0.0) e.row(q) += kc * dU.row(c);
       }
     }
     for (Index j : nodes) adjusted[std::size_t(j)] = 1;

@@ -35,7 +35,7 @@ double angleDegrees(const Vec2& u, const Vec2& v) {
 
 }  // namespace
 
-void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h) {
+void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h, bool graded) {
   if (lines.empty()) return;
   if (!hasInterior(cage)) throw std::invalid_argument(lineName(0) + ": lines need a closed cage (an open cage has no inside)");
   std::map<int, std::vector<std::size_t>> groups;
@@ -45,20 +45,20 @@ void validateLines(const Cage& cage, std::span<const StructureLine> lines, doubl
     if (!l.a.allFinite() || !l.b.allFinite()) throw std::invalid_argument(name + ": the end points are not finite");
     const double len = l.length();
     if (len == 0.0) throw std::invalid_argument(name + ": the line has zero length (both ends at the same point)");
-    if (len < kMinLineSpacings * h)
+    if (!graded && len < kMinLineSpacings * h)
       throw std::invalid_argument(name + ": the line is " + num(len) + " px long, shorter than " + num(kMinLineSpacings) +
                                   " sample spacings (" + num(kMinLineSpacings * h) + " px at spacing " + num(h) + ")");
     if (!insideCage(cage, l.a) || !insideCage(cage, l.b) || segmentCrossesCage(cage, l.a, l.b))
       throw std::invalid_argument(name + ": the line (" + num(l.a.x()) + ", " + num(l.a.y()) + ") - (" + num(l.b.x()) + ", " +
                                   num(l.b.y()) + ") is not inside the cage (it lies outside or crosses a cage edge)");
     const double toCage = segmentToCage(cage, l.a, l.b);
-    if (toCage < h)
+    if (!graded && toCage < h)
       throw std::invalid_argument(name + ": the line comes within " + num(toCage) + " px of a cage edge, less than the spacing " +
                                   num(h) + " px");
     for (std::size_t j = 0; j < k; ++j) {
       const double d = segmentSegmentDistance(l.a, l.b, lines[j].a, lines[j].b);
       if (d == 0.0) throw std::invalid_argument(name + ": the line crosses " + lineName(j));
-      if (d < h)
+      if (!graded && d < h)
         throw std::invalid_argument(name + ": the line comes within " + num(d) + " px of " + lineName(j) +
                                     ", less than the spacing " + num(h) + " px");
     }
@@ -84,6 +84,15 @@ Points lineSamplePoints(const StructureLine& line, double h) {
     const double t = static_cast<double>(k) / static_cast<double>(pieces);
     P.row(k) = ((1.0 - t) * line.a + t * line.b).transpose();
   }
+  P.row(pieces) = line.b.transpose();
+  return P;
+}
+
+Points lineSamplePoints(const StructureLine& line, const SizingField& sizing) {
+  const std::vector<double> t = segmentDivision(line.a, line.b, sizing);
+  const Index pieces = static_cast<Index>(t.size()) - 1;
+  Points P(pieces + 1, 2);
+  for (Index k = 0; k <= pieces; ++k) P.row(k) = ((1.0 - t[std::size_t(k)]) * line.a + t[std::size_t(k)] * line.b).transpose();
   P.row(pieces) = line.b.transpose();
   return P;
 }

@@ -39,17 +39,7 @@ Points rowsOf(const Points& X, std::span<const Index> idx) {
 /// gradientOperators: ∇k(p, x_j) = −k(p, x_j)(p − x_j)/σ², thesis 3.42), from the kernel rows of
 /// the nodes XN alone (a #P×|N| matrix, node = position in N) instead of all samples' columns.
 void nodeGradients(const Points& XN, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx, SparseRowMatrix& Gy) {
-  Gx = kernelRows(XN, P, kernel);
-  Gy = Gx;
-  const double inv2 = 1.0 / (kernel.sigma * kernel.sigma);
-  for (Index p = 0; p < P.rows(); ++p) {
-    SparseRowMatrix::InnerIterator y(Gy, p);
-    for (SparseRowMatrix::InnerIterator x(Gx, p); x; ++x, ++y) {
-      const Index j = x.col();
-      x.valueRef() *= -inv2 * (P(p, 0) - XN(j, 0));
-      y.valueRef() *= -inv2 * (P(p, 1) - XN(j, 1));
-    }
-  }
+  kernelGradientRows(XN, P, kernel, Gx, Gy);
 }
 
 /// Adds Σ_p w_p M_pᵀ M_p (M's rows, column indices ascending) to the lower triangle of the dense H:

@@ -25,6 +25,15 @@ inline constexpr double kThesisMarginSpacings = 10.0;
 /// and the exterior extent; a band is max(kExteriorBandSpacings·h, 2·automaticMeshSpacing) wide.
 sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p);
 
+/// The sizing field of a graded bind (params.graded, blue noise, a backend that samples the
+/// picture): featureSizing of the cage, the structure lines and the rigid polygons' sides with
+/// hMax = params.spacing and hMin = kMinSpacing; null for a uniform bind or a cage without a narrow
+/// place (h ≡ spacing).
+/// True when a bind with `params` samples graded: params.graded, blue noise, and a backend that
+/// samples the picture (kc). Such a bind refuses no narrow place of the cage or its lines.
+bool gradedSampling(const BindParams& params);
+std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params);
+
 /// What a bind would need, estimated from its inputs before anything is sampled or allocated.
 struct BindCost {
   double samples = 0.0;         ///< #S: sampler's estimate (domain area / h², plus the cage's perimeter / h).
@@ -79,6 +88,8 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
 /// kMinFeatureSpacings·spacing, which bind() refuses), else a warning naming the narrowest place
 /// (points or edges), its width, and the spacing that resolves it.
 std::string narrowFeatureWarning(const Cage& cage, double spacing);
+/// The same for a bind with `params`: "" when its sampling is graded (it refines narrow places).
+std::string narrowFeatureWarning(const Cage& cage, double spacing, const BindParams& params);
 
 /// The largest of cost / limit over kcwarp's bind limits (kMaxBindSamples, kMaxKernelNonZeros,
 /// kMaxBindBytes): ≤ 1 when the bind fits.

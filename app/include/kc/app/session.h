@@ -55,6 +55,10 @@ struct BindParams {
   /// cage: sessionCapabilities() says so and warps refuse `deform` on it.
   sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Frame;
   std::uint64_t seed = 1;
+  /// Graded sampling (blue noise): the spacing follows the cage's local feature size, from
+  /// `spacing` away from narrow places down to what the narrowest place needs (featureSizing);
+  /// false: one spacing everywhere (`--uniform-spacing`; sessions written before grading existed).
+  bool graded = true;
   KcParams kc;             ///< Used when backend == "kc".
   LbcParams lbc;           ///< Used when backend == "lbc".
 };
@@ -87,7 +91,10 @@ struct SolverReports {
 struct Session {
   Cage cage;
   BindParams params;
-  double sigma = 0.0;          ///< σ actually used (kc).
+  double sigma = 0.0;          ///< σ actually used (kc); with a graded sampling, σ where h = params.spacing.
+  /// The local spacing of a graded sampling (the session's `sizing` block), which the kernel's
+  /// width follows (σ(x) = sigma · h(x) / params.spacing); null for a uniform one.
+  std::shared_ptr<const SizingField> sizing;
   int imageWidth = 0, imageHeight = 0;
   SampleSet samples;
   /// Lines kept straight / parallel (thesis 5.3); their samples are samples.lines[k]. Rigid

@@ -31,6 +31,7 @@ Structure loadStructure(const std::string& path);
 /// crossing a cage edge or each other, at least kMinLineSpacings·h long, groups of ≥ 2 parallel
 /// lines) and the rigid regions (kc::validateRigidRegions: inside the cage, not crossing a cage
 /// edge, not self-intersecting); InputError "<where>: lines[k]: ..." / "<where>: rigid[k]: ..." otherwise.
-void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where);
+/// `graded`: the checks of a graded bind (validateLines: no distance or length limits).
+void checkStructure(const Structure& structure, const Cage& cage, double h, const std::string& where, bool graded = false);
 
 }  // namespace kc::app

@@ -37,6 +37,20 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea);
 Points jitteredStart(const Cage& cage, const Rect& domain, double h, double cellArea, std::uint64_t seed,
                      Index& interiorCount, const Cage* obstacles = nullptr, const Rect* cellGrid = nullptr);
 
+/// Expected number of free samples of the graded start over `domain` (gradedStart before the
+/// samples near the cage are dropped): Σ over its cells of side² / (cellArea·h(centre)²).
+double gradedCountEstimate(const Rect& domain, const SizingField& sizing, double cellArea);
+
+/// Random start for the free samples of a graded sampling: cells of side √cellArea·hMax over
+/// `domain` (or over `cellGrid`, keeping those meeting `domain`), split into four while larger than
+/// √cellArea·h(centre), each leaf worth side²/(cellArea·h(centre)²) ≤ 1 samples: a leaf worth 1
+/// holds one uniformly placed sample, the others one each time the running sum of their worth (in
+/// the quadtree's order, from a random offset) passes a whole number, so the density is
+/// 1/(cellArea·h(x)²) without clumps; samples closer than h(p)/2 to the obstacles or the domain's
+/// boundary are dropped. Positions are drawn per cell (seed and cell). Rows: interior first.
+Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizing, double cellArea, std::uint64_t seed,
+                   Index& interiorCount, const Cage* obstacles = nullptr, const Rect* cellGrid = nullptr);
+
 struct BlueNoiseResult {
   SampleSet samples;               ///< controls, edges, frame (Exterior), interior, exterior
   Index frameCount = 0;            ///< fixed frame points, stored right after the edge samples
@@ -44,6 +58,9 @@ struct BlueNoiseResult {
   InverseMeanShiftReport relax;
 };
 
+/// Graded (options.relax.sizing set and graded()): every spacing below is the local h(x) of the
+/// sizing field (boundarySamples, framePoints and line samples at the local spacing, gradedStart,
+/// the relaxation at the local bandwidth); h is then the sizing's hMax.
 /// Fixed samples (controls, edges at spacing h, a frame of points on `domain`'s boundary at
 /// spacing h, dropped within h/2 of the cage), then free samples from jitteredStart relaxed by
 /// inverse mean shift with the fixed ones held in place. Free samples keep their region: interior

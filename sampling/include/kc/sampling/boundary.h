@@ -8,6 +8,7 @@
 #include <span>
 
 #include "kc/core/cage.h"
+#include "kc/core/sizing.h"
 #include "kc/core/structure/lines.h"
 #include "kc/core/types.h"
 
@@ -33,10 +34,14 @@ Index edgePieces(double length, double h);
 /// common spacing ≈ h (kind Edge, `edge` row = the edge's control indices). The edge's ends are
 /// the controls themselves and are not repeated.
 SampleSet boundarySamples(const Cage& cage, double h);
+/// The same at the local spacing of `sizing` (segmentDivision of every edge).
+SampleSet boundarySamples(const Cage& cage, const SizingField& sizing);
 
 /// Regular points on the boundary of `domain`, spacing ≈ h on each side, corners included,
 /// counter-clockwise from (x0, y0). #F×2.
 Points framePoints(const Rect& domain, double h);
+/// The same at the local spacing of `sizing` along each side.
+Points framePoints(const Rect& domain, const SizingField& sizing);
 
 /// Appends the rows of P to S with kind `kind` and edge (−1, −1).
 void appendSamples(SampleSet& S, const Points& P, SampleKind kind);
@@ -44,11 +49,15 @@ void appendSamples(SampleSet& S, const Points& P, SampleKind kind);
 /// Appends the samples of every structure line (kind Line, lineSamplePoints at spacing h, ends
 /// included) and records their indices in S.lines (thesis 5.3.3).
 void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, double h);
+/// The same at the local spacing of `sizing`.
+void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, const SizingField& sizing);
 /// What free samples keep their distance from: the cage's edges and the structure lines, as one
 /// edge list (a Cage whose points are the cage's then the lines' ends; for distance queries only,
 /// not for inside tests).
 Cage obstacleEdges(const Cage& cage, std::span<const StructureLine> lines);
 /// Keeps the rows of P whose distance to the cage is at least `minDistance`.
 Points dropNearCage(const Cage& cage, const Points& P, double minDistance);
+/// Keeps the rows p of P at least fraction · h(p) from the cage (h = `sizing`).
+Points dropNearCage(const Cage& cage, const Points& P, const SizingField& sizing, double fraction);
 
 }  // namespace kc::sampling

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "kc/core/sizing.h"
 #include "kc/core/types.h"
 #include "kc/sampling/boundary.h"
 
@@ -26,12 +27,18 @@ struct InverseMeanShiftOptions {
   /// larger of the iteration budget used and the log-scale progress of the largest move towards
   /// the tolerance), and with 1 at the end. It may throw to cancel (outside parallel loops).
   std::function<void(double)> progress;
+  /// Graded sampling: when set and graded(), each sample k relaxes at its local spacing
+  /// h_k = (*sizing)(x_k) instead of `spacing` (which is then sizing->hMax()): the pair k, j uses
+  /// the bandwidth s·h_kj/h with h_kj² = (h_k² + h_j²)/2 (symmetric: the forces balance, which the
+  /// relaxation needs to settle), and the move cap, tolerance and clearance of k scale with h_k. The step (6.4) is
+  /// scale-free (λ/s² = 0.3 by default), so a locally uniform region relaxes as a uniform one.
+  const SizingField* sizing = nullptr;
 };
 
 struct InverseMeanShiftReport {
   int iterations = 0;
   bool converged = false;
-  double lastMove = 0.0;       ///< Largest move of the last iteration / h.
+  double lastMove = 0.0;       ///< Largest move of the last iteration / h (graded: / the sample's own h).
   std::vector<double> largestMoves;  ///< Largest move / h of every iteration (convergence plot).
   Index rejectedMoves = 0;     ///< Moves refused (would leave the region or cross the cage).
   double seconds = 0.0;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "kc/core/sizing.h"
 #include "kc/core/types.h"
 #include "kc/sampling/boundary.h"
 
@@ -32,6 +33,12 @@ struct PointSetMetrics {
 
 /// All of the above in units of h, for rows ≥ first (e.g. the free samples). probe < 0 → h/8.
 PointSetMetrics pointSetMetrics(const Points& X, double h, const Rect& domain, Index first = 0, double probe = -1.0);
+
+/// The same for a graded sampling, in units of the local spacing h(x) = sizing(x): separation =
+/// min over rows i ≥ first of (distance to the nearest other row) / h(x_i); nnMean, nnCv of those
+/// ratios; fill = max over `domain` of (distance to the nearest row) / h(p), on probes at most
+/// h(p)/8 apart (capped at 2: a probe with no row within 2 h(p) reports 2).
+PointSetMetrics gradedPointSetMetrics(const Points& X, const SizingField& sizing, const Rect& domain, Index first = 0);
 
 struct RadialSpectrumOptions {
   double omegaMax = -1.0;     ///< Largest angular frequency; < 0 → 3 · 2π / T (T = mean NN spacing).

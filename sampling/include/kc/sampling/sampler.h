@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "kc/core/cage.h"
@@ -72,6 +73,9 @@ struct SamplingOptions {
   /// Structure lines (thesis 5.3.3): sampled at spacing ≈ h and kept fixed; free samples keep
   /// their distance from them. Checked with validateLines.
   std::vector<StructureLine> lines;
+  /// Graded sampling (blue noise only): the local spacing h(x) (featureSizing), whose hMax is
+  /// `spacing`. Null or not graded(): the uniform sampling at `spacing`.
+  std::shared_ptr<const SizingField> sizing;
 };
 
 struct SamplingReport {

@@ -2,6 +2,7 @@
 /// Choosing the kernel scale σ for a point set, and showing whether a σ is good: thesis 3.2
 /// (σ̂ = 3T/π, eq. 3.28), Fig 6.10 (spectral choice), Figs 3.1 / 3.3 (row sums of K).
 
+#include "kc/core/sizing.h"
 #include "kc/core/types.h"
 #include "kc/sampling/point_metrics.h"
 
@@ -14,6 +15,10 @@ double sigmaFromSpacing(double T);
 /// σ̂ (3.28) with T the mean nearest-neighbour spacing of the samples. What `bind` uses by default.
 double suggestSigma(const Points& X);
 double suggestSigma(const SampleSet& S);
+/// For a graded sampling: σ where h = hMax, from the mean of each sample's nearest-neighbour
+/// distance in units of its local spacing (T/h is the same everywhere, so σ(x) = σ · h(x)/hMax);
+/// suggestSigma(X) when `sizing` is not graded.
+double suggestSigma(const Points& X, const SizingField& sizing);
 
 struct SpectralSigmaOptions {
   RadialSpectrumOptions spectrum;

@@ -11,10 +11,16 @@ namespace kc {
 using SparseMatrix = Eigen::SparseMatrix<double>;                   ///< column-major
 using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-/// K #S×#S, K_ij = k(x_i, x_j) for |x_i − x_j| ≤ θ (thesis 3.32, 6.1). Symmetric, full storage.
+/// K #S×#S, K_ij = k(x_i, x_j) for |x_i − x_j| ≤ θ (thesis 3.32, 6.1); with a variable width the
+/// Gibbs kernel's non-zero entries (GaussianKernel). Symmetric, full storage.
 SparseMatrix assembleKernelMatrix(const Points& X, const GaussianKernel& kernel);
 
 /// k(p)ᵀ for every query point: #P×#S, row p holds k(p, x_j) for |p − x_j| ≤ θ (3.32).
 SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel);
+
+/// ∂/∂p_x and ∂/∂p_y of kernelRows(X, P, kernel) (3.41–3.43; for a variable width the Gibbs
+/// kernel's gradient, GaussianKernel::gradientFactor): two #P×#S matrices with its sparsity.
+void kernelGradientRows(const Points& X, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx,
+                        SparseRowMatrix& Gy);
 
 }  // namespace kc

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "kc/core/sizing.h"
 #include "kc/core/types.h"
 
 namespace kc {
@@ -31,11 +32,15 @@ inline constexpr double kMinLineSpacings = 3.0;
 /// kMinLineSpacings·h, not strictly inside the closed cage, closer than h to a cage edge, or
 /// crossing or closer than h to another line; or when a parallel group has a single line
 /// ("lines[k]: parallel group ... has one line"). Open cages (no interior) get no lines.
-void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h);
+/// `graded`: for a graded sampling, which refines wherever a line comes close to the cage or to
+/// another line (featureSizing), so only lines that cross or leave the cage are refused.
+void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h, bool graded = false);
 
 /// Sample positions on one line at spacing ≈ h: round(|b − a| / h) equal pieces, both ends
 /// included, from a to b (thesis 5.3.3: "regular sampling is performed on these lines"). n×2.
 Points lineSamplePoints(const StructureLine& line, double h);
+/// The same at the local spacing of `sizing` (segmentDivision), both ends included.
+Points lineSamplePoints(const StructureLine& line, const SizingField& sizing);
 
 /// Weights of the intermediate samples of a line from its two base points (5.6): row k of W for
 /// samples[k] (samples[0] at a, samples.back() at b) becomes (1 − t_k) W(a) + t_k W(b), t_k the

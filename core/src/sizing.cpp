@@ -1,0 +1,330 @@
+#include "kc/core/sizing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "kc/core/cage_edge_grid.h"
+
+namespace kc {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Closest points of segments a–b and c–d: parameters s (on a–b) and t (on c–d) in [0, 1].
+void closestParameters(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d, double& s, double& t) {
+  const Vec2 u = b - a, v = d - c, w = a - c;
+  const double A = u.dot(u), B = u.dot(v), C = v.dot(v), D = u.dot(w), E = v.dot(w);
+  const double den = A * C - B * B;
+  s = den > 1e-14 * A * C ? std::clamp((B * E - C * D) / den, 0.0, 1.0) : 0.0;
+  t = C > 0.0 ? std::clamp((B * s + E) / C, 0.0, 1.0) : 0.0;
+  s = A > 0.0 ? std::clamp((B * t - D) / A, 0.0, 1.0) : 0.0;
+  // One more half-step of the alternation settles the parallel and end-point cases.
+  t = C > 0.0 ? std::clamp((B * s + E) / C, 0.0, 1.0) : 0.0;
+}
+
+/// The feature graph: vertices and segments (vertex pairs), features split where they cross or
+/// touch so that they share a vertex there.
+struct FeatureGraph {
+  Points V;
+  std::vector<std::array<int, 2>> E;
+};
+
+FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extra) {
+  const auto cageE = cageEdges(cage);
+  const Index m = cage.size();
+  const Index n = static_cast<Index>(extra.size());
+  double extent = 0.0;
+  if (m > 0)
+    extent = std::max(cage.C.col(0).maxCoeff() - cage.C.col(0).minCoeff(), cage.C.col(1).maxCoeff() - cage.C.col(1).minCoeff());
+  for (const FeatureSegment& f : extra) extent = std::max({extent, (f.b - f.a).cwiseAbs().maxCoeff()});
+  const double eps = 1e-9 * std::max(extent, 1e-300);
+
+  // All segments: cage edges first, then the extra ones, each with its split parameters.
+  std::vector<std::array<Vec2, 2>> seg;
+  std::vector<std::array<int, 2>> ends;  // vertex ids of the ends
+  std::vector<Vec2> verts;
+  for (Index i = 0; i < m; ++i) verts.emplace_back(cage.C.row(i));
+  for (const auto& [a, b] : cageE) {
+    seg.push_back({Vec2(cage.C.row(a)), Vec2(cage.C.row(b))});
+    ends.push_back({a, b});
+  }
+  for (const FeatureSegment& f : extra) {
+    const int ia = static_cast<int>(verts.size());
+    verts.push_back(f.a);
+    verts.push_back(f.b);
+    seg.push_back({f.a, f.b});
+    ends.push_back({ia, ia + 1});
+  }
+  // Splits: (parameter, vertex id) per segment.
+  std::vector<std::vector<std::pair<double, int>>> splits(seg.size());
+  auto contact = [&](std::size_t s, std::size_t t) {
+    double ps = 0.0, pt = 0.0;
+    closestParameters(seg[s][0], seg[s][1], seg[t][0], seg[t][1], ps, pt);
+    const Vec2 P = (1.0 - ps) * seg[s][0] + ps * seg[s][1], Q = (1.0 - pt) * seg[t][0] + pt * seg[t][1];
+    if ((P - Q).norm() > eps) return;
+    // The shared point: an existing end when the contact is at one, else a new vertex.
+    int id = -1;
+    for (const auto& [S, p] : {std::pair{s, ps}, std::pair{t, pt}}) {
+      const double len = (seg[S][1] - seg[S][0]).norm();
+      if (p * len <= eps) id = ends[S][0];
+      else if ((1.0 - p) * len <= eps) id = ends[S][1];
+      if (id >= 0) break;
+    }
+    if (id < 0) {
+      id = static_cast<int>(verts.size());
+      verts.push_back(0.5 * (P + Q));
+    }
+    for (const auto& [S, p] : {std::pair{s, ps}, std::pair{t, pt}}) {
+      if (ends[S][0] == id || ends[S][1] == id) continue;
+      splits[S].emplace_back(p, id);
+    }
+  };
+  if (n > 0) {
+    double cell = std::max(extent / 64.0, 1e-300);
+    const CageEdgeGrid grid(cage, cell);
+    for (Index k = 0; k < n; ++k) {
+      const std::size_t s = cageE.size() + static_cast<std::size_t>(k);
+      const Vec2 lo = seg[s][0].cwiseMin(seg[s][1]) - Vec2::Constant(2 * eps), hi = seg[s][0].cwiseMax(seg[s][1]) + Vec2::Constant(2 * eps);
+      std::vector<int> seen;
+      if (m >= 2)
+        grid.forEachEdgeNear(lo, hi, [&](int e, const Vec2&, const Vec2&) { seen.push_back(e); });
+      std::sort(seen.begin(), seen.end());
+      seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+      for (int e : seen) contact(static_cast<std::size_t>(e), s);
+      for (Index l = 0; l < k; ++l) contact(cageE.size() + static_cast<std::size_t>(l), s);
+    }
+  }
+  FeatureGraph g;
+  g.V.resize(static_cast<Index>(verts.size()), 2);
+  for (std::size_t i = 0; i < verts.size(); ++i) g.V.row(static_cast<Index>(i)) = verts[i].transpose();
+  for (std::size_t s = 0; s < seg.size(); ++s) {
+    auto& sp = splits[s];
+    std::sort(sp.begin(), sp.end());
+    int prev = ends[s][0];
+    for (const auto& [p, id] : sp) {
+      if (id == prev) continue;
+      g.E.push_back({prev, id});
+      prev = id;
+    }
+    if (prev != ends[s][1]) g.E.push_back({prev, ends[s][1]});
+  }
+  return g;
+}
+
+/// A raw seed: position and local feature size.
+struct RawSeed {
+  Vec2 p;
+  double lfs;
+};
+
+/// Seeds where lfs < `below`: every half local size along each segment, and at vertices (their
+/// shortest incident segment).
+std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, double hMin) {
+  std::vector<RawSeed> seeds;
+  if (g.E.empty() || !(below > 0.0)) return seeds;
+  Cage fc;
+  fc.C = g.V;
+  fc.edges = g.E;
+  fc.closed = false;
+  const double R = 2.0 * below;
+  const CageEdgeGrid grid(fc, R);
+  std::vector<double> shortest(static_cast<std::size_t>(g.V.rows()), kInf);
+  std::vector<char> used(static_cast<std::size_t>(g.V.rows()), 0);
+  for (const auto& [a, b] : g.E) {
+    const double len = (g.V.row(a) - g.V.row(b)).norm();
+    for (int v : {a, b}) {
+      shortest[static_cast<std::size_t>(v)] = std::min(shortest[static_cast<std::size_t>(v)], len);
+      used[static_cast<std::size_t>(v)] = 1;
+    }
+  }
+  for (Index v = 0; v < g.V.rows(); ++v)
+    if (used[static_cast<std::size_t>(v)] && shortest[static_cast<std::size_t>(v)] < below)
+      seeds.push_back({g.V.row(v), shortest[static_cast<std::size_t>(v)]});
+
+  // lfs at x on segment s: the nearest segment sharing no vertex with s, capped at R.
+  auto lfs = [&](const Vec2& x, int s) {
+    const auto& es = g.E[static_cast<std::size_t>(s)];
+    double best = R;
+    grid.forEachEdgeNear(x - Vec2::Constant(best), x + Vec2::Constant(best), [&](int t, const Vec2& a, const Vec2& b) {
+      if (t == s) return;
+      const auto& et = g.E[static_cast<std::size_t>(t)];
+      if (et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1]) return;
+      best = std::min(best, pointSegmentDistance(x, a, b));
+    });
+    return best;
+  };
+  for (std::size_t s = 0; s < g.E.size(); ++s) {
+    const Vec2 A = g.V.row(g.E[s][0]), B = g.V.row(g.E[s][1]);
+    const double L = (B - A).norm();
+    if (!(L > 0.0)) continue;
+    double t = 0.0;
+    for (;;) {
+      const Vec2 x = A + (t / L) * (B - A);
+      const double l = lfs(x, static_cast<int>(s));
+      if (l < below) seeds.push_back({x, l});
+      if (t >= L) break;
+      // lfs is 1-Lipschitz along the segment: where it is far above `below` the walk can jump.
+      const double local = std::max(std::min(l, below) / k, hMin);
+      t = std::min(L, t + std::max(0.5 * local, l - below));
+    }
+  }
+  return seeds;
+}
+
+}  // namespace
+
+SizingField SizingField::uniform(double hMax) {
+  return SizingField(hMax, kSizingGradation, Points(0, 2), Eigen::VectorXd(0));
+}
+
+SizingField::SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H)
+    : m_hMax(hMax), m_g(gradation), m_P(P), m_H(H) {
+  if (!(hMax > 0.0) || !std::isfinite(hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
+  if (!(gradation > 0.0 && gradation <= 0.5)) throw std::invalid_argument("sizing: gradation must be in (0, 0.5]");
+  if (P.rows() != H.size()) throw std::invalid_argument("sizing: one size per seed");
+  if (!P.allFinite() || !H.allFinite()) throw std::invalid_argument("sizing: seeds must be finite");
+  if (H.size() > 0 && (!(H.minCoeff() > 0.0) || H.maxCoeff() > hMax))
+    throw std::invalid_argument("sizing: seed sizes must be in (0, hMax]");
+  buildGrid();
+}
+
+void SizingField::buildGrid() {
+  m_start.clear();
+  m_items.clear();
+  m_nx = m_ny = 0;
+  if (m_P.rows() == 0) return;
+  m_reach = (m_hMax - m_H.minCoeff()) / m_g;
+  const double x0 = m_P.col(0).minCoeff(), y0 = m_P.col(1).minCoeff();
+  const double w = m_P.col(0).maxCoeff() - x0, h = m_P.col(1).maxCoeff() - y0;
+  // Cells of an eighth of the reach: queries scan rings of cells outwards and stop once no seed
+  // farther out can give a smaller h.
+  m_cell = std::max({m_reach / 8.0, w / 1024.0, h / 1024.0, 1e-9});
+  m_x0 = x0;
+  m_y0 = y0;
+  m_nx = static_cast<int>(w / m_cell) + 1;
+  m_ny = static_cast<int>(h / m_cell) + 1;
+  std::vector<int> count(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny) + 1, 0);
+  auto cellOf = [&](Index i) {
+    const int cx = std::min(m_nx - 1, static_cast<int>((m_P(i, 0) - m_x0) / m_cell));
+    const int cy = std::min(m_ny - 1, static_cast<int>((m_P(i, 1) - m_y0) / m_cell));
+    return static_cast<std::size_t>(cy) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(cx);
+  };
+  for (Index i = 0; i < m_P.rows(); ++i) ++count[cellOf(i) + 1];
+  for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+  m_start = count;
+  m_items.resize(static_cast<std::size_t>(m_P.rows()));
+  for (Index i = 0; i < m_P.rows(); ++i) m_items[static_cast<std::size_t>(count[cellOf(i)]++)] = static_cast<int>(i);
+}
+
+double SizingField::valueAndGradient(const Vec2& x, Vec2& gradient) const {
+  gradient.setZero();
+  double best = m_hMax;
+  int arg = -1;
+  if (m_P.rows() > 0) {
+    const double hLow = m_H.minCoeff();
+    const int cx = static_cast<int>(std::floor((x.x() - m_x0) / m_cell)), cy = static_cast<int>(std::floor((x.y() - m_y0) / m_cell));
+    // Cells at Chebyshev ring r lie at least (r − 1)·cell away: stop when hLow + g·(r − 1)·cell ≥ best.
+    const int rings = static_cast<int>(std::ceil(m_reach / m_cell)) + 1;
+    // Distance from x to the grid (x may lie outside it).
+    const double outside = std::max({m_x0 - x.x(), x.x() - (m_x0 + m_nx * m_cell), m_y0 - x.y(), x.y() - (m_y0 + m_ny * m_cell), 0.0});
+    if (hLow + m_g * outside < best)
+      for (int r = 0; r <= rings + static_cast<int>(outside / m_cell) + 1; ++r) {
+        if (hLow + m_g * (std::max(r - 1, 0) * m_cell) >= best) break;
+        for (int j = cy - r; j <= cy + r; ++j) {
+          if (j < 0 || j >= m_ny) continue;
+          const bool edgeRow = j == cy - r || j == cy + r;
+          for (int i = cx - r; i <= cx + r; i += edgeRow ? 1 : 2 * r) {
+            if (i >= 0 && i < m_nx) {
+              const std::size_t c = static_cast<std::size_t>(j) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(i);
+              for (int k = m_start[c]; k < m_start[c + 1]; ++k) {
+                const int s = m_items[static_cast<std::size_t>(k)];
+                const double v = m_H(s) + m_g * (x - Vec2(m_P.row(s))).norm();
+                if (v < best) {
+                  best = v;
+                  arg = s;
+                }
+              }
+            }
+            if (r == 0) break;
+          }
+        }
+      }
+  }
+  if (arg >= 0) {
+    const Vec2 d = x - Vec2(m_P.row(arg));
+    const double len = d.norm();
+    if (len > 0.0) gradient = (m_g / len) * d;
+  }
+  return best;
+}
+
+double SizingField::operator()(const Vec2& x) const {
+  Vec2 unused;
+  return valueAndGradient(x, unused);
+}
+
+Eigen::VectorXd SizingField::at(const Points& X) const {
+  Eigen::VectorXd h(X.rows());
+  for (Index i = 0; i < X.rows(); ++i) h(i) = (*this)(X.row(i));
+  return h;
+}
+
+SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
+  if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
+  if (!(o.hMin > 0.0) || o.hMin > o.hMax) throw std::invalid_argument("sizing: hMin must be in (0, hMax]");
+  if (!(o.featureSamples > 0.0) || !std::isfinite(o.featureSamples)) throw std::invalid_argument("sizing: featureSamples must be positive");
+  for (const FeatureSegment& f : extra)
+    if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
+  const double k = o.featureSamples;
+  const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), k * o.hMax, k, o.hMin);
+  Points P(static_cast<Index>(raw.size()), 2);
+  Eigen::VectorXd H(static_cast<Index>(raw.size()));
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    P.row(static_cast<Index>(i)) = raw[i].p.transpose();
+    H(static_cast<Index>(i)) = std::clamp(raw[i].lfs / k, o.hMin, o.hMax);
+  }
+  return SizingField(o.hMax, o.gradation, P, H);
+}
+
+std::vector<double> segmentDivision(const Vec2& a, const Vec2& b, const SizingField& h) {
+  const double L = (b - a).norm();
+  std::vector<double> t;
+  if (!h.graded() || !(L > 0.0)) {
+    const Index n = std::max<Index>(1, static_cast<Index>(std::llround(L / h.hMax())));
+    for (Index k = 0; k <= n; ++k) t.push_back(static_cast<double>(k) / static_cast<double>(n));
+    return t;
+  }
+  // ∫ ds / h by the midpoint rule on steps of a quarter of the local spacing.
+  std::vector<double> s{0.0}, cum{0.0};
+  while (s.back() < L) {
+    const double x = s.back();
+    const double step = std::min(L - x, 0.25 * h(a + (x / L) * (b - a)));
+    const double mid = x + 0.5 * step;
+    cum.push_back(cum.back() + step / h(a + (mid / L) * (b - a)));
+    s.push_back(x + step);
+  }
+  s.back() = L;
+  const double total = cum.back();
+  const Index n = std::max<Index>(1, static_cast<Index>(std::llround(total)));
+  t.push_back(0.0);
+  std::size_t j = 1;
+  for (Index k = 1; k < n; ++k) {
+    const double target = total * static_cast<double>(k) / static_cast<double>(n);
+    while (j + 1 < cum.size() && cum[j] < target) ++j;
+    const double f = (target - cum[j - 1]) / std::max(cum[j] - cum[j - 1], 1e-300);
+    t.push_back(std::clamp((s[j - 1] + f * (s[j] - s[j - 1])) / L, 0.0, 1.0));
+  }
+  t.push_back(1.0);
+  return t;
+}
+
+double narrowestFeature(const Cage& cage, double below) {
+  double best = kInf;
+  for (const RawSeed& s : rawSeeds(featureGraph(cage, {}), below, 1.0, below * 1e-6)) best = std::min(best, s.lfs);
+  return best;
+}
+
+}  // namespace kc

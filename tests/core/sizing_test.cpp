@@ -1,0 +1,123 @@
+// The sizing field of graded samplings: local feature size from cages, sticks and extra segments,
+// the gradation bound, and the division of segments at the local spacing.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kc/core/sizing.h"
+
+namespace kc {
+namespace {
+
+Cage polygon(std::initializer_list<std::array<double, 2>> pts) {
+  Points C(static_cast<Index>(pts.size()), 2);
+  Index i = 0;
+  for (const auto& p : pts) C.row(i++) << p[0], p[1];
+  return Cage::polygon(C);
+}
+
+/// A 200 px square with a slit `width` px wide cut 150 px deep from its top side.
+Cage slit(double width) {
+  const double a = 150 - width / 2, b = 150 + width / 2;
+  return polygon({{50, 50}, {a, 50}, {a, 200}, {b, 200}, {b, 50}, {250, 50}, {250, 250}, {50, 250}});
+}
+
+SizingOptions options(double hMax) {
+  SizingOptions o;
+  o.hMax = hMax;
+  o.hMin = 0.05;
+  return o;
+}
+
+TEST(Sizing, CageWithoutNarrowPlaceIsUniform) {
+  const SizingField h = featureSizing(polygon({{0, 0}, {100, 0}, {100, 100}, {0, 100}}), {}, options(8.0));
+  EXPECT_FALSE(h.graded());
+  EXPECT_EQ(h(Vec2(50, 50)), 8.0);
+  EXPECT_EQ(h(Vec2(-500, 3)), 8.0);
+}
+
+TEST(Sizing, SlitGetsHalfItsWidthAndGrowsAtMostByTheGradation) {
+  const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
+  ASSERT_TRUE(h.graded());
+  // On the slit's walls lfs = 3: h = 3/k = 1.5.
+  EXPECT_NEAR(h(Vec2(148.5, 120)), 1.5, 0.1);
+  EXPECT_NEAR(h.hMin(), 1.5, 1e-9);
+  // Far from it, hMax.
+  EXPECT_EQ(h(Vec2(60, 240)), 10.0);
+  // |h(x) − h(y)| ≤ g |x − y| on random pairs (h is a minimum of g-Lipschitz cones).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0, 300);
+  for (int t = 0; t < 2000; ++t) {
+    const Vec2 x(u(rng), u(rng)), y = x + Vec2(u(rng) - 150, u(rng) - 150) * 0.05;
+    EXPECT_LE(std::abs(h(x) - h(y)), h.gradation() * (x - y).norm() + 1e-12);
+  }
+  // The gradient agrees with finite differences where h < hMax.
+  const Vec2 x(145, 120);
+  Vec2 g;
+  const double v = h.valueAndGradient(x, g);
+  ASSERT_LT(v, 10.0);
+  const double e = 1e-6;
+  EXPECT_NEAR(g.x(), (h(x + Vec2(e, 0)) - h(x - Vec2(e, 0))) / (2 * e), 1e-5);
+  EXPECT_NEAR(g.y(), (h(x + Vec2(0, e)) - h(x - Vec2(0, e))) / (2 * e), 1e-5);
+}
+
+TEST(Sizing, ShortEdgeRefinesItsEnds) {
+  // A 2 px edge (points 1 and 2) on a 100 px shape.
+  const SizingField h = featureSizing(polygon({{0, 0}, {100, 0}, {100, 49}, {100.0, 51}, {100, 100}, {0, 100}}), {}, options(8.0));
+  ASSERT_TRUE(h.graded());
+  EXPECT_NEAR(h(Vec2(100, 49)), 1.0, 1e-9);
+  EXPECT_EQ(h(Vec2(10, 10)), 8.0);
+}
+
+TEST(Sizing, CrossingLinesAndALineEndingOnTheEdgeAreNotNarrow) {
+  const Cage square = polygon({{0, 0}, {200, 0}, {200, 200}, {0, 200}});
+  // An X of two lines crossing at the centre, and a line from the centre to the left side.
+  const std::vector<FeatureSegment> x{{{60, 60}, {140, 140}}, {{60, 140}, {140, 60}}, {{0, 100}, {50, 100}}};
+  const SizingField h = featureSizing(square, x, options(8.0));
+  EXPECT_FALSE(h.graded()) << h.seeds().rows() << " seeds, smallest " << h.hMin();
+}
+
+TEST(Sizing, LineEndingNearTheEdgeIsNarrow) {
+  const Cage square = polygon({{0, 0}, {200, 0}, {200, 200}, {0, 200}});
+  const std::vector<FeatureSegment> line{{{1, 100}, {80, 100}}};  // 1 px from the left side
+  const SizingField h = featureSizing(square, line, options(8.0));
+  ASSERT_TRUE(h.graded());
+  EXPECT_NEAR(h(Vec2(1, 100)), 0.5, 1e-9);
+  EXPECT_NEAR(h(Vec2(0, 100)), 0.5, 0.1);  // the nearest seed on the side lies within a step
+  EXPECT_EQ(h(Vec2(150, 150)), 8.0);
+}
+
+TEST(Sizing, UniformDivisionIsTheEqualOne) {
+  const SizingField h = SizingField::uniform(6.0);
+  const std::vector<double> t = segmentDivision(Vec2(0, 0), Vec2(100, 0), h);
+  ASSERT_EQ(t.size(), 18u);  // round(100 / 6) = 17 pieces
+  for (std::size_t k = 0; k < t.size(); ++k) EXPECT_EQ(t[k], static_cast<double>(k) / 17.0);
+}
+
+TEST(Sizing, GradedDivisionFollowsTheLocalSpacing) {
+  const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
+  // The slit's wall from its bottom up to the top side: fine near... the whole wall is 3 px from the other.
+  const Vec2 a(50, 50), b(50, 250);  // the left side, far from the slit: uniform
+  EXPECT_EQ(segmentDivision(a, b, h).size(), 21u);
+  const Vec2 c(148.5, 50), d(148.5, 200);  // a wall of the slit
+  const std::vector<double> t = segmentDivision(c, d, h);
+  for (std::size_t k = 1; k < t.size(); ++k) {
+    const Vec2 p = c + 0.5 * (t[k] + t[k - 1]) * (d - c);
+    const double step = (t[k] - t[k - 1]) * (d - c).norm();
+    EXPECT_NEAR(step / h(p), 1.0, 0.2) << "at " << p.transpose();
+  }
+}
+
+TEST(Sizing, RejectsBadInput) {
+  EXPECT_THROW(SizingField(0.0, 0.3, Points(0, 2), Eigen::VectorXd(0)), std::invalid_argument);
+  EXPECT_THROW(SizingField(5.0, 0.9, Points(0, 2), Eigen::VectorXd(0)), std::invalid_argument);
+  Points P(1, 2);
+  P << 0, 0;
+  EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 6.0)), std::invalid_argument);
+  EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, std::nan(""))), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace kc
