@@ -70,7 +70,7 @@ class Backend {
 
 /// The backend called `name`; throws std::invalid_argument naming the available ones.
 const Backend& backendFor(std::string_view name);
-/// Names of every available backend ("kc").
+/// Names of every available backend ("kc", "lbc").
 std::vector<std::string_view> backendNames();
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
 /// weights.initial → no targets, painting or method switches).
