@@ -45,7 +45,7 @@ inline constexpr double kLineBlendLength = 0.25, kLineBlendSigmas = 4.0;
 
 /// The interior samples near each line move with it: a line's samples jump from the optimized
 /// weights w(p) to the linear ones ℓ(p) (5.6), so without this the picture next to a line shears
-/// (measured: a bar along a 172 px line folded under a 60 px pull). Each interior sample x_i within
+/// and folds. Each interior sample x_i within
 /// the reach R of line k (p_i its nearest point on the line, d_i = |x_i − p_i| / R) gets
 ///   W_i += (1 − d_i²)² (ℓ_k(p_i) − w(p_i)),
 /// w the field on entry. ℓ(p) and w(p) both sum to 1 and reproduce p, so partition of unity and

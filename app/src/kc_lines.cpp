@@ -16,11 +16,9 @@ namespace kc::app {
 namespace {
 
 /// Edge linearization (`--linear-edges`): nodes within 4σ of an edge (a wider reach than the
-/// lines' 2.5σ: measured on the figure, edge linearity 1.1e-4 against 3.2e-4 and a negative lobe
-/// of −0.64 against −1.5) and two sweeps, which settle the corners two edges share. The samples
-/// around an edge are held softly at a third of the lines' weight (conformance suite, h = 8,
-/// figure: free weight 0 / 0.001 / 0.003 → edge linearity 1.1e-4 / 3.2e-4 / 9.0e-4, min w inside
-/// −1.05 / −0.49 / −0.42): the lobe halves and the edges keep a third of the 1e-3 goal as margin.
+/// lines' 2.5σ, which left the edges less linear with a deeper negative lobe) and two sweeps, which
+/// settle the corners two edges share. The samples around an edge are held softly at a third of
+/// the lines' weight: the lobe halves and the edges stay within a third of a 1e-3 linearity.
 const LinearityOptions kEdgeLinearity = [] {
   LinearityOptions o;
   o.reach = 4.0;

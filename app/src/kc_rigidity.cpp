@@ -11,8 +11,8 @@
 
 namespace kc::app {
 
-/// The samples rigidity keeps: controls (Lagrange) and line samples. Cage-edge samples are not held
-/// (measured on the star: holding them leaves the ADMM without convergence in 20,000 iterations).
+/// The samples rigidity keeps: controls (Lagrange) and line samples. Cage-edge samples are not held:
+/// held, they left the nodes near the cage too few degrees of freedom (docs/rigidity.md, "Held samples").
 std::vector<char> rigidHeldSamples(const SampleSet& samples) {
   std::vector<char> keep(static_cast<std::size_t>(samples.size()), 0);
   for (Index i = 0; i < samples.size(); ++i) {

@@ -1,10 +1,9 @@
 #pragma once
 // Private to kc::core: the system's BLAS and LAPACK (the library CHOLMOD's supernodal factorization
 // already uses, e.g. OpenBLAS, which picks kernels for the CPU it runs on) for the dense
-// factorizations and solves of a few hundred to a few thousand rows. Eigen's own blocked code is
-// compiled for the baseline instruction set here; measured on a 1,155×1,155 Cholesky factorization
-// (one thread) it reached 18 GFlop/s against LAPACK's 40 GFlop/s. Column-major matrices, lower
-// triangles; sizes must fit BLAS's 32-bit integers.
+// factorizations and solves of a few hundred to a few thousand rows: Eigen's own blocked code is
+// compiled for the baseline instruction set here and is slower at these sizes. Column-major
+// matrices, lower triangles; sizes must fit BLAS's 32-bit integers.
 
 #include <Eigen/Dense>
 

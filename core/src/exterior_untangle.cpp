@@ -24,10 +24,8 @@ double signedArea2(const Points& P, const std::array<int, 3>& t) {
 double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) { return 0.5 * signedArea2(P, t) / restArea; }
 
 /// The continuation widens its region where a triangle this squeezed (det J below it) reaches the
-/// region's edge, so that the relaxation can spread the squeeze further out. (Measured on the
-/// bundled stick figure's poses at mesh spacings 3–4.85 px: 0.1, 0.2 and 0.3 all leave no fold and
-/// keep the border in place; the smallest det J is 0.04–0.06 at 0.1 and 0.09–0.16 at 0.3, and the
-/// figure's border moves 35 px at 0.1, 19 px at 0.3.)
+/// region's edge, so that the relaxation can spread the squeeze further out. A larger threshold
+/// leaves larger smallest det J and moves the border less.
 constexpr double kSqueezed = 0.3;
 
 /// det J of a star triangle as an affine function of its vertex v's position p: n·p + e.

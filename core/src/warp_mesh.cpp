@@ -16,10 +16,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// DeformPass::Live: the fold repair's work budget (ExteriorRepairOptions::budget; Final: 4).
-/// (Measured on a drag of the star's tip past a 1024² picture's border, bench/warp_bench.cpp: 1
-/// halves the mean per-frame repair before the border and cuts it 6× past it; 12 of 101 frames
-/// before the border keep folds until the release.)
+/// DeformPass::Live: the fold repair's work budget (ExteriorRepairOptions::budget; Final: 4). A
+/// quarter of the Final pass's, so a pose that is hard to untangle costs less per frame; folds it
+/// leaves show until the release.
 const double kLiveRepairBudget = 1.0;
 /// DeformPass::Live: relaxation sweeps per frame (ExteriorRepairOptions::relaxSweeps; Final: 300).
 /// While dragging, each frame starts from the last relaxed picture, so the sweeps add up.

@@ -19,7 +19,7 @@ namespace kc::app {
 namespace {
 
 /// What the band may change, measured against the whole-frame bind with the same seed
-/// (docs/ARCHITECTURE.md "Big pictures"): at most 1.2e-2 inside and on the cage and 3.8e-2 within
+/// (docs/notes/big-pictures.md): at most 1.2e-2 inside and on the cage and 3.8e-2 within
 /// 8 px outside it over the bundled examples and the generated cages at h = 8 (blue noise), where
 /// a different seed alone changes the frame bind's weights by 3e-3–2.2e-1.
 constexpr double kInsideTolerance = 2.5e-2, kNearTolerance = 5e-2;

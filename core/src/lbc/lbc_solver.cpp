@@ -45,8 +45,8 @@ double sum(const std::vector<double>& parts) {
 
 /// Runs the ADMM iterations on all threads or on the calling thread alone, whichever was measured
 /// faster. Each iteration has a few parallel loops of about a millisecond; on a machine shared with
-/// other work, every loop waits for all threads to be scheduled, and measured on 2 cores at load
-/// 8 that made 2 threads 7× slower than 1. Results do not depend on the choice (every loop writes
+/// other work, every loop waits for all threads to be scheduled, which can make 2 threads several
+/// times slower than 1. Results do not depend on the choice (every loop writes
 /// its own rows, sums are reduced in a fixed order), so it is made by timing: kProbe iterations
 /// run in parallel, kProbe serially, then the faster way until the next probe, kPeriod
 /// iterations later, twice as long (up to kMaxPeriod) each time the answer repeats.

@@ -13,10 +13,9 @@ namespace kc::detail {
 
 class RowBlockCholesky {
  public:
-  /// Most columns per block (measured on a 20k-vertex Laplacian + mass factor, 30 columns: two
-  /// blocks of 15 solve 5–15% faster than 8/8/8/6, the factor being streamed half as often). The
-  /// blocks depend on the column count alone, so every column is computed by the same operations
-  /// in the same order whatever the thread count (bit-identical results).
+  /// Most columns per block (fewer, wider blocks stream the factor fewer times). The blocks depend
+  /// on the column count alone, so every column is computed by the same operations in the same
+  /// order whatever the thread count (bit-identical results).
   static constexpr Index kBlock = 16;
 
   /// Factorizes the SPD matrix A (n×n) as P A Pᵀ = L Lᵀ (AMD ordering, simplicial). Returns false

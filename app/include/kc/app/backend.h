@@ -1,7 +1,7 @@
 #pragma once
 /// Weight backends: how a bind turns (cage, image size, parameters) into a coordinate field, and
-/// what the result can do afterwards. The pipeline, the session loader and the GUI ask the
-/// backend's capabilities instead of its name (ARCHITECTURE.md, "one door to weights").
+/// what the result can do afterwards (BackendCapabilities, sessionCapabilities). docs/ARCHITECTURE.md,
+/// "Backends", lists where code still compares a backend's name.
 
 #include <exception>
 #include <functional>
@@ -70,7 +70,7 @@ class Backend {
 
 /// The backend called `name`; throws std::invalid_argument naming the available ones.
 const Backend& backendFor(std::string_view name);
-/// Names of every available backend ("kc").
+/// Names of every available backend ("kc", "lbc").
 std::vector<std::string_view> backendNames();
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
 /// weights.initial → no targets, painting or method switches).

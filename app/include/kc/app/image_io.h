@@ -22,9 +22,9 @@ ImageHeader readImageFileHeader(const std::string& path);
 ImageHeader checkImageFile(const std::string& bytes, const std::string& path);
 
 /// PNG compression (zlib level) when none is asked for: the fastest level that compresses (with
-/// the Up filter, in parallel strips, app/src/png_codec.h). A 12 MP photo-like picture: 0.73 s of
-/// CPU, 23.4 MB at level 1, 1.53 s at level 9 for a 2.5% smaller file; on smooth pictures level 9 is
-/// up to 40× slower for files up to 40% smaller (docs/ARCHITECTURE.md has the measurements).
+/// the Up filter, in parallel strips, app/src/png_codec.h). Higher levels cost several times the
+/// time for files a few percent (photos) to tens of percent (smooth pictures) smaller
+/// (docs/notes/cli-stats-demo-png.md has the measurements).
 inline constexpr int kDefaultPngCompression = 1;
 
 /// Saves an RGBA8 image; the format follows the extension (.png keeps alpha: RGBA always, .jpg/.jpeg

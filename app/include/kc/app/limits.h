@@ -60,14 +60,12 @@ inline constexpr double kDenseBytesPerWeight = 48.0;
 inline constexpr double kBytesPerKernelNonZero = 180.0;
 
 /// Narrowest cage feature a bind accepts, in sample spacings h: every edge at least this long
-/// and edges that share no end point at least this far apart. Measured at h = 6 (QP, stats):
-/// a pentagon with one edge of length d and a notch leaving a gap d give min weight inside the
-/// cage −0.36 / −0.18 and edge linearity error 0.34 / 0.36 at d = h/2, −0.11 / −0.06 and
-/// 0.11 / 0.15 at d = h (the bundled figure: −0.11 and 0.08), −0.04 / −0.06 at d = 2h; an edge of
-/// 0.01 px gave weights down to −163.5 (issue 10).
+/// and edges that share no end point at least this far apart. Narrower features deepen the
+/// negative lobes and the edge-linearity error quickly (at h/2 about three times the bundled
+/// figure's; a 0.01 px edge gave weights down to −163.5).
 inline constexpr double kMinFeatureSpacings = 1.0;
 /// A cage feature narrower than this many spacings binds (≥ kMinFeatureSpacings) but coarsely
-/// (at 2h the measurements above are within the bundled figure's): the automatic spacing stays
+/// (at 2h the lobes and linearity error are within the bundled figure's): the automatic spacing stays
 /// below narrowest/this where the limits allow, and a bind warns when it cannot.
 inline constexpr double kNarrowFeatureSpacings = 2.0;
 

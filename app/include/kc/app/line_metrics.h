@@ -1,6 +1,6 @@
 #pragma once
 /// How well a session keeps lines straight and parallel under random translations of its
-/// controls (issue 13's measurement; `kcwarp-cli bench --lines` and tests/app/lines_test.cpp).
+/// controls (`kcwarp-cli bench --lines`, `stats` and tests/app/lines_test.cpp).
 
 #include <cstdint>
 #include <vector>

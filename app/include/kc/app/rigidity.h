@@ -56,7 +56,7 @@ struct StarLegSetup {
 };
 StarLegSetup starLegSetup(const Cage& star);
 
-/// How rigidly a region deforms (issue 13's measure) at the points of a grid of spacing `step`
+/// How rigidly a region deforms (`kcwarp-cli bench --rigid`) at the points of a grid of spacing `step`
 /// inside `polygon`: J the Jacobian of f(x) = Σ w_i(x) T_i x (3.44) for the pose, R its nearest
 /// rotation (polar decomposition).
 struct RigidityFigures {

@@ -1,5 +1,5 @@
 #pragma once
-/// Structure files (`--structure S.json`, ARCHITECTURE.md "Structure"): the lines kept straight
+/// Structure files (`--structure S.json`, docs/ARCHITECTURE.md "File formats"): the lines kept straight
 /// and parallel (thesis 5.3) and the rigid regions (5.4, docs/rigidity.md).
 
 #include <string>

@@ -49,14 +49,12 @@ struct LbcOptions {
   /// are discretizations of L² norms of functions, so the rule does not loosen as the mesh is refined.
   double tolerance = 1e-3;
   int maxIterations = 20000;
-  /// μ at the start (normalized units: bounding-box diameter 1). Measured on the bundled star and
-  /// figure at 2k/5k vertices (iterations to a certified 0.1% gap): 0.03 fixed beats larger μ and
-  /// residual balancing by 2–3×.
+  /// μ at the start (normalized units: bounding-box diameter 1); a fixed 0.03 takes fewer
+  /// iterations to the certified gap than larger μ or residual balancing.
   double penalty = 0.03;
   bool adaptivePenalty = false;     ///< Residual balancing (Boyd et al. 2011 §3.4.1): μ ×/÷ 2 when one residual is 10× the other.
-  /// α, over-relaxation (Appendix B suggests [1.5, 1.8]). Measured, iterations to the certified
-  /// 0.1% stop, figure 2k/5k/20k: α = 1.65 → 450 / 450 / 477, 1.8 → 420 / 420 / –, 1.9 → 405 /
-  /// 405 / 434; star 123 / 120 / 113 at 1.65 and 122 / 120 / 119 at 1.9.
+  /// α, over-relaxation (Appendix B suggests [1.5, 1.8]; 1.9 took the fewest iterations to the
+  /// certified stop on the bundled figure).
   double relaxation = 1.9;
   bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.

@@ -51,8 +51,8 @@ struct LinearityReport {
 /// a sum of kernels within reach·σ + θ of the segment (weights farther away are untouched), and
 /// since each row of ΔU is a combination of rows w(F) − linear(F), which satisfy 1ᵀe = 0 and
 /// Cᵀe = 0, partition of unity and reproduction stay exact. `keep` has #S entries (non-zero:
-/// held). The fit and the side conditions are met to about rankTolerance (relative): measured
-/// on the star with three lines, fit 7e-6; the held rows are then put back to their exact values
+/// held). The fit and the side conditions are met to about rankTolerance (relative); the held
+/// rows are then put back to their exact values
 /// (W(keep) as given) and the field re-solved, so Lagrange and the held samples' weights are
 /// exact to round-off while the fit loosens by about as much.
 LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegment> segments, const std::vector<char>& keep,

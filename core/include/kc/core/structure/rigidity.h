@@ -77,7 +77,7 @@ struct RigidityReport {
 /// by the solver's tolerance projected onto it, keeping its partition of unity and reproduction:
 /// docs/rigidity.md, "Large regions") and the field is re-solved in the
 /// active columns: it interpolates the new W (in exact mode the coefficients become U + ΔU
-/// − K⁻¹P b, B + b with b = (PᵀK⁻¹P)⁻¹PᵀΔU, a global term of measured size ≤ 1e-4; plain mode
+/// − K⁻¹P b, B + b with b = (PᵀK⁻¹P)⁻¹PᵀΔU, a small global term; plain mode
 /// U + ΔU; docs/rigidity.md). `rho` and `keep`
 /// have #S entries, ρ ∈ [0, 1]; C m×2 the controls. Does nothing when no ρ is positive.
 RigidityReport makeRigid(KernelField& field, const Points& C, std::span<const double> rho, const std::vector<char>& keep,

@@ -3,7 +3,7 @@
 /// interpolation): the change ΔU of the kernel coefficients of the nodes near the region,
 ///   min_ΔU  tr(ΔUᵀ H ΔU) + 2 tr(ΔUᵀ G)
 ///   s.t.    ΔU = Y Zᵀ            (every row of ΔU in span Z: partition of unity and reproduction)
-///           A ΔU = 0             (polynomial side condition PᵀΔU = 0, held samples unchanged)
+///           A ΔU = 0             (held samples unchanged: their rows K(h, N), scaled to unit length)
 ///           Kc ΔU ≥ L            (non-negativity of the constrained samples' weights)
 /// solved on the bounds' dual (one factorization of 2H, dense up to maxDenseNodes; the dual's
 /// matrix Kq ⊗ P with Kq = Kc (2H)⁻¹_A Kcᵀ; proximal point steps, each by block principal pivoting
@@ -90,9 +90,11 @@ double rigidityObjective(const RigidityQp& qp, const RowMatrix& dU);
 /// by proximal point steps Λ_{k+1} = argmin_{Λ≥0} d(Λ) + ε/2‖Λ − Λ_k‖², each a linear
 /// complementarity problem with the positive definite Q + εI solved by block principal pivoting
 /// (Júdice & Pires 1994: the primal-dual active set exchange, Murty's single pivot when the count of
-/// infeasible pairs stops falling); Y = Y0 + (2H)⁻¹_A Kcᵀ Λ Z'. Each ADMM iteration: Y ← argmin tr(YᵀHY) + 2tr(YᵀGZ) + μ/2‖Kc Y − (S − Λ)Z‖² s.t. A Y = 0
-/// (the factorization plus A's a×a Schur complement), V = α Kc Y Zᵀ + (1 − α) S,
-/// S ← clamp(V + Λ, L, Up), Λ ← Λ + V − S.
+/// infeasible pairs stops falling); Y = Y0 + (2H)⁻¹_A Kcᵀ Λ Z'. Each ADMM iteration (Splitting):
+/// Y ← argmin tr(YᵀHY) + 2tr(YᵀGZ) + μ/2‖Kc Y − (S − Λ)Z'‖² s.t. A Y = 0 (the factorization plus A's
+/// a×a Schur complement), V = α Kc Y Z'ᵀ + (1 − α) S, S ← Π(V + Λ), Λ ← Λ + V − S, where Π projects
+/// each row onto its polytope {d ≥ L_i, d [1 C'] = 0} over the active controls (detail::RowPolytope;
+/// there are no upper bounds), the iteration accelerated by Anderson's method.
 RowMatrix solveRigidityQp(const RigidityQp& qp, const RigidityQpOptions& options = {}, RigidityQpReport* report = nullptr);
 
 }  // namespace kc
