@@ -108,6 +108,8 @@ LinearityReport applyLines(Session& s, KernelField& field) {
   std::vector<std::array<Index, 2>> ends;
   for (const auto& idx : s.samples.lines) ends.push_back({idx.front(), idx.back()});
   coupleParallelLines(s.cage.C, lines, ends, s.W);
+  const std::vector<LineContact> contacts = lineContacts(lines);
+  coupleMeetingLines(contacts, ends, s.W);  // lines that meet agree where they meet
   blendLineNeighbourhoods(s, field);
   for (const auto& idx : s.samples.lines) interpolateLineWeights(s.samples.X, idx, s.W);
   field.update(s.W);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "kc/core/cage_edge_grid.h"
 
@@ -84,12 +85,97 @@ void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, doubl
   appendLineSamples(S, lines, SizingField::uniform(h));
 }
 
+namespace {
+
+/// A line end p on the cage (within eps of an edge): the boundary sample it becomes — a control
+/// within eps, else the edge sample of that edge nearest p, moved along its edge to p (its weights
+/// stay the edge's linear ones, 4.7) — or −1 when p is not on the cage.
+Index boundarySampleAt(SampleSet& S, const Vec2& p, double eps) {
+  Index best = -1;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  int ea = -1, eb = -1;
+  for (Index i = 0; i < S.size(); ++i) {
+    const SampleKind k = S.kind[std::size_t(i)];
+    if (k == SampleKind::Control && (Vec2(S.X.row(i)) - p).norm() <= eps) return i;
+    if (k != SampleKind::Edge) continue;
+    const Vec2 A = S.X.row(S.edge(i, 0)), B = S.X.row(S.edge(i, 1));
+    if (pointSegmentDistance(p, A, B) > eps) continue;
+    const double d = (Vec2(S.X.row(i)) - p).norm();
+    if (d < bestDistance) best = i, bestDistance = d, ea = S.edge(i, 0), eb = S.edge(i, 1);
+  }
+  if (best < 0) return -1;
+  const Vec2 A = S.X.row(ea), B = S.X.row(eb);
+  const double t = std::clamp((p - A).dot(B - A) / (B - A).squaredNorm(), 0.0, 1.0);
+  S.X.row(best) = ((1.0 - t) * A + t * B).transpose();
+  return best;
+}
+
+}  // namespace
+
 void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, const SizingField& sizing) {
-  for (const StructureLine& l : lines) {
-    const Index first = S.X.rows();
-    appendSamples(S, lineSamplePoints(l, sizing), SampleKind::Line);
-    std::vector<Index> idx(static_cast<std::size_t>(S.X.rows() - first));
-    for (std::size_t k = 0; k < idx.size(); ++k) idx[k] = first + static_cast<Index>(k);
+  const std::vector<LineContact> contacts = lines.size() > 1 ? lineContacts(lines) : std::vector<LineContact>{};
+  // Line ends on the cage share its boundary sample (only where a line touches the cage).
+  double extent = 1.0;
+  for (Index i = 0; i < S.size(); ++i) extent = std::max(extent, S.X.row(i).cwiseAbs().maxCoeff());
+  const double eps = 1e-9 * extent;
+  std::vector<std::array<Index, 2>> onCage(lines.size(), {-1, -1});
+  bool touches = false;
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    onCage[k] = {boundarySampleAt(S, lines[k].a, eps), boundarySampleAt(S, lines[k].b, eps)};
+    touches = touches || onCage[k][0] >= 0 || onCage[k][1] >= 0;
+  }
+  if (contacts.empty() && !touches) {
+    for (const StructureLine& l : lines) {
+      const Index first = S.X.rows();
+      appendSamples(S, lineSamplePoints(l, sizing), SampleKind::Line);
+      std::vector<Index> idx(static_cast<std::size_t>(S.X.rows() - first));
+      for (std::size_t k = 0; k < idx.size(); ++k) idx[k] = first + static_cast<Index>(k);
+      S.lines.push_back(std::move(idx));
+    }
+    return;
+  }
+  // Lines that meet share one sample there: each line is divided between its ends and its contacts
+  // (segmentDivision of every piece), a contact's sample made by the first line that reaches it; an
+  // end on the cage is the boundary sample there.
+  std::vector<Index> contactSample(contacts.size(), -1);
+  auto addSample = [&](const Vec2& p) {
+    Points P(1, 2);
+    P.row(0) = p.transpose();
+    appendSamples(S, P, SampleKind::Line);
+    return S.X.rows() - 1;
+  };
+  for (std::size_t k = 0; k < lines.size(); ++k) {
+    const StructureLine& line = lines[k];
+    // Nodes along the line: (parameter, contact or −1), the ends included.
+    std::vector<std::pair<double, int>> nodes{{0.0, -1}, {1.0, -1}};
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+      if (contacts[c].k == k) nodes.emplace_back(contacts[c].tk, static_cast<int>(c));
+      if (contacts[c].l == k) nodes.emplace_back(contacts[c].tl, static_cast<int>(c));
+    }
+    std::sort(nodes.begin(), nodes.end());
+    // One node per parameter: a contact replaces the plain end it falls on; contacts at one point share.
+    std::vector<std::pair<double, std::vector<int>>> merged;
+    for (const auto& [t, c] : nodes) {
+      if (merged.empty() || t > merged.back().first) merged.push_back({t, {}});
+      if (c >= 0) merged.back().second.push_back(c);
+    }
+    std::vector<Index> idx;
+    auto nodeSample = [&](const std::pair<double, std::vector<int>>& node) {
+      Index id = node.first == 0.0 ? onCage[k][0] : node.first == 1.0 ? onCage[k][1] : -1;
+      for (int c : node.second)
+        if (contactSample[std::size_t(c)] >= 0) id = contactSample[std::size_t(c)];
+      if (id < 0) id = addSample(node.first == 0.0 ? line.a : node.first == 1.0 ? line.b : (1.0 - node.first) * line.a + node.first * line.b);
+      for (int c : node.second) contactSample[std::size_t(c)] = id;
+      return id;
+    };
+    idx.push_back(nodeSample(merged.front()));
+    for (std::size_t n = 1; n < merged.size(); ++n) {
+      const double t0 = merged[n - 1].first, t1 = merged[n].first;
+      const Vec2 p0 = (1.0 - t0) * line.a + t0 * line.b, p1 = (1.0 - t1) * line.a + t1 * line.b;
+      const std::vector<double> div = segmentDivision(p0, p1, sizing);
+      for (std::size_t j = 1; j + 1 < div.size(); ++j) idx.push_back(addSample((1.0 - div[j]) * p0 + div[j] * p1));
+      idx.push_back(nodeSample(merged[n]));
+    }
     S.lines.push_back(std::move(idx));
   }
 }

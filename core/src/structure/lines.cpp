@@ -48,14 +48,17 @@ void validateLines(const Cage& cage, std::span<const StructureLine> lines, doubl
     if (!graded && len < kMinLineSpacings * h)
       throw std::invalid_argument(name + ": the line is " + num(len) + " px long, shorter than " + num(kMinLineSpacings) +
                                   " sample spacings (" + num(kMinLineSpacings * h) + " px at spacing " + num(h) + ")");
-    if (!insideCage(cage, l.a) || !insideCage(cage, l.b) || segmentCrossesCage(cage, l.a, l.b))
+    // A graded bind takes a line ending on the cage (its end becomes that boundary sample).
+    const double onEdge = graded ? 1e-9 * std::max(1.0, cage.C.cwiseAbs().maxCoeff()) : -1.0;
+    auto inside = [&](const Vec2& p) { return insideCage(cage, p) || distanceToCage(cage, p) <= onEdge; };
+    if (!inside(l.a) || !inside(l.b) || !insideCage(cage, 0.5 * (l.a + l.b)) || segmentCrossesCage(cage, l.a, l.b))
       throw std::invalid_argument(name + ": the line (" + num(l.a.x()) + ", " + num(l.a.y()) + ") - (" + num(l.b.x()) + ", " +
                                   num(l.b.y()) + ") is not inside the cage (it lies outside or crosses a cage edge)");
     const double toCage = segmentToCage(cage, l.a, l.b);
     if (!graded && toCage < h)
       throw std::invalid_argument(name + ": the line comes within " + num(toCage) + " px of a cage edge, less than the spacing " +
                                   num(h) + " px");
-    for (std::size_t j = 0; j < k; ++j) {
+    for (std::size_t j = 0; j < k && !graded; ++j) {
       const double d = segmentSegmentDistance(l.a, l.b, lines[j].a, lines[j].b);
       if (d == 0.0) throw std::invalid_argument(name + ": the line crosses " + lineName(j));
       if (!graded && d < h)
@@ -64,6 +67,7 @@ void validateLines(const Cage& cage, std::span<const StructureLine> lines, doubl
     }
     if (l.group >= 0) groups[l.group].push_back(k);
   }
+  if (graded) lineContacts(lines);  // throws for overlapping lines
   for (const auto& [g, members] : groups) {
     if (members.size() == 1)
       throw std::invalid_argument(lineName(members[0]) + ": its parallel group has no other line (a misspelt group name?)");
@@ -108,6 +112,60 @@ void interpolateLineWeights(const Points& X, std::span<const Index> samples, Wei
     const Vec2 p = X.row(samples[k]);
     const double t = (p - a).dot(b - a) / len2;  // (5.6): signed distance along a → b over |b − a|
     W.row(samples[k]) = (1.0 - t) * wa + t * wb;
+  }
+}
+
+std::vector<LineContact> lineContacts(std::span<const StructureLine> lines) {
+  double extent = 0.0;
+  for (const StructureLine& l : lines) extent = std::max({extent, l.a.cwiseAbs().maxCoeff(), l.b.cwiseAbs().maxCoeff()});
+  const double eps = 1e-9 * std::max(extent, 1.0);
+  std::vector<LineContact> out;
+  for (std::size_t l = 1; l < lines.size(); ++l)
+    for (std::size_t k = 0; k < l; ++k) {
+      const Vec2 a = lines[k].a, u = lines[k].b - a, c = lines[l].a, v = lines[l].b - c;
+      if (segmentSegmentDistance(a, lines[k].b, c, lines[l].b) > eps) continue;
+      const double den = u.x() * v.y() - u.y() * v.x();
+      if (std::abs(den) <= 1e-12 * u.norm() * v.norm()) {
+        // Collinear and touching: one shared point (end to end) is a contact, more an overlap.
+        const double s0 = (c - a).dot(u) / u.squaredNorm(), s1 = (lines[l].b - a).dot(u) / u.squaredNorm();
+        const double lo = std::max(0.0, std::min(s0, s1)), hi = std::min(1.0, std::max(s0, s1));
+        if ((hi - lo) * u.norm() > eps) throw std::invalid_argument(lineName(l) + ": the line overlaps " + lineName(k));
+        const Vec2 p = a + lo * u;
+        const double tl = std::clamp((p - c).dot(v) / v.squaredNorm(), 0.0, 1.0);
+        out.push_back({k, l, lo <= 0.5 ? 0.0 : 1.0, tl <= 0.5 ? 0.0 : 1.0, p});
+        continue;
+      }
+      const Vec2 w = c - a;
+      const double tk = std::clamp((w.x() * v.y() - w.y() * v.x()) / den, 0.0, 1.0);
+      const double tl = std::clamp((w.x() * u.y() - w.y() * u.x()) / den, 0.0, 1.0);
+      // Snap to an end within eps, so that an end on the other line is that end exactly.
+      auto snap = [&](double t, double len) { return t * len <= eps ? 0.0 : (1.0 - t) * len <= eps ? 1.0 : t; };
+      LineContact lc{k, l, snap(tk, u.norm()), snap(tl, v.norm()), Vec2::Zero()};
+      lc.point = 0.5 * (a + lc.tk * u + c + lc.tl * v);
+      out.push_back(lc);
+    }
+  return out;
+}
+
+void coupleMeetingLines(std::span<const LineContact> contacts, std::span<const std::array<Index, 2>> ends, Weights& W) {
+  for (const LineContact& c : contacts)
+    if (c.k >= ends.size() || c.l >= ends.size()) throw std::invalid_argument("coupleMeetingLines: a contact names a line without ends");
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    double worst = 0.0;
+    for (const LineContact& c : contacts) {
+      const auto [ak, bk] = ends[c.k];
+      const auto [al, bl] = ends[c.l];
+      const Eigen::RowVectorXd d = (1.0 - c.tk) * W.row(ak) + c.tk * W.row(bk) - (1.0 - c.tl) * W.row(al) - c.tl * W.row(bl);
+      worst = std::max(worst, d.cwiseAbs().maxCoeff());
+      // Shared rows (a common end) count once in the norm of the change.
+      const double nk = (1.0 - c.tk) * (1.0 - c.tk) + c.tk * c.tk, nl = (1.0 - c.tl) * (1.0 - c.tl) + c.tl * c.tl;
+      const Eigen::RowVectorXd lambda = d / (nk + nl);
+      W.row(ak) -= (1.0 - c.tk) * lambda;
+      W.row(bk) -= c.tk * lambda;
+      W.row(al) += (1.0 - c.tl) * lambda;
+      W.row(bl) += c.tl * lambda;
+    }
+    if (worst <= 1e-13) break;
   }
 }
 

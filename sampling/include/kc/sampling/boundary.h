@@ -49,7 +49,10 @@ void appendSamples(SampleSet& S, const Points& P, SampleKind kind);
 /// Appends the samples of every structure line (kind Line, lineSamplePoints at spacing h, ends
 /// included) and records their indices in S.lines (thesis 5.3.3).
 void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, double h);
-/// The same at the local spacing of `sizing`.
+/// The same at the local spacing of `sizing`. Lines that meet (lineContacts: crossing, one ending
+/// on another, sharing an end) share one sample there, which both lines' index lists hold; a line
+/// end on the cage is the boundary sample there (a control, or the nearest edge sample of that edge
+/// moved along it to the end: its weights stay the edge's linear ones).
 void appendLineSamples(SampleSet& S, std::span<const StructureLine> lines, const SizingField& sizing);
 /// What free samples keep their distance from: the cage's edges and the structure lines, as one
 /// edge list (a Cage whose points are the cage's then the lines' ends; for distance queries only,

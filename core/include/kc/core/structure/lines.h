@@ -33,7 +33,8 @@ inline constexpr double kMinLineSpacings = 3.0;
 /// crossing or closer than h to another line; or when a parallel group has a single line
 /// ("lines[k]: parallel group ... has one line"). Open cages (no interior) get no lines.
 /// `graded`: for a graded sampling, which refines wherever a line comes close to the cage or to
-/// another line (featureSizing), so only lines that cross or leave the cage are refused.
+/// another line (featureSizing), and shares a sample where lines meet (lineContacts): only lines
+/// that leave the cage or overlap another are refused.
 void validateLines(const Cage& cage, std::span<const StructureLine> lines, double h, bool graded = false);
 
 /// Sample positions on one line at spacing ≈ h: round(|b − a| / h) equal pieces, both ends
@@ -46,6 +47,28 @@ Points lineSamplePoints(const StructureLine& line, const SizingField& sizing);
 /// samples[k] (samples[0] at a, samples.back() at b) becomes (1 − t_k) W(a) + t_k W(b), t_k the
 /// sample's position along a → b. Partition of unity and reproduction carry over (5.5).
 void interpolateLineWeights(const Points& X, std::span<const Index> samples, Weights& W);
+
+/// Where two lines meet: line k at parameter tk (0 = its a, 1 = its b) and line l at tl, at `point`.
+/// A crossing (both parameters inside (0, 1)), a line ending on another (one at 0 or 1), or two
+/// lines sharing an end (both). The samples of both lines share one sample there.
+struct LineContact {
+  std::size_t k = 0, l = 0;
+  double tk = 0.0, tl = 0.0;
+  Vec2 point = Vec2::Zero();
+};
+
+/// Every pair of lines (k < l) that meets, within 1e-9 of the lines' extent. Throws
+/// std::invalid_argument ("lines[l]: the line overlaps lines[k]") for collinear lines that share
+/// more than a point. O(n²) in the number of lines.
+std::vector<LineContact> lineContacts(std::span<const StructureLine> lines);
+
+/// Makes the weights of lines that meet agree where they meet (both stay straight only then): for
+/// each contact, the end weights of both lines move by the least-norm change that makes
+/// (1 − tk) w(a_k) + tk w(b_k) = (1 − tl) w(a_l) + tl w(b_l); repeated (Gauss–Seidel, at most 50
+/// sweeps) until every contact agrees to 1e-13. Each change is a multiple of the difference of two
+/// rows that both sum to 1 and reproduce the same point, so partition of unity and reproduction are
+/// kept exactly. `ends[k]` = the sample indices of line k's a and b; W #S×m.
+void coupleMeetingLines(std::span<const LineContact> contacts, std::span<const std::array<Index, 2>> ends, Weights& W);
 
 /// Largest angle between the lines of a parallel group that validateLines accepts (degrees):
 /// hand-drawn "parallel" lines are rarely exactly parallel; beyond this they are a mistake.

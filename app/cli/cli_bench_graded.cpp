@@ -1,0 +1,196 @@
+// kcwarp-cli bench --graded: cages drawn tightly (legs 4 px apart and arms 6 px from the torso, a
+// 3 px slit, a 2 px neck; tests/data/narrow) against the same cages with their gaps widened to
+// 40 px, bound with defaults by each backend: bind time and its ratio, samples, partition of unity
+// and reproduction inside the cage, and the weight that leaks across a gap. Then one neck on a
+// 12-megapixel picture against the same scene at 0.1 megapixel.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "kc/app/errors.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+
+namespace kc::cli {
+namespace {
+
+/// Where a gap's leak is measured: probes `offsets` px inside the cage from the vertical wall
+/// x = wall (direction `inward`, ±1), for y in [y0, y1]; the far side's controls are those `far`
+/// selects (geodesically far from the probes, across the gap).
+struct LeakProbe {
+  double wall = 0.0, inward = 1.0, y0 = 0.0, y1 = 0.0;
+  std::function<bool(const Vec2&)> far;
+};
+
+struct NarrowCase {
+  std::string name;
+  LeakProbe narrow, wide;
+  bool leak = true;
+};
+
+std::vector<NarrowCase> narrowCases() {
+  // person: the right leg's inner wall (x = 202 narrow, 220 wide), its lower half; far: the left leg's
+  // lower controls. slit: the slit's left wall near the top (x = 148.5 narrow, 130 wide); far: the
+  // controls right of the slit at its top, 280 px round it.
+  auto leftLeg = [](const Vec2& c) { return c.x() < 200.0 && c.y() > 400.0; };
+  auto rightTop = [](const Vec2& c) { return c.x() > 150.0 && c.y() < 60.0; };
+  return {{"person", {202.0, 1.0, 400.0, 460.0, leftLeg}, {220.0, 1.0, 400.0, 460.0, leftLeg}},
+          {"slit", {148.5, -1.0, 55.0, 120.0, rightTop}, {130.0, -1.0, 55.0, 120.0, rightTop}},
+          {"neck", {}, {}, false}};
+}
+
+struct Quality {
+  double unity = 0.0, reproduction = 0.0, leak = 0.0;
+};
+
+/// Partition of unity and reproduction on a 2-px grid inside the cage; the largest |Σ far weights|
+/// at the leak probes (1, 1.5, …, 3 px from the wall).
+Quality quality(const app::Session& s, const LeakProbe* probe) {
+  Quality q;
+  const CageQueries inside(s.cage);
+  std::vector<Vec2> pts;
+  const double x0 = s.cage.C.col(0).minCoeff(), x1 = s.cage.C.col(0).maxCoeff(), y0 = s.cage.C.col(1).minCoeff(),
+               y1 = s.cage.C.col(1).maxCoeff();
+  for (double y = y0 + 0.5; y < y1; y += 2.0)
+    for (double x = x0 + 0.5; x < x1; x += 2.0)
+      if (inside.inside(Vec2(x, y))) pts.emplace_back(x, y);
+  Points P(Index(pts.size()), 2);
+  for (std::size_t k = 0; k < pts.size(); ++k) P.row(Index(k)) = pts[k].transpose();
+  const Weights W = s.field->weightsAt(P);
+  for (Index k = 0; k < P.rows(); ++k) {
+    q.unity = std::max(q.unity, std::abs(W.row(k).sum() - 1.0));
+    q.reproduction = std::max(q.reproduction, (W.row(k) * s.cage.C - P.row(k)).norm());
+  }
+  if (!probe) return q;
+  std::vector<Index> far;
+  for (Index i = 0; i < s.cage.size(); ++i)
+    if (probe->far(s.cage.C.row(i))) far.push_back(i);
+  std::vector<Vec2> leakPts;
+  for (double d = 1.0; d <= 3.0; d += 0.5)
+    for (double y = probe->y0; y <= probe->y1; y += 2.0) leakPts.emplace_back(probe->wall + probe->inward * d, y);
+  Points L(Index(leakPts.size()), 2);
+  for (std::size_t k = 0; k < leakPts.size(); ++k) L.row(Index(k)) = leakPts[k].transpose();
+  const Weights WL = s.field->weightsAt(L);
+  for (Index k = 0; k < L.rows(); ++k) {
+    double sum = 0.0;
+    for (Index i : far) sum += WL(k, i);
+    q.leak = std::max(q.leak, std::abs(sum));
+  }
+  return q;
+}
+
+struct Timed {
+  double seconds = 0.0;
+  Index samples = 0;
+  double hMin = 0.0, hMax = 0.0;
+  app::Session session;
+  std::string refused;
+};
+
+Timed timedBind(const Cage& cage, int w, int h, const app::BindParams& params, int repeats) {
+  Timed t;
+  std::vector<double> runs;
+  for (int r = 0; r < repeats; ++r) {
+    try {
+      app::BindParams p = params;
+      p.spacing = app::automaticSpacing(cage, w, h, p);
+      const auto t0 = std::chrono::steady_clock::now();
+      t.session = app::bind(cage, w, h, p);
+      runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      t.samples = t.session.samples.size();
+      t.hMax = p.spacing;
+      t.hMin = t.session.sizing ? t.session.sizing->hMin() : p.spacing;
+    } catch (const std::exception& e) {
+      t.refused = e.what();
+      return t;
+    }
+  }
+  std::sort(runs.begin(), runs.end());
+  t.seconds = runs[runs.size() / 2];
+  return t;
+}
+
+void row(const char* backend, const std::string& name, const Timed& t, const Quality& q, const Timed* wide) {
+  if (!t.refused.empty()) {
+    std::printf("  %-4s %-14s refused: %.100s\n", backend, name.c_str(), t.refused.c_str());
+    return;
+  }
+  std::printf("  %-4s %-14s %8.0f %8ld %6.2f-%-6.2f %9.1e %9.1e %8.4f", backend, name.c_str(), 1e3 * t.seconds,
+              static_cast<long>(t.samples), t.hMin, t.hMax, q.unity, q.reproduction, q.leak);
+  if (wide && wide->refused.empty()) std::printf(" %7.2fx", t.seconds / wide->seconds);
+  std::printf("\n");
+}
+
+/// The picture size a test cage file names ("image_size": [w, h]).
+std::pair<int, int> cageImageSize(const std::string& path) {
+  const nlohmann::json j = nlohmann::json::parse(app::readTextFile(path, app::kMaxJsonFileBytes));
+  return {j.at("image_size").at(0).get<int>(), j.at("image_size").at(1).get<int>()};
+}
+
+/// Two discs joined by a neck `neck` px wide (scaled by `scale`), 16 points a disc.
+Cage neckCage(double scale, double neck) {
+  std::vector<Vec2> p;
+  const double half = neck / 2.0, r = 60.0 * scale;
+  for (int side = 0; side < 2; ++side) {
+    const double cx = (side == 0 ? 90.0 : 230.0) * scale, cy = 120.0 * scale, dir = side == 0 ? 1.0 : -1.0;
+    const double joint = cx + dir * std::sqrt(r * r - half * half);
+    p.emplace_back(joint, cy + dir * half);
+    for (int k = 1; k < 16; ++k) {
+      const double t = (side == 0 ? 0.0 : std::numbers::pi) + 2.0 * std::numbers::pi * k / 16.0;
+      const Vec2 q(cx + r * std::cos(t), cy + r * std::sin(t));
+      if (std::abs(q.y() - cy) > half + scale || dir * (q.x() - cx) < 50.0 * scale) p.push_back(q);
+    }
+    p.emplace_back(joint, cy - dir * half);
+  }
+  Points C(Index(p.size()), 2);
+  for (std::size_t k = 0; k < p.size(); ++k) C.row(Index(k)) = p[k].transpose();
+  return Cage::polygon(C);
+}
+
+}  // namespace
+
+void benchGraded(const std::string& folder, int repeats) {
+  std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, defaults (automatic\n"
+              "spacing), median of %d binds; unity and reproduction: largest error on a 2 px grid inside the cage;\n"
+              "leak: largest |sum of the far side's weights| 1-3 px from the gap\n",
+              folder.c_str(), repeats);
+  std::printf("  %-4s %-14s %8s %8s %13s %9s %9s %8s %8s\n", "", "cage", "bind ms", "samples", "spacing px", "unity",
+              "repro px", "leak", "/wide");
+  for (const NarrowCase& c : narrowCases()) {
+    for (const char* backend : {"kc", "lbc"}) {
+      Timed wide;
+      for (const char* variant : {"wide", "narrow"}) {
+        const std::string path = (std::filesystem::path(folder) / (c.name + "-" + variant + ".cage.json")).string();
+        const Cage cage = app::loadCage(path);
+        const auto [w, h] = cageImageSize(path);
+        app::BindParams p;
+        p.backend = backend;
+        const Timed t = timedBind(cage, w, h, p, repeats);
+        const bool narrow = std::string(variant) == "narrow";
+        const Quality q = t.refused.empty() ? quality(t.session, c.leak ? (narrow ? &c.narrow : &c.wide) : nullptr) : Quality{};
+        row(backend, c.name + "-" + variant, t, q, narrow ? &wide : nullptr);
+        if (!narrow) wide = t;
+      }
+    }
+  }
+  // One 8 px neck on a 12 MP picture (4000 x 3000, the cage filling it) against the same scene at
+  // 0.1 MP (the cage scaled by 1/11, its neck 0.73 px).
+  std::printf("\n  one neck, 12 MP against 0.1 MP (kc, defaults):\n");
+  const double big = 4000.0 / 330.0, small = big / 11.0;
+  const Timed t12 = timedBind(neckCage(big, 8.0), 4000, 3000, app::BindParams{}, repeats);
+  const Timed t01 = timedBind(neckCage(small, 8.0 / 11.0), 364, 273, app::BindParams{}, repeats);
+  row("kc", "neck 0.1 MP", t01, t01.refused.empty() ? quality(t01.session, nullptr) : Quality{}, nullptr);
+  row("kc", "neck 12 MP", t12, t12.refused.empty() ? quality(t12.session, nullptr) : Quality{}, &t01);
+}
+
+}  // namespace kc::cli

@@ -1,0 +1,158 @@
+// Graded samplings in the conformance properties: cages drawn tightly (legs 4 px apart, a 3 px slit,
+// a 2 px neck; tests/data/narrow) and random cages with a slit 1-5 px wide bind with the defaults,
+// keep partition of unity and reproduction to round-off inside the cage, the Lagrange property and
+// linear edge samples, and do not leak across their gaps.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "kc/app/diagnostics.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+
+namespace kc::app {
+namespace {
+
+std::string narrowPath(const std::string& name) { return std::string(KC_SOURCE_DIR) + "/tests/data/narrow/" + name + ".cage.json"; }
+
+std::pair<int, int> imageSize(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  return {j["image_size"][0].get<int>(), j["image_size"][1].get<int>()};
+}
+
+/// Binds with defaults (automatic spacing) and checks the conformance properties.
+Session bindAndCheck(const Cage& cage, int w, int h, const std::string& backend = "kc") {
+  BindParams p;
+  p.backend = backend;
+  p.spacing = automaticSpacing(cage, w, h, p);
+  Session s = app::bind(cage, w, h, p);
+  EXPECT_TRUE(s.hasField());
+  const Diagnostics d = diagnose(s, 60000);
+  EXPECT_GT(d.inside.points, 1000);
+  EXPECT_LE(d.inside.partitionOfUnity, 1e-9);
+  EXPECT_LE(d.inside.reproduction, 1e-7);  // pixels
+  EXPECT_LE(d.lagrange, 1e-9);
+  EXPECT_LT(d.samples.partitionOfUnity, 1e-12);
+  for (Index i = 0; i < s.samples.size(); ++i) {
+    if (s.samples.kind[std::size_t(i)] != SampleKind::Edge) continue;
+    const int a = s.samples.edge(i, 0), b = s.samples.edge(i, 1);
+    EXPECT_NEAR(s.W.row(i).sum() - s.W(i, a) - s.W(i, b), 0.0, 1e-12) << "edge sample " << i << " uses other controls";
+  }
+  return s;
+}
+
+/// max |Σ far weights| at points 1-3 px inside the cage from the vertical wall x = wall (towards
+/// `inward`), y in [y0, y1]; far = the controls `isFar` selects.
+template <class F>
+double leak(const Session& s, double wall, double inward, double y0, double y1, F&& isFar) {
+  std::vector<Vec2> pts;
+  for (double d = 1.0; d <= 3.0; d += 0.5)
+    for (double y = y0; y <= y1; y += 2.0) pts.emplace_back(wall + inward * d, y);
+  Points P(Index(pts.size()), 2);
+  for (std::size_t k = 0; k < pts.size(); ++k) P.row(Index(k)) = pts[k].transpose();
+  const Weights W = s.field->weightsAt(P);
+  double worst = 0.0;
+  for (Index k = 0; k < P.rows(); ++k) {
+    double sum = 0.0;
+    for (Index i = 0; i < s.cage.size(); ++i)
+      if (isFar(Vec2(s.cage.C.row(i)))) sum += W(k, i);
+    worst = std::max(worst, std::abs(sum));
+  }
+  return worst;
+}
+
+TEST(GradedConformance, TightlyDrawnCagesBindAndHoldTheProperties) {
+  for (const char* name : {"person-narrow", "slit-narrow", "neck-narrow"}) {
+    SCOPED_TRACE(name);
+    const Cage cage = loadCage(narrowPath(name));
+    const auto [w, h] = imageSize(narrowPath(name));
+    const Session s = bindAndCheck(cage, w, h);
+    ASSERT_TRUE(s.sizing) << "a cage with a narrow place samples graded";
+    EXPECT_LT(s.sizing->hMin(), 0.5 * s.params.spacing);
+  }
+}
+
+TEST(GradedConformance, NoLeakAcrossAGap) {
+  {
+    // The person's legs, 4 px apart: 1-3 px inside the right leg, its lower half, the left leg's
+    // lower controls (geodesically 150+ px away) weigh at most 0.02 together.
+    const Cage cage = loadCage(narrowPath("person-narrow"));
+    const auto [w, h] = imageSize(narrowPath("person-narrow"));
+    BindParams p;
+    p.spacing = automaticSpacing(cage, w, h, p);
+    const Session s = app::bind(cage, w, h, p);
+    const double l = leak(s, 202.0, 1.0, 400.0, 460.0, [](const Vec2& c) { return c.x() < 200.0 && c.y() > 400.0; });
+    std::printf("[measured] person legs: leak %.4f\n", l);
+    EXPECT_LE(l, 0.02);
+  }
+  {
+    // The slit, 3 px: inside its left wall near the top, the controls right of the slit's top (280 px round).
+    const Cage cage = loadCage(narrowPath("slit-narrow"));
+    BindParams p;
+    p.spacing = automaticSpacing(cage, 300, 300, p);
+    const Session s = app::bind(cage, 300, 300, p);
+    const double l = leak(s, 148.5, -1.0, 55.0, 120.0, [](const Vec2& c) { return c.x() > 150.0 && c.y() < 60.0; });
+    std::printf("[measured] slit: leak %.4f\n", l);
+    EXPECT_LE(l, 0.02);
+  }
+}
+
+/// A random star-shaped cage of m points round (200, 200) with a radial slit `width` px wide cut
+/// from the middle of one edge towards the centre.
+Cage randomSlitCage(std::mt19937_64& rng, double width) {
+  std::uniform_real_distribution<double> radius(110.0, 170.0);
+  std::uniform_int_distribution<int> count(7, 13);
+  const int m = count(rng);
+  std::vector<Vec2> p;
+  for (int i = 0; i < m; ++i) {
+    const double t = 2.0 * std::numbers::pi * i / m;
+    p.emplace_back(200.0 + radius(rng) * std::cos(t), 200.0 + radius(rng) * std::sin(t));
+  }
+  // Cut the slit in edge 0 → 1: along the bisector from the edge's middle to 40% of the way in.
+  const Vec2 a = p[0], b = p[1], mid = 0.5 * (a + b), centre(200, 200);
+  const Vec2 along = (b - a).normalized(), in = (centre - mid).normalized();
+  const double depth = 0.6 * (centre - mid).norm();
+  const Vec2 l0 = mid - 0.5 * width * along, r0 = mid + 0.5 * width * along;
+  std::vector<Vec2> q{a, l0, l0 + depth * in, r0 + depth * in, r0};
+  q.insert(q.end(), p.begin() + 1, p.end());
+  Points C(Index(q.size()), 2);
+  for (std::size_t k = 0; k < q.size(); ++k) C.row(Index(k)) = q[k].transpose();
+  return Cage::polygon(C);
+}
+
+TEST(GradedConformance, RandomCagesWithASlitBind) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> width(1.0, 5.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    const double wd = width(rng);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ", slit " + std::to_string(wd) + " px");
+    const Cage cage = randomSlitCage(rng, wd);
+    ASSERT_NO_THROW(validateCage(cage));
+    const Session s = bindAndCheck(cage, 400, 400);
+    ASSERT_TRUE(s.sizing);
+    EXPECT_NEAR(s.sizing->hMin(), wd / kFeatureSamples, 0.2 * wd);
+  }
+}
+
+TEST(GradedConformance, UniformSpacingStillRefusesNarrowPlaces) {
+  // --uniform-spacing keeps the old rule: a gap narrower than the spacing is refused, naming it.
+  const Cage cage = loadCage(narrowPath("slit-narrow"));
+  BindParams p;
+  p.graded = false;
+  p.spacing = 6.0;
+  try {
+    app::bind(cage, 300, 300, p);
+    FAIL() << "a 3 px slit at spacing 6 binds uniformly";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("come within 3 px"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace kc::app
