@@ -66,7 +66,7 @@ Weights parseCompactWeights(const json& block, Index n, Index m, const std::stri
     throw InputError(where, field + ".shape is [" + std::to_string(rows) + ", " + std::to_string(cols) + "] but the session has " +
                                 std::to_string(n) + " rows (samples) and " + std::to_string(m) + " control points");
   if (block.contains("dtype") && block["dtype"] != "f64le")
-    throw InputError(where, field + ".dtype " + block["dtype"].dump() + " is not \"f64le\"");
+    throw InputError(where, field + ".dtype " + quoted(block["dtype"]) + " is not \"f64le\"");
   const json& text = require(block, "base64", where);
   if (!text.is_string()) throw InputError(where, field + ".base64 must be a string");
   const std::string& b64 = text.get_ref<const std::string&>();
@@ -204,7 +204,7 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
     }
     return false;
   }
-  throw InputError(where, "field.kind " + kind.dump() + " is not one of \"kernel\", \"mesh\"");
+  throw InputError(where, "field.kind " + quoted(kind) + " is not one of \"kernel\", \"mesh\"");
 }
 
 json reportsToJson(const SolverReports& r) {

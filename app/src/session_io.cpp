@@ -23,7 +23,7 @@ E parseEnum(const json& params, const char* key, E fallback, const std::string& 
   const json& v = params[key];
   E e{};
   if (!v.is_string() || !parseName(v.get<std::string>(), e))
-    throw InputError(where, std::string("params.") + key + " has an unknown value " + v.dump());
+    throw InputError(where, std::string("params.") + key + " has an unknown value " + detail::quoted(v));
   return e;
 }
 
