@@ -391,6 +391,36 @@ TEST_F(BadInput, DemoWithABrokenExampleWritesNothing) {
   EXPECT_FALSE(fs::exists(m_dir / "demo-out"));
 }
 
+// ---- Standard output: what a command prints is flushed and checked ---------------------------
+
+/// kcwarp-cli `args` with standard output sent to `stdoutRedirect` (shell syntax, e.g.
+/// "> /dev/full" or ">&-"); exit code and stderr.
+CliResult runWithStdout(const std::string& args, const std::string& stdoutRedirect, const fs::path& dir) {
+  const auto err = dir / "cli.stderr";
+  const std::string cmd = "cd '" + dir.string() + "' && timeout -k 5 60 '" + std::string(KC_CLI_PATH) + "' " + args + " " +
+                          stdoutRedirect + " 2> '" + err.string() + "' < /dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = slurp(err);
+  return r;
+}
+
+TEST_F(BadInput, StandardOutputFullOrClosed) {
+  for (const char* redirect : {"> /dev/full", ">&-"}) {
+    const CliResult r = runWithStdout("stats --session s.kcw.json --json", redirect, m_dir);
+    EXPECT_EQ(r.code, 2) << redirect << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_TRUE(contains(r.err, "standard output: cannot write")) << r.err;
+  }
+  // A command that writes a file with standard output closed: the file gets none of what it printed.
+  const CliResult r = runWithStdout("bind --cage cage.json --size 96,96 --spacing 8 -o again.kcw.json", ">&-", m_dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NO_THROW(json::parse(slurp(m_dir / "again.kcw.json")));
+  EXPECT_EQ(runWithStdout("stats --session s.kcw.json --json", "> out.json", m_dir).code, 0);
+  EXPECT_NO_THROW(json::parse(slurp(m_dir / "out.json")));
+}
+
 // ---- Saves that succeed: mode kept, symlinks written through, no temporary file left ----------
 
 TEST_F(BadInput, SaveKeepsModeFollowsSymlinkAndLeavesNoTemporary) {
