@@ -16,6 +16,7 @@
 
 #include "cli_run.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
 
 namespace kc::test {
 namespace {
@@ -389,6 +390,32 @@ TEST_F(BadInput, DemoWithABrokenExampleWritesNothing) {
   writeText(m_dir / "examples" / "figure.pose.json", R"({"version":1,"positions":[]})");
   expectRefused("demo --images examples --out demo-out", "figure.pose.json");
   EXPECT_FALSE(fs::exists(m_dir / "demo-out"));
+}
+
+// ---- Images decoded strictly, sessions checked for meaning, memory bounded up front ------------
+
+TEST_F(BadInput, TruncatedJpeg) {
+  Image picture(96, 96);
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      std::uint8_t* p = picture.pixel(x, y);
+      p[0] = std::uint8_t(x * 2), p[1] = std::uint8_t(y * 2), p[2] = std::uint8_t((x ^ y) * 3), p[3] = 255;
+    }
+  app::saveImage((m_dir / "full.jpg").string(), picture);
+  const std::string bytes = slurp(m_dir / "full.jpg");
+  writeText(m_dir / "cut.jpg", bytes.substr(0, bytes.size() * 2 / 3));
+  expectRefused("sample --cage cage.json --image cut.jpg -o s.json", "cut.jpg: cannot decode the JPEG image: ");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
+TEST_F(BadInput, PngTextChunkClaimingTwoGigabytes) {
+  const std::string ihdr("\x00\x00\x00\x10\x00\x00\x00\x10\x08\x06\x00\x00\x00", 13);
+  auto chunk = [](const std::string& type, const std::string& data, std::uint32_t length) {
+    return be32(length) + type + data + be32(crc32(type + data));
+  };
+  writeText(m_dir / "chunk.png", std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr, 13) +
+                                     chunk("tEXt", std::string("Comment\0abc", 11), 0x7ffffff0u));
+  expectRefused("sample --cage cage.json --image chunk.png -o s.json", "a chunk claims 2147483632 bytes");
 }
 
 // ---- Standard output: what a command prints is flushed and checked ---------------------------
