@@ -418,6 +418,25 @@ TEST_F(BadInput, PngTextChunkClaimingTwoGigabytes) {
   expectRefused("sample --cage cage.json --image chunk.png -o s.json", "a chunk claims 2147483632 bytes");
 }
 
+TEST_F(BadInput, SessionWeightsAllZero) {
+  json j = session();
+  json& block = j["weights"]["optimized_b64"];
+  const std::size_t bytes = block["shape"][0].get<std::size_t>() * block["shape"][1].get<std::size_t>() * 8;
+  std::string b64((bytes + 2) / 3 * 4, 'A');  // base64 of zero bytes
+  if (bytes % 3 == 1) b64.replace(b64.size() - 2, 2, "==");
+  if (bytes % 3 == 2) b64.back() = '=';
+  block["base64"] = b64;
+  writeSession(j);
+  expectRefused("eval --session bad.kcw.json --points p.csv -o w.csv", "weights.optimized row 0 sums to 0 (partition of unity");
+}
+
+TEST_F(BadInput, SessionOfTheKernelBackendWithAMeshField) {
+  json j = session();
+  j["field"] = {{"kind", "mesh"}, {"vertices", j["cage"]["points"]}, {"triangles", {{0, 1, 2}, {0, 2, 3}}}};
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "field.kind \"mesh\" does not match params.backend \"kc\"");
+}
+
 // ---- Standard output: what a command prints is flushed and checked ---------------------------
 
 /// kcwarp-cli `args` with standard output sent to `stdoutRedirect` (shell syntax, e.g.
