@@ -111,6 +111,49 @@ TEST(AtomicSave, ReplacesWholeFileAndLeavesNoTemporaries) {
   EXPECT_FALSE(std::filesystem::exists(bad));
 }
 
+TEST(AtomicSave, NamesUpToNameMaxWork) {
+  const auto dir = scratchDir("atomic_long_name");
+  for (const std::size_t length : {237u, 238u, 250u, 255u}) {
+    const std::string path = (dir / (std::string(length - 4, 'n') + ".png")).string();
+    writeFileAtomic(path, "first");
+    writeFileAtomic(path, "second");  // replaces: through a temporary name, which must fit NAME_MAX too
+    EXPECT_EQ(test::slurp(path), "second") << length;
+  }
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 4);
+}
+
+// A command's outputs go in place together: when one cannot be written, none is replaced and no
+// temporary file is left.
+TEST(OutputBatch, AFailedOutputLeavesEveryOutputAsItWas) {
+  namespace fs = std::filesystem;
+  const auto dir = scratchDir("output_batch");
+  fs::create_directories(dir / "ok");
+  fs::create_directories(dir / "gone");
+  writeText(dir / "ok" / "a.json", "old a");
+  OutputBatch batch;
+  batch.reserve((dir / "ok" / "a.json").string());
+  batch.reserve((dir / "ok" / "new.json").string());
+  batch.reserve((dir / "gone" / "b.png").string());
+  batch.set((dir / "ok" / "a.json").string(), "new a");
+  batch.set((dir / "ok" / "new.json").string(), "new");
+  batch.set((dir / "gone" / "b.png").string(), "b");
+  fs::remove_all(dir / "gone");  // the last output's folder disappears after the checks
+  EXPECT_TRUE(contains(inputError([&] { batch.commit(); }), "b.png")) << "no InputError naming the failed output";
+  EXPECT_EQ(test::slurp(dir / "ok" / "a.json"), "old a");
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "ok")) ++files;
+  EXPECT_EQ(files, 1) << "an output or a temporary was left";
+
+  OutputBatch good;
+  good.set((dir / "ok" / "a.json").string(), "new a");
+  good.set((dir / "ok" / "new.json").string(), "new");
+  good.commit();
+  EXPECT_EQ(test::slurp(dir / "ok" / "a.json"), "new a");
+  EXPECT_EQ(test::slurp(dir / "ok" / "new.json"), "new");
+}
+
 TEST(AtomicSave, KeepsModeRefusesSpecialFilesAndWritesThroughSymlinks) {
   namespace fs = std::filesystem;
   const auto dir = scratchDir("atomic_special");
