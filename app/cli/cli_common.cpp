@@ -68,6 +68,8 @@ std::string limitsText() {
          "  bind: <= " + n(double(kMaxBindSamples)) + " samples, <= " + n(double(kMaxKernelNonZeros)) +
          " kernel non-zeros, <= " + byteText(kMaxBindBytes) + " estimated memory; --spacing >= " + n(kMinSpacing * 100) +
          "/100 px; --heat-iterations <= " + std::to_string(kMaxHeatIterations) + "\n"
+         "  eval: <= " + n(double(kMaxEvalWeights)) + " weights (points x control points); a JSON file parsed: <= " +
+         byteText(kMaxJsonParseBytes) + " estimated memory\n"
          "Outputs are written atomically (a temporary file in the target's folder, then renamed); a symbolic link is\n"
          "written through to its target; devices, FIFOs and folders are refused; a failing command writes nothing.";
 }

@@ -45,6 +45,7 @@ int checkedOutput(int code) {
 int main(int argc, char** argv) {
   guardStandardStreams();
   kc::app::preferPassiveOpenMpWaiting(argv);
+  kc::app::keepMemoryReserve();
   CLI::App app{"kcwarp-cli: warp images with a cage and kernel coordinates"};
   app.require_subcommand(1);
   app.footer(kc::cli::limitsText());

@@ -33,7 +33,57 @@ std::string quoted(const json& v) {
   return text.substr(0, cut) + "... (" + std::to_string(text.size()) + " characters)";
 }
 
+namespace {
+
+/// Counts what a DOM parse of a text would build and estimates its memory (nlohmann::json: 16
+/// bytes a value, twice that in an array that grew by doubling; a heap container per array and
+/// object; a map node and the key per object member; a heap string per string), stopping as soon
+/// as the estimate passes `limit`. A malformed text stops the scan; the DOM parse then reports it.
+class ParseCost final : public nlohmann::json_sax<json> {
+ public:
+  explicit ParseCost(double limit) : m_limit(limit) {}
+  double bytes() const { return m_bytes; }
+  bool over() const { return m_bytes > m_limit; }
+
+  bool null() override { return add(32); }
+  bool boolean(bool) override { return add(32); }
+  bool number_integer(number_integer_t) override { return add(32); }
+  bool number_unsigned(number_unsigned_t) override { return add(32); }
+  bool number_float(number_float_t, const string_t&) override { return add(32); }
+  bool string(string_t& v) override { return add(64 + double(v.size())); }
+  bool binary(binary_t& v) override { return add(64 + double(v.size())); }
+  bool start_object(std::size_t) override { return add(80); }
+  bool key(string_t& k) override { return add(96 + double(k.size())); }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return add(64); }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  bool add(double b) {
+    m_bytes += b;
+    return !over();
+  }
+  double m_limit, m_bytes = 0.0;
+};
+
+/// Texts this short cannot need kMaxJsonParseBytes parsed (at most ~100 bytes of DOM per byte).
+constexpr std::size_t kParseScanFrom = 4 * kMiB;
+
+}  // namespace
+
+double jsonParseCost(const std::string& text, double limit) {
+  ParseCost cost(limit);
+  json::sax_parse(text, &cost);
+  return cost.bytes();
+}
+
 json parseJson(const std::string& text, const std::string& where) {
+  if (text.size() >= kParseScanFrom) {
+    if (const double need = jsonParseCost(text, kMaxJsonParseBytes); need > kMaxJsonParseBytes)
+      throw InputError(where, "parsing this file would need more than " + byteText(need) + " of memory (kcwarp's limit for one file is " +
+                                  byteText(kMaxJsonParseBytes) + "); it holds far more JSON values than any file kcwarp writes");
+  }
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {

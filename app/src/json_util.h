@@ -20,7 +20,11 @@ std::string excerptAt(std::string_view text, std::size_t offset);
 /// v as JSON text, cut to about 32 characters (with the full length) when longer: how messages
 /// quote a value read from a file.
 std::string quoted(const json& v);
-/// Parses text; InputError "<where>: malformed JSON at byte N, near '...': <problem>" (truncated
+/// Estimated memory, bytes, of text parsed into a json (a streaming count of its values, arrays,
+/// objects, keys and string bytes), the count stopped once past `limit`.
+double jsonParseCost(const std::string& text, double limit);
+/// Parses text; a text of 4 MiB or more is first counted (jsonParseCost) and refused when its
+/// parse would need more than kMaxJsonParseBytes, before anything is built. InputError "<where>: malformed JSON at byte N, near '...': <problem>" (truncated
 /// files included); the message quotes at most excerptAt's excerpt of the text.
 json parseJson(const std::string& text, const std::string& where);
 /// Requires {"version": 1}; a missing or other major version is an InputError.

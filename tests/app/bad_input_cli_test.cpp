@@ -437,6 +437,27 @@ TEST_F(BadInput, SessionOfTheKernelBackendWithAMeshField) {
   expectRefused("stats --session bad.kcw.json", "field.kind \"mesh\" does not match params.backend \"kc\"");
 }
 
+TEST_F(BadInput, EvalOfMorePointsTimesControlsThanTheLimit) {
+  std::string csv;
+  csv.reserve(13'000'000 * 4);
+  for (int i = 0; i < 13'000'000; ++i) csv += "1,1\n";  // 13 million points x 4 control points
+  writeText(m_dir / "many.csv", csv);
+  expectRefused("eval --session s.kcw.json --points many.csv -o w.csv", "above kcwarp's limit of 50000000 for one eval");
+  EXPECT_FALSE(fs::exists(m_dir / "w.csv"));
+}
+
+TEST_F(BadInput, SessionOfTinyValuesBeyondTheParseLimit) {
+  // 160 MB of one-digit numbers would parse into ~2.6 GB (16-byte values, arrays grown by
+  // doubling): refused from a streaming count before anything is built.
+  std::string text = R"({"version": 1, "cage": {"points": [[16,16],[80,16],[80,80],[16,80]]}, "junk": [)";
+  text.reserve(text.size() + 160'000'010);
+  for (int i = 0; i < 40'000'000; ++i) text += "0,0,";
+  text += "0]}";
+  writeText(m_dir / "huge.kcw.json", text);
+  std::string().swap(text);
+  expectRefused("stats --session huge.kcw.json", "parsing this file would need more than");
+}
+
 // ---- Standard output: what a command prints is flushed and checked ---------------------------
 
 /// kcwarp-cli `args` with standard output sent to `stdoutRedirect` (shell syntax, e.g.
