@@ -96,7 +96,7 @@ Weights parseCompactWeights(const json& block, Index n, Index m, const std::stri
       double v;
       std::memcpy(&v, b, 8);
       if (!std::isfinite(v) || std::abs(v) > limit)
-        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + json(v).dump() +
+        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + format("%.17g", v) +
                                     (!std::isfinite(v)       ? ", not a finite number"
                                      : limit == kMaxWeight ? ", beyond kcwarp's limit |w| <= 1e6"
                                                              : ", beyond kcwarp's limit of " + json(limit).dump()));

@@ -458,6 +458,25 @@ TEST_F(BadInput, SessionOfTinyValuesBeyondTheParseLimit) {
   expectRefused("stats --session huge.kcw.json", "parsing this file would need more than");
 }
 
+// ---- Options: seeds and thread counts that would wrap ----------------------------------------
+
+TEST_F(BadInput, SeedOutOfRange) {
+  expectRefused("sample --cage cage.json --size 96,96 --seed -1 -o s.json", "--seed");
+  expectRefused("sample --cage cage.json --size 96,96 --seed 18446744073709551616 -o s.json", "--seed");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
+TEST_F(BadInput, BenchNegativeThreads) { expectRefused("bench --threads -3", "--threads"); }
+
+TEST_F(BadInput, OutputNameOfNameMaxLength) {
+  const std::string name(250, 'n');
+  for (int k = 0; k < 2; ++k) {  // new, then replaced
+    const Timed t = runTimed("sample --cage cage.json --size 96,96 -o " + name + ".json", m_dir);
+    EXPECT_EQ(t.r.code, 0) << t.r.err;
+  }
+  EXPECT_TRUE(fs::exists(m_dir / (name + ".json")));
+}
+
 // ---- Standard output: what a command prints is flushed and checked ---------------------------
 
 /// kcwarp-cli `args` with standard output sent to `stdoutRedirect` (shell syntax, e.g.
