@@ -61,7 +61,8 @@ int main(int argc, char** argv) {
     return checkedOutput(kc::cli::kExitOk);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return checkedOutput(app.exit(e));  // --help
-    std::cerr << "kcwarp-cli: " << e.what() << "\n";
+    // One line however long or multi-line the argument it quotes (InputError's messages already are).
+    std::cerr << "kcwarp-cli: " << kc::app::oneLine(e.what(), kc::app::kMaxMessageWhat) << "\n";
     return kc::cli::kExitBadInput;
   } catch (const kc::app::InputError& e) {
     std::cerr << "kcwarp-cli: " << e.what() << "\n";
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
                  "a smaller image or a cage with fewer points\n";
     return kc::cli::kExitBadInput;
   } catch (const std::exception& e) {  // std::invalid_argument included: misuse of an internal API
-    std::cerr << "kcwarp-cli: internal error: " << e.what() << "\n";
+    std::cerr << "kcwarp-cli: internal error: " << kc::app::oneLine(e.what(), kc::app::kMaxMessageWhat) << "\n";
     return kc::cli::kExitInternal;
   }
 }

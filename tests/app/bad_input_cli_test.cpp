@@ -468,6 +468,12 @@ TEST_F(BadInput, SeedOutOfRange) {
 
 TEST_F(BadInput, BenchNegativeThreads) { expectRefused("bench --threads -3", "--threads"); }
 
+TEST_F(BadInput, ArgumentsWithNewlinesGiveOneLine) {
+  expectRefused("sample --cage 'cage\nfile\n.json' --size 96,96 -o s.json", "cage\\nfile\\n.json: no such file");
+  expectRefused("warp --session s.kcw.json --outside 'a\nb\nc' -o w.png", "--outside");
+  expectRefused("sample --cage cage.json --size 96,96 --seed '1\n2' -o s.json", "--seed");  // CLI11's own message
+}
+
 TEST_F(BadInput, OutputNameOfNameMaxLength) {
   const std::string name(250, 'n');
   for (int k = 0; k < 2; ++k) {  // new, then replaced
