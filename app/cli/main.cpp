@@ -31,8 +31,8 @@ void guardStandardStreams() {
 /// `code`, or exit 2 with one line when what the command printed could not all be written to
 /// standard output (a full disk, a closed stream).
 int checkedOutput(int code) {
-  std::cout.flush();
   errno = 0;
+  std::cout.flush();
   const bool failed = std::fflush(stdout) != 0 || std::ferror(stdout) != 0 || !std::cout.good();
   if (!failed) return code;
   std::cerr << "kcwarp-cli: standard output: cannot write what the command printed ("

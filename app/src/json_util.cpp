@@ -80,9 +80,10 @@ double jsonParseCost(const std::string& text, double limit) {
 
 json parseJson(const std::string& text, const std::string& where) {
   if (text.size() >= kParseScanFrom) {
-    if (const double need = jsonParseCost(text, kMaxJsonParseBytes); need > kMaxJsonParseBytes)
-      throw InputError(where, "parsing this file would need more than " + byteText(need) + " of memory (kcwarp's limit for one file is " +
-                                  byteText(kMaxJsonParseBytes) + "); it holds far more JSON values than any file kcwarp writes");
+    if (jsonParseCost(text, kMaxJsonParseBytes) > kMaxJsonParseBytes)
+      throw InputError(where, "parsing this file would need more than the " + byteText(kMaxJsonParseBytes) +
+                                  " of memory kcwarp allows for one file (counted before parsing); it holds far more JSON values "
+                                  "than any file kcwarp writes");
   }
   try {
     return json::parse(text);
