@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libopencv-dev libcgal-dev libsuitesparse-dev
   libpng-dev   # PNG read/write without loading OpenCV's ~140 codec libraries (app/src/png_codec.h)
+  libjpeg-dev  # strict JPEG reading: truncated or corrupt data refused (app/src/jpeg_codec.h)
   libopenblas0-pthread   # fast BLAS under CHOLMOD's supernodal factorization (~4x on kernel matrices)
   nlohmann-json3-dev libcli11-dev
   libglfw3-dev libimgui-dev libgl-dev

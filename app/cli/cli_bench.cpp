@@ -166,7 +166,7 @@ void addBenchCommand(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("bench", "Performance tables: bind stages, per-sample optimizers, paint stroke release");
   sub->add_option("--samples", a->samples, "Target sample count of the bind benchmark")->capture_default_str();
   sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
-  sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->capture_default_str();
+  sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   sub->add_flag("--lines", a->lines, "Only the structure-lines table (straightness, parallelism, bind time; issue 13)");
   sub->add_flag("--edges", a->edges,
                 "Only the linear-edges table: the bundled examples (the folder of --cage) with and without --linear-edges");

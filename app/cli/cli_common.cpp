@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include "kc/app/errors.h"
@@ -68,8 +70,23 @@ std::string limitsText() {
          "  bind: <= " + n(double(kMaxBindSamples)) + " samples, <= " + n(double(kMaxKernelNonZeros)) +
          " kernel non-zeros, <= " + byteText(kMaxBindBytes) + " estimated memory; --spacing >= " + n(kMinSpacing * 100) +
          "/100 px; --heat-iterations <= " + std::to_string(kMaxHeatIterations) + "\n"
+         "  eval: <= " + n(double(kMaxEvalWeights)) + " weights (points x control points); a JSON file parsed: <= " +
+         byteText(kMaxJsonParseBytes) + " estimated memory\n"
          "Outputs are written atomically (a temporary file in the target's folder, then renamed); a symbolic link is\n"
          "written through to its target; devices, FIFOs and folders are refused; a failing command writes nothing.";
+}
+
+CLI::Validator seedCheck() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t v = 0;
+        const char* end = text.data() + text.size();
+        const auto [stop, ec] = std::from_chars(text.data(), end, v);
+        if (text.empty() || ec != std::errc() || stop != end)
+          return "must be a whole number from 0 to 18446744073709551615, got '" + text + "'";
+        return "";
+      },
+      "0..2^64-1");
 }
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) != 0; }

@@ -54,6 +54,9 @@ inline constexpr const char* kOutsideHelp =
 /// Adds `--png-compression 0..9` (zlib level of the PNGs written; default
 /// app::kDefaultPngCompression, fast) to a subcommand; a value outside 0..9 is a parse error (exit 2).
 void addPngCompressionOption(CLI::App* sub, int& level);
+/// CLI11 check of a `--seed`: a whole decimal number 0..2^64-1 (CLI11 alone reads "-1" as 2^64-1
+/// and a number past 2^64-1 as 2^64-1); anything else is a parse error (exit 2).
+CLI::Validator seedCheck();
 /// True when stderr is a terminal (progress output is shown only then).
 bool stderrIsTerminal();
 

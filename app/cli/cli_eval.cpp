@@ -6,6 +6,7 @@
 #include "cli_common.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
+#include "kc/app/limits.h"
 #include "kc/app/points_csv.h"
 
 namespace kc::cli {
@@ -23,6 +24,12 @@ void addEvalCommand(CLI::App& app) {
     app::checkOutputFile(a->output);
     const app::Session s = app::loadSession(a->session);
     const Points P = app::loadPointsCsv(a->points);
+    const long long weights = static_cast<long long>(P.rows()) * static_cast<long long>(s.cage.size());
+    if (weights > app::kMaxEvalWeights)
+      throw app::InputError(a->points, std::to_string(P.rows()) + " points x " + std::to_string(s.cage.size()) +
+                                           " control points are " + std::to_string(weights) + " weights, above kcwarp's limit of " +
+                                           std::to_string(app::kMaxEvalWeights) + " for one eval (about 2 GB); split the file into parts of at most " +
+                                           std::to_string(app::kMaxEvalWeights / s.cage.size()) + " points");
     const Weights W = s.field->weightsAt(P);
     std::string out;
     out.reserve(static_cast<std::size_t>(W.size()) * 24 + 64);

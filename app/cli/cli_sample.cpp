@@ -93,7 +93,7 @@ void runSample(const SampleArgs& a) {
     app::checkImageSize(w + pad, h + pad, a.png, "sample plot");
   }
   sampling::SamplingReport rep;
-  const SampleSet S = app::asUserInput("sample", [&] { return sampling::sample(cage, o, &rep); });
+  const SampleSet S = app::asUserInput(a.cage, [&] { return sampling::sample(cage, o, &rep); });
   const Index fixed = rep.controls + rep.edge + rep.line + rep.frame;
   const sampling::PointSetMetrics q = sampling::pointSetMetrics(S.X, a.spacing, sampling::samplingDomain(o), fixed);
   const double sigma = sampling::suggestSigma(S);
@@ -129,7 +129,7 @@ void addSampleCommand(CLI::App& app) {
   sub->add_option("--spacing", a->spacing, "Sample spacing h in pixels")->capture_default_str();
   sub->add_option("--sampler", a->sampler, "blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
-  sub->add_option("--seed", a->seed, "Random seed")->capture_default_str();
+  sub->add_option("--seed", a->seed, "Random seed (0..2^64-1)")->check(seedCheck())->capture_default_str();
   sub->add_option("--structure", a->structure, "Structure file (JSON): lines sampled and kept fixed (docs/ARCHITECTURE.md)");
   sub->add_option("-o,--output", a->output, "Samples file to write (JSON)")->required();
   sub->add_option("--png", a->png, "Also draw the samples, coloured by kind, into this PNG");

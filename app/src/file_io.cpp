@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <climits>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <random>
 #include <utility>
+#include <vector>
 
 #include "json_util.h"
 #include "kc/app/errors.h"
@@ -106,55 +108,104 @@ std::string checkOutputFile(const std::string& path) {
   return target.string();
 }
 
-void writeFileAtomic(const std::string& path, const std::string& content) {
-  const fs::path target(checkOutputFile(path));
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  struct stat existing {};
-  const bool exists = ::stat(target.c_str(), &existing) == 0;
-  const std::string base = "." + target.filename().string() + ".";
+namespace {
 
-  // 1. An unnamed temporary file: if kcwarp dies while writing, nothing is left behind.
+/// A temporary name in `dir` for a file named `name`: "." + name + "." + 12 random hex digits +
+/// ".tmp", the name cut so that the whole fits NAME_MAX (a legal output name of 238–255 bytes
+/// would otherwise give a temporary name the file system refuses).
+fs::path tempName(const fs::path& dir, const std::string& name) {
+  constexpr std::size_t kAdded = 18;  // ".", ".", 12 hex digits, ".tmp"
+  return dir / ("." + name.substr(0, NAME_MAX - kAdded) + "." + randomSuffix() + ".tmp");
+}
+
+/// One output written in full to a temporary in its target's folder, not yet in place: an unnamed
+/// O_TMPFILE (fd) where the file system has it, else a named temporary (tmp).
+struct PendingFile {
+  std::string path;  ///< as given (messages)
+  fs::path target, dir;
+  int fd = -1;
   fs::path tmp;
-  int err = 0;
-  {
-    FileDescriptor fd(::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666));
-    if (fd.fd >= 0) {
-      err = fillTemp(fd.fd, content, exists ? &existing : nullptr);
-      if (err) throw InputError(path, "cannot write: " + systemError(err));
-      const std::string procPath = "/proc/self/fd/" + std::to_string(fd.fd);
-      for (int attempt = 0; attempt < 100 && tmp.empty(); ++attempt) {
-        const fs::path name = dir / (base + randomSuffix() + ".tmp");
-        if (::linkat(AT_FDCWD, procPath.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) tmp = name;
-        else if (errno != EEXIST) break;  // e.g. no /proc: fall back to a named temporary file
-      }
-    }
+
+  PendingFile() = default;
+  PendingFile(PendingFile&& o) noexcept
+      : path(std::move(o.path)), target(std::move(o.target)), dir(std::move(o.dir)), fd(std::exchange(o.fd, -1)), tmp(std::move(o.tmp)) {}
+  PendingFile(const PendingFile&) = delete;
+  PendingFile& operator=(const PendingFile&) = delete;
+  PendingFile& operator=(PendingFile&&) = delete;
+  /// Removes what is not yet in place (the unnamed file goes with its descriptor).
+  ~PendingFile() {
+    if (fd >= 0) ::close(fd);
+    if (!tmp.empty()) ::unlink(tmp.c_str());
   }
-  // 2. A temporary file created exclusively (O_EXCL never follows or reuses an existing name).
-  if (tmp.empty()) {
+
+  /// Writes `content` (mode and owner of the file replaced, fsynced); InputError naming the file,
+  /// nothing left behind, when it cannot.
+  void write(const std::string& content) {
+    target = checkOutputFile(path);
+    dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    struct stat existing {};
+    const bool exists = ::stat(target.c_str(), &existing) == 0;
+    // 1. An unnamed temporary file: if kcwarp dies before it is named, nothing is left behind (it
+    //    is named through /proc/self/fd, so only where that exists).
+    if (::access("/proc/self/fd", X_OK) == 0) fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
+    if (fd >= 0) {
+      if (const int err = fillTemp(fd, content, exists ? &existing : nullptr)) throw InputError(path, "cannot write: " + systemError(err));
+      return;
+    }
+    // 2. A temporary file created exclusively (O_EXCL never follows or reuses an existing name).
     for (int attempt = 0; attempt < 100 && tmp.empty(); ++attempt) {
-      const fs::path name = dir / (base + randomSuffix() + ".tmp");
-      FileDescriptor fd(::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
-      if (fd.fd < 0) {
+      const fs::path name = tempName(dir, target.filename().string());
+      FileDescriptor f(::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
+      if (f.fd < 0) {
         if (errno == EEXIST) continue;
         throw InputError(path, "cannot write: " + systemError(errno));
       }
-      err = fillTemp(fd.fd, content, exists ? &existing : nullptr);
-      if (!err && ::close(fd.release()) != 0) err = errno;
-      if (err) {
-        ::unlink(name.c_str());
-        throw InputError(path, "cannot write: " + systemError(err));
-      }
-      tmp = name;
+      tmp = name;  // removed by the destructor from here on
+      int err = fillTemp(f.fd, content, exists ? &existing : nullptr);
+      if (!err && ::close(f.release()) != 0) err = errno;
+      if (err) throw InputError(path, "cannot write: " + systemError(err));
     }
     if (tmp.empty()) throw InputError(path, "cannot create a temporary file in '" + dir.string() + "'");
   }
-  if (::rename(tmp.c_str(), target.c_str()) != 0) {
-    err = errno;
-    ::unlink(tmp.c_str());
-    throw InputError(path, "cannot replace the file: " + systemError(err));
+
+  /// Puts the file in place: a new file is linked under its name directly; one that exists is
+  /// replaced by renaming a named temporary over it. The folder is fsynced. InputError naming the
+  /// file when it cannot (the previous file untouched).
+  void publish() {
+    if (fd >= 0) {
+      const std::string procPath = "/proc/self/fd/" + std::to_string(fd);
+      if (::linkat(AT_FDCWD, procPath.c_str(), AT_FDCWD, target.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+        ::close(std::exchange(fd, -1));
+        syncFolder();
+        return;
+      }
+      for (int attempt = 0; attempt < 100 && tmp.empty(); ++attempt) {
+        const fs::path name = tempName(dir, target.filename().string());
+        if (::linkat(AT_FDCWD, procPath.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) tmp = name;
+        else if (errno != EEXIST) throw InputError(path, "cannot name the temporary file: " + systemError(errno));
+      }
+      if (tmp.empty()) throw InputError(path, "cannot create a temporary file in '" + dir.string() + "'");
+      ::close(std::exchange(fd, -1));
+    }
+    if (::rename(tmp.c_str(), target.c_str()) != 0) throw InputError(path, "cannot replace the file: " + systemError(errno));
+    tmp.clear();
+    syncFolder();
   }
-  FileDescriptor dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-  if (dirFd.fd >= 0) ::fsync(dirFd.fd);  // the rename itself reaches the disk
+
+ private:
+  void syncFolder() const {
+    FileDescriptor dirFd(::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (dirFd.fd >= 0) ::fsync(dirFd.fd);  // the new name itself reaches the disk
+  }
+};
+
+}  // namespace
+
+void writeFileAtomic(const std::string& path, const std::string& content) {
+  PendingFile f;
+  f.path = path;
+  f.write(content);
+  f.publish();
 }
 
 std::string readTextFile(const std::string& path, std::uint64_t maxBytes) {
@@ -206,7 +257,14 @@ void OutputBatch::set(const std::string& path, std::string content) {
 }
 
 void OutputBatch::commit() {
-  for (const auto& [path, content] : m_files) writeFileAtomic(path, content);
+  // Every temporary written before any is put in place; on a failure the destructors remove them.
+  std::vector<PendingFile> pending(m_files.size());
+  for (std::size_t k = 0; k < m_files.size(); ++k) {
+    pending[k].path = m_files[k].first;
+    pending[k].write(m_files[k].second);
+    std::string().swap(m_files[k].second);  // written: its memory is not needed any more
+  }
+  for (PendingFile& f : pending) f.publish();
 }
 
 Cage cageFromJson(const std::string& text, const std::string& where) {

@@ -2,6 +2,7 @@
 
 #include <dlfcn.h>
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 #include <type_traits>
@@ -36,6 +37,9 @@ struct Codecs {
       problem = std::string("cannot load OpenCV's image codecs (") + KC_IMGCODECS_SONAME + "): " + (why ? why : "unknown error");
       return;
     }
+    // OpenCV's decoders report through its log (and libtiff's handlers, which it routes there):
+    // silenced, so a file they refuse gives kcwarp's one line only.
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
     decode = reinterpret_cast<DecodeFn>(dlsym(handle, kDecodeSymbol));
     encode = reinterpret_cast<EncodeFn>(dlsym(handle, kEncodeSymbol));
     if (!decode || !encode) problem = std::string("OpenCV's image codecs (") + KC_IMGCODECS_SONAME + ") lack imdecode/imencode";

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image_codecs.h"
+#include "jpeg_codec.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_header.h"
@@ -44,6 +45,13 @@ Image loadImage(const std::string& path) {
     std::string problem;
     if (!detail::decodePng(bytes, img, problem)) throw InputError(path, "cannot decode the PNG image: " + problem);
     return img;  // its size is the IHDR's, which checkImageFile read and checked
+  }
+  if (header.format == "JPEG") {  // libjpeg directly, its warnings (truncated or corrupt data) refused
+    Image img;
+    std::string problem;
+    if (!detail::decodeJpeg(bytes, int(header.width), int(header.height), img, problem))
+      throw InputError(path, "cannot decode the JPEG image: " + problem);
+    return img;
   }
   cv::Mat m;
   try {

@@ -6,23 +6,105 @@
 
 #include "kc/app/errors.h"
 #include "kc/app/limits.h"
+#include "kc/app/text.h"
 
 namespace kc::app::detail {
 
+std::string excerptAt(std::string_view text, std::size_t offset) {
+  constexpr std::size_t kBefore = 24, kAfter = 8;
+  const std::size_t end = std::min(text.size(), offset + kAfter);
+  const std::size_t begin = std::min(end, offset > kBefore ? offset - kBefore : 0);
+  std::string quote;
+  for (const char c : text.substr(begin, end - begin)) {  // printable ASCII as it is, any other byte as \xNN
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f && c != '\\') quote += c;
+    else if (c == '\\') quote += "\\\\";
+    else quote += format("\\x%02x", u);
+  }
+  return "byte " + std::to_string(offset) + ", near '" + std::string(begin > 0 ? "..." : "") + quote +
+         (end < text.size() ? "..." : "") + "'";
+}
+
+std::string quoted(const json& v) {
+  std::string text = v.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (text.size() <= 40) return text;
+  std::size_t cut = 32;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut) + "... (" + std::to_string(text.size()) + " characters)";
+}
+
+namespace {
+
+/// Counts what a DOM parse of a text would build and estimates its memory (nlohmann::json: 16
+/// bytes a value, twice that in an array that grew by doubling; a heap container per array and
+/// object; a map node and the key per object member; a heap string per string), stopping as soon
+/// as the estimate passes `limit`. A malformed text stops the scan; the DOM parse then reports it.
+class ParseCost final : public nlohmann::json_sax<json> {
+ public:
+  explicit ParseCost(double limit) : m_limit(limit) {}
+  double bytes() const { return m_bytes; }
+  bool over() const { return m_bytes > m_limit; }
+
+  bool null() override { return add(32); }
+  bool boolean(bool) override { return add(32); }
+  bool number_integer(number_integer_t) override { return add(32); }
+  bool number_unsigned(number_unsigned_t) override { return add(32); }
+  bool number_float(number_float_t, const string_t&) override { return add(32); }
+  bool string(string_t& v) override { return add(64 + double(v.size())); }
+  bool binary(binary_t& v) override { return add(64 + double(v.size())); }
+  bool start_object(std::size_t) override { return add(80); }
+  bool key(string_t& k) override { return add(96 + double(k.size())); }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return add(64); }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  bool add(double b) {
+    m_bytes += b;
+    return !over();
+  }
+  double m_limit, m_bytes = 0.0;
+};
+
+/// Texts this short cannot need kMaxJsonParseBytes parsed (at most ~100 bytes of DOM per byte).
+constexpr std::size_t kParseScanFrom = 4 * kMiB;
+
+}  // namespace
+
+double jsonParseCost(const std::string& text, double limit) {
+  ParseCost cost(limit);
+  json::sax_parse(text, &cost);
+  return cost.bytes();
+}
+
 json parseJson(const std::string& text, const std::string& where) {
+  if (text.size() >= kParseScanFrom) {
+    if (jsonParseCost(text, kMaxJsonParseBytes) > kMaxJsonParseBytes)
+      throw InputError(where, "parsing this file would need more than the " + byteText(kMaxJsonParseBytes) +
+                                  " of memory kcwarp allows for one file (counted before parsing); it holds far more JSON values "
+                                  "than any file kcwarp writes");
+  }
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
+    // nlohmann's message: "[json.exception.parse_error.101] parse error at line 3, column 5: syntax error
+    // while parsing value - <problem>; last read: '<the token, any length>'; expected <token>".
     std::string what = e.what();
-    // nlohmann's message is "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
-    const auto p = what.find("parse error");
-    if (p != std::string::npos) what = what.substr(p);
-    if (e.byte >= text.size()) what += " (the file looks truncated)";
-    throw InputError(where, "malformed JSON: " + what);
-  } catch (const json::exception& e) {  // e.g. a number too large for a double
+    const auto colon = what.find(": ", what.find("parse error"));
+    std::string problem = colon == std::string::npos ? what : what.substr(colon + 2);
+    if (const auto last = problem.find("; last read: '"); last != std::string::npos) {
+      const auto expected = problem.rfind("'; expected ");
+      problem = problem.substr(0, last) + (expected != std::string::npos && expected > last ? problem.substr(expected + 1) : "");
+    }
+    const std::size_t offset = e.byte > 0 ? std::min<std::size_t>(e.byte - 1, text.size()) : 0;
+    std::string message = "malformed JSON at " + excerptAt(text, offset) + ": " + problem;
+    if (e.byte >= text.size()) message += " (the file looks truncated)";
+    throw InputError(where, message);
+  } catch (const json::exception& e) {  // e.g. a number too large for a double (the message quotes it whole)
     std::string what = e.what();
     const auto p = what.find("] ");
-    throw InputError(where, "malformed JSON: " + (p == std::string::npos ? what : what.substr(p + 2)));
+    throw InputError(where, "malformed JSON: " + oneLine(p == std::string::npos ? what : what.substr(p + 2), 120));
   }
 }
 
@@ -50,7 +132,7 @@ double finiteNumber(const json& v, const std::string& where, const std::string& 
 double boundedNumber(const json& v, double maxAbs, const std::string& where, const std::string& field) {
   const double d = finiteNumber(v, where, field);
   if (!(std::abs(d) <= maxAbs))
-    throw InputError(where, field + " = " + v.dump() + " is out of range (|value| ≤ " + json(maxAbs).dump() + ")");
+    throw InputError(where, field + " = " + quoted(v) + " is out of range (|value| ≤ " + json(maxAbs).dump() + ")");
   return d;
 }
 
@@ -60,7 +142,7 @@ long long integerInRange(const json& v, long long lo, long long hi, const std::s
   const bool ok = v.is_number_unsigned() ? v.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::max(hi, 0LL)) &&
                                                static_cast<long long>(v.get<std::uint64_t>()) >= lo
                                          : v.get<std::int64_t>() >= lo && v.get<std::int64_t>() <= hi;
-  if (!ok) throw InputError(where, field + " = " + v.dump() + " is out of range" + range);
+  if (!ok) throw InputError(where, field + " = " + quoted(v) + " is out of range" + range);
   return v.is_number_unsigned() ? static_cast<long long>(v.get<std::uint64_t>()) : static_cast<long long>(v.get<std::int64_t>());
 }
 

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
@@ -13,7 +14,18 @@ namespace kc::app::detail {
 
 using nlohmann::json;
 
-/// Parses text; InputError "<where>: malformed JSON ..." (truncated files included).
+/// "byte N, near '...<up to 32 bytes of text around N>...'": where a file went wrong, quoted with its
+/// bytes outside printable ASCII as \xNN (the message stays one short line whatever the file holds).
+std::string excerptAt(std::string_view text, std::size_t offset);
+/// v as JSON text, cut to about 32 characters (with the full length) when longer: how messages
+/// quote a value read from a file.
+std::string quoted(const json& v);
+/// Estimated memory, bytes, of text parsed into a json (a streaming count of its values, arrays,
+/// objects, keys and string bytes), the count stopped once past `limit`.
+double jsonParseCost(const std::string& text, double limit);
+/// Parses text; a text of 4 MiB or more is first counted (jsonParseCost) and refused when its
+/// parse would need more than kMaxJsonParseBytes, before anything is built. InputError "<where>: malformed JSON at byte N, near '...': <problem>" (truncated
+/// files included); the message quotes at most excerptAt's excerpt of the text.
 json parseJson(const std::string& text, const std::string& where);
 /// Requires {"version": 1}; a missing or other major version is an InputError.
 void checkVersion(const json& j, const std::string& where);

@@ -11,10 +11,16 @@
 #include <stdexcept>
 #include <vector>
 
+#include "kc/app/limits.h"
 #include "kc/core/parallel.h"
 
 namespace kc::app::detail {
 namespace {
+
+/// Largest PNG chunk other than IDAT (text, ICC profile, unknown chunks) read into memory, bytes.
+constexpr png_alloc_size_t kMaxPngChunkBytes = 8 * kMiB;
+/// Most ancillary chunks (text, sPLT, unknown) kept while reading one file.
+constexpr png_uint_32 kMaxPngCachedChunks = 1000;
 
 // libpng reports errors by longjmp to the setjmp in the function that called it. The frames it
 // jumps over are libpng's and the callbacks below, none of which own C++ objects; the functions
@@ -42,6 +48,31 @@ void readBytes(png_structp png, png_bytep dst, std::size_t n) {
   io->pos += n;
 }
 
+/// The chunks' length fields, read before libpng sees the file: libpng allocates a text chunk's
+/// claimed length before reading it (2 GiB for a 56-byte file claiming 0x7ffffff0 bytes), whatever
+/// png_set_chunk_malloc_max says. False with `problem` set for a chunk longer than what is left of
+/// the file (truncated) or, other than IDAT, longer than kMaxPngChunkBytes.
+bool checkChunkLengths(const std::string& bytes, std::string& problem) {
+  auto be32 = [&](std::size_t at) {
+    return std::uint32_t(std::uint8_t(bytes[at])) << 24 | std::uint32_t(std::uint8_t(bytes[at + 1])) << 16 |
+           std::uint32_t(std::uint8_t(bytes[at + 2])) << 8 | std::uint32_t(std::uint8_t(bytes[at + 3]));
+  };
+  for (std::size_t at = 8; at + 8 <= bytes.size();) {  // after the signature: length, type, data, CRC
+    const std::uint64_t length = be32(at);
+    const std::string type = bytes.substr(at + 4, 4);
+    char text[160];
+    if (type != "IDAT" && length > kMaxPngChunkBytes) {
+      std::snprintf(text, sizeof text, "a chunk claims %llu bytes, more than the %llu kcwarp reads for one chunk",
+                    static_cast<unsigned long long>(length), static_cast<unsigned long long>(kMaxPngChunkBytes));
+      return problem = text, false;
+    }
+    if (length + 12 > bytes.size() - at) return problem = "the file is truncated", false;
+    if (type == "IEND") break;
+    at += std::size_t(length) + 12;
+  }
+  return true;
+}
+
 /// Decodes into `out` with the transforms of decodePng; false after a libpng error (io.message).
 bool decodeInto(Io& io, Image& out) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &io, onError, onWarning);
@@ -56,6 +87,11 @@ bool decodeInto(Io& io, Image& out) {
     return false;
   }
   png_set_read_fn(png, &io, readBytes);
+  // Bounded before anything is allocated: a chunk other than IDAT longer than kMaxPngChunkBytes is
+  // refused from its length field ("chunk data is too large"), as is a side beyond kcwarp's.
+  png_set_chunk_malloc_max(png, kMaxPngChunkBytes);
+  png_set_chunk_cache_max(png, kMaxPngCachedChunks);
+  png_set_user_limits(png, kMaxImageSide, kMaxImageSide);
   png_read_info(png, info);
   const int colour = png_get_color_type(png, info);
   const int depth = png_get_bit_depth(png, info);
@@ -198,6 +234,7 @@ std::string zlibHeader(int level) {
 }  // namespace
 
 bool decodePng(const std::string& bytes, Image& out, std::string& problem) {
+  if (!checkChunkLengths(bytes, problem)) return false;
   Io io;
   io.data = reinterpret_cast<const unsigned char*>(bytes.data());
   io.size = bytes.size();

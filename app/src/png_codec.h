@@ -3,7 +3,8 @@
 /// strips). PNG is kcwarp's own format (examples, exports, heatmaps), and libpng with zlib loads in
 /// about a millisecond, where OpenCV's image codecs pull in ~140 shared libraries (0.2 s CPU, 0.5 s
 /// wall on a busy machine) on first use: with this, a command or a test that only reads and writes
-/// PNG never loads them. Other formats go through OpenCV (image_codecs.h).
+/// PNG never loads them. JPEG goes through libjpeg (jpeg_codec.h), other formats through OpenCV
+/// (image_codecs.h).
 
 #include <string>
 
@@ -15,7 +16,8 @@ namespace kc::app::detail {
 /// IMREAD_UNCHANGED followed by kcwarp's conversion did: palette and grey expand to RGB, a tRNS
 /// chunk becomes alpha, images without alpha get alpha 255, 16-bit samples scale to 8 bit
 /// (v·255/65535, rounded), interlaced images are de-interlaced; gamma and colour chunks are
-/// ignored. Returns false with `problem` set (libpng's message, e.g. a CRC error or truncated data)
+/// ignored. A chunk other than IDAT longer than 8 MiB, more than 1000 ancillary chunks or a side
+/// beyond kMaxImageSide is refused before it is read into memory. Returns false with `problem` set (libpng's message, e.g. a CRC error or truncated data)
 /// when the content cannot be decoded; `out` is then unspecified.
 bool decodePng(const std::string& bytes, Image& out, std::string& problem);
 

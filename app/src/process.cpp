@@ -2,7 +2,9 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
+#include <new>
 
 namespace kc::app {
 
@@ -10,6 +12,23 @@ void preferPassiveOpenMpWaiting(char** argv) {
   if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
   if (::setenv("OMP_WAIT_POLICY", "PASSIVE", 1) != 0) return;
   ::execv("/proc/self/exe", argv);  // returns only on failure: carry on with the default policy
+}
+
+namespace {
+
+std::atomic<char*> g_reserve{nullptr};
+
+void releaseReserve() {
+  delete[] g_reserve.exchange(nullptr);
+  std::set_new_handler(nullptr);
+  throw std::bad_alloc();
+}
+
+}  // namespace
+
+void keepMemoryReserve() {
+  g_reserve.store(new char[kMemoryReserveBytes]);
+  std::set_new_handler(releaseReserve);
 }
 
 }  // namespace kc::app

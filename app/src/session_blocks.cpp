@@ -1,13 +1,17 @@
 #include "session_blocks.h"
 
+#include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 
 #include "base64.h"
 #include "kc/app/errors.h"
 #include "kc/app/limits.h"
+#include "kc/app/text.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/core/field/mesh_field.h"
 
@@ -42,6 +46,9 @@ Weights parseWeights(const json& rows, Index n, Index m, const std::string& wher
 
 namespace {
 
+/// Largest relative difference between the area a mesh field's triangles cover and the cage's.
+constexpr double kMeshAreaTolerance = 1e-9;
+
 static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big);
 constexpr bool kLittleEndian = std::endian::native == std::endian::little;
 
@@ -66,7 +73,7 @@ Weights parseCompactWeights(const json& block, Index n, Index m, const std::stri
     throw InputError(where, field + ".shape is [" + std::to_string(rows) + ", " + std::to_string(cols) + "] but the session has " +
                                 std::to_string(n) + " rows (samples) and " + std::to_string(m) + " control points");
   if (block.contains("dtype") && block["dtype"] != "f64le")
-    throw InputError(where, field + ".dtype " + block["dtype"].dump() + " is not \"f64le\"");
+    throw InputError(where, field + ".dtype " + quoted(block["dtype"]) + " is not \"f64le\"");
   const json& text = require(block, "base64", where);
   if (!text.is_string()) throw InputError(where, field + ".base64 must be a string");
   const std::string& b64 = text.get_ref<const std::string&>();
@@ -89,13 +96,45 @@ Weights parseCompactWeights(const json& block, Index n, Index m, const std::stri
       double v;
       std::memcpy(&v, b, 8);
       if (!std::isfinite(v) || std::abs(v) > limit)
-        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + json(v).dump() +
+        throw InputError(where, field + "[" + std::to_string(i) + "][" + std::to_string(k) + "] is " + format("%.17g", v) +
                                     (!std::isfinite(v)       ? ", not a finite number"
                                      : limit == kMaxWeight ? ", beyond kcwarp's limit |w| <= 1e6"
                                                              : ", beyond kcwarp's limit of " + json(limit).dump()));
       W(i, k) = v;
     }
   return W;
+}
+
+/// A mesh field's mesh must cover the cage: vertices within the cage's bounds, no triangle twice,
+/// every triangle oriented alike (none inverted), and the triangles' areas summing to the area the
+/// cage encloses within kMeshAreaTolerance (relative). InputError naming the check otherwise.
+void checkMeshCoversCage(const Points& V, const Triangles& T, const Cage& cage, const std::string& where) {
+  const Eigen::RowVector2d lo = cage.C.colwise().minCoeff(), hi = cage.C.colwise().maxCoeff();
+  const double slack = 1e-9 * (1.0 + (hi - lo).maxCoeff() + cage.C.cwiseAbs().maxCoeff());
+  for (Index i = 0; i < V.rows(); ++i)
+    if (!((V.row(i).array() >= lo.array() - slack).all() && (V.row(i).array() <= hi.array() + slack).all()))
+      throw InputError(where, "field.vertices[" + std::to_string(i) + "] = (" + format("%.6g", V(i, 0)) + ", " + format("%.6g", V(i, 1)) +
+                                  ") lies outside the cage's bounds [" + format("%.6g", lo.x()) + ", " + format("%.6g", hi.x()) + "] x [" +
+                                  format("%.6g", lo.y()) + ", " + format("%.6g", hi.y()) + "]");
+  std::map<std::array<int, 3>, std::size_t> seen;
+  double covered = 0.0, sign = 0.0;
+  for (std::size_t t = 0; t < T.size(); ++t) {
+    std::array<int, 3> key = T[t];
+    std::sort(key.begin(), key.end());
+    if (const auto [it, fresh] = seen.emplace(key, t); !fresh)
+      throw InputError(where, "field.triangles[" + std::to_string(t) + "] repeats field.triangles[" + std::to_string(it->second) + "]");
+    const Vec2 a = V.row(T[t][0]).transpose(), b = V.row(T[t][1]).transpose(), c = V.row(T[t][2]).transpose();
+    const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    if (sign == 0.0) sign = area > 0.0 ? 1.0 : -1.0;
+    if (!(area * sign > 0.0))
+      throw InputError(where, "field.triangles[" + std::to_string(t) + "] is inverted or flat (oriented unlike field.triangles[0])");
+    covered += std::abs(area);
+  }
+  if (!cage.closed) return;
+  const double enclosed = std::abs(signedArea(cage.C));
+  if (!(std::abs(covered - enclosed) <= kMeshAreaTolerance * enclosed))
+    throw InputError(where, "field.triangles cover " + format("%.9g", covered) + " px² but the cage encloses " + format("%.9g", enclosed) +
+                                " px² (a mesh field covers the cage: relative difference <= " + format("%g", kMeshAreaTolerance) + ")");
 }
 
 }  // namespace
@@ -178,7 +217,9 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
       }
       T.push_back(tri);
     }
+    checkMeshCoversCage(V, T, s.cage, where);
     Weights W = getWeights(block, "weights", V.rows(), m, where, "field.weights");
+    checkWeightRows(W, V, s.cage.C, where, "field.weights");
     try {
       s.field = std::make_unique<MeshField>(V, std::move(T), std::move(W));
     } catch (const std::invalid_argument& e) {
@@ -206,7 +247,21 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where) {
     }
     return false;
   }
-  throw InputError(where, "field.kind " + kind.dump() + " is not one of \"kernel\", \"mesh\"");
+  throw InputError(where, "field.kind " + quoted(kind) + " is not one of \"kernel\", \"mesh\"");
+}
+
+void checkWeightRows(const Weights& W, const Points& X, const Points& C, const std::string& where, const std::string& field) {
+  const double scale = 1.0 + C.cwiseAbs().maxCoeff();
+  for (Index i = 0; i < W.rows(); ++i) {
+    const double unity = std::abs(W.row(i).sum() - 1.0);
+    const double reproduction = (W.row(i) * C - X.row(i)).norm();
+    if (!(unity <= kUnityTolerance))
+      throw InputError(where, field + " row " + std::to_string(i) + " sums to " + format("%.17g", W.row(i).sum()) +
+                                  " (partition of unity: |sum - 1| <= " + format("%g", kUnityTolerance) + ")");
+    if (!(reproduction <= kReproductionTolerance * scale))
+      throw InputError(where, field + " row " + std::to_string(i) + " reproduces its sample " + format("%.3g", reproduction) +
+                                  " px away (linear reproduction: <= " + format("%g", kReproductionTolerance * scale) + " px)");
+  }
 }
 
 json reportsToJson(const SolverReports& r) {

@@ -18,6 +18,16 @@ json fieldToJson(const Session& s, WeightsForm form);
 /// field). Needs s.samples, s.W and s.params read. InputError naming the bad entry otherwise.
 bool fieldFromJson(const json& block, Session& s, const std::string& where);
 
+/// Partition of unity and linear reproduction of the weights W (#S×m) of samples X (#S×2) over
+/// control points C (m×2), row by row: |Σ_k W(i,k) − 1| ≤ kUnityTolerance and
+/// ‖Σ_k W(i,k)·C_k − X_i‖ ≤ kReproductionTolerance·(1 + max ‖C_k‖∞) (docs/ARCHITECTURE.md,
+/// "Session files"). InputError naming `field`, the row and the check otherwise.
+void checkWeightRows(const Weights& W, const Points& X, const Points& C, const std::string& where, const std::string& field);
+/// Sessions kcwarp writes stay below 5e-13 in both (every backend, method, init and structure of
+/// the bundled examples); the tolerances leave three orders of magnitude.
+inline constexpr double kUnityTolerance = 1e-9;
+inline constexpr double kReproductionTolerance = 1e-9;
+
 json reportsToJson(const SolverReports& r);
 /// Missing entries keep their defaults (older files have no reports block).
 SolverReports reportsFromJson(const json& block);

@@ -23,7 +23,7 @@ E parseEnum(const json& params, const char* key, E fallback, const std::string& 
   const json& v = params[key];
   E e{};
   if (!v.is_string() || !parseName(v.get<std::string>(), e))
-    throw InputError(where, std::string("params.") + key + " has an unknown value " + v.dump());
+    throw InputError(where, std::string("params.") + key + " has an unknown value " + detail::quoted(v));
   return e;
 }
 
@@ -304,6 +304,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (weights.contains("initial") || weights.contains("initial_b64"))
     s.W0 = getWeights(weights, "initial", n, m, where, "weights.initial");
   s.W = getWeights(weights, "optimized", n, m, where, "weights.optimized");
+  detail::checkWeightRows(s.W, s.samples.X, s.cage.C, where, "weights.optimized");
   if (j.contains("pose") && !j["pose"].is_null()) s.pose = detail::parsePose(j["pose"], s.cage.C, where, "pose");
   if (j.contains("image")) {
     if (!j["image"].is_string()) throw InputError(where, "image must be a path string");
@@ -323,6 +324,12 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (j.contains("reports")) s.reports = detail::reportsFromJson(j["reports"]);
   if (j.contains("sizing") && !j["sizing"].is_null()) s.sizing = sizingFromJson(j["sizing"], p.spacing, where);
   // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
+  if (j.contains("field")) {
+    const json& kind = detail::require(j["field"], "kind", where);
+    if (kind.is_string() && (kind == "mesh") == kernel)
+      throw InputError(where, "field.kind " + detail::quoted(kind) + " does not match params.backend \"" + p.backend + "\" (its field is " +
+                                  (kernel ? "a kernel field" : "a mesh") + ")");
+  }
   const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
   if (!built) {
     if (s.sigma > 0) checkFieldCost(s, where);  // a kernel field is rebuilt from the samples

@@ -64,7 +64,7 @@ std::vector<RigidRegion> parseRigidRegions(const json& arr, const std::string& w
     if (e.contains("strength") && !e["strength"].is_null()) {
       const json& s = e["strength"];
       if (!s.is_number() || !(s.get<double>() >= 0.0 && s.get<double>() <= 1.0))
-        throw InputError(where, f + ".strength must be a number in [0, 1] (got " + s.dump() + ")");
+        throw InputError(where, f + ".strength must be a number in [0, 1] (got " + quoted(s) + ")");
       r.strength = s.get<double>();
     }
     out.push_back(std::move(r));

@@ -16,6 +16,7 @@
 
 #include "cli_run.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
 
 namespace kc::test {
 namespace {
@@ -389,6 +390,127 @@ TEST_F(BadInput, DemoWithABrokenExampleWritesNothing) {
   writeText(m_dir / "examples" / "figure.pose.json", R"({"version":1,"positions":[]})");
   expectRefused("demo --images examples --out demo-out", "figure.pose.json");
   EXPECT_FALSE(fs::exists(m_dir / "demo-out"));
+}
+
+// ---- Images decoded strictly, sessions checked for meaning, memory bounded up front ------------
+
+TEST_F(BadInput, TruncatedJpeg) {
+  Image picture(96, 96);
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) {
+      std::uint8_t* p = picture.pixel(x, y);
+      p[0] = std::uint8_t(x * 2), p[1] = std::uint8_t(y * 2), p[2] = std::uint8_t((x ^ y) * 3), p[3] = 255;
+    }
+  app::saveImage((m_dir / "full.jpg").string(), picture);
+  const std::string bytes = slurp(m_dir / "full.jpg");
+  writeText(m_dir / "cut.jpg", bytes.substr(0, bytes.size() * 2 / 3));
+  expectRefused("sample --cage cage.json --image cut.jpg -o s.json", "cut.jpg: cannot decode the JPEG image: ");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
+TEST_F(BadInput, PngTextChunkClaimingTwoGigabytes) {
+  const std::string ihdr("\x00\x00\x00\x10\x00\x00\x00\x10\x08\x06\x00\x00\x00", 13);
+  auto chunk = [](const std::string& type, const std::string& data, std::uint32_t length) {
+    return be32(length) + type + data + be32(crc32(type + data));
+  };
+  writeText(m_dir / "chunk.png", std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr, 13) +
+                                     chunk("tEXt", std::string("Comment\0abc", 11), 0x7ffffff0u));
+  expectRefused("sample --cage cage.json --image chunk.png -o s.json", "a chunk claims 2147483632 bytes");
+}
+
+TEST_F(BadInput, SessionWeightsAllZero) {
+  json j = session();
+  json& block = j["weights"]["optimized_b64"];
+  const std::size_t bytes = block["shape"][0].get<std::size_t>() * block["shape"][1].get<std::size_t>() * 8;
+  std::string b64((bytes + 2) / 3 * 4, 'A');  // base64 of zero bytes
+  if (bytes % 3 == 1) b64.replace(b64.size() - 2, 2, "==");
+  if (bytes % 3 == 2) b64.back() = '=';
+  block["base64"] = b64;
+  writeSession(j);
+  expectRefused("eval --session bad.kcw.json --points p.csv -o w.csv", "weights.optimized row 0 sums to 0 (partition of unity");
+}
+
+TEST_F(BadInput, SessionOfTheKernelBackendWithAMeshField) {
+  json j = session();
+  j["field"] = {{"kind", "mesh"}, {"vertices", j["cage"]["points"]}, {"triangles", {{0, 1, 2}, {0, 2, 3}}}};
+  writeSession(j);
+  expectRefused("stats --session bad.kcw.json", "field.kind \"mesh\" does not match params.backend \"kc\"");
+}
+
+TEST_F(BadInput, EvalOfMorePointsTimesControlsThanTheLimit) {
+  std::string csv;
+  csv.reserve(13'000'000 * 4);
+  for (int i = 0; i < 13'000'000; ++i) csv += "1,1\n";  // 13 million points x 4 control points
+  writeText(m_dir / "many.csv", csv);
+  expectRefused("eval --session s.kcw.json --points many.csv -o w.csv", "above kcwarp's limit of 50000000 for one eval");
+  EXPECT_FALSE(fs::exists(m_dir / "w.csv"));
+}
+
+TEST_F(BadInput, SessionOfTinyValuesBeyondTheParseLimit) {
+  // 160 MB of one-digit numbers would parse into ~2.6 GB (16-byte values, arrays grown by
+  // doubling): refused from a streaming count before anything is built.
+  std::string text = R"({"version": 1, "cage": {"points": [[16,16],[80,16],[80,80],[16,80]]}, "junk": [)";
+  text.reserve(text.size() + 160'000'010);
+  for (int i = 0; i < 40'000'000; ++i) text += "0,0,";
+  text += "0]}";
+  writeText(m_dir / "huge.kcw.json", text);
+  std::string().swap(text);
+  expectRefused("stats --session huge.kcw.json", "parsing this file would need more than");
+}
+
+// ---- Options: seeds and thread counts that would wrap ----------------------------------------
+
+TEST_F(BadInput, SeedOutOfRange) {
+  expectRefused("sample --cage cage.json --size 96,96 --seed -1 -o s.json", "--seed");
+  expectRefused("sample --cage cage.json --size 96,96 --seed 18446744073709551616 -o s.json", "--seed");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
+TEST_F(BadInput, BenchNegativeThreads) { expectRefused("bench --threads -3", "--threads"); }
+
+TEST_F(BadInput, ArgumentsWithNewlinesGiveOneLine) {
+  expectRefused("sample --cage 'cage\nfile\n.json' --size 96,96 -o s.json", "cage\\nfile\\n.json: no such file");
+  expectRefused("warp --session s.kcw.json --outside 'a\nb\nc' -o w.png", "--outside");
+  expectRefused("sample --cage cage.json --size 96,96 --seed '1\n2' -o s.json", "--seed");  // CLI11's own message
+}
+
+TEST_F(BadInput, OutputNameOfNameMaxLength) {
+  const std::string name(250, 'n');
+  for (int k = 0; k < 2; ++k) {  // new, then replaced
+    const Timed t = runTimed("sample --cage cage.json --size 96,96 -o " + name + ".json", m_dir);
+    EXPECT_EQ(t.r.code, 0) << t.r.err;
+  }
+  EXPECT_TRUE(fs::exists(m_dir / (name + ".json")));
+}
+
+// ---- Standard output: what a command prints is flushed and checked ---------------------------
+
+/// kcwarp-cli `args` with standard output sent to `stdoutRedirect` (shell syntax, e.g.
+/// "> /dev/full" or ">&-"); exit code and stderr.
+CliResult runWithStdout(const std::string& args, const std::string& stdoutRedirect, const fs::path& dir) {
+  const auto err = dir / "cli.stderr";
+  const std::string cmd = "cd '" + dir.string() + "' && timeout -k 5 60 '" + std::string(KC_CLI_PATH) + "' " + args + " " +
+                          stdoutRedirect + " 2> '" + err.string() + "' < /dev/null";
+  const int status = std::system(cmd.c_str());
+  CliResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = slurp(err);
+  return r;
+}
+
+TEST_F(BadInput, StandardOutputFullOrClosed) {
+  for (const char* redirect : {"> /dev/full", ">&-"}) {
+    const CliResult r = runWithStdout("stats --session s.kcw.json --json", redirect, m_dir);
+    EXPECT_EQ(r.code, 2) << redirect << ": " << r.err;
+    EXPECT_EQ(lineCount(r.err), 1) << r.err;
+    EXPECT_TRUE(contains(r.err, "standard output: cannot write")) << r.err;
+  }
+  // A command that writes a file with standard output closed: the file gets none of what it printed.
+  const CliResult r = runWithStdout("bind --cage cage.json --size 96,96 --spacing 8 -o again.kcw.json", ">&-", m_dir);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NO_THROW(json::parse(slurp(m_dir / "again.kcw.json")));
+  EXPECT_EQ(runWithStdout("stats --session s.kcw.json --json", "> out.json", m_dir).code, 0);
+  EXPECT_NO_THROW(json::parse(slurp(m_dir / "out.json")));
 }
 
 // ---- Saves that succeed: mode kept, symlinks written through, no temporary file left ----------

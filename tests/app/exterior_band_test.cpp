@@ -2,6 +2,8 @@
 // of the whole-frame bind, the session says how far it was sampled, and `deform` is refused on it.
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -155,10 +157,18 @@ TEST(ExteriorBand, TheSessionSaysHowFarItWasSampledAndOldSessionsReadFrame) {
   band.params = bandParams(10.0);
   band.imageWidth = 400;
   band.imageHeight = 300;
-  band.params.sampler = sampling::SamplerKind::Grid;  // (no relaxation: the weights are not looked at)
+  band.params.sampler = sampling::SamplerKind::Grid;  // (no relaxation: the weights are not optimized)
   band.samples = sampling::sample(band.cage, samplingOptions(400, 300, band.params));
   band.sigma = automaticSigma(10.0);
+  // Affine barycentric weights of the first three control points: a partition of unity that
+  // reproduces every sample, which is all the loader checks of them.
   band.W = Weights::Zero(band.samples.size(), band.cage.size());
+  const Points& C = band.cage.C;
+  Eigen::Matrix3d A;
+  A << C(0, 0), C(1, 0), C(2, 0), C(0, 1), C(1, 1), C(2, 1), 1.0, 1.0, 1.0;
+  const Eigen::Matrix3d inverse = A.inverse();
+  for (Index i = 0; i < band.W.rows(); ++i)
+    band.W.row(i).head(3) = (inverse * Eigen::Vector3d(band.samples.X(i, 0), band.samples.X(i, 1), 1.0)).transpose();
   nlohmann::json j = nlohmann::json::parse(sessionToJson(band));
   EXPECT_EQ(j["params"]["exterior"], "band");
   // A session written before the key existed sampled the whole frame.

@@ -111,6 +111,49 @@ TEST(AtomicSave, ReplacesWholeFileAndLeavesNoTemporaries) {
   EXPECT_FALSE(std::filesystem::exists(bad));
 }
 
+TEST(AtomicSave, NamesUpToNameMaxWork) {
+  const auto dir = scratchDir("atomic_long_name");
+  for (const std::size_t length : {237u, 238u, 250u, 255u}) {
+    const std::string path = (dir / (std::string(length - 4, 'n') + ".png")).string();
+    writeFileAtomic(path, "first");
+    writeFileAtomic(path, "second");  // replaces: through a temporary name, which must fit NAME_MAX too
+    EXPECT_EQ(test::slurp(path), "second") << length;
+  }
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 4);
+}
+
+// A command's outputs go in place together: when one cannot be written, none is replaced and no
+// temporary file is left.
+TEST(OutputBatch, AFailedOutputLeavesEveryOutputAsItWas) {
+  namespace fs = std::filesystem;
+  const auto dir = scratchDir("output_batch");
+  fs::create_directories(dir / "ok");
+  fs::create_directories(dir / "gone");
+  writeText(dir / "ok" / "a.json", "old a");
+  OutputBatch batch;
+  batch.reserve((dir / "ok" / "a.json").string());
+  batch.reserve((dir / "ok" / "new.json").string());
+  batch.reserve((dir / "gone" / "b.png").string());
+  batch.set((dir / "ok" / "a.json").string(), "new a");
+  batch.set((dir / "ok" / "new.json").string(), "new");
+  batch.set((dir / "gone" / "b.png").string(), "b");
+  fs::remove_all(dir / "gone");  // the last output's folder disappears after the checks
+  EXPECT_TRUE(contains(inputError([&] { batch.commit(); }), "b.png")) << "no InputError naming the failed output";
+  EXPECT_EQ(test::slurp(dir / "ok" / "a.json"), "old a");
+  int files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir / "ok")) ++files;
+  EXPECT_EQ(files, 1) << "an output or a temporary was left";
+
+  OutputBatch good;
+  good.set((dir / "ok" / "a.json").string(), "new a");
+  good.set((dir / "ok" / "new.json").string(), "new");
+  good.commit();
+  EXPECT_EQ(test::slurp(dir / "ok" / "a.json"), "new a");
+  EXPECT_EQ(test::slurp(dir / "ok" / "new.json"), "new");
+}
+
 TEST(AtomicSave, KeepsModeRefusesSpecialFilesAndWritesThroughSymlinks) {
   namespace fs = std::filesystem;
   const auto dir = scratchDir("atomic_special");
@@ -159,6 +202,38 @@ TEST(PointsCsv, HeaderOnlyWhenNoFieldLooksLikeANumber) {
   EXPECT_TRUE(contains(inputError([] { parsePointsCsv("x,y\n1,2\nx,y\n", "p.csv"); }), "line 3"));
   EXPECT_TRUE(contains(inputError([] { parsePointsCsv("1,1e300\n", "p.csv"); }), "line 1"));
   EXPECT_TRUE(contains(inputError([] { parsePointsCsv("x,y\n", "p.csv"); }), "no points"));
+}
+
+// Messages stay one short line whatever the input held: a parse error quotes an excerpt with its
+// byte offset (nlohmann's "last read" token can be the rest of the file), control characters in
+// a path are escaped, and any part beyond the limits keeps its head and tail.
+TEST(Errors, MessagesAreOneShortLineWhateverTheInputHolds) {
+  const auto dir = scratchDir("errors_bounded");
+  const std::string path = (dir / "c.json").string();
+  writeText(path, "{\"version\": 1, \"points\": [[0,0],[10,0],[0,10]], \"name\": \"" + std::string(100000, 'A'));
+  const std::string unterminated = inputError([&] { loadCage(path); });
+  EXPECT_LT(unterminated.size(), 400u) << unterminated;  // the error is found at the end of the file (57 + 100000 bytes)
+  EXPECT_TRUE(contains(unterminated, path + ": malformed JSON at byte 100057, near '...AAAAAAAAAAAAAAAAAAAAAAAA'")) << unterminated;
+  EXPECT_TRUE(contains(unterminated, "missing closing quote")) << unterminated;
+  EXPECT_TRUE(contains(unterminated, "(the file looks truncated)")) << unterminated;
+  // A binary file: its bytes quoted as \xNN.
+  writeText(path, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16) + std::string(50000, '\x7f'));
+  const std::string binary = inputError([&] { loadCage(path); });
+  EXPECT_TRUE(contains(binary, "malformed JSON at byte 0, near '\\x89PNG\\x0d\\x0a\\x1a\\x0a...'")) << binary;
+  EXPECT_EQ(binary.find('\n'), std::string::npos);
+  // A value quoted from a file is cut.
+  writeText(path, "{\"version\": 1, \"points\": [[0,0],[10,0],[0,10]], \"edges\": [[0, " + std::string(5000, '9') + "]]}");
+  const std::string big = inputError([&] { loadCage(path); });
+  EXPECT_LT(big.size(), 300u) << big;
+  // A newline in a path, and parts beyond the limits.
+  const InputError e("dir/a\nb.json", std::string(3000, 'x') + "END");
+  const std::string m = e.what();
+  EXPECT_EQ(m.find('\n'), std::string::npos);
+  EXPECT_EQ(m.rfind("dir/a\\nb.json: xxx", 0), 0u) << m;
+  EXPECT_LE(m.size(), kMaxMessageWhere + kMaxMessageWhat + 12);
+  EXPECT_TRUE(contains(m, " ... ")) << m;
+  EXPECT_EQ(m.substr(m.size() - 3), "END");
+  EXPECT_EQ(oneLine("≤≤≤≤≤≤", 9), "≤≤ ... ≤");  // cut at character boundaries
 }
 
 }  // namespace

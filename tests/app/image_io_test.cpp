@@ -1,11 +1,16 @@
 #include "kc/app/image_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <iterator>
 #include <stdexcept>
+#include <utility>
+
+#include "kc/app/errors.h"
 
 namespace kc::app {
 namespace {
@@ -125,6 +130,100 @@ TEST(ImageIo, SaveIsAtomicAndLeavesNoTemporaryFiles) {
   EXPECT_THROW(saveImage((dir / "nope" / "out.png").string(), pattern(8, 8)), std::runtime_error);
   EXPECT_THROW(saveImage(path, Image()), std::exception);
   EXPECT_EQ(loadImage(path).width, 9);
+}
+
+/// The message of the InputError that loading `bytes` (written to `dir`/`name`) throws, with what
+/// was printed on stderr meanwhile; "" when it loads.
+std::pair<std::string, std::string> refusal(const fs::path& dir, const std::string& name, const std::string& bytes) {
+  std::ofstream(dir / name, std::ios::binary) << bytes;
+  testing::internal::CaptureStderr();
+  std::string message;
+  try {
+    loadImage((dir / name).string());
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  return {message, testing::internal::GetCapturedStderr()};
+}
+
+std::string fileBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(ImageIo, JpegDecodesLikeOpenCvAndRefusesTruncatedOrLyingFiles) {
+  const fs::path dir = freshDir("jpeg_strict");
+  const Image img = pattern(320, 320);
+  cv::Mat bgr(320, 320, CV_8UC3), grey(320, 320, CV_8U);
+  for (int y = 0; y < 320; ++y)
+    for (int x = 0; x < 320; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      bgr.at<cv::Vec3b>(y, x) = cv::Vec3b(p[2], p[1], p[0]);
+      grey.at<std::uint8_t>(y, x) = p[0];
+    }
+  // Good files: the pixels OpenCV's decoder gives, nothing printed.
+  for (const auto& [name, mat] : {std::pair{"colour.jpg", bgr}, std::pair{"grey.jpg", grey}}) {
+    ASSERT_TRUE(cv::imwrite((dir / name).string(), mat));
+    testing::internal::CaptureStderr();
+    const Image got = loadImage((dir / name).string());
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    const cv::Mat ref = cv::imread((dir / name).string(), cv::IMREAD_COLOR);
+    ASSERT_EQ(got.width, ref.cols);
+    ASSERT_EQ(got.height, ref.rows);
+    long differing = 0;
+    for (int y = 0; y < ref.rows; ++y)
+      for (int x = 0; x < ref.cols; ++x) {
+        const cv::Vec3b b = ref.at<cv::Vec3b>(y, x);
+        const std::uint8_t* p = got.pixel(x, y);
+        differing += p[0] != b[2] || p[1] != b[1] || p[2] != b[0] || p[3] != 255;
+      }
+    EXPECT_EQ(differing, 0) << name;
+  }
+  const std::string good = fileBytes(dir / "colour.jpg");
+
+  // Truncated: refused with libjpeg's message in kcwarp's one line, nothing printed by libjpeg.
+  for (const std::size_t keep : {good.size() * 2 / 3, good.size() - 2, std::size_t(700)}) {
+    const auto [message, printed] = refusal(dir, "cut.jpg", good.substr(0, keep));
+    EXPECT_NE(message.find("cut.jpg: cannot decode the JPEG image: "), std::string::npos) << keep << ": " << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+    EXPECT_EQ(printed, "") << keep;
+  }
+  // A header claiming 8000x8000 over the 320x320 picture's data.
+  std::string lying = good;
+  const std::size_t sof = lying.find("\xff\xc0");
+  ASSERT_NE(sof, std::string::npos);
+  lying.replace(sof + 5, 4, std::string("\x1f\x40\x1f\x40", 4));  // height, width: 8000 (0x1f40)
+  const auto [message, printed] = refusal(dir, "lying.jpg", lying);
+  EXPECT_NE(message.find("lying.jpg: cannot decode the JPEG image"), std::string::npos) << message;
+  EXPECT_EQ(printed, "");
+}
+
+/// A PNG file chunk: length, type, data, CRC.
+std::string pngChunk(const std::string& type, const std::string& data, std::uint32_t claimedLength) {
+  auto be32 = [](std::uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
+  const std::string td = type + data;
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (unsigned char b : td) {
+    c ^= b;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+  }
+  return be32(claimedLength) + td + be32(c ^ 0xFFFFFFFFu);
+}
+
+TEST(ImageIo, PngChunkClaimingGigabytesIsRefusedWithoutAllocatingThem) {
+  const fs::path dir = freshDir("png_chunk");
+  const std::string ihdr("\x00\x00\x00\x10\x00\x00\x00\x10\x08\x06\x00\x00\x00", 13);  // 16x16 RGBA
+  // 8 + 25 + 23 = 56 bytes: the text chunk's length field says 0x7ffffff0, its data is 11 bytes.
+  const std::string bytes =
+      std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr, 13) + pngChunk("tEXt", std::string("Comment\0abc", 11), 0x7ffffff0u);
+  ASSERT_EQ(bytes.size(), 56u);
+  struct rusage before{}, after{};
+  getrusage(RUSAGE_SELF, &before);
+  const auto [message, printed] = refusal(dir, "chunk.png", bytes);
+  getrusage(RUSAGE_SELF, &after);
+  EXPECT_NE(message.find("chunk.png: cannot decode the PNG image: "), std::string::npos) << message;
+  EXPECT_EQ(printed, "");
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64 * 1024) << "peak memory grew by " << (after.ru_maxrss - before.ru_maxrss) << " KiB";
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "session_load_error.h"
 #include "kc/app/errors.h"
 #include "kc/app/field_sampler.h"
 #include "kc/app/file_io.h"
@@ -159,7 +160,8 @@ Session meshSession() {
   Session s;
   s.cage = squareCage();
   s.imageWidth = s.imageHeight = 64;
-  s.sigma = 1.0;  // unused by a mesh field; params.sigma must stay valid
+  s.params.backend = "lbc";  // a mesh field belongs to a mesh backend
+  s.sigma = 1.0;  // unused by a mesh field
   Points V(5, 2);
   V << s.cage.C, 32, 32;
   Weights W = Weights::Zero(5, 4);
@@ -217,6 +219,51 @@ TEST(Session, MalformedMeshFieldIsNamed) {
   j["field"]["kind"] = "voxels";
   test::writeText(path, j.dump());
   EXPECT_THROW(loadSession(path), InputError);
+}
+
+// Well-formed but wrong: weights that are not a partition of unity or do not reproduce the
+// samples, a field of the other backend's kind, a mesh that does not cover the cage.
+TEST(Session, SemanticallyWrongSessionsAreRefusedNamingTheCheck) {
+  const auto dir = test::scratchDir("session_semantic");
+  const nlohmann::json kernel = nlohmann::json::parse(sessionToJson(smallSession(), WeightsForm::Rows));
+  auto expectError = [&](const nlohmann::json& j, const std::string& part) {
+    const std::string e = test::loadError(j, (dir / "bad.kcw.json").string());
+    EXPECT_NE(e.find(part), std::string::npos) << "expected '" << part << "' in: " << e;
+    EXPECT_NE(e.find("bad.kcw.json: "), std::string::npos) << e;
+  };
+  nlohmann::json j = kernel;
+  for (auto& row : j["weights"]["optimized"])
+    for (auto& w : row) w = 0.0;
+  expectError(j, "weights.optimized row 0 sums to 0 (partition of unity");
+  j = kernel;
+  std::swap(j["weights"]["optimized"][10][0], j["weights"]["optimized"][10][2]);  // still sums to 1
+  expectError(j, "weights.optimized row 10 reproduces its sample");
+  j = kernel;
+  j["field"] = nlohmann::json::parse(sessionToJson(meshSession()))["field"];
+  expectError(j, "field.kind \"mesh\" does not match params.backend \"kc\"");
+
+  const nlohmann::json mesh = nlohmann::json::parse(sessionToJson(meshSession(), WeightsForm::Rows));
+  EXPECT_EQ(test::loadError(mesh, (dir / "bad.kcw.json").string()), "(loaded without error)");
+  j = mesh;
+  j["field"]["kind"] = "kernel";
+  expectError(j, "field.kind \"kernel\" does not match params.backend \"lbc\"");
+  j = mesh;
+  for (auto& t : j["field"]["triangles"]) t = {0, 1, 4};  // every triangle the same
+  expectError(j, "field.triangles[1] repeats field.triangles[0]");
+  j = mesh;
+  j["field"]["triangles"][2] = {3, 2, 4};
+  expectError(j, "field.triangles[2] is inverted");
+  j = mesh;
+  j["field"]["vertices"][4] = {1e6, 1e6};
+  expectError(j, "field.vertices[4] = (1e+06, 1e+06) lies outside the cage's bounds");
+  j = mesh;
+  j["field"]["triangles"].erase(3);
+  expectError(j, "field.triangles cover 1200 px² but the cage encloses 1600 px²");
+  j = mesh;
+  j["field"]["weights"][4] = {0.5, 0.0, 0.5, 0.0};  // sums to 1 and reproduces (32, 32): accepted
+  EXPECT_EQ(test::loadError(j, (dir / "bad.kcw.json").string()), "(loaded without error)");
+  j["field"]["weights"][4] = {0.5, 0.5, 0.0, 0.0};
+  expectError(j, "field.weights row 4 reproduces its sample");
 }
 
 TEST(Session, SolverReportsAreSavedAndRead) {

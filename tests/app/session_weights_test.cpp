@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "session_load_error.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
@@ -62,22 +63,21 @@ std::vector<double> decodeIndependently(const json& block) {
   return out;
 }
 
-std::string loadError(const json& j, const std::string& path) {
-  test::writeText(path, j.dump());
-  try {
-    loadSession(path);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "(loaded without error)";
-}
+using test::loadError;
 
 TEST(SessionWeights, CompactFormIsTheDefaultAndRoundTripsBitExactly) {
   const auto dir = test::scratchDir("session_weights_roundtrip");
   Session s = editableSquare();
-  // Values whose decimal text would need all 17 digits, and a negative zero.
-  s.W(7, 1) = 0.1 + 0.2;
-  s.W(8, 2) = -0.0;
+  // Values whose decimal text would need all 17 digits, and a negative zero. Each edit moves its
+  // row along (1, -1, 1, -1), which the square's corners map to (0, 0) with sum 0: the rows stay a
+  // partition of unity that reproduces their samples (loadSession checks both).
+  const auto setKeepingConstraints = [&](Index i, Index k, double value) {
+    const double d = (value - s.W(i, k)) * (k % 2 == 0 ? 1.0 : -1.0);
+    for (Index c = 0; c < 4; ++c) s.W(i, c) += c % 2 == 0 ? d : -d;
+    s.W(i, k) = value;
+  };
+  setKeepingConstraints(7, 1, 0.1 + 0.2);
+  setKeepingConstraints(8, 2, -0.0);
   s.W0(9, 3) = std::nextafter(1.0, 2.0);
   s.field->update(s.W);  // the field follows the weights, as after any edit (its coefficients are saved too)
   const std::string path = (dir / "s.kcw.json").string();
@@ -231,8 +231,7 @@ TEST(SessionWeights, CoefficientsThatDoNotGiveTheWeightsBackAreSolvedAnew) {
   // from the weights (the coefficients are only a stored solve).
   Session s = editableSquare();
   const Index row = s.samples.size() / 2;
-  s.W(row, 0) += 0.05;
-  s.W(row, 3) -= 0.05;
+  for (Index c = 0; c < 4; ++c) s.W(row, c) += c % 2 == 0 ? 0.05 : -0.05;  // still a partition of unity that reproduces
   const Session loaded = sessionFromJson(sessionToJson(s), "square.kcw.json");
   EXPECT_TRUE(kernelField(loaded).factorized());
   EXPECT_LT((loaded.field->weightsAt(s.samples.X.row(row)) - s.W.row(row)).cwiseAbs().maxCoeff(), 1e-9);

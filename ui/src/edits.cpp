@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include "kc/app/errors.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/line_edits.h"
 #include "kc/ui/rigidity_edits.h"
@@ -16,7 +17,7 @@ double nowSeconds() {
 
 void postMessage(AppState& state, std::string text, bool error) {
   if (state.messages.size() >= 8) state.messages.erase(state.messages.begin());
-  state.messages.push_back({std::move(text), error});
+  state.messages.push_back({app::oneLine(text, kMaxMessageBytes), error});
 }
 
 void setPose(AppState& state, Pose pose) {

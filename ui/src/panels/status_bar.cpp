@@ -4,13 +4,28 @@
 #include <cstdio>
 #include <string>
 
+#include "kc/app/errors.h"
+#include "kc/ui/edits.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
 
 namespace kc::ui {
 namespace {
 
-/// Errors stay on the canvas until dismissed.
+/// A message as drawn: one line of at most kMaxMessageBytes whatever was stored in the state
+/// (the banner wraps it; the status bar shows what fits on its line).
+std::string shown(const std::string& text) { return app::oneLine(text, kMaxMessageBytes); }
+
+/// `text` cut to `maxWidth` pixels of the current font, "..." marking the cut.
+std::string fitted(const std::string& text, float maxWidth) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= maxWidth) return text;
+  const char* end = text.c_str();
+  ImGui::GetFont()->CalcTextSizeA(ImGui::GetFontSize(), std::max(0.0f, maxWidth - ImGui::CalcTextSize("...").x), 0.0f, text.c_str(),
+                                  text.c_str() + text.size(), &end);
+  return std::string(text.c_str(), end) + "...";
+}
+
+/// Errors stay on the canvas until dismissed, wrapped at 40 font sizes.
 void errorBanner(AppState& state) {
   std::size_t index = state.messages.size();
   for (std::size_t k = state.messages.size(); k-- > 0;)
@@ -28,7 +43,7 @@ void errorBanner(AppState& state) {
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
                    ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoMove);
   ImGui::PushTextWrapPos(ImGui::GetFontSize() * 40.0f);
-  ImGui::TextUnformatted(state.messages[index].text.c_str());
+  ImGui::TextUnformatted(shown(state.messages[index].text).c_str());
   ImGui::PopTextWrapPos();
   if (button(state, "Dismiss", "Hide this message.")) state.messages.erase(state.messages.begin() + static_cast<long>(index));
   ImGui::End();
@@ -55,10 +70,16 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
     markWidget(state, "Cancel##job");
     ImGui::SameLine();
   }
+  char right[160];
+  std::snprintf(right, sizeof right, "%.0f%%   x %.0f  y %.0f   %.1f ms/frame", state.view.zoom * 100.0, state.mouseImage.x(),
+                state.mouseImage.y(), state.timings.frameMs);
   if (!state.messages.empty()) {
     const Message& m = state.messages.back();
-    if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", m.text.c_str());
-    else ImGui::TextUnformatted(m.text.c_str());
+    // What fits between the progress bar and the solver warnings and zoom on the right.
+    const float reserved = ImGui::CalcTextSize(right).x + 40.0f + ImGui::CalcTextSize("solver: 99 warnings").x;
+    const std::string text = fitted(shown(m.text), width - ImGui::GetCursorPosX() - reserved);
+    if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", text.c_str());
+    else ImGui::TextUnformatted(text.c_str());
   }
   if (state.bound && state.reports.anyProblem()) {
     // Solver outcomes that fell back stay visible while the session is open (details: diagnostics panel).
@@ -72,9 +93,6 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
     }
     markWidget(state, "solver_warnings");
   }
-  char right[160];
-  std::snprintf(right, sizeof right, "%.0f%%   x %.0f  y %.0f   %.1f ms/frame", state.view.zoom * 100.0, state.mouseImage.x(),
-                state.mouseImage.y(), state.timings.frameMs);
   const float w = ImGui::CalcTextSize(right).x;
   ImGui::SameLine(std::max(ImGui::GetCursorPosX() + 20.0f, width - w - 16.0f));
   ImGui::TextDisabled("%s", right);

@@ -21,11 +21,12 @@ namespace kc::app {
 std::string checkOutputFile(const std::string& path);
 
 /// Writes `content` to `path` atomically: an unnamed temporary file (O_TMPFILE; where the file
-/// system lacks it, a file created exclusively with O_EXCL under a random name) in the folder of
-/// the file replaced, written, fsynced, then renamed over it, and the folder fsynced. The mode of
-/// an existing file is kept (a new one gets 0666 less the umask); a symbolic link is written
-/// through (see checkOutputFile). On failure the previous file is untouched, no temporary file is
-/// left behind, and InputError names the file and the system's reason.
+/// system lacks it, a file created exclusively with O_EXCL under a random name that fits NAME_MAX)
+/// in the folder of the file replaced, written and fsynced; then a new file is linked under its
+/// name, an existing one replaced by a rename, and the folder fsynced. The mode of an existing
+/// file is kept (a new one gets 0666 less the umask); a symbolic link is written through (see
+/// checkOutputFile). On failure the previous file is untouched, no temporary file is left behind,
+/// and InputError names the file and the system's reason.
 void writeFileAtomic(const std::string& path, const std::string& content);
 
 /// The whole file as a string. Only regular files are read (a FIFO, a device or a folder is
@@ -41,7 +42,10 @@ class OutputBatch {
   void reserve(const std::string& path);
   /// Sets the content of a reserved (or new, then checked) path.
   void set(const std::string& path, std::string content);
-  /// Writes every output atomically, in the order they were first reserved.
+  /// Writes every output: first each one's temporary file in full (as writeFileAtomic), then,
+  /// when all are written, puts them in place in the order they were first reserved. A failure
+  /// while writing (a full disk, a folder made read-only since) removes every temporary and
+  /// leaves every output as it was; InputError names the file.
   void commit();
 
  private:

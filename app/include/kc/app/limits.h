@@ -20,6 +20,14 @@ inline constexpr std::uint64_t kMaxPointsFileBytes = 256 * kMiB;
 /// Image files: 512 MiB.
 inline constexpr std::uint64_t kMaxImageFileBytes = 512 * kMiB;
 
+/// Most memory the parsed form of one JSON file (a session's document before its weights are
+/// decoded) may need by estimate (a streaming count before the parse): 2 GiB. A compact session
+/// of 512 MiB needs about 0.5 GiB; one of the same size made of tiny values would need ~16 GiB.
+inline constexpr double kMaxJsonParseBytes = 2.0 * 1024 * 1024 * 1024;
+/// Most weights `eval` computes (points × control points): 50 million, about 2 GB as doubles and
+/// their CSV text.
+inline constexpr long long kMaxEvalWeights = 50'000'000;
+
 /// Largest image side, pixels (the header is read before any pixel is decoded).
 inline constexpr int kMaxImageSide = 32768;
 /// Largest image, pixels: 64 megapixels (8192 × 8192; 256 MB as RGBA, about 1 GB while decoding

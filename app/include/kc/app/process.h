@@ -10,4 +10,13 @@ namespace kc::app {
 /// re-execution failed. Call first thing in main().
 void preferPassiveOpenMpWaiting(char** argv);
 
+/// Memory kept aside by keepMemoryReserve, bytes (64 MiB).
+inline constexpr unsigned long kMemoryReserveBytes = 64ul * 1024 * 1024;
+/// Sets aside kMemoryReserveBytes (address space, not touched) and installs a new-handler that,
+/// on the first allocation that fails, frees it and throws std::bad_alloc: the destructors that
+/// run while that exception unwinds (nlohmann::json's allocates its work stack) then find memory
+/// instead of throwing a second std::bad_alloc, which would end the program (std::terminate).
+/// Later failures throw std::bad_alloc at once. Call once, early in main().
+void keepMemoryReserve();
+
 }  // namespace kc::app

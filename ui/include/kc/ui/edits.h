@@ -2,13 +2,18 @@
 /// Setters of the document that mark what is stale (STYLE.md: "one method that sets the value and
 /// marks what is stale"), and undo/redo. Main thread only.
 
+#include <cstddef>
 #include <string>
 
 #include "kc/ui/app_state.h"
 
 namespace kc::ui {
 
-/// Shows a line in the message bar (errors stay until dismissed).
+/// Longest message shown, bytes: a longer one keeps its head and tail (app::oneLine), so no
+/// message, whatever a file or a lower layer put in it, draws more than a few thousand vertices.
+inline constexpr std::size_t kMaxMessageBytes = 1000;
+/// Shows a line in the message bar (errors stay until dismissed): one line (control characters
+/// escaped) of at most kMaxMessageBytes.
 void postMessage(AppState& state, std::string text, bool error);
 
 /// Sets the pose (one handle per bound control); the deformation is redone next frame.
