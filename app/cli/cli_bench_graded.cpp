@@ -12,6 +12,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -175,11 +176,11 @@ void benchGraded(const std::string& folder, int repeats) {
         const auto [w, h] = cageImageSize(path);
         app::BindParams p;
         p.backend = backend;
-        const Timed t = timedBind(cage, w, h, p, repeats);
+        Timed t = timedBind(cage, w, h, p, repeats);
         const bool narrow = std::string(variant) == "narrow";
         const Quality q = t.refused.empty() ? quality(t.session, c.leak ? (narrow ? &c.narrow : &c.wide) : nullptr) : Quality{};
         row(backend, c.name + "-" + variant, t, q, narrow ? &wide : nullptr);
-        if (!narrow) wide = t;
+        if (!narrow) wide = std::move(t);
       }
     }
   }
