@@ -19,19 +19,7 @@
 namespace kc::ui {
 namespace {
 
-/// A new document on a generated 400×300 picture with a background, in the cage tool.
-std::unique_ptr<AppState> newPicture() {
-  auto s = std::make_unique<AppState>();
-  s->worker.setSynchronous(true);
-  s->source = test::sceneImage(400, 300);
-  ++s->sourceRevision;
-  Cage empty;
-  empty.closed = false;
-  setDraftCage(*s, empty);
-  s->tool = Tool::Cage;
-  s->bindParams.spacing = 10.0;
-  return s;
-}
+using test::newPicture;
 
 TEST(Window, NewcomerDrawsACageClicksBindAndPoses) {
   test::HeadlessImGui gui;

@@ -93,6 +93,17 @@ struct CanvasDrag {
   Vec2 lastScreen = Vec2::Zero();
 };
 
+/// One mouse event as the window system delivered it (the window's GLFW callbacks): ImGui 1.86
+/// samples the mouse once per frame, so two clicks within one slow frame would become one, at the
+/// later position. The canvas replays these in order (handleCanvasInput).
+struct PointerInput {
+  enum class Kind { Press, Release, Move };
+  Kind kind = Kind::Move;
+  int button = 0;            ///< 0 left, 1 right, 2 middle (Press, Release).
+  Vec2 screen = Vec2::Zero();  ///< Where it happened (screen pixels, the window's coordinates).
+  bool shift = false, ctrl = false;  ///< Modifiers held (Press, Release; a Move takes the frame's).
+};
+
 
 struct AppState;
 
@@ -236,6 +247,11 @@ struct AppState {
   /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
   /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
   std::vector<std::pair<int, int>> tappedKeys;
+  /// Mouse presses, releases and moves since the last frame, in order (PointerInput). Filled only
+  /// when `pointerQueued` (the window's callbacks); otherwise the canvas reads ImGui's mouse state.
+  std::vector<PointerInput> pointerInputs;
+  bool pointerQueued = false;
+  std::optional<Vec2> pointerAt;           ///< The last position the window's callbacks saw (a press's position).
   /// Set by a frame that left work for the next one (the renderer defers the detail texture while
   /// the view moves): the window draws one more frame before it sleeps. Input that arrives during
   /// the few frames drawn after an event does not itself extend them.
