@@ -367,7 +367,7 @@ bool loadCageAndBind(AppState& state, const std::string& path) {
   }
   if (!loadCageFile(state, path)) return false;
   rememberFile(state, path);
-  if (state.cageValid) startBind(state);
+  if (state.cageValid) requestBind(state);
   return true;
 }
 

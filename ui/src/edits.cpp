@@ -81,6 +81,8 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
         } else if constexpr (std::is_same_v<T, RigidityEdit>) {
           if (!state.session) return false;
           return startRestoreRigidity(state, edit, forward);
+        } else if constexpr (std::is_same_v<T, BindEdit>) {
+          return swapBoundDocument(state, edit);
         } else if constexpr (std::is_same_v<T, LinesEdit>) {
           return applyLines(state, forward ? edit.after : edit.before);
         } else if constexpr (std::is_same_v<T, MethodEdit>) {
@@ -99,9 +101,11 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
       entry.edit);
 }
 
-/// Weight edits, method switches and rigidity strokes run on the worker with the session.
+/// Weight edits, method switches and rigidity strokes run on the worker with the session; a bind's
+/// undo swaps the session.
 bool needsSession(const Edit& e) {
-  return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e) || std::holds_alternative<RigidityEdit>(e);
+  return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e) || std::holds_alternative<RigidityEdit>(e) ||
+         std::holds_alternative<BindEdit>(e);
 }
 
 bool endInteractions(AppState& state) {
@@ -129,6 +133,7 @@ bool undo(AppState& state) {
     postMessage(state, "Cannot undo '" + label + "' now.", false);
     return false;
   }
+  if (!std::holds_alternative<BindEdit>(e.edit)) postMessage(state, "Undone: " + e.label + ".", false);  // a bind says which is back
   state.unsaved = true;
   return true;
 }
@@ -147,6 +152,7 @@ bool redo(AppState& state) {
     postMessage(state, "Cannot redo '" + label + "' now.", false);
     return false;
   }
+  if (!std::holds_alternative<BindEdit>(e.edit)) postMessage(state, "Redone: " + e.label + ".", false);
   state.unsaved = true;
   return true;
 }

@@ -108,10 +108,17 @@ bool lostByRebind(const UndoEntry& e) {
   return m && m->WBefore.rows() > 0;
 }
 
-/// Installs the session of a re-bind after a line edit, keeping the pose (when the cage kept its
-/// points), the tool, the line selection and the undo history without the edits tied to the old
-/// samples (paint strokes, weights from a file).
+/// The rigidity painted on the old samples, carried over to those of `s` and re-solved.
+void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vector<double>& oldRigidity, double oldSpacing,
+                   const app::Session& s) {
+  if (!anyRigid(oldRigidity)) return;
+  std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s.samples, s.rigidity, std::max(oldSpacing, s.params.spacing));
+  if (rho != s.rigidity) startRigidity(st, std::move(rho), "rigidity after the bind", /*record=*/false);
+}
 
+/// Installs the session of a re-bind after a line edit, keeping the pose, the tool, the line
+/// selection and the undo history without the edits tied to the old samples (paint strokes,
+/// weights from a file).
 void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
   const Pose pose = st.pose;
   const Cage cageBefore = st.boundCage;
@@ -122,8 +129,7 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  if (cageBefore.C.rows() == s->cage.C.rows() && cageBefore.C == s->cage.C && pose.size() == static_cast<std::size_t>(s->cage.size()))
-    setPose(st, pose);
+  setPose(st, carriedPose(cageBefore, pose, s->cage));
   st.tool = tool;
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
@@ -131,11 +137,27 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   st.undo = std::move(history);
   if (dropped > 0)
     postMessage(st, "The new bind changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
-  // The painted rigidity belongs to the old samples: carried over to the new ones and re-solved.
-  if (anyRigid(oldRigidity)) {
-    std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s->samples, s->rigidity, std::max(oldSpacing, s->params.spacing));
-    if (rho != s->rigidity) startRigidity(st, std::move(rho), "rigidity after the lines", /*record=*/false);
-  }
+  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+}
+
+/// Installs the session of a bind that replaces `previous` (Bind again): the pose carries over,
+/// painted rigidity is carried to the new samples, and the bind goes on the undo stack with the
+/// previous document (BindEdit).
+void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display) {
+  auto before = std::make_shared<BoundDocument>(
+      BoundDocument{std::move(previous), std::make_shared<WarpMesh>(std::move(st.mesh)), st.meshSource, st.pose, st.weightsReproducible});
+  const Cage cageBefore = st.boundCage;
+  const Tool tool = st.tool == Tool::Cage ? Tool::Pose : st.tool;
+  const SampleSet oldSamples = st.samples;
+  const std::vector<double> oldRigidity = st.rigidity;
+  const double oldSpacing = st.boundSpacing;
+  UndoStack history = std::move(st.undo);
+  installSession(st, s, std::move(display), true);
+  setPose(st, carriedPose(cageBefore, before->pose, s->cage));
+  selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
+  history.push({"bind again", BindEdit{std::move(before)}});
+  st.undo = std::move(history);
+  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
 }
 
 }  // namespace
@@ -270,9 +292,11 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       s->outside = toString(meshOptions.outside);
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow, keepPoseAndHistory](AppState& st) {
+      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
         if (keepPoseAndHistory) {
           installKeepingPose(st, s, display);
+        } else if (previous) {
+          installReplacing(st, previous, s, display);
         } else {
           installSession(st, s, display, true);
           st.tool = Tool::Pose;
@@ -296,6 +320,69 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       };
     }
   }, cancelled);
+  return true;
+}
+
+std::vector<std::string> strokesLostByRebind(const AppState& state) {
+  std::vector<std::string> strokes;
+  for (const UndoEntry& e : state.undo.undoEntries()) {
+    if (std::holds_alternative<BindEdit>(e.edit)) strokes.clear();  // those before it belong to the previous bind
+    else if (std::holds_alternative<WeightEdit>(e.edit)) strokes.push_back(e.label);
+  }
+  return strokes;
+}
+
+namespace {
+/// The question before a bind that would leave paint strokes behind ("" when there are none).
+std::string rebindQuestion(const AppState& state) {
+  if (!state.bound) return "";
+  const std::vector<std::string> strokes = strokesLostByRebind(state);
+  if (strokes.empty()) return "";
+  std::string names;
+  for (std::size_t k = 0; k < strokes.size(); ++k) names += (k == 0 ? "" : k + 1 == strokes.size() ? " and " : ", ") + strokes[k];
+  const std::string count = strokes.size() == 1 ? "Your paint stroke (" : "Your " + std::to_string(strokes.size()) + " paint strokes (";
+  return count + names + ") cannot be carried over: binding again computes the weights anew from the cage. The pose is kept, " +
+         "and the present weights, " + (strokes.size() == 1 ? "stroke" : "strokes") + " included, stay one undo (Ctrl+Z) away.";
+}
+}  // namespace
+
+bool requestBind(AppState& state) {
+  if (const std::string question = rebindQuestion(state); !question.empty()) {
+    state.unsavedPrompt = PendingAction{"Bind again", [](AppState& st) { startBind(st); }, question};
+    return false;
+  }
+  return startBind(state);
+}
+
+Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after) {
+  if (pose.size() != static_cast<std::size_t>(before.size())) return restPose(after.size());
+  if (before.size() == after.size()) return pose;
+  Pose out = restPose(after.size());
+  for (Index i = 0; i < after.size(); ++i)
+    for (Index j = 0; j < before.size(); ++j)
+      if ((before.C.row(j) - after.C.row(i)).norm() < 1e-9) {
+        out[static_cast<std::size_t>(i)] = pose[static_cast<std::size_t>(j)];
+        break;
+      }
+  return out;
+}
+
+bool swapBoundDocument(AppState& state, const BindEdit& edit) {
+  if (!state.session || !edit.other || !edit.other->session || state.worker.busy()) return false;
+  BoundDocument next = std::move(*edit.other);
+  *edit.other = BoundDocument{std::move(state.session), std::make_shared<WarpMesh>(std::move(state.mesh)), state.meshSource, state.pose,
+                              state.weightsReproducible};
+  const Tool tool = state.tool;
+  UndoStack history = std::move(state.undo);
+  installSession(state, next.session, {next.mesh, next.source}, next.weightsReproducible);
+  state.undo = std::move(history);
+  setPose(state, next.pose);
+  selectTool(state, tool);
+  const app::Session& b = *state.session;
+  postMessage(state, b.reports.lbcMesh > 0 ? "Back to the LBC bind (" + std::to_string(b.reports.lbcMesh) + " mesh vertices)."
+                                           : "Back to the " + std::string(b.params.backend == "kc" ? "KC" : b.params.backend) + " bind (" +
+                                                 std::to_string(b.samples.size()) + " samples).",
+              false);
   return true;
 }
 
@@ -328,11 +415,9 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
       postMessage(st, "Move everything needs weights up to the picture's border: binding again with the whole picture sampled (the pose is kept).", false);
       return true;
     };
-    // The new bind computes the weights anew: unsaved paint strokes are asked about first
-    // ("Save and Bind again", "Bind again without saving", "Cancel").
-    if (state.unsaved && state.undo.any(lostByRebind)) {
-      state.unsavedPrompt = PendingAction{"Bind again", [bindAgain](AppState& st) { bindAgain(st); }};
-      postMessage(state, "Move everything binds again over the whole picture, which computes the weights anew: your paint strokes are not saved yet.", false);
+    // The new bind computes the weights anew: paint strokes in them are named first.
+    if (const std::string question = rebindQuestion(state); !question.empty()) {
+      state.unsavedPrompt = PendingAction{"Bind again", [bindAgain](AppState& st) { bindAgain(st); }, question};
       return false;
     }
     return bindAgain(state);

@@ -83,7 +83,7 @@ void drawBindButtons(AppState& state) {
   if (button(state, "Bind##run",
              "Compute how each cage point pulls on the picture (Ctrl+B). Then drag points with the Pose tool.",
              ImVec2(120, 0)))
-    startBind(state);
+    requestBind(state);
   if (!canBind) ImGui::EndDisabled();
   if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {
     ImGui::SameLine();

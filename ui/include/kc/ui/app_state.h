@@ -110,12 +110,17 @@ struct AppState;
 struct Message {
   std::string text;
   bool error = false;
+  bool offersUndo = false;  ///< The status bar shows an Undo button beside it (a fold's fix).
 };
 
-/// Something that would discard unsaved work, waiting for the user's answer (Open, New, Quit).
+/// Something that would discard unsaved work, waiting for the user's answer (Open, New, Quit), or
+/// an action with a consequence the user should know of first (`question`: Bind again).
 struct PendingAction {
   std::string what;                          ///< Names the action on the prompt's buttons: "Open", "New", "Quit".
   std::function<void(AppState&)> run;
+  /// Empty: the unsaved-changes prompt (Save and …, … without saving, Cancel). Else this question,
+  /// with the buttons `what` and Cancel.
+  std::string question = {};
 };
 
 struct AppState {
