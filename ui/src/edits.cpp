@@ -1,8 +1,10 @@
 #include "kc/ui/edits.h"
 
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "kc/ui/jobs.h"
 #include "kc/ui/line_edits.h"
@@ -157,6 +159,31 @@ bool redo(AppState& state) {
   return true;
 }
 
+namespace {
+
+/// After a full deform: the status bar says when the picture folds more than it did (and how to
+/// undo what folded it) or no longer folds.
+void tellFolds(AppState& state) {
+  const Index folds = state.deformReport.flippedTriangles;
+  const Index before = std::exchange(state.foldsTold, folds);
+  if (folds == 0 && before > 0) postMessage(state, "The picture no longer folds over itself.", false);
+  if (folds <= before) return;
+  std::string fix = "Undo (Ctrl+Z) the last change to go back";
+  if (const UndoEntry* last = state.undo.nextUndo()) {
+    if (std::holds_alternative<WeightEdit>(last->edit)) fix = "Undo the stroke (Ctrl+Z), or paint with a lower Strength";
+    else if (std::holds_alternative<MethodEdit>(last->edit)) fix = "Undo the method switch (Ctrl+Z) to go back";
+    else if (std::holds_alternative<PoseEdit>(last->edit)) fix = "Undo the move (Ctrl+Z), or move the points less far";
+  } else {
+    fix = "Move the points less far";
+  }
+  char count[64];
+  std::snprintf(count, sizeof count, "%ld small triangle%s", long(folds), folds == 1 ? "" : "s");
+  postMessage(state, std::string("The picture folds over itself (") + count + " turned over, marked red). " + fix + ".", false);
+  state.messages.back().offersUndo = state.undo.canUndo();
+}
+
+}  // namespace
+
 bool updateDeformation(AppState& state) {
   if (!state.mesh.hasWeights()) return false;
   // While a control is dragged the background's fold repair starts from the previous picture
@@ -171,6 +198,7 @@ bool updateDeformation(AppState& state) {
     postMessage(state, std::string("Deformation failed: ") + e.what(), true);
   }
   state.deformedLive = live;
+  if (!live) tellFolds(state);
   state.timings.deformMs = state.deformReport.seconds * 1e3;
   state.deformedPose = state.poseRevision;
   state.deformedMesh = state.meshRevision;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string>
 
+#include "kc/ui/edits.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
 
@@ -58,7 +59,14 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
   if (!state.messages.empty()) {
     const Message& m = state.messages.back();
     if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", m.text.c_str());
+    else if (m.offersUndo) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", m.text.c_str());
     else ImGui::TextUnformatted(m.text.c_str());
+    if (m.offersUndo && state.undo.canUndo() && !state.worker.busy()) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("Undo##fold")) undo(state);
+      tooltip("Undo the change that folded the picture (Ctrl+Z).");
+      markWidget(state, "Undo##fold");
+    }
   }
   if (state.bound && state.reports.anyProblem()) {
     // Solver outcomes that fell back stay visible while the session is open (details: diagnostics panel).

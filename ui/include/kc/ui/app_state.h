@@ -195,6 +195,9 @@ struct AppState {
   bool deformedLive = false;
   std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
   DeformReport deformReport;
+  /// Folded triangles of the last full deform the status bar was told of (updateDeformation): a
+  /// deform that folds more says so in plain words with its fix; one that unfolds says that too.
+  Index foldsTold = 0;
   std::optional<app::Diagnostics> diagnostics;
   std::string sessionPath, exportPath, recoveryPath;
   bool unsaved = false;
