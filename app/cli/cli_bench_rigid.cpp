@@ -1,4 +1,4 @@
-// kcwarp-cli bench --rigid: rigid regions (issue 13's goals). Quality on the thesis's Fig 6.37
+// kcwarp-cli bench --rigid: rigid regions. Quality on the thesis's Fig 6.37
 // set-up (the bundled star; rigid region = the inner part of the bottom-right leg; that leg's tip
 // moved 40 px toward the star's centre) at several strengths; speed of a brush release
 // (app::setRigidity) for a 500-sample region on the star and a 2,000-sample region on the figure.

@@ -78,8 +78,8 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
   if (d.sticks) std::printf("%-38s %14.3e\n", "  on the sticks alone       max dev.", d.stickLinearity);
 }
 
-/// Structure lines: how straight and parallel they stay under random translations (issue 13's
-/// measurement: every control moved by up to ±40 px, 50 poses).
+/// Structure lines: how straight and parallel they stay under random translations (every control
+/// moved by up to ±40 px, 50 poses).
 constexpr int kLineTrials = 50;
 constexpr double kLineTranslation = 40.0;
 

@@ -69,7 +69,7 @@ TEST(Window, EveryMarkedControlShowsATooltipWhenHovered) {
   const std::map<std::string, Vec2> widgets = s->widgets;
   // The diagnostics panel: its button, table headers, row names and every line.
   for (const char* label : {"Refresh properties", "|sum-1|", "repro px", "min w", "neg", "samples", "inside", "image",
-                            "Lagrange", "grid step", "Solver", "Flipped triangles", "det J", "Mesh", "Samples", "Bind:",
+                            "Lagrange", "grid step", "Solver", "Flipped triangles", "Size change", "Mesh", "Samples", "Bind:",
                             "Re-optimization", "Mesh weights", "Release -> picture", "Frame"})
     EXPECT_TRUE(widgets.count(label)) << label;
   const std::string missing = gui.widgetsWithoutTooltip(*s, draw);

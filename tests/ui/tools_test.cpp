@@ -32,6 +32,13 @@ void stroke(AppState& s, const Vec2& a, const Vec2& b) {
   pollWorker(s);
 }
 
+/// Selects controls 0 and 1 (the top edge) with a rectangle.
+void selectTopEdge(AppState& s) {
+  s.poseTool.press(s, at(-20, -20));
+  s.poseTool.release(s, at(300, 100));
+  ASSERT_EQ(s.selection.size(), 2u);
+}
+
 TEST(PoseTool, LeftDragTranslatesAndUndoRestores) {
   auto s = test::boundState();
   const Vec2 c1 = s->boundCage.C.row(1).transpose();
@@ -77,9 +84,7 @@ TEST(PoseTool, RightDragRotatesAboutTheRestPosition) {
 
 TEST(PoseTool, RectangleSelectsAndMovesSeveral) {
   auto s = test::boundState();
-  s->poseTool.press(*s, at(-20, -20));
-  s->poseTool.release(*s, at(300, 100));  // covers controls 0 and 1 (top edge)
-  ASSERT_EQ(s->selection.size(), 2u);
+  selectTopEdge(*s);
   s->poseTool.press(*s, at(0, 0));
   s->poseTool.release(*s, at(10, 15));
   EXPECT_TRUE(s->pose[0].translate.isApprox(Vec2(10, 15)));
@@ -89,9 +94,7 @@ TEST(PoseTool, RectangleSelectsAndMovesSeveral) {
 
 TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
   auto s = test::boundState();
-  s->poseTool.press(*s, at(-20, -20));
-  s->poseTool.release(*s, at(300, 100));  // controls 0 and 1 (top edge)
-  ASSERT_EQ(s->selection.size(), 2u);
+  selectTopEdge(*s);
   const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
   const Vec2 centre = 0.5 * (c0 + c1);
   EXPECT_TRUE(selectionPivot(*s).isApprox(centre));
@@ -110,8 +113,7 @@ TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
 
 TEST(PoseTool, ThePivotCanBeMovedAndTheTurnFollowsIt) {
   auto s = test::boundState();
-  s->poseTool.press(*s, at(-20, -20));
-  s->poseTool.release(*s, at(300, 100));
+  selectTopEdge(*s);
   const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
   const Vec2 centre = 0.5 * (c0 + c1), pivot = c0;  // drag the pivot marker onto point 0
   s->poseTool.press(*s, at(centre.x(), centre.y()));

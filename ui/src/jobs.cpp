@@ -1,6 +1,7 @@
 #include "kc/ui/jobs.h"
 
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -408,7 +409,7 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
     const auto bindAgain = [](AppState& st) {
       const OutsideMode before = st.outside;
       st.outside = OutsideMode::Deform;
-      if (!startBind(st, true, true)) {
+      if (!startBind(st)) {
         st.outside = before;
         return false;
       }
@@ -489,12 +490,12 @@ bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, c
       const double setWeightsMs = msSince(t3);
       return [s, mesh, source, done, r, reoptimizeMs, meshMs, setWeightsMs, t0](AppState& st) {
         takeBack(st, s, mesh, source);
-        if (done) done(st);
         st.unsaved = true;
         st.timings.reoptimizeMs = reoptimizeMs;
         st.timings.reoptimizeSamples = r.solved;
         st.timings.meshWeightsMs = meshMs;
         st.timings.meshSetWeightsMs = setWeightsMs;
+        if (done) done(st);
         noteReleaseResult(st, t0);
         postSolverProblems(st, r, "Re-optimization");
       };
@@ -516,6 +517,10 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
       state, e->rows, e->methodAfter, "Re-optimizing",
       [e, label](AppState& st) {
         e->WAfter = gatherRows(st.session->W, e->rows);
+        char text[160];
+        std::snprintf(text, sizeof text, "Stroke (%s): %ld samples re-optimized in %.0f ms.", label.c_str(), long(st.timings.reoptimizeSamples),
+                      st.timings.reoptimizeMs);
+        postMessage(st, text, false);
         st.undo.push({label, std::move(*e)});
       },
       [e](app::Session& s) {
@@ -535,6 +540,12 @@ bool startMethod(AppState& state, Method method, bool record) {
   if (record && !state.weightsReproducible) entry->WBefore = state.session->W;
   std::function<void(AppState&)> done = [record, entry, method](AppState& st) {
     st.weightsReproducible = true;
+    char text[160];
+    std::string name(app::toString(method));
+    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::snprintf(text, sizeof text, "Method %s: the weights of all %ld samples re-optimized in %.0f ms.", name.c_str(),
+                  long(st.session->samples.size()), st.timings.reoptimizeMs);
+    postMessage(st, text, false);
     if (record) st.undo.push({std::string("method ") + std::string(app::toString(method)), std::move(*entry)});
   };
   return submitReoptimize(state, {}, method, "Re-optimizing", done, [before](app::Session& s) {

@@ -192,7 +192,7 @@ void unsavedPrompt(AppState& state) {
     state.unsavedPrompt.reset();
     ImGui::CloseCurrentPopup();
     if (unboundCage) requestPath(state, PathPurpose::SaveCage, "cage.json");
-    else if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
+    else if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, proposedSessionPath(state));
     else saveSessionFile(state, state.sessionPath);
   }
   if (!canSave) ImGui::EndDisabled();

@@ -137,6 +137,7 @@ struct AppState {
   /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
   app::BackendCapabilities capabilities;
   app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
+  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
   /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
   /// re-optimization; not for a session file, which may come from another version).
   bool weightsReproducible = false;
@@ -246,6 +247,8 @@ struct AppState {
   Vec2 mouseImage = Vec2::Zero();          ///< Mouse position in image pixels (status bar, brush ring).
   PathPurpose pathDialog = PathPurpose::None;
   std::string pathDialogText;
+  /// The in-app file dialog asks before saving over this file, which exists (empty: not asking).
+  std::string replacePath;
   bool nativeDialogs = false;              ///< Use zenity/kdialog when installed (the window sets it).
   std::shared_ptr<NativeDialog> nativeDialog;  ///< A native dialog that is open.
   std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
