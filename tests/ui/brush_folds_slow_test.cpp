@@ -5,7 +5,8 @@
 // stroke with the default brush (radius 30 px, strength 0.25) paints a random control's influence
 // along 60 px inside the cage, through the brush tool and the GUI's re-optimization, and the display
 // mesh is deformed again: the stroke folds when more triangles are turned over than under the pose
-// alone. The stroke is then undone. Prints the rate per example.
+// alone (a stroke that would fold is softened first: jobs.h startReoptimize). The stroke is then
+// undone. Prints the rates per example.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -26,7 +27,7 @@ constexpr int kPoses = 40;
 constexpr double kMove = 15.0, kTurn = 0.2;
 
 struct FoldCount {
-  int strokes = 0, folded = 0, told = 0;
+  int strokes = 0, folded = 0, told = 0, softened = 0;
 };
 
 FoldCount strokesThatFold(const std::string& example, unsigned seed) {
@@ -71,6 +72,7 @@ FoldCount strokesThatFold(const std::string& example, unsigned seed) {
     }
     s.brushTool.release(s, e);
     pollWorker(s);
+    if (!s.messages.empty() && s.messages.back().text.find("softened") != std::string::npos) ++count.softened;
     s.messages.clear();
     updateDeformation(s);
     ++count.strokes;
@@ -92,14 +94,16 @@ TEST(BrushFoldsSlow, EveryFoldOfADefaultStrokeIsTold) {
   int strokes = 0, folded = 0;
   for (const char* example : {"checker", "star", "figure"}) {
     const FoldCount c = strokesThatFold(example, 7);
-    std::printf("%-8s %2d strokes, %2d folded (%.0f%%), %2d of them told\n", example, c.strokes, c.folded,
-                c.strokes ? 100.0 * c.folded / c.strokes : 0.0, c.told);
+    std::printf("%-8s %2d strokes, %2d softened to keep the picture unfolded, %2d folded (%.0f%%), %2d of them told\n", example,
+                c.strokes, c.softened, c.folded, c.strokes ? 100.0 * c.folded / c.strokes : 0.0, c.told);
     EXPECT_EQ(c.told, c.folded) << example << ": a fold was not told";
     EXPECT_GT(c.strokes, kPoses / 2) << example << ": strokes found no place inside the cage";
     strokes += c.strokes;
     folded += c.folded;
   }
   std::printf("all      %2d strokes, %2d folded (%.1f%%)\n", strokes, folded, 100.0 * folded / std::max(strokes, 1));
+  // Without the softening (FoldGuard) about 3 in 10 of these strokes folded; with it, few do.
+  EXPECT_LE(folded, strokes / 10);
 }
 
 }  // namespace

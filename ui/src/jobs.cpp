@@ -467,27 +467,59 @@ namespace {
 /// mesh (only the controls whose weights changed). The session and the mesh's weight source are
 /// borrowed by the job (null in the AppState meanwhile) and handed back when it ends. `done` runs
 /// on the main thread after success, `undoFailure` on the worker when the optimization threw.
+/// A stroke's guard against folds (startReoptimize): when the re-optimized weights fold the picture
+/// under `pose` more than `foldsBefore` triangles, the stroke is halved (its targets W0 moved back
+/// halfway to W0Before) and re-optimized, up to kStrokeHalvings times; a stroke that still folds
+/// then is kept whole (and the fold is told). `kept` is the share of the stroke kept (1, 1/2, …).
+struct FoldGuard {
+  Pose pose;
+  Index foldsBefore = 0;
+  Weights W0Before, W0Stroke;  ///< #R×m: the painted rows' targets before and after the stroke.
+  double kept = 1.0;
+};
+constexpr int kStrokeHalvings = 3;
+
 bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, const char* title,
-                      std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure) {
+                      std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure,
+                      std::shared_ptr<FoldGuard> guard = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   SessionPtr s = std::move(state.session);
   SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
-  state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0](JobContext& ctx) -> Worker::Apply {
+  state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0, guard](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("optimization", 0.1);
-      const auto t1 = std::chrono::steady_clock::now();
-      std::vector<Index> columns;
-      const OptimizeReport r = app::reoptimize(*s, method, rows, &columns);
-      const double reoptimizeMs = msSince(t1);
+      double reoptimizeMs = 0.0, meshMs = 0.0, setWeightsMs = 0.0;
+      OptimizeReport r;
+      // Re-optimizes the rows from the session's W0 and re-weights the mesh: only the controls
+      // whose weights changed are re-evaluated at the mesh vertices.
+      auto solve = [&] {
+        const auto t1 = std::chrono::steady_clock::now();
+        std::vector<Index> columns;
+        r = app::reoptimize(*s, method, rows, &columns);
+        reoptimizeMs += msSince(t1);
+        const auto t2 = std::chrono::steady_clock::now();
+        source->sampler.updateColumns(*s->field, columns, source->W);
+        meshMs += msSince(t2);
+        const auto t3 = std::chrono::steady_clock::now();
+        mesh->setWeights(source->W);
+        setWeightsMs += msSince(t3);
+      };
+      solve();
       ctx.progress("warp mesh", 0.6);
-      const auto t2 = std::chrono::steady_clock::now();
-      // Only the controls whose weights changed are re-evaluated at the mesh vertices.
-      source->sampler.updateColumns(*s->field, columns, source->W);
-      const double meshMs = msSince(t2);
-      const auto t3 = std::chrono::steady_clock::now();
-      mesh->setWeights(source->W);
-      const double setWeightsMs = msSince(t3);
+      if (guard && guard->pose.size() == static_cast<std::size_t>(mesh->cage().size())) {
+        auto folds = [&] { return mesh->deform(guard->pose, DeformPass::Final).flippedTriangles > guard->foldsBefore; };
+        for (int k = 0; k < kStrokeHalvings && folds(); ++k) {
+          guard->kept *= 0.5;
+          scatterRows(s->W0, rows, guard->W0Before + guard->kept * (guard->W0Stroke - guard->W0Before));
+          solve();
+        }
+        if (guard->kept < 1.0 && folds()) {  // no gentler stroke unfolds it: the stroke as painted
+          guard->kept = 1.0;
+          scatterRows(s->W0, rows, guard->W0Stroke);
+          solve();
+        }
+      }
       return [s, mesh, source, done, r, reoptimizeMs, meshMs, setWeightsMs, t0](AppState& st) {
         takeBack(st, s, mesh, source);
         st.unsaved = true;
@@ -513,13 +545,23 @@ bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, c
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
   if (!state.session || !state.meshSource || !canStart(state, "re-optimize")) return false;
   auto e = std::make_shared<WeightEdit>(std::move(edit));
+  // A stroke that would fold the shown picture is made gentler (FoldGuard), when the picture shown
+  // is the full deform of the present pose.
+  std::shared_ptr<FoldGuard> guard;
+  if (!e->rows.empty() && state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && !state.deformedLive)
+    guard = std::make_shared<FoldGuard>(FoldGuard{state.pose, state.deformReport.flippedTriangles, e->W0Before, e->W0After});
   return submitReoptimize(
       state, e->rows, e->methodAfter, "Re-optimizing",
-      [e, label](AppState& st) {
+      [e, label, guard](AppState& st) {
+        e->W0After = gatherRows(st.session->W0, e->rows);  // the stroke as kept
         e->WAfter = gatherRows(st.session->W, e->rows);
-        char text[160];
-        std::snprintf(text, sizeof text, "Stroke (%s): %ld samples re-optimized in %.0f ms.", label.c_str(), long(st.timings.reoptimizeSamples),
-                      st.timings.reoptimizeMs);
+        char text[200];
+        if (guard && guard->kept < 1.0)
+          std::snprintf(text, sizeof text, "Stroke (%s) softened to 1/%.0f: at full strength it folded the picture. %ld samples re-optimized in %.0f ms.",
+                        label.c_str(), 1.0 / guard->kept, long(st.timings.reoptimizeSamples), st.timings.reoptimizeMs);
+        else
+          std::snprintf(text, sizeof text, "Stroke (%s): %ld samples re-optimized in %.0f ms.", label.c_str(),
+                        long(st.timings.reoptimizeSamples), st.timings.reoptimizeMs);
         postMessage(st, text, false);
         st.undo.push({label, std::move(*e)});
       },
@@ -527,7 +569,8 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
         scatterRows(s.W0, e->rows, e->W0Before);
         if (e->WBefore.rows() > 0) scatterRows(s.W, e->rows, e->WBefore);
         s.params.kc.method = e->methodBefore;
-      });
+      },
+      guard);
 }
 
 bool startMethod(AppState& state, Method method, bool record) {

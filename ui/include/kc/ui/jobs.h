@@ -82,7 +82,10 @@ bool swapBoundDocument(AppState& state, const BindEdit& edit);
 
 /// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
 /// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to
-/// the undo stack as `label`. W0 must already hold edit.W0After.
+/// the undo stack as `label`. W0 must already hold edit.W0After. A stroke whose weights would fold
+/// the picture under the present pose (more triangles turned over than before it) is halved and
+/// re-optimized, up to three times, until it does not (edit.W0After becomes what was kept; the
+/// status line says so); one that folds even at an eighth is kept as painted.
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label);
 
 /// Re-optimizes all samples from the current targets with `method` (painted targets survive);
