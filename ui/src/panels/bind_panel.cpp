@@ -95,6 +95,20 @@ void drawBindButtons(AppState& state) {
              ImVec2(120, 0)))
     requestBind(state);
   if (!canBind) ImGui::EndDisabled();
+  // The bind before the last one (another backend, say) one click away, and back: undo and redo of
+  // the bind while nothing was done since.
+  const UndoEntry* previous = state.undo.nextUndo();
+  const UndoEntry* next = state.undo.nextRedo();
+  const bool idle = state.session && !state.worker.busy();
+  if (idle && previous && std::holds_alternative<BindEdit>(previous->edit)) {
+    ImGui::SameLine();
+    if (button(state, "Previous bind", "Back to the bind before this one, with its weights and pose (Ctrl+Z); "
+                                       "Next bind then comes back to this one."))
+      undo(state);
+  } else if (idle && next && std::holds_alternative<BindEdit>(next->edit)) {
+    ImGui::SameLine();
+    if (button(state, "Next bind", "Forward to the bind you came back from (Ctrl+Shift+Z).")) redo(state);
+  }
   if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
