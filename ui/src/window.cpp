@@ -208,7 +208,9 @@ int runWindow(const WindowOptions& o) {
       const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
       if (state->canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
         glfwPollEvents();
-        --settleFrames;
+        // A drag's end gets its settle frames too: the release's full deform may post a message
+        // (a fold) after the status bar was drawn.
+        settleFrames = state->canvasDrag.button >= 0 ? 3 : settleFrames - 1;
       } else {
         if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
         else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
