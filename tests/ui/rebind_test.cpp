@@ -97,6 +97,17 @@ TEST(Rebind, WithoutStrokesBindsAtOnceAndKeepsThePose) {
   EXPECT_EQ(s->session, before);
 }
 
+TEST(Rebind, TheUndoStackKeepsTheLastFourBinds) {
+  auto s = test::boundState(20.0);
+  for (int k = 0; k < 6; ++k) {
+    ASSERT_TRUE(requestBind(*s));
+    pollWorker(*s);
+  }
+  EXPECT_EQ(s->undo.undoCount(), 4u) << "each holds a whole session: the oldest went";
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(undo(*s));
+  EXPECT_FALSE(s->undo.canUndo());
+}
+
 TEST(Rebind, ThePoseFollowsTheControlPointsThatStayed) {
   Points C(4, 2), D(5, 2);
   C << 0, 0, 10, 0, 10, 10, 0, 10;

@@ -141,6 +141,9 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
 }
 
+/// Binds kept on the undo stack (BindEdit): each holds a session with its weights and display mesh.
+constexpr std::size_t kKeptBinds = 4;
+
 /// Installs the session of a bind that replaces `previous` (Bind again): the pose carries over,
 /// painted rigidity is carried to the new samples, and the bind goes on the undo stack with the
 /// previous document (BindEdit).
@@ -157,6 +160,14 @@ void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Se
   setPose(st, carriedPose(cageBefore, before->pose, s->cage));
   selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
   history.push({"bind again", BindEdit{std::move(before)}});
+  // Each BindEdit holds a whole session and mesh: the oldest go, with the edits before them.
+  std::size_t binds = 0;
+  const std::vector<UndoEntry>& entries = history.undoEntries();
+  for (std::size_t k = entries.size(); k-- > 0;)
+    if (std::holds_alternative<BindEdit>(entries[k].edit) && ++binds > kKeptBinds) {
+      history.dropOldest(k + 1);
+      break;
+    }
   st.undo = std::move(history);
   carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
 }

@@ -3,6 +3,7 @@
 /// method switches), line edits, rigidity strokes and re-binds. Entries store what restores the state bit for bit: exact before/after
 /// values, or for a method switch the two methods.
 
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <variant>
@@ -108,6 +109,8 @@ class UndoStack {
         if (pred(e)) return true;
     return false;
   }
+  /// Drops the `count` oldest undo entries.
+  void dropOldest(std::size_t count) { m_undo.erase(m_undo.begin(), m_undo.begin() + static_cast<long>(std::min(count, m_undo.size()))); }
   /// The undo entries, oldest first.
   const std::vector<UndoEntry>& undoEntries() const { return m_undo; }
   std::size_t undoCount() const { return m_undo.size(); }
