@@ -50,36 +50,6 @@ double autoSpacingShown(AppState& state);
 /// Returns false (with a message) when the cage is invalid or a job is running.
 bool startBind(AppState& state, bool markUnsaved = true, bool keepPoseAndHistory = false);
 
-/// Bind as the user asks for it (Bind button, Ctrl+B, a loaded cage): when the present weights
-/// hold paint strokes a new bind cannot carry over (strokesLostByRebind), a question names them
-/// first (AppState::unsavedPrompt with a question: "Bind again" or Cancel); else startBind.
-/// Returns true when the bind started.
-bool requestBind(AppState& state);
-
-/// Labels of the paint strokes in the present weights ("paint w3"), oldest first: the weight
-/// edits on the undo stack since the newest bind. A new bind computes the weights anew from the
-/// cage, so these do not carry over (they stay one undo away, behind the bind).
-std::vector<std::string> strokesLostByRebind(const AppState& state);
-
-/// The pose of `after`'s control points that keeps `pose` (of `before`'s points): handle by handle
-/// when the two cages have as many points, else for each point of `after` the handle of the point
-/// of `before` at the same rest position (the rest pose for new points).
-Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after);
-
-/// A bound document as a bind left it (BindEdit): the session, its display mesh and the source of
-/// the mesh's weights, the pose and whether W came from this optimizer.
-struct BoundDocument {
-  std::shared_ptr<app::Session> session;
-  std::shared_ptr<WarpMesh> mesh;
-  std::shared_ptr<AppState::MeshSource> source;
-  Pose pose;
-  bool weightsReproducible = false;
-};
-
-/// Undo or redo of a bind: swaps the present bound document with edit.other (kept in the edit for
-/// the way back). False when the session is held by a job.
-bool swapBoundDocument(AppState& state, const BindEdit& edit);
-
 /// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
 /// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to
 /// the undo stack as `label`. W0 must already hold edit.W0After. A stroke whose weights would fold
@@ -132,3 +102,5 @@ void pollWorker(AppState& state);
 void refreshDiagnostics(AppState& state);
 
 }  // namespace kc::ui
+
+#include "kc/ui/rebind.h"  // binding again (requestBind), part of the jobs' interface
