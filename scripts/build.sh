@@ -4,5 +4,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DKC_BUILD_BENCH=ON "$@"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DKC_BUILD_TESTS=ON -DKC_BUILD_BENCH=ON "$@"  # ON: a build/ that scripts/run.sh configured had them off
 cmake --build build -j"$(nproc 2>/dev/null || echo 2)"

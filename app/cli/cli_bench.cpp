@@ -167,10 +167,10 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--samples", a->samples, "Target sample count of the bind benchmark")->capture_default_str();
   sub->add_option("--repeats", a->repeats, "Runs per figure (the median is shown)")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads (0 = all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
-  sub->add_flag("--lines", a->lines, "Only the structure-lines table (straightness, parallelism, bind time; issue 13)");
+  sub->add_flag("--lines", a->lines, "Only the structure-lines table (straightness, parallelism, bind time)");
   sub->add_flag("--edges", a->edges,
                 "Only the linear-edges table: the bundled examples (the folder of --cage) with and without --linear-edges");
-  sub->add_flag("--rigid", a->rigid, "Only the rigid-regions table (thesis Fig 6.37 set-up on the star, brush-release times; issue 13)");
+  sub->add_flag("--rigid", a->rigid, "Only the rigid-regions table (thesis Fig 6.37 set-up on the star, brush-release times)");
   sub->add_option("--images", a->images, "--rigid: the folder of the bundled examples (star, figure)")->capture_default_str();
   sub->add_option("--rigid-speed", a->rigidSpeed, "--rigid: only the brush-release speed rows: star, figure or both");
   sub->add_flag("--graded", a->graded,

@@ -1,4 +1,4 @@
-// kcwarp-cli bench --lines: how straight and parallel lines stay, on a cage, by default the
+// kcwarp-cli bench --lines: straight and parallel lines on a cage, by default the
 // bundled star — random lines of 100–150 px inside it, random translations of every control by up
 // to ±40 px; deviation from straight, parallel-group angle, bind time with and without lines.
 // kcwarp-cli bench --edges: the bundled examples bound with and without --linear-edges; linearity

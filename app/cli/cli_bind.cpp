@@ -181,7 +181,7 @@ void addBindCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();
   sub->add_option("--structure", a->structure,
-                  "Structure file (JSON): line segments kept straight, groups kept parallel (kc backend; docs/ARCHITECTURE.md)");
+                  "Structure file (JSON): line segments kept straight, groups kept parallel (kc backend)");
   sub->add_option("-o,--output", a->output, "Session file to write (*.kcw.json)")->required();
   sub->callback([a] {
     if (a->image.empty() && a->size.empty()) throw app::InputError("bind", "give --image I.png or --size W,H");

@@ -130,7 +130,7 @@ void addSampleCommand(CLI::App& app) {
   sub->add_option("--sampler", a->sampler, "blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
   sub->add_option("--seed", a->seed, "Random seed (0..2^64-1)")->check(seedCheck())->capture_default_str();
-  sub->add_option("--structure", a->structure, "Structure file (JSON): lines sampled and kept fixed (docs/ARCHITECTURE.md)");
+  sub->add_option("--structure", a->structure, "Structure file (JSON): lines sampled and kept fixed");
   sub->add_option("-o,--output", a->output, "Samples file to write (JSON)")->required();
   sub->add_option("--png", a->png, "Also draw the samples, coloured by kind, into this PNG");
   addPngCompressionOption(sub, a->pngCompression);

@@ -79,7 +79,7 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
 }
 
 /// Structure lines: how straight and parallel they stay under random translations (every control
-/// moved by up to ±40 px, 50 poses; as `bench --lines`).
+/// moved by up to ±40 px, 50 poses).
 constexpr int kLineTrials = 50;
 constexpr double kLineTranslation = 40.0;
 

@@ -6,8 +6,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <iostream>
 #include <new>
+#include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "kc/app/errors.h"
@@ -40,13 +43,66 @@ int checkedOutput(int code) {
   return kc::cli::kExitBadInput;
 }
 
+/// Edits (insertions, deletions, substitutions, swaps of neighbours) between a and b.
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] != b[j - 1])});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+/// The name in `names` nearest to `word` when it is a likely typo of it (at most 2 edits, fewer
+/// than half the word), else "".
+std::string nearest(const std::string& word, const std::vector<std::string>& names) {
+  std::string best;
+  std::size_t bestDistance = std::min<std::size_t>(2, word.size() / 2) + 1;
+  for (const std::string& n : names)
+    if (const std::size_t d = editDistance(word, n); d < bestDistance) bestDistance = d, best = n;
+  return best;
+}
+
+/// "did you mean" for the words CLI11 did not expect: a subcommand's name, or an option of the
+/// subcommand given ("" when none is near).
+std::string suggestions(const CLI::App& app, const std::vector<std::string>& words) {
+  std::vector<std::string> commands, options;
+  const CLI::App* chosen = nullptr;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+    commands.push_back(sub->get_name());
+    if (sub->parsed()) chosen = sub;
+  }
+  if (chosen)
+    for (const CLI::Option* o : chosen->get_options())
+      for (const std::string& n : o->get_lnames()) options.push_back("--" + n);
+  std::string out;
+  for (const std::string& w : words) {
+    const std::string name = w.substr(0, w.find('='));
+    const bool option = name.rfind("--", 0) == 0;
+    const std::string guess = nearest(name, option ? options : chosen ? std::vector<std::string>{} : commands);
+    if (!guess.empty()) out += "; '" + name + "': did you mean '" + guess + "'?";
+  }
+  return out;
+}
+
+/// The subcommands' names, "a, b or c".
+std::string subcommandList(const CLI::App& app) {
+  std::string out;
+  const auto subs = app.get_subcommands([](const CLI::App*) { return true; });
+  for (std::size_t k = 0; k < subs.size(); ++k) out += (k == 0 ? "" : k + 1 == subs.size() ? " or " : ", ") + subs[k]->get_name();
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   guardStandardStreams();
   kc::app::preferPassiveOpenMpWaiting(argv);
   kc::app::keepMemoryReserve();
-  CLI::App app{"kcwarp-cli: warp images with a cage and kernel coordinates"};
+  CLI::App app{"kcwarp-cli: warp images with a cage and kernel coordinates", "kcwarp-cli"};
   app.require_subcommand(1);
   app.footer(kc::cli::limitsText());
   kc::cli::addSampleCommand(app);
@@ -56,13 +112,25 @@ int main(int argc, char** argv) {
   kc::cli::addStatsCommand(app);
   kc::cli::addDemoCommand(app);
   kc::cli::addBenchCommand(app);
+  for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) sub->footer("");  // the limits: once, in the main help
+  if (argc < 2) {  // no subcommand: the list of them (one line on stderr, the help on stdout)
+    std::cout << app.help();
+    std::cerr << "kcwarp-cli: a subcommand is required: " << subcommandList(app) << " (kcwarp-cli SUBCOMMAND --help)\n";
+    return kc::cli::kExitBadInput;
+  }
   try {
     app.parse(argc, argv);
     return checkedOutput(kc::cli::kExitOk);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return checkedOutput(app.exit(e));  // --help
-    // One line however long or multi-line the argument it quotes (InputError's messages already are).
-    std::cerr << "kcwarp-cli: " << kc::app::oneLine(e.what(), kc::app::kMaxMessageWhat) << "\n";
+    // One line: CLI11's message (bounded), then a likely meant name for a mistyped subcommand or option.
+    std::vector<std::string> unexpected = app.remaining();
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+      if (sub->parsed())
+        for (const std::string& w : sub->remaining()) unexpected.push_back(w);
+    std::string text = kc::app::oneLine(e.what(), kc::app::kMaxMessageWhat);
+    if (app.get_subcommands().empty() && text.find("subcommand") != std::string::npos) text += " (" + subcommandList(app) + ")";
+    std::cerr << "kcwarp-cli: " << text << kc::app::oneLine(suggestions(app, unexpected), kc::app::kMaxMessageWhat) << "\n";
     return kc::cli::kExitBadInput;
   } catch (const kc::app::InputError& e) {
     std::cerr << "kcwarp-cli: " << e.what() << "\n";

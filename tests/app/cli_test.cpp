@@ -159,6 +159,21 @@ TEST(CliBind, BadInputExitsTwoWithOneLine) {
     EXPECT_EQ(lineCount(r.err), 1) << c.name << ": " << r.err;
   }
   EXPECT_FALSE(std::filesystem::exists(dir / "s.kcw.json"));
+  // Alone, kcwarp-cli lists its subcommands; a mistyped name or option gets the likely one.
+  const CliResult alone = runCli("", dir);
+  EXPECT_TRUE(contains(alone.err, "bind, eval")) << alone.err;
+  EXPECT_TRUE(contains(alone.out, "warp")) << "the help, with the list: " << alone.out;
+  const CliResult typo = runCli("bnd --cage cage.json", dir);
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_TRUE(contains(typo.err, "did you mean 'bind'?")) << typo.err;
+  EXPECT_EQ(lineCount(typo.err), 1) << typo.err;
+  const CliResult option = runCli("bind --cage cage.json --size 96,96 --spcing 6 -o s.kcw.json", dir);
+  EXPECT_EQ(option.code, 2);
+  EXPECT_TRUE(contains(option.err, "did you mean '--spacing'?")) << option.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "s.kcw.json"));
+  // The limits are in the main help only, not repeated by every subcommand's.
+  EXPECT_TRUE(contains(runCli("--help", dir).out, "Limits"));
+  EXPECT_FALSE(contains(runCli("warp --help", dir).out, "Limits"));
 
   // A bad points row names the file and line.
   ASSERT_EQ(runCli("bind --cage cage.json --size 96,96 --spacing 6 -o s.kcw.json", dir).code, 0);

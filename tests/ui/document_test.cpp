@@ -10,6 +10,7 @@
 #include "cli_run.h"
 #include "kc/app/file_io.h"
 #include "kc/ui/file_dialog.h"
+#include "kc/ui/panels/panels.h"
 #include "kc/ui/recent_files.h"
 #include "scene_image.h"
 #include "ui_fixture.h"
@@ -184,6 +185,43 @@ TEST(Files, NativeDialogRunsZenityAndReadsTheChosenPath) {
   EXPECT_NE(args.find("--filename=/tmp/untitled.kcw.json"), std::string::npos) << args;
   // Cancel (exit code 1): no path.
   EXPECT_FALSE(ui::runForOutput({"sh", "-c", "echo /tmp/x; exit 1"}).has_value());
+}
+
+
+TEST(FileNames, SaveProposesThePicturesNameAndExportANewFile) {
+  auto state = boundState();
+  const auto dir = scratchDir("ui_file_names");
+  state->imagePath = (dir / "portrait.png").string();
+  EXPECT_EQ(ui::proposedSessionPath(*state), (dir / "portrait.kcw.json").string());
+  EXPECT_EQ(ui::proposedExportPath(*state), (dir / "portrait-warped.png").string());
+  std::ofstream(dir / "portrait.kcw.json") << "{}";
+  std::ofstream(dir / "portrait-warped.png") << "x";
+  std::ofstream(dir / "portrait-warped-2.png") << "x";
+  EXPECT_EQ(ui::proposedSessionPath(*state), (dir / "portrait-2.kcw.json").string()) << "never a file that is there";
+  EXPECT_EQ(ui::proposedExportPath(*state), (dir / "portrait-warped-3.png").string());
+  state->exportPath = (dir / "portrait-warped.png").string();  // the last export's file exists: a new one
+  EXPECT_EQ(ui::proposedExportPath(*state), (dir / "portrait-warped-3.png").string());
+}
+
+TEST(FileNames, TheFileDialogAsksBeforeSavingOverAFile) {
+  HeadlessImGui gui;
+  auto state = boundState();
+  const auto dir = scratchDir("ui_replace");
+  const fs::path target = dir / "there.png";
+  std::ofstream(target) << "keep me";
+  ui::requestPath(*state, ui::PathPurpose::Export, target.string());
+  auto draw = [&] { ui::drawDialogs(*state); };
+  gui.frame(draw);
+  gui.frame(draw);
+  gui.clickLabel(*state, "Save", draw);
+  EXPECT_EQ(state->replacePath, target.string()) << "asked, not written";
+  EXPECT_EQ(state->pathDialog, ui::PathPurpose::Export);
+  EXPECT_EQ(slurp(target), "keep me");
+  gui.frame(draw);
+  gui.clickLabel(*state, "Replace it", draw);
+  ui::pollWorker(*state);
+  EXPECT_EQ(state->pathDialog, ui::PathPurpose::None);
+  EXPECT_NE(slurp(target), "keep me") << "replaced after the answer";
 }
 
 }  // namespace

@@ -68,6 +68,20 @@ class GuiSession : public ::testing::Test, protected GuiDriver {
     return p;
   }
 
+  /// Switches to the brush (key B) and paints the checker example's stroke across the middle of the
+  /// picture (image pixels (60, 120) → (190, 140)); returns the state once the stroke's weights are
+  /// in (the undo stack at `undoAfter`).
+  json paintCheckerStroke(int undoAfter) {
+    key("b");
+    json s = waitFor([](const json& j) { return j.value("tool", "") == "brush"; });
+    const double wx = s["window"][0], wy = s["window"][1], zoom = s["view"]["zoom"];
+    const double ox = s["view"]["origin"][0].get<double>() + wx, oy = s["view"]["origin"][1].get<double>() + wy;
+    const long meshBefore = s["mesh_revision"];
+    drag(ox + 60 * zoom, oy + 120 * zoom, ox + 190 * zoom, oy + 140 * zoom, 1, 20);
+    return waitFor([&](const json& j) {
+      return j.value("undo", 0) == undoAfter && !j.value("busy", true) && j.value("mesh_revision", 0L) > meshBefore;
+    });
+  }
   /// Root-window position of picture pixel p (image pixels) in the app's state `st`.
   static Vec2 screenOf(const json& st, const Vec2& p) {
     const double zoom = st["view"]["zoom"];

@@ -135,9 +135,10 @@ TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
   EXPECT_FALSE(bandNeedsFrameBind(*s));
 }
 
-TEST(OutsidePanel, MoveEverythingAsksBeforeABindDropsUnsavedPaint) {
-  // On a band session with an unsaved paint stroke, Move everything would bind again and compute
-  // the weights anew: the unsaved-changes prompt asks first, and nothing changes until it is answered.
+TEST(OutsidePanel, MoveEverythingNamesThePaintABindLeavesBehindAndKeepsItOneUndoAway) {
+  // On a band session with a paint stroke, Move everything binds again and computes the weights
+  // anew: a question names the stroke first, and nothing changes until it is answered. The bind
+  // is then one undo step: the stroke stays behind it.
   test::HeadlessImGui gui;
   auto s = boundSquare("kc", OutsideMode::Pinned, 100.0, sampling::ExteriorExtent::Band);
   s->unsaved = true;
@@ -151,11 +152,12 @@ TEST(OutsidePanel, MoveEverythingAsksBeforeABindDropsUnsavedPaint) {
   pollWorker(*s);
   ASSERT_TRUE(s->unsavedPrompt.has_value());
   EXPECT_EQ(s->unsavedPrompt->what, "Bind again");
+  EXPECT_NE(s->unsavedPrompt->question.find("paint w1"), std::string::npos) << s->unsavedPrompt->question;
   EXPECT_EQ(s->session, sessionBefore) << "no bind before the answer";
   EXPECT_EQ(s->outside, OutsideMode::Pinned);
   EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Band);
 
-  // "Bind again without saving": the prompt's action binds over the whole picture.
+  // "Bind again": the question's action binds over the whole picture.
   auto action = std::move(s->unsavedPrompt->run);
   s->unsavedPrompt.reset();
   action(*s);
@@ -163,7 +165,11 @@ TEST(OutsidePanel, MoveEverythingAsksBeforeABindDropsUnsavedPaint) {
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Frame);
   EXPECT_EQ(s->outside, OutsideMode::Deform);
-  EXPECT_EQ(s->undo.undoCount() + s->undo.redoCount(), 0u) << "the stroke tied to the old weights is gone from the history";
+  ASSERT_EQ(s->undo.undoCount(), 2u) << "the stroke, then the bind";
+  EXPECT_TRUE(std::holds_alternative<BindEdit>(s->undo.nextUndo()->edit));
+  ASSERT_TRUE(undo(*s));
+  EXPECT_EQ(s->session, sessionBefore) << "one undo: the band session again";
+  EXPECT_EQ(s->outside, OutsideMode::Pinned);
 }
 
 }  // namespace

@@ -19,19 +19,7 @@
 namespace kc::ui {
 namespace {
 
-/// A new document on a generated 400×300 picture with a background, in the cage tool.
-std::unique_ptr<AppState> newPicture() {
-  auto s = std::make_unique<AppState>();
-  s->worker.setSynchronous(true);
-  s->source = test::sceneImage(400, 300);
-  ++s->sourceRevision;
-  Cage empty;
-  empty.closed = false;
-  setDraftCage(*s, empty);
-  s->tool = Tool::Cage;
-  s->bindParams.spacing = 10.0;
-  return s;
-}
+using test::newPicture;
 
 TEST(Window, NewcomerDrawsACageClicksBindAndPoses) {
   test::HeadlessImGui gui;
@@ -81,7 +69,7 @@ TEST(Window, EveryMarkedControlShowsATooltipWhenHovered) {
   const std::map<std::string, Vec2> widgets = s->widgets;
   // The diagnostics panel: its button, table headers, row names and every line.
   for (const char* label : {"Refresh properties", "|sum-1|", "repro px", "min w", "neg", "samples", "inside", "image",
-                            "Lagrange", "grid step", "Solver", "Flipped triangles", "det J", "Mesh", "Samples", "Bind:",
+                            "Lagrange", "grid step", "Solver", "Flipped triangles", "Size change", "Mesh", "Samples", "Bind:",
                             "Re-optimization", "Mesh weights", "Release -> picture", "Frame"})
     EXPECT_TRUE(widgets.count(label)) << label;
   const std::string missing = gui.widgetsWithoutTooltip(*s, draw);

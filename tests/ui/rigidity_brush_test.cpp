@@ -103,6 +103,12 @@ TEST(RigidityBrush, AStrokePaintsRhoAndReSolvesOnlyNearIt) {
   ASSERT_EQ(rigidCount(s->session->rigidity), 0);
   stroke(*s, kA, kB);
   ASSERT_TRUE(s->session) << lastMessage(*s);
+  // The status line in plain words; the solver's own (method, rounds) in the diagnostics' details.
+  EXPECT_EQ(lastMessage(*s).rfind("Rigidity: ", 0), 0u) << lastMessage(*s);
+  EXPECT_NE(lastMessage(*s).find("held rigid"), std::string::npos) << lastMessage(*s);
+  for (const char* solverWord : {"active set", "ADMM", "rounds", "iterations"})
+    EXPECT_EQ(lastMessage(*s).find(solverWord), std::string::npos) << lastMessage(*s);
+  EXPECT_NE(s->rigidityDetails.find("rigidity: "), std::string::npos) << s->rigidityDetails;
   const std::vector<double>& rho = s->session->rigidity;
   ASSERT_EQ(rho.size(), static_cast<std::size_t>(s->samples.size()));
   EXPECT_EQ(s->rigidity, rho) << "the display copy follows the session";

@@ -20,6 +20,7 @@
 #include "kc/ui/app_state.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
+#include "scene_image.h"
 
 namespace kc::test {
 
@@ -51,6 +52,21 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   state->bindParams = s->params;
   state->autoSpacing = false;
   return state;
+}
+
+/// A new document on a generated 400×300 picture with a background (scene_image.h), in the cage
+/// tool with an empty cage; jobs run inline, binds at a fixed 10 px spacing.
+inline std::unique_ptr<ui::AppState> newPicture() {
+  auto s = std::make_unique<ui::AppState>();
+  s->worker.setSynchronous(true);
+  s->source = sceneImage(400, 300);
+  ++s->sourceRevision;
+  Cage empty;
+  empty.closed = false;
+  ui::setDraftCage(*s, empty);
+  s->tool = ui::Tool::Cage;
+  s->bindParams.spacing = 10.0;
+  return s;
 }
 
 /// Headless ImGui: a context with a display size and a built font atlas; frames run NewFrame →

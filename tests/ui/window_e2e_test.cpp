@@ -31,12 +31,7 @@ TEST_F(GuiSession, DragPaintSwitchMethodExportSaveUndo) {
       << "the picture did not follow the control point";
 
   // 2. Brush tool (key B): paint a stroke across the middle of the picture for control 1.
-  key("b");
-  s = waitFor([](const json& j) { return j.value("tool", "") == "brush"; });
-  const double zoom = s["view"]["zoom"], ox = s["view"]["origin"][0].get<double>() + wx, oy = s["view"]["origin"][1].get<double>() + wy;
-  const long meshBefore = s["mesh_revision"];
-  drag(ox + 60 * zoom, oy + 120 * zoom, ox + 190 * zoom, oy + 140 * zoom, 1, 20);
-  s = waitFor([&](const json& j) { return j.value("undo", 0) == 2 && !j.value("busy", true) && j.value("mesh_revision", 0L) > meshBefore; });
+  s = paintCheckerStroke(2);
   EXPECT_GT(s["timings"]["reoptimize_samples"].get<long>(), 20);
   const fs::path painted = screenshot("03-painted.png");
   EXPECT_GT(differingPixels(app::loadImage(dragged.string()), app::loadImage(painted.string()), 0, 30, canvasRight, 850), 2000)

@@ -67,6 +67,13 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["redo"] = state.undo.redoCount();
   j["unsaved"] = state.unsaved;
   j["prompt"] = state.unsavedPrompt ? state.unsavedPrompt->what : std::string();
+  j["question"] = state.unsavedPrompt ? state.unsavedPrompt->question : std::string();
+  // A fingerprint of the bound weights (Σ W_ij·(1 + (i+j) mod 7)): tells one bind's weights from another's.
+  double fingerprint = 0.0;
+  if (state.session)
+    for (Index i = 0; i < state.session->W.rows(); ++i)
+      for (Index k = 0; k < state.session->W.cols(); ++k) fingerprint += state.session->W(i, k) * double(1 + (i + k) % 7);
+  j["weights_fingerprint"] = fingerprint;
   j["file_dialog"] = state.pathDialog != PathPurpose::None;
   j["image_path"] = state.imagePath;
   j["image_size"] = {state.source.width, state.source.height};

@@ -2,8 +2,11 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "kc/ui/edits.h"
 
@@ -56,6 +59,44 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
   }
 }
 
+/// True when a press at screen point p belongs to the canvas: inside it, no popup open and no
+/// ImGui window (panel, menu bar, dialog) there. ImGui's own test (WantCaptureMouse) is for the
+/// mouse's position at the frame; a queued press may have happened elsewhere.
+bool canvasAt(const AppState& state, const Vec2& p) {
+  if (!state.view.containsScreen(p)) return false;
+  const ImGuiContext& g = *ImGui::GetCurrentContext();
+  if (g.OpenPopupStack.Size > 0) return false;
+  const ImVec2 q(float(p.x()), float(p.y()));
+  for (const ImGuiWindow* w : g.Windows)
+    if ((w->Active || w->WasActive) && !w->Hidden && !w->IsFallbackWindow && !(w->Flags & ImGuiWindowFlags_NoMouseInputs) &&
+        w->Rect().Contains(q))
+      return false;
+  return true;
+}
+
+/// The mouse as ImGui saw it this frame, as queued inputs (no window callbacks: the headless
+/// tests): a press where ImGui saw one on the hovered canvas, a move, a release when the dragged
+/// button is up.
+std::vector<PointerInput> inputsFromImGui(const AppState& state) {
+  const ImGuiIO& io = ImGui::GetIO();
+  const Vec2 mouse = toVec(io.MousePos);
+  std::vector<PointerInput> out;
+  if (!ImGui::IsMousePosValid(&io.MousePos)) return out;
+  const int held = state.canvasDrag.button;
+  if (held >= 0) {
+    out.push_back({PointerInput::Kind::Move, held, mouse, io.KeyShift, io.KeyCtrl});
+    if (!io.MouseDown[held]) out.push_back({PointerInput::Kind::Release, held, mouse, io.KeyShift, io.KeyCtrl});
+    return out;
+  }
+  if (!state.canvasHovered) return out;
+  for (int b = 0; b < 3; ++b)
+    if (ImGui::IsMouseClicked(b)) {
+      out.push_back({PointerInput::Kind::Press, b, mouse, io.KeyShift, io.KeyCtrl});
+      break;
+    }
+  return out;
+}
+
 }  // namespace
 
 bool showsWarp(const AppState& state) {
@@ -103,42 +144,46 @@ void handleCanvasInput(AppState& state) {
   const bool mouseValid = ImGui::IsMousePosValid(&io.MousePos);
   CanvasDrag& drag = state.canvasDrag;
   state.canvasHovered = mouseValid && !io.WantCaptureMouse && state.view.containsScreen(mouse);
-  if (mouseValid) state.mouseImage = state.view.toImage(mouse);
-  const double pickRadius = 9.0 / state.view.zoom;
-  auto event = [&](MouseButton b) {
+  if (state.canvasHovered && io.MouseWheel != 0.0f && drag.button < 0) state.view.zoomAt(mouse, std::pow(1.15, io.MouseWheel));
+
+  std::vector<PointerInput> inputs = std::exchange(state.pointerInputs, {});
+  if (!state.pointerQueued) inputs = inputsFromImGui(state);
+  for (const PointerInput& in : inputs) {
+    const Vec2 previous = drag.lastScreen;
+    state.mouseImage = state.view.toImage(in.screen);
     PointerEvent e;
     e.position = toolPosition(state, state.mouseImage);
-    e.button = b;
-    e.shift = io.KeyShift;
-    e.ctrl = io.KeyCtrl;
-    e.pickRadius = pickRadius;
-    return e;
-  };
-
-  if (drag.button >= 0) {  // a drag that started on the canvas follows the mouse everywhere
-    if (drag.panning) {
-      state.view.pan(mouse - drag.lastScreen);
-    } else if (mouse != drag.lastScreen) {
-      dispatch(state, event(static_cast<MouseButton>(drag.button)), 1);
+    e.button = static_cast<MouseButton>(drag.button >= 0 ? drag.button : in.button);
+    e.shift = in.kind == PointerInput::Kind::Move ? io.KeyShift : in.shift;
+    e.ctrl = in.kind == PointerInput::Kind::Move ? io.KeyCtrl : in.ctrl;
+    e.pickRadius = 9.0 / state.view.zoom;
+    if (drag.button < 0) {  // a press on the canvas starts a drag; the rest is ImGui's
+      if (in.kind != PointerInput::Kind::Press || !canvasAt(state, in.screen)) continue;
+      drag.button = in.button;
+      drag.lastScreen = in.screen;
+      drag.panning = in.button == 2 || (in.button == 0 && ImGui::IsKeyDown(GLFW_KEY_SPACE));
+      if (!drag.panning) dispatch(state, e, 0);
+      continue;
     }
-    drag.lastScreen = mouse;
-    if (!io.MouseDown[drag.button]) {
-      if (!drag.panning) dispatch(state, event(static_cast<MouseButton>(drag.button)), 2);
+    // A drag that started on the canvas follows the mouse everywhere, until its button goes up.
+    if (in.kind == PointerInput::Kind::Press) continue;
+    if (in.kind == PointerInput::Kind::Release && in.button != drag.button) continue;
+    drag.lastScreen = in.screen;
+    if (drag.panning) state.view.pan(in.screen - previous);
+    else if (in.screen != previous) dispatch(state, e, 1);
+    if (in.kind == PointerInput::Kind::Release) {
+      if (!drag.panning) dispatch(state, e, 2);
       drag.button = -1;
       drag.panning = false;
     }
+  }
+  // A release the queue did not carry (the window lost the button while unfocused) ends the drag.
+  if (state.pointerQueued && drag.button >= 0 && !io.MouseDown[drag.button]) {
+    state.pointerInputs.push_back({PointerInput::Kind::Release, drag.button, drag.lastScreen, io.KeyShift, io.KeyCtrl});
+    handleCanvasInput(state);
     return;
   }
-  if (!state.canvasHovered) return;
-  if (io.MouseWheel != 0.0f) state.view.zoomAt(mouse, std::pow(1.15, io.MouseWheel));
-  for (int b = 0; b < 3; ++b) {
-    if (!ImGui::IsMouseClicked(b)) continue;
-    drag.button = b;
-    drag.lastScreen = mouse;
-    drag.panning = b == 2 || (b == 0 && ImGui::IsKeyDown(GLFW_KEY_SPACE));
-    if (!drag.panning) dispatch(state, event(static_cast<MouseButton>(b)), 0);
-    break;
-  }
+  if (mouseValid) state.mouseImage = state.view.toImage(mouse);
 }
 
 }  // namespace kc::ui

@@ -3,6 +3,8 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <numbers>
 #include <cmath>
 
 #include "kc/app/heatmap.h"
@@ -94,6 +96,14 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
       dl->AddLine({c.x, c.y - 9}, {c.x, c.y + 9}, color, w);
     }
     dl->AddCircle(c, 6.0f, rgba(120, 230, 255), 16, 1.5f);
+  }
+  if (state.poseTool.rotating()) {  // the angle turned so far, by the mouse
+    char text[32];
+    std::snprintf(text, sizeof text, "%+.1f\xc2\xb0", state.poseTool.angle() * 180.0 / std::numbers::pi);
+    const ImVec2 p = im(view.toScreen(state.mouseImage) + Vec2(16, -22));
+    const ImVec2 size = ImGui::CalcTextSize(text);
+    dl->AddRectFilled({p.x - 4, p.y - 2}, {p.x + size.x + 4, p.y + size.y + 2}, rgba(20, 20, 28, 220), 3.0f);
+    dl->AddText(p, rgba(255, 230, 80), text);
   }
   if (state.poseTool.selectingRect()) {
     const Vec2 a = view.toScreen(state.poseTool.rectStart()), b = view.toScreen(state.poseTool.rectEnd());

@@ -309,11 +309,39 @@ void runDeferred(AppState& state) {
   action(state);
 }
 
+namespace {
+/// `path` when no file is there, else the first of <stem>-2<ext>, <stem>-3<ext>, … that is free.
+std::string freeName(const fs::path& path, const std::string& ext) {
+  std::error_code ec;
+  const fs::path stem = path.parent_path() / path.filename().string().substr(0, path.filename().string().size() - ext.size());
+  fs::path p = path;
+  for (int k = 2; fs::exists(p, ec) && k < 10000; ++k) p = stem.string() + "-" + std::to_string(k) + ext;
+  return p.string();
+}
+
+/// The picture's path without its extension ("untitled" in the working folder without one).
+fs::path pictureStem(const AppState& state) {
+  if (state.imagePath.empty()) return "untitled";
+  fs::path p(state.imagePath);
+  return p.parent_path() / p.stem();
+}
+}  // namespace
+
+std::string proposedSessionPath(const AppState& state) { return freeName(pictureStem(state).string() + ".kcw.json", ".kcw.json"); }
+
+std::string proposedExportPath(const AppState& state) {
+  if (!state.exportPath.empty()) {
+    const fs::path e(state.exportPath);
+    return freeName(e, e.extension().string());
+  }
+  return freeName(pictureStem(state).string() + "-warped.png", ".png");
+}
+
 void saveCommand(AppState& state, bool saveAs) {
   whenIdle(state, [saveAs](AppState& st) {
     if (!st.session) return;
     if (saveAs || st.sessionPath.empty())
-      requestPath(st, PathPurpose::SaveSession, st.sessionPath.empty() ? "untitled.kcw.json" : st.sessionPath);
+      requestPath(st, PathPurpose::SaveSession, st.sessionPath.empty() ? proposedSessionPath(st) : st.sessionPath);
     else
       saveSessionFile(st, st.sessionPath);
   });
@@ -322,7 +350,7 @@ void saveCommand(AppState& state, bool saveAs) {
 void exportCommand(AppState& state, bool exportAs) {
   whenIdle(state, [exportAs](AppState& st) {
     if (!st.session) return;
-    if (exportAs || st.exportPath.empty()) requestPath(st, PathPurpose::Export, st.exportPath.empty() ? "warped.png" : st.exportPath);
+    if (exportAs || st.exportPath.empty()) requestPath(st, PathPurpose::Export, proposedExportPath(st));
     else startExport(st, st.exportPath);
   });
 }
@@ -367,7 +395,7 @@ bool loadCageAndBind(AppState& state, const std::string& path) {
   }
   if (!loadCageFile(state, path)) return false;
   rememberFile(state, path);
-  if (state.cageValid) startBind(state);
+  if (state.cageValid) requestBind(state);
   return true;
 }
 

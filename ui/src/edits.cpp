@@ -1,8 +1,10 @@
 #include "kc/ui/edits.h"
 
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 
 #include "kc/app/errors.h"
 #include "kc/ui/jobs.h"
@@ -82,6 +84,8 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
         } else if constexpr (std::is_same_v<T, RigidityEdit>) {
           if (!state.session) return false;
           return startRestoreRigidity(state, edit, forward);
+        } else if constexpr (std::is_same_v<T, BindEdit>) {
+          return swapBoundDocument(state, edit);
         } else if constexpr (std::is_same_v<T, LinesEdit>) {
           return applyLines(state, forward ? edit.after : edit.before);
         } else if constexpr (std::is_same_v<T, MethodEdit>) {
@@ -100,9 +104,11 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
       entry.edit);
 }
 
-/// Weight edits, method switches and rigidity strokes run on the worker with the session.
+/// Weight edits, method switches and rigidity strokes run on the worker with the session; a bind's
+/// undo swaps the session.
 bool needsSession(const Edit& e) {
-  return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e) || std::holds_alternative<RigidityEdit>(e);
+  return std::holds_alternative<WeightEdit>(e) || std::holds_alternative<MethodEdit>(e) || std::holds_alternative<RigidityEdit>(e) ||
+         std::holds_alternative<BindEdit>(e);
 }
 
 bool endInteractions(AppState& state) {
@@ -130,6 +136,7 @@ bool undo(AppState& state) {
     postMessage(state, "Cannot undo '" + label + "' now.", false);
     return false;
   }
+  if (!std::holds_alternative<BindEdit>(e.edit)) postMessage(state, "Undone: " + e.label + ".", false);  // a bind says which is back
   state.unsaved = true;
   return true;
 }
@@ -148,9 +155,35 @@ bool redo(AppState& state) {
     postMessage(state, "Cannot redo '" + label + "' now.", false);
     return false;
   }
+  if (!std::holds_alternative<BindEdit>(e.edit)) postMessage(state, "Redone: " + e.label + ".", false);
   state.unsaved = true;
   return true;
 }
+
+namespace {
+
+/// After a full deform: the status bar says when the picture folds more than it did (and how to
+/// undo what folded it) or no longer folds.
+void tellFolds(AppState& state) {
+  const Index folds = state.deformReport.flippedTriangles;
+  const Index before = std::exchange(state.foldsTold, folds);
+  if (folds == 0 && before > 0) postMessage(state, "The picture no longer folds over itself.", false);
+  if (folds <= before) return;
+  std::string fix = "Undo (Ctrl+Z) the last change to go back";
+  if (const UndoEntry* last = state.undo.nextUndo()) {
+    if (std::holds_alternative<WeightEdit>(last->edit)) fix = "Undo the stroke (Ctrl+Z), or paint with a lower Strength";
+    else if (std::holds_alternative<MethodEdit>(last->edit)) fix = "Undo the method switch (Ctrl+Z) to go back";
+    else if (std::holds_alternative<PoseEdit>(last->edit)) fix = "Undo the move (Ctrl+Z), or move the points less far";
+  } else {
+    fix = "Move the points less far";
+  }
+  char count[64];
+  std::snprintf(count, sizeof count, "%ld small triangle%s", long(folds), folds == 1 ? "" : "s");
+  postMessage(state, std::string("The picture folds over itself (") + count + " turned over, marked red). " + fix + ".", false);
+  state.messages.back().offersUndo = state.undo.canUndo();
+}
+
+}  // namespace
 
 bool updateDeformation(AppState& state) {
   if (!state.mesh.hasWeights()) return false;
@@ -166,6 +199,7 @@ bool updateDeformation(AppState& state) {
     postMessage(state, std::string("Deformation failed: ") + e.what(), true);
   }
   state.deformedLive = live;
+  if (!live) tellFolds(state);
   state.timings.deformMs = state.deformReport.seconds * 1e3;
   state.deformedPose = state.poseRevision;
   state.deformedMesh = state.meshRevision;

@@ -15,6 +15,8 @@ void drawLayout(AppState& state, float menuHeight) {
   const float statusHeight = ImGui::GetFrameHeight() + 12.0f;
   const float panelHeight = io.DisplaySize.y - menuHeight - statusHeight;
   layoutCanvas(state, Vec2(0, menuHeight), Vec2(io.DisplaySize.x - kSidePanelWidth, panelHeight));
+  // Before the panels: they show this frame's clicks (a selection's count), not the last frame's.
+  handleCanvasInput(state);
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kSidePanelWidth, menuHeight));
   ImGui::SetNextWindowSize(ImVec2(kSidePanelWidth, panelHeight));
   ImGui::Begin("##side", nullptr,
@@ -35,7 +37,6 @@ bool drawFrame(AppState& state) {
   const float menuHeight = drawMainMenu(state);
   drawLayout(state, menuHeight);
   handleShortcuts(state);
-  handleCanvasInput(state);
   const bool deformed = updateDeformation(state);
   drawCanvasOverlay(state);
   drawHelpWindow(state);

@@ -5,9 +5,11 @@
 #include <chrono>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "kc/app/session.h"
 #include "kc/ui/app_state.h"
+#include "kc/ui/jobs.h"
 
 namespace kc::ui::detail {
 
@@ -36,5 +38,17 @@ void rebuildFromW(app::Session& s, AppState::MeshSource& source);
 
 /// False (with a "Busy: <what> after the current job has finished." message) while a job runs.
 bool canStart(AppState& state, const char* what);
+
+/// The rigidity painted on the old samples (#S_old), carried over to those of `s` (each takes the
+/// ρ of the nearest old sample within max(h_old, h)·1.5) and re-solved on the worker (not recorded).
+void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vector<double>& oldRigidity, double oldSpacing,
+                     const app::Session& s);
+
+/// Installs the session of a bind that replaces `previous` (rebind.cpp): the pose carries over,
+/// painted rigidity is carried to the new samples, and the bind goes on the undo stack (BindEdit).
+void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display);
+
+/// The question before a bind that would leave paint strokes behind ("" when there are none).
+std::string rebindQuestion(const AppState& state);
 
 }  // namespace kc::ui::detail

@@ -1,6 +1,7 @@
 #include "kc/ui/jobs.h"
 
 #include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -108,10 +109,9 @@ bool lostByRebind(const UndoEntry& e) {
   return m && m->WBefore.rows() > 0;
 }
 
-/// Installs the session of a re-bind after a line edit, keeping the pose (when the cage kept its
-/// points), the tool, the line selection and the undo history without the edits tied to the old
-/// samples (paint strokes, weights from a file).
-
+/// Installs the session of a re-bind after a line edit, keeping the pose, the tool, the line
+/// selection and the undo history without the edits tied to the old samples (paint strokes,
+/// weights from a file).
 void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
   const Pose pose = st.pose;
   const Cage cageBefore = st.boundCage;
@@ -122,8 +122,7 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  if (cageBefore.C.rows() == s->cage.C.rows() && cageBefore.C == s->cage.C && pose.size() == static_cast<std::size_t>(s->cage.size()))
-    setPose(st, pose);
+  setPose(st, carriedPose(cageBefore, pose, s->cage));
   st.tool = tool;
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
@@ -131,11 +130,7 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   st.undo = std::move(history);
   if (dropped > 0)
     postMessage(st, "The new bind changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
-  // The painted rigidity belongs to the old samples: carried over to the new ones and re-solved.
-  if (anyRigid(oldRigidity)) {
-    std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s->samples, s->rigidity, std::max(oldSpacing, s->params.spacing));
-    if (rho != s->rigidity) startRigidity(st, std::move(rho), "rigidity after the lines", /*record=*/false);
-  }
+  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
 }
 
 }  // namespace
@@ -270,9 +265,11 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       s->outside = toString(meshOptions.outside);
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow, keepPoseAndHistory](AppState& st) {
+      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
         if (keepPoseAndHistory) {
           installKeepingPose(st, s, display);
+        } else if (previous) {
+          installReplacing(st, previous, s, display);
         } else {
           installSession(st, s, display, true);
           st.tool = Tool::Pose;
@@ -321,18 +318,16 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
     const auto bindAgain = [](AppState& st) {
       const OutsideMode before = st.outside;
       st.outside = OutsideMode::Deform;
-      if (!startBind(st, true, true)) {
+      if (!startBind(st)) {
         st.outside = before;
         return false;
       }
       postMessage(st, "Move everything needs weights up to the picture's border: binding again with the whole picture sampled (the pose is kept).", false);
       return true;
     };
-    // The new bind computes the weights anew: unsaved paint strokes are asked about first
-    // ("Save and Bind again", "Bind again without saving", "Cancel").
-    if (state.unsaved && state.undo.any(lostByRebind)) {
-      state.unsavedPrompt = PendingAction{"Bind again", [bindAgain](AppState& st) { bindAgain(st); }};
-      postMessage(state, "Move everything binds again over the whole picture, which computes the weights anew: your paint strokes are not saved yet.", false);
+    // The new bind computes the weights anew: paint strokes in them are named first.
+    if (const std::string question = rebindQuestion(state); !question.empty()) {
+      state.unsavedPrompt = PendingAction{"Bind again", [bindAgain](AppState& st) { bindAgain(st); }, question};
       return false;
     }
     return bindAgain(state);
@@ -381,35 +376,67 @@ namespace {
 /// mesh (only the controls whose weights changed). The session and the mesh's weight source are
 /// borrowed by the job (null in the AppState meanwhile) and handed back when it ends. `done` runs
 /// on the main thread after success, `undoFailure` on the worker when the optimization threw.
+/// A stroke's guard against folds (startReoptimize): when the re-optimized weights fold the picture
+/// under `pose` more than `foldsBefore` triangles, the stroke is halved (its targets W0 moved back
+/// halfway to W0Before) and re-optimized, up to kStrokeHalvings times; a stroke that still folds
+/// then is kept whole (and the fold is told). `kept` is the share of the stroke kept (1, 1/2, …).
+struct FoldGuard {
+  Pose pose;
+  Index foldsBefore = 0;
+  Weights W0Before, W0Stroke;  ///< #R×m: the painted rows' targets before and after the stroke.
+  double kept = 1.0;
+};
+constexpr int kStrokeHalvings = 3;
+
 bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, const char* title,
-                      std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure) {
+                      std::function<void(AppState&)> done, std::function<void(app::Session&)> undoFailure,
+                      std::shared_ptr<FoldGuard> guard = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   SessionPtr s = std::move(state.session);
   SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
-  state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0](JobContext& ctx) -> Worker::Apply {
+  state.worker.submit(title, [s, source, mesh, rows, method, done, undoFailure, t0, guard](JobContext& ctx) -> Worker::Apply {
     try {
       ctx.progress("optimization", 0.1);
-      const auto t1 = std::chrono::steady_clock::now();
-      std::vector<Index> columns;
-      const OptimizeReport r = app::reoptimize(*s, method, rows, &columns);
-      const double reoptimizeMs = msSince(t1);
+      double reoptimizeMs = 0.0, meshMs = 0.0, setWeightsMs = 0.0;
+      OptimizeReport r;
+      // Re-optimizes the rows from the session's W0 and re-weights the mesh: only the controls
+      // whose weights changed are re-evaluated at the mesh vertices.
+      auto solve = [&] {
+        const auto t1 = std::chrono::steady_clock::now();
+        std::vector<Index> columns;
+        r = app::reoptimize(*s, method, rows, &columns);
+        reoptimizeMs += msSince(t1);
+        const auto t2 = std::chrono::steady_clock::now();
+        source->sampler.updateColumns(*s->field, columns, source->W);
+        meshMs += msSince(t2);
+        const auto t3 = std::chrono::steady_clock::now();
+        mesh->setWeights(source->W);
+        setWeightsMs += msSince(t3);
+      };
+      solve();
       ctx.progress("warp mesh", 0.6);
-      const auto t2 = std::chrono::steady_clock::now();
-      // Only the controls whose weights changed are re-evaluated at the mesh vertices.
-      source->sampler.updateColumns(*s->field, columns, source->W);
-      const double meshMs = msSince(t2);
-      const auto t3 = std::chrono::steady_clock::now();
-      mesh->setWeights(source->W);
-      const double setWeightsMs = msSince(t3);
+      if (guard && guard->pose.size() == static_cast<std::size_t>(mesh->cage().size())) {
+        auto folds = [&] { return mesh->deform(guard->pose, DeformPass::Final).flippedTriangles > guard->foldsBefore; };
+        for (int k = 0; k < kStrokeHalvings && folds(); ++k) {
+          guard->kept *= 0.5;
+          scatterRows(s->W0, rows, guard->W0Before + guard->kept * (guard->W0Stroke - guard->W0Before));
+          solve();
+        }
+        if (guard->kept < 1.0 && folds()) {  // no gentler stroke unfolds it: the stroke as painted
+          guard->kept = 1.0;
+          scatterRows(s->W0, rows, guard->W0Stroke);
+          solve();
+        }
+      }
       return [s, mesh, source, done, r, reoptimizeMs, meshMs, setWeightsMs, t0](AppState& st) {
         takeBack(st, s, mesh, source);
-        if (done) done(st);
         st.unsaved = true;
         st.timings.reoptimizeMs = reoptimizeMs;
         st.timings.reoptimizeSamples = r.solved;
         st.timings.meshWeightsMs = meshMs;
         st.timings.meshSetWeightsMs = setWeightsMs;
+        if (done) done(st);
         noteReleaseResult(st, t0);
         postSolverProblems(st, r, "Re-optimization");
       };
@@ -427,17 +454,32 @@ bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, c
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
   if (!state.session || !state.meshSource || !canStart(state, "re-optimize")) return false;
   auto e = std::make_shared<WeightEdit>(std::move(edit));
+  // A stroke that would fold the shown picture is made gentler (FoldGuard), when the picture shown
+  // is the full deform of the present pose.
+  std::shared_ptr<FoldGuard> guard;
+  if (!e->rows.empty() && state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && !state.deformedLive)
+    guard = std::make_shared<FoldGuard>(FoldGuard{state.pose, state.deformReport.flippedTriangles, e->W0Before, e->W0After});
   return submitReoptimize(
       state, e->rows, e->methodAfter, "Re-optimizing",
-      [e, label](AppState& st) {
+      [e, label, guard](AppState& st) {
+        e->W0After = gatherRows(st.session->W0, e->rows);  // the stroke as kept
         e->WAfter = gatherRows(st.session->W, e->rows);
+        char text[200];
+        if (guard && guard->kept < 1.0)
+          std::snprintf(text, sizeof text, "Stroke (%s) softened to 1/%.0f: at full strength it folded the picture. %ld samples re-optimized in %.0f ms.",
+                        label.c_str(), 1.0 / guard->kept, long(st.timings.reoptimizeSamples), st.timings.reoptimizeMs);
+        else
+          std::snprintf(text, sizeof text, "Stroke (%s): %ld samples re-optimized in %.0f ms.", label.c_str(),
+                        long(st.timings.reoptimizeSamples), st.timings.reoptimizeMs);
+        postMessage(st, text, false);
         st.undo.push({label, std::move(*e)});
       },
       [e](app::Session& s) {
         scatterRows(s.W0, e->rows, e->W0Before);
         if (e->WBefore.rows() > 0) scatterRows(s.W, e->rows, e->WBefore);
         s.params.kc.method = e->methodBefore;
-      });
+      },
+      guard);
 }
 
 bool startMethod(AppState& state, Method method, bool record) {
@@ -450,6 +492,12 @@ bool startMethod(AppState& state, Method method, bool record) {
   if (record && !state.weightsReproducible) entry->WBefore = state.session->W;
   std::function<void(AppState&)> done = [record, entry, method](AppState& st) {
     st.weightsReproducible = true;
+    char text[160];
+    std::string name(app::toString(method));
+    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    std::snprintf(text, sizeof text, "Method %s: the weights of all %ld samples re-optimized in %.0f ms.", name.c_str(),
+                  long(st.session->samples.size()), st.timings.reoptimizeMs);
+    postMessage(st, text, false);
     if (record) st.undo.push({std::string("method ") + std::string(app::toString(method)), std::move(*entry)});
   };
   return submitReoptimize(state, {}, method, "Re-optimizing", done, [before](app::Session& s) {

@@ -54,17 +54,20 @@ Worker::Apply strokeTakenBack(const SessionPtr& s, const SourcePtr& source) {
 }  // namespace
 
 std::string rigiditySolveSummary(const app::RigidityUpdate& u) {
+  char text[240];
+  if (!u.report.solver.converged)
+    std::snprintf(text, sizeof text, "Rigidity: the solver stopped before it was done; the region is as rigid as it got.");
+  else
+    std::snprintf(text, sizeof text, "Rigidity: %ld sample points held rigid (%.0f ms).", long(u.report.region), 1e3 * u.seconds);
+  return text;
+}
+
+std::string rigiditySolveDetails(const app::RigidityUpdate& u) {
   const RigidityQpReport& q = u.report.solver;
   const bool admm = q.method == RigidityQpMethod::Splitting;  // a large region, or an active set that did not settle
-  const char* method = admm ? "ADMM" : "active set";
   char text[240];
-  if (!q.converged)
-    std::snprintf(text, sizeof text, "Rigidity: the %s stopped after %d %s without converging (weights kept as far as it got).",
-                  admm ? "ADMM" : "active set", q.iterations, admm ? "iterations" : "rounds");
-  else
-    std::snprintf(text, sizeof text, "Rigidity: %ld samples rigid, %ld controls; %s, %d %s; %.0f ms.", long(u.report.region),
-                  long(u.report.controls), method, q.iterations, admm ? "iterations" : "rounds",
-                  1e3 * u.seconds);
+  std::snprintf(text, sizeof text, "rigidity: %ld samples, %ld controls; %s, %d %s%s", long(u.report.region), long(u.report.controls),
+                admm ? "ADMM" : "active set", q.iterations, admm ? "iterations" : "rounds", q.converged ? "" : ", not converged");
   return text;
 }
 
@@ -173,7 +176,10 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
         st.timings.reoptimizeSamples = static_cast<Index>(u.rows.size());
         st.timings.meshWeightsMs = meshMs;
         noteReleaseResult(st, t0);
-        if (u.report.nodes > 0) postMessage(st, rigiditySolveSummary(u), !u.report.solver.converged);
+        if (u.report.nodes > 0) {
+          postMessage(st, rigiditySolveSummary(u), !u.report.solver.converged);
+          st.rigidityDetails = rigiditySolveDetails(u);
+        }
       };
     } catch (const std::exception& ex) {
       s->W = W;

@@ -39,7 +39,7 @@ void handleShortcuts(AppState& state) {
     if (pressed(GLFW_KEY_O)) requestPath(state, PathPurpose::Open, state.imagePath);
     if (pressed(GLFW_KEY_N)) unlessUnsaved(state, "New", newDocument);
     if (pressed(GLFW_KEY_R)) resetPose(state);
-    if (pressed(GLFW_KEY_B)) startBind(state);
+    if (pressed(GLFW_KEY_B)) requestBind(state);
     if (pressed(GLFW_KEY_Q)) state.quitRequested = true;
     return;
   }

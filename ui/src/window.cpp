@@ -155,6 +155,25 @@ int runWindow(const WindowOptions& o) {
       ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
       if (action == GLFW_PRESS) static_cast<AppState*>(glfwGetWindowUserPointer(w))->tappedKeys.emplace_back(key, mods);
     });
+    // Mouse buttons and moves, in order with their positions, for the canvas (AppState::pointerInputs).
+    state->pointerQueued = true;
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+      ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+      if (button > 2 || action == GLFW_REPEAT) return;
+      if (!st->pointerAt) {  // no move seen yet: where the pointer is now
+        double x = 0.0, y = 0.0;
+        glfwGetCursorPos(w, &x, &y);
+        st->pointerAt = Vec2(x, y);
+      }
+      st->pointerInputs.push_back({action == GLFW_PRESS ? PointerInput::Kind::Press : PointerInput::Kind::Release, button,
+                                   *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
+    });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+      st->pointerAt = Vec2(x, y);
+      st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
+    });
     glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
       auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
       for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
@@ -189,7 +208,9 @@ int runWindow(const WindowOptions& o) {
       const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
       if (state->canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
         glfwPollEvents();
-        --settleFrames;
+        // A drag's end gets its settle frames too: the release's full deform may post a message
+        // (a fold) after the status bar was drawn.
+        settleFrames = state->canvasDrag.button >= 0 ? 3 : settleFrames - 1;
       } else {
         if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
         else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
@@ -227,6 +248,7 @@ int runWindow(const WindowOptions& o) {
         std::filesystem::create_directories(o.screenshotDir);
         if (!saveScreenshot((std::filesystem::path(o.screenshotDir) / name).string(), fbw, fbh)) --screenshots;
       }
+      if (o.slowFramesMs > 0) std::this_thread::sleep_until(t0 + std::chrono::milliseconds(o.slowFramesMs));
       const auto tSubmitted = std::chrono::steady_clock::now();
       glfwSwapBuffers(window);  // a software renderer draws here
       const auto t1 = std::chrono::steady_clock::now();
@@ -263,6 +285,8 @@ int runWindow(const WindowOptions& o) {
     glfwHideWindow(window);  // the window goes at once; an abandoned bind may still end its solver call
     glfwSetDropCallback(window, nullptr);
     glfwSetKeyCallback(window, ImGui_ImplGlfw_KeyCallback);
+    glfwSetMouseButtonCallback(window, ImGui_ImplGlfw_MouseButtonCallback);
+    glfwSetCursorPosCallback(window, nullptr);
     glfwSetWindowUserPointer(window, nullptr);
   }
   ImGui_ImplOpenGL3_Shutdown();

@@ -9,6 +9,7 @@ namespace kc::ui {
 const char* usageText() {
   return "usage: kcwarp [IMAGE.png|SESSION.kcw.json] [--cage CAGE.json] [--export OUT.png]\n"
          "              [--ready-file F] [--frame-log F.csv] [--screenshot-dir DIR] [--recovery F] [--size WxH] [--spacing H]\n"
+         "              [--slow-frames MS]\n"
          "Without INPUT the bundled figure example opens, already bound.\n";
 }
 
@@ -36,6 +37,11 @@ WindowOptions parseWindowOptions(int argc, char** argv) {
       value(s);
       o.spacing = std::atof(s.c_str());
       if (!(o.spacing > 0.0)) o.error = "--spacing expects a positive number of pixels";
+    } else if (a == "--slow-frames") {
+      std::string s;
+      value(s);
+      o.slowFramesMs = std::atoi(s.c_str());
+      if (o.slowFramesMs <= 0) o.error = "--slow-frames expects a positive number of milliseconds";
     } else if (a == "--size") {
       std::string s;
       value(s);

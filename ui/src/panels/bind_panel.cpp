@@ -37,15 +37,25 @@ void backendSwitch(AppState& state) {
   tooltip("Which method computes the influence of each cage point at the next Bind.");
   ImGui::SameLine();
   if (radio(state, "KC##backend", p.backend == "kc",
-            "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush,\n"
+            "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush, "
             "switch the method (QP / QEC / L1) and move everything outside the cage."))
     p.backend = "kc";
   ImGui::SameLine();
   if (radio(state, "LBC##backend", p.backend == "lbc",
-            "Local barycentric coordinates (LBC paper): each point pulls only on the part of the shape near it.\n"
-            "Computed once on a triangle mesh of the cage's inside: no brush, no method switch, and no\n"
+            "Local barycentric coordinates (LBC paper): each point pulls only on the part of the shape near it. "
+            "Computed once on a triangle mesh of the cage's inside: no brush, no method switch, and no "
             "influence outside the cage (the outside is kept or pinned)."))
     p.backend = "lbc";
+}
+
+/// The Auto spacing tooltip, with the sample budget the automatic spacing keeps to.
+std::string autoSpacingTip() {
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "Let kcwarp choose the sample spacing: 6 px, wider on big pictures so that Bind takes seconds, not minutes "
+                "(about %.0f samples over the cage and a band around it). Untick to set it yourself.",
+                app::kAutoSpacingSamples);
+  return text;
 }
 
 /// The LBC solver's parameters (the "lbc" backend, and Initialization = lbc of the kc backend).
@@ -53,14 +63,14 @@ void lbcControls(AppState& state) {
   app::LbcParams& l = state.bindParams.lbc;
   static constexpr LbcTau taus[] = {LbcTau::Square, LbcTau::Constant, LbcTau::Linear, LbcTau::Sqrt};
   enumCombo("LBC locality", l.tau, taus,
-            "How strongly an influence far from its point is penalized (tau of the distance inside the shape, LBC eq. 11):\n"
+            "How strongly an influence far from its point is penalized (tau of the distance inside the shape, LBC eq. 11): "
             "square: most local (recommended); linear and sqrt: less local; const: no distance weighting.");
   markWidget(state, "LBC locality");
   float tolerance = static_cast<float>(l.tolerance);
   if (ImGui::SliderFloat("LBC tolerance", &tolerance, 1e-5f, 1e-1f, "%.0e", ImGuiSliderFlags_Logarithmic))
     l.tolerance = std::clamp(static_cast<double>(tolerance), 1e-5, 1e-1);
   labelled(state, "LBC tolerance",
-           "When the solver may stop: its residuals (RMS per point, picture scaled to size 1) below this, and the\n"
+           "When the solver may stop: its residuals (RMS per point, picture scaled to size 1) below this, and the "
            "result certified within 0.1% of the best possible. Smaller: slower, barely different (default 1e-3).");
   int iterations = l.maxIterations;
   if (ImGui::InputInt("Max iterations", &iterations, 1000, 10000)) l.maxIterations = std::clamp(iterations, 1, 1'000'000);
@@ -83,8 +93,22 @@ void drawBindButtons(AppState& state) {
   if (button(state, "Bind##run",
              "Compute how each cage point pulls on the picture (Ctrl+B). Then drag points with the Pose tool.",
              ImVec2(120, 0)))
-    startBind(state);
+    requestBind(state);
   if (!canBind) ImGui::EndDisabled();
+  // The bind before the last one (another backend, say) one click away, and back: undo and redo of
+  // the bind while nothing was done since.
+  const UndoEntry* previous = state.undo.nextUndo();
+  const UndoEntry* next = state.undo.nextRedo();
+  const bool idle = state.session && !state.worker.busy();
+  if (idle && previous && std::holds_alternative<BindEdit>(previous->edit)) {
+    ImGui::SameLine();
+    if (button(state, "Previous bind", "Back to the bind before this one, with its weights and pose (Ctrl+Z); "
+                                       "Next bind then comes back to this one."))
+      undo(state);
+  } else if (idle && next && std::holds_alternative<BindEdit>(next->edit)) {
+    ImGui::SameLine();
+    if (button(state, "Next bind", "Forward to the bind you came back from (Ctrl+Shift+Z).")) redo(state);
+  }
   if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
@@ -102,9 +126,7 @@ void drawBindPanel(AppState& state) {
   const bool lbc = p.backend == "lbc";
   ImGui::PushItemWidth(150);
   if (!lbc) {
-    checkbox(state, "Auto spacing", &state.autoSpacing,
-             "Let kcwarp choose the sample spacing: 6 px, wider on big pictures so that Bind\n"
-             "takes seconds, not minutes (about 30,000 samples at most). Untick to set it yourself.");
+    checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip().c_str());
     if (state.autoSpacing && !state.source.empty() && state.cageValid) {
       ImGui::SameLine();
       ImGui::TextDisabled("%.1f px", autoSpacingShown(state));
@@ -116,14 +138,14 @@ void drawBindPanel(AppState& state) {
   float spacing = static_cast<float>(p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
   ImGui::EndDisabled();
-  std::string tip = lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels.\n"
+  std::string tip = lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels. "
                           "Smaller: finer detail, slower Bind. Larger: faster, coarser."
                         : spacingFixed ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
-                                       : "Distance between the sample points the weights are computed at, in pixels.\n"
+                                       : "Distance between the sample points the weights are computed at, in pixels. "
                                          "Smaller: finer detail, slower Bind. Larger: faster, smoother.";
   if (!lbc && p.kc.init.method == InitMethod::Lbc) {
     char line[128];
-    std::snprintf(line, sizeof line, "\nWith LBC initialization the LBC mesh's edges are %.3g times this spacing.",
+    std::snprintf(line, sizeof line, " With LBC initialization the LBC mesh's edges are %.3g times this spacing.",
                   1.0 / app::kLbcTargetSampling);
     tip += line;
   }
@@ -163,8 +185,8 @@ void drawBindPanel(AppState& state) {
     // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
     bool screened = p.kc.init.locality != 0.0;
     if (checkbox(state, "Local targets", &screened,
-                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion).\n"
-                 "More local, but far points may get very small influence.\n"
+                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion). "
+                 "More local, but far points may get very small influence. "
                  "Off: smooth, global influences. Takes effect at the next Bind."))
       p.kc.init.locality = screened ? -1.0 : 0.0;
     if (screened) {

@@ -1,5 +1,8 @@
 #include <imgui.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -27,17 +30,25 @@ constexpr Column kColumns[] = {
     {"neg", "How many checked places have a clearly negative weight (below -0.001)."},
 };
 
+/// An error measure in plain figures: "0" below rounding (1e-9), else one significant digit.
+std::string errorText(double v) {
+  if (std::abs(v) < 1e-9) return "0";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.0e", v);
+  return text;
+}
+
 void propertyRow(AppState& state, const char* name, const char* tip, const app::PropertyRow& r) {
   ImGui::TableNextRow();
   ImGui::TableNextColumn();
   ImGui::TextUnformatted(name);
   labelled(state, name, tip);
   ImGui::TableNextColumn();
-  ImGui::Text("%.1e", r.partitionOfUnity);
+  ImGui::TextUnformatted(errorText(r.partitionOfUnity).c_str());
   ImGui::TableNextColumn();
-  ImGui::Text("%.1e", r.reproduction);
+  ImGui::TextUnformatted(errorText(r.reproduction).c_str());
   ImGui::TableNextColumn();
-  ImGui::Text("%.3f", r.minWeight);
+  ImGui::Text("%.3f", r.minWeight > -5e-4 ? std::max(r.minWeight, 0.0) : r.minWeight);  // no "-0.000"
   ImGui::TableNextColumn();
   ImGui::Text("%ld", long(r.negatives));
 }
@@ -82,7 +93,7 @@ void drawDiagnosticsPanel(AppState& state) {
       }
       ImGui::EndTable();
     }
-    ImGui::Text("Lagrange %.1e   edge linearity %.1e", d.lagrange, d.edgeLinearity);
+    ImGui::Text("Lagrange %s   edge linearity %s", errorText(d.lagrange).c_str(), errorText(d.edgeLinearity).c_str());
     labelled(state, "Lagrange", "Lagrange: how far each cage point's own weight is from 1 at that point. Edge linearity: "
                                 "how far the weights along each cage edge are from a straight blend of its two points. "
                                 "Small means the cage outline follows the points exactly.");
@@ -91,11 +102,14 @@ void drawDiagnosticsPanel(AppState& state) {
   }
   ImGui::Separator();
   // Solver outcomes of the bind (and of the last method switch): warning colour when something fell back.
+  // Plain words here; the solvers' own report is the tooltip.
   const std::vector<std::string> problems = state.reports.problems();
-  if (problems.empty()) ImGui::TextWrapped("%s", state.reports.summary().c_str());
+  if (problems.empty()) ImGui::TextWrapped("Solver: every weight was computed as asked.");
   else ImGui::TextUnformatted("Solver warnings:");
-  labelled(state, "Solver", "What the solvers of the last bind or method switch reported. A warning means some sample "
-                            "points got fallback weights: usually harmless, shown so nothing is hidden.");
+  const std::string solverTip = "What the solvers of the last bind or method switch reported. A warning means some sample "
+                                "points got fallback weights: usually harmless, shown so nothing is hidden. Details: " +
+                                state.reports.summary() + (state.rigidityDetails.empty() ? "" : "; " + state.rigidityDetails);
+  labelled(state, "Solver", solverTip.c_str());
   for (const std::string& p : problems) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.2f, 1.0f));
     ImGui::TextWrapped("%s", p.c_str());
@@ -115,9 +129,10 @@ void drawDiagnosticsPanel(AppState& state) {
                                             "fold; kcwarp moves the background points there so it does not. Folds "
                                             "left over happen where the cage is pushed past the picture's border.");
   }
-  ImGui::Text("det J in [%.3g, %.3g]", r.minJacobian, r.maxJacobian);
-  labelled(state, "det J", "How much the pose grows or shrinks each small piece of the picture: 1 = same size, "
-                           "2 = twice the area, below 0 = folded over.");
+  ImGui::Text("Size change: %.2g to %.2g times", r.minJacobian, r.maxJacobian);
+  labelled(state, "Size change", "How much the pose grows or shrinks each small piece of the picture, smallest and largest: "
+                                 "1 = same size, 2 = twice the area, below 0 = folded over (the determinant of the "
+                                 "warp's Jacobian, det J).");
   ImGui::Text("Mesh: %ld vertices, %zu triangles (%.1f px)", long(state.mesh.restVertices().rows()), state.mesh.triangles().size(),
               state.mesh.options().spacing);
   labelled(state, "Mesh", "The picture is drawn as a grid of small triangles that follow the pose; the grid spacing in pixels.");

@@ -96,8 +96,22 @@ void browserDialog(AppState& state) {
     setFolder(chosen, purpose);
     chosen.clear();
   }
+  // Saving over a file that exists is asked first (as the desktop's dialogs do).
+  std::error_code ec;
+  if (!chosen.empty() && isSave(purpose) && chosen != state.replacePath && fs::exists(chosen, ec)) {
+    state.replacePath = chosen;
+    chosen.clear();
+  }
+  if (!state.replacePath.empty() && state.replacePath != buffer) state.replacePath.clear();  // another name typed
+  if (!state.replacePath.empty()) {  // on the row of Save and Cancel
+    ImGui::SameLine();
+    ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s exists.", fs::path(state.replacePath).filename().c_str());
+    ImGui::SameLine();
+    if (button(state, "Replace it##file", "Write over the file that is there.")) chosen = state.replacePath;
+  }
   if (!chosen.empty() || cancel) {
     state.pathDialog = PathPurpose::None;
+    state.replacePath.clear();
     ImGui::CloseCurrentPopup();
     if (!chosen.empty()) run(state, purpose, chosen);
     else state.afterSave = nullptr;
@@ -120,15 +134,45 @@ std::string lowerFirst(std::string s) {
   return s;
 }
 
+/// A question before an action with a consequence (PendingAction::question): "<what>" or Cancel.
+void questionPrompt(AppState& state) {
+  const bool asking = state.unsavedPrompt && !state.unsavedPrompt->question.empty();
+  if (asking && !ImGui::IsPopupOpen("Before you go on")) ImGui::OpenPopup("Before you go on");
+  if (!ImGui::BeginPopupModal("Before you go on", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  if (!asking) {
+    ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+    return;
+  }
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 36.0f);
+  ImGui::TextUnformatted(state.unsavedPrompt->question.c_str());
+  ImGui::PopTextWrapPos();
+  const std::string go = state.unsavedPrompt->what + "##question";
+  if (button(state, go.c_str(), "Go on as described above.")) {
+    auto action = std::move(state.unsavedPrompt->run);
+    state.unsavedPrompt.reset();
+    ImGui::CloseCurrentPopup();
+    action(state);
+  } else {
+    ImGui::SameLine();
+    if (button(state, "Cancel##question", "Go back to your work; nothing changes.")) {
+      state.unsavedPrompt.reset();
+      ImGui::CloseCurrentPopup();
+    }
+  }
+  ImGui::EndPopup();
+}
+
 /// "Save and <what>", "<what> without saving", "Cancel" before unsaved work would be lost.
 void unsavedPrompt(AppState& state) {
   if (state.quitRequested) {
     state.quitRequested = false;
     unlessUnsaved(state, "Quit", [](AppState& st) { st.quitConfirmed = true; });
   }
-  if (state.unsavedPrompt && !ImGui::IsPopupOpen("Unsaved changes")) ImGui::OpenPopup("Unsaved changes");
+  const bool asked = state.unsavedPrompt && state.unsavedPrompt->question.empty();
+  if (asked && !ImGui::IsPopupOpen("Unsaved changes")) ImGui::OpenPopup("Unsaved changes");
   if (!ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
-  if (!state.unsavedPrompt) {  // answered elsewhere (e.g. a second request replaced it)
+  if (!asked) {  // answered elsewhere (e.g. a second request replaced it)
     ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
     return;
@@ -148,7 +192,7 @@ void unsavedPrompt(AppState& state) {
     state.unsavedPrompt.reset();
     ImGui::CloseCurrentPopup();
     if (unboundCage) requestPath(state, PathPurpose::SaveCage, "cage.json");
-    else if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, "untitled.kcw.json");
+    else if (state.sessionPath.empty()) requestPath(state, PathPurpose::SaveSession, proposedSessionPath(state));
     else saveSessionFile(state, state.sessionPath);
   }
   if (!canSave) ImGui::EndDisabled();
@@ -194,6 +238,7 @@ void drawDialogs(AppState& state) {
   openDroppedFiles(state);
   pollNativeDialog(state);
   browserDialog(state);
+  questionPrompt(state);
   unsavedPrompt(state);
 }
 

@@ -63,7 +63,7 @@ float drawMainMenu(AppState& state) {
     if (ImGui::MenuItem("Reset pose", "Ctrl+R", false, state.bound)) resetPose(state);
     tooltip("Put every cage point back where it was when you pressed Bind (undoable).");
     ImGui::Separator();
-    if (ImGui::MenuItem("Bind", "Ctrl+B", false, idle && state.cageValid && !state.source.empty())) startBind(state);
+    if (ImGui::MenuItem("Bind", "Ctrl+B", false, idle && state.cageValid && !state.source.empty())) requestBind(state);
     tooltip("Compute how the cage points pull on the picture; then drag a point to deform it.");
     ImGui::EndMenu();
   }

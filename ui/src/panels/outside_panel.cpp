@@ -16,16 +16,16 @@ void drawOutsidePanel(AppState& state) {
     const char* id;  // UI automation name of the entry
   } modes[] = {
       {OutsideMode::Pinned, "Pinned border",
-       "The edges of the picture stay where they are; the background between the cage and the\n"
+       "The edges of the picture stay where they are; the background between the cage and the "
        "edges stretches smoothly to follow what you move. Good for a figure on a background.", "outside_pinned"},
       {OutsideMode::Deform, "Move everything",
-       "The whole picture follows the control points, also far outside the cage\n"
+       "The whole picture follows the control points, also far outside the cage "
        "(the original kernel coordinates). Horizons and picture corners may move.", "outside_deform"},
       {OutsideMode::Fixed, "Keep outside",
-       "Only the inside of the cage moves; it is drawn over the untouched picture,\n"
+       "Only the inside of the cage moves; it is drawn over the untouched picture, "
        "so the old outline may show behind it.", "outside_fixed"},
       {OutsideMode::Transparent, "Cut out",
-       "Only the inside of the cage is drawn; everything else is transparent in the view\n"
+       "Only the inside of the cage is drawn; everything else is transparent in the view "
        "and in the exported PNG.", "outside_transparent"},
   };
   int current = 0;

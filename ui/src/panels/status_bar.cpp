@@ -76,10 +76,18 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
   if (!state.messages.empty()) {
     const Message& m = state.messages.back();
     // What fits between the progress bar and the solver warnings and zoom on the right.
-    const float reserved = ImGui::CalcTextSize(right).x + 40.0f + ImGui::CalcTextSize("solver: 99 warnings").x;
+    const float reserved = ImGui::CalcTextSize(right).x + 40.0f + ImGui::CalcTextSize("solver: 99 warnings").x +
+                           (m.offersUndo ? ImGui::CalcTextSize("Undo").x + 20.0f : 0.0f);
     const std::string text = fitted(shown(m.text), width - ImGui::GetCursorPosX() - reserved);
     if (m.error) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.45f, 1.0f), "%s", text.c_str());
+    else if (m.offersUndo) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", text.c_str());
     else ImGui::TextUnformatted(text.c_str());
+    if (m.offersUndo && state.undo.canUndo() && !state.worker.busy()) {
+      ImGui::SameLine();
+      if (ImGui::SmallButton("Undo##fold")) undo(state);
+      tooltip("Undo the change that folded the picture (Ctrl+Z).");
+      markWidget(state, "Undo##fold");
+    }
   }
   if (state.bound && state.reports.anyProblem()) {
     // Solver outcomes that fell back stay visible while the session is open (details: diagnostics panel).

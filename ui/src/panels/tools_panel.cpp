@@ -107,7 +107,7 @@ void drawRigiditySection(AppState& state) {
 
 void drawToolsPanel(AppState& state) {
   if (radio(state, "Pose (P)", state.tool == Tool::Pose,
-            "Move and turn the cage's points to bend the picture.\nAvailable after Bind."))
+            "Move and turn the cage's points to bend the picture. Available after Bind."))
     selectTool(state, Tool::Pose);
   ImGui::SameLine();
   const app::BackendCapabilities caps = shownCapabilities(state);

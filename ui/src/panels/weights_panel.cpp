@@ -51,7 +51,7 @@ void methodControl(AppState& state) {
     Method method;
     const char* tip;
   } methods[] = {
-      {"QP", Method::QP, "Smooth, never negative influence (recommended)."},
+      {"QP", Method::QP, "Smooth influence, not negative at the sample points (between them it may dip a little below 0, as the colour bar shows) (recommended)."},
       {"QEC", Method::QEC, "Fastest; influences may turn slightly negative, so far parts can move the wrong way."},
       {"L1", Method::L1, "Sparse: each part of the picture follows fewer points, more locally."},
   };

@@ -71,8 +71,17 @@ void PoseTool::press(AppState& state, const PointerEvent& e) {
     m_mode = Mode::MovePivot;
     return;
   }
-  if (hit < 0) {
-    if (e.button == MouseButton::Left) m_mode = Mode::Select;
+  if (hit < 0 || (e.button == MouseButton::Right && state.selection.size() >= 2 && isSelected(state, hit))) {
+    // A right-drag turns a multi-selection wherever it starts (off its points too).
+    if (e.button == MouseButton::Left) {
+      m_mode = Mode::Select;
+    } else if (e.button == MouseButton::Right && state.selection.size() >= 2) {
+      if (hit >= 0) state.activeControl = hit;
+      m_mode = Mode::RotateGroup;
+      m_groupPivot = selectionPivot(state);
+      m_angleSet = false;
+      m_angle = 0.0;
+    }
     return;
   }
   if (e.shift && e.button == MouseButton::Left) {  // toggle membership, no drag
@@ -88,12 +97,9 @@ void PoseTool::press(AppState& state, const PointerEvent& e) {
   state.activeControl = hit;
   if (e.button == MouseButton::Left) {
     m_mode = Mode::Move;
-  } else if (e.button == MouseButton::Right && state.selection.size() >= 2) {
-    m_mode = Mode::RotateGroup;
-    m_groupPivot = selectionPivot(state);
-    m_angleSet = false;
   } else if (e.button == MouseButton::Right) {
     m_mode = Mode::Rotate;
+    m_angle = 0.0;
     m_angleSet = (e.position - P.row(hit).transpose()).norm() >= e.pickRadius;
     m_startAngle = screenAngle(e.position - P.row(hit).transpose());
   }
@@ -112,8 +118,8 @@ void PoseTool::drag(AppState& state, const PointerEvent& e) {
       m_angleSet = true;
       m_startAngle = screenAngle(m_start - m_groupPivot);
     }
-    const double angle = std::remainder(screenAngle(e.position - m_groupPivot) - m_startAngle, 2.0 * std::numbers::pi);
-    setPose(state, rotateAbout(m_before, state.boundCage.C, state.selection, m_groupPivot, angle));
+    m_angle = std::remainder(screenAngle(e.position - m_groupPivot) - m_startAngle, 2.0 * std::numbers::pi);
+    setPose(state, rotateAbout(m_before, state.boundCage.C, state.selection, m_groupPivot, m_angle));
     return;
   }
   if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
@@ -131,9 +137,8 @@ void PoseTool::drag(AppState& state, const PointerEvent& e) {
         m_angleSet = true;
         m_startAngle = screenAngle(e.position - pivot);
       }
-      double angle = screenAngle(e.position - pivot) - m_startAngle;
-      angle = std::remainder(angle, 2.0 * std::numbers::pi);
-      for (Index i : state.selection) pose[static_cast<std::size_t>(i)].rotate += angle;
+      m_angle = std::remainder(screenAngle(e.position - pivot) - m_startAngle, 2.0 * std::numbers::pi);
+      for (Index i : state.selection) pose[static_cast<std::size_t>(i)].rotate += m_angle;
     }
     setPose(state, std::move(pose));
   }

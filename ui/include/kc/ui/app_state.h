@@ -93,18 +93,34 @@ struct CanvasDrag {
   Vec2 lastScreen = Vec2::Zero();
 };
 
+/// One mouse event as the window system delivered it (the window's GLFW callbacks): ImGui 1.86
+/// samples the mouse once per frame, so two clicks within one slow frame would become one, at the
+/// later position. The canvas replays these in order (handleCanvasInput).
+struct PointerInput {
+  enum class Kind { Press, Release, Move };
+  Kind kind = Kind::Move;
+  int button = 0;            ///< 0 left, 1 right, 2 middle (Press, Release).
+  Vec2 screen = Vec2::Zero();  ///< Where it happened (screen pixels, the window's coordinates).
+  bool shift = false, ctrl = false;  ///< Modifiers held (Press, Release; a Move takes the frame's).
+};
+
 
 struct AppState;
 
 struct Message {
   std::string text;
   bool error = false;
+  bool offersUndo = false;  ///< The status bar shows an Undo button beside it (a fold's fix).
 };
 
-/// Something that would discard unsaved work, waiting for the user's answer (Open, New, Quit).
+/// Something that would discard unsaved work, waiting for the user's answer (Open, New, Quit), or
+/// an action with a consequence the user should know of first (`question`: Bind again).
 struct PendingAction {
   std::string what;                          ///< Names the action on the prompt's buttons: "Open", "New", "Quit".
   std::function<void(AppState&)> run;
+  /// Empty: the unsaved-changes prompt (Save and …, … without saving, Cancel). Else this question,
+  /// with the buttons `what` and Cancel.
+  std::string question = {};
 };
 
 struct AppState {
@@ -121,6 +137,7 @@ struct AppState {
   /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
   app::BackendCapabilities capabilities;
   app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
+  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
   /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
   /// re-optimization; not for a session file, which may come from another version).
   bool weightsReproducible = false;
@@ -179,6 +196,9 @@ struct AppState {
   bool deformedLive = false;
   std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
   DeformReport deformReport;
+  /// Folded triangles of the last full deform the status bar was told of (updateDeformation): a
+  /// deform that folds more says so in plain words with its fix; one that unfolds says that too.
+  Index foldsTold = 0;
   std::optional<app::Diagnostics> diagnostics;
   std::string sessionPath, exportPath, recoveryPath;
   bool unsaved = false;
@@ -227,6 +247,8 @@ struct AppState {
   Vec2 mouseImage = Vec2::Zero();          ///< Mouse position in image pixels (status bar, brush ring).
   PathPurpose pathDialog = PathPurpose::None;
   std::string pathDialogText;
+  /// The in-app file dialog asks before saving over this file, which exists (empty: not asking).
+  std::string replacePath;
   bool nativeDialogs = false;              ///< Use zenity/kdialog when installed (the window sets it).
   std::shared_ptr<NativeDialog> nativeDialog;  ///< A native dialog that is open.
   std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
@@ -236,6 +258,11 @@ struct AppState {
   /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
   /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
   std::vector<std::pair<int, int>> tappedKeys;
+  /// Mouse presses, releases and moves since the last frame, in order (PointerInput). Filled only
+  /// when `pointerQueued` (the window's callbacks); otherwise the canvas reads ImGui's mouse state.
+  std::vector<PointerInput> pointerInputs;
+  bool pointerQueued = false;
+  std::optional<Vec2> pointerAt;           ///< The last position the window's callbacks saw (a press's position).
   /// Set by a frame that left work for the next one (the renderer defers the detail texture while
   /// the view moves): the window draws one more frame before it sleeps. Input that arrives during
   /// the few frames drawn after an event does not itself extend them.

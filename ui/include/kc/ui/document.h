@@ -32,6 +32,12 @@ void unlessUnsaved(AppState& state, std::string what, std::function<void(AppStat
 bool saveSessionFile(AppState& state, const std::string& path);
 /// File > Save (Ctrl+S) / Save as: saves to the session's file, or asks for one first.
 void saveCommand(AppState& state, bool saveAs);
+/// The name Save proposes for a session never saved: the picture's, beside it, with .kcw.json
+/// (<name>-2.kcw.json, … when that file exists).
+std::string proposedSessionPath(const AppState& state);
+/// The name "Export to a new file" proposes: a file that does not exist yet — the last export's
+/// name, else <picture>-warped.png beside the picture, numbered -2, -3, … past the ones there.
+std::string proposedExportPath(const AppState& state);
 /// File > Export (Ctrl+E) / export to a new file: writes the export file, or asks for one first.
 void exportCommand(AppState& state, bool exportAs);
 /// Runs `action` now, or — while a job holds the session (e.g. an autosave) — once it is done.

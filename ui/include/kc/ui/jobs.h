@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "kc/app/session.h"
 #include "kc/ui/app_state.h"
@@ -39,16 +40,22 @@ double autoSpacingShown(AppState& state);
 /// Binds the draft cage with the document's lines (state.lines) over the current image with
 /// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =
 /// false for a bind that only reproduces files on disk (the picture and cage given at startup),
-/// so an untouched document is not "unsaved". `keepPoseAndHistory` (a re-bind after a line edit):
-/// the pose (when the cage kept its points), the tool, the line selection and the undo history
-/// stay — except paint strokes, whose rows belong to the old samples; a cancelled or failed
+/// so an untouched document is not "unsaved". A bind that replaces a bound session keeps the
+/// person's work: the pose carries over (carriedPose), painted rigidity is carried to the new
+/// samples, the undo history stays and the bind is one entry on it (BindEdit: Ctrl+Z brings the
+/// previous session, its weights and pose back). `keepPoseAndHistory` (a re-bind after a line
+/// edit, whose undo binds again): the tool and the line selection stay too, there is no BindEdit,
+/// and the edits tied to the old samples (paint strokes) leave the history; a cancelled or failed
 /// re-bind puts the bound session's lines back and the line edit back on its stack.
 /// Returns false (with a message) when the cage is invalid or a job is running.
 bool startBind(AppState& state, bool markUnsaved = true, bool keepPoseAndHistory = false);
 
 /// Re-optimizes rows edit.rows (all when empty) of the session from its W0 with edit.methodAfter,
 /// refreshes the field and the display mesh; on completion edit.WAfter is filled and pushed to
-/// the undo stack as `label`. W0 must already hold edit.W0After.
+/// the undo stack as `label`. W0 must already hold edit.W0After. A stroke whose weights would fold
+/// the picture under the present pose (more triangles turned over than before it) is halved and
+/// re-optimized, up to three times, until it does not (edit.W0After becomes what was kept; the
+/// status line says so); one that folds even at an eighth is kept as painted.
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label);
 
 /// Re-optimizes all samples from the current targets with `method` (painted targets survive);
@@ -95,3 +102,5 @@ void pollWorker(AppState& state);
 void refreshDiagnostics(AppState& state);
 
 }  // namespace kc::ui
+
+#include "kc/ui/rebind.h"  // binding again (requestBind), part of the jobs' interface

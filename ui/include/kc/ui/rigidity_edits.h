@@ -41,9 +41,12 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
 /// Takes all rigidity away (undoable); false when there is none or a job runs.
 bool clearRigidity(AppState& state);
 
-/// The status line after a rigidity solve: region, controls, the solver's method and rounds (or
-/// ADMM iterations) and the time, or that it stopped without converging.
+/// The status line after a rigidity solve, in plain words: the samples held rigid and the time, or
+/// that the solver stopped before it was done.
 std::string rigiditySolveSummary(const app::RigidityUpdate& u);
+/// The solver's side of it for the diagnostics: region, controls, method and rounds (or ADMM
+/// iterations), and whether it converged.
+std::string rigiditySolveDetails(const app::RigidityUpdate& u);
 
 /// True when some sample of `rho` is rigid (ρ > 0).
 bool anyRigid(const std::vector<double>& rho);

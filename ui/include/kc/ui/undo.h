@@ -1,8 +1,10 @@
 #pragma once
 /// Undo/redo history of the document: cage edits, pose changes, weight edits (paint strokes,
-/// method switches), line edits and rigidity strokes. Entries store what restores the state bit for bit: exact before/after
+/// method switches), line edits, rigidity strokes and re-binds. Entries store what restores the state bit for bit: exact before/after
 /// values, or for a method switch the two methods.
 
+#include <algorithm>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -58,7 +60,18 @@ struct RigidityEdit {
   Weights WBefore, WAfter;
 };
 
-using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit, LinesEdit, RigidityEdit>;
+/// A bound document as a bind left it: the session with its display mesh and pose (jobs.h).
+struct BoundDocument;
+
+/// A bind that replaced a bound session (Bind again, another backend, Move everything): `other`
+/// holds the document on the other side of it, the previous one while the bind is done. Undo and
+/// redo swap it with the present one, without binding; the edits before the bind apply to the
+/// previous session again once it is back.
+struct BindEdit {
+  std::shared_ptr<BoundDocument> other;
+};
+
+using Edit = std::variant<PoseEdit, CageEdit, WeightEdit, MethodEdit, LinesEdit, RigidityEdit, BindEdit>;
 
 struct UndoEntry {
   std::string label;  ///< Shown in the Edit menu, e.g. "paint w3".
@@ -96,6 +109,10 @@ class UndoStack {
         if (pred(e)) return true;
     return false;
   }
+  /// Drops the `count` oldest undo entries.
+  void dropOldest(std::size_t count) { m_undo.erase(m_undo.begin(), m_undo.begin() + static_cast<long>(std::min(count, m_undo.size()))); }
+  /// The undo entries, oldest first.
+  const std::vector<UndoEntry>& undoEntries() const { return m_undo; }
   std::size_t undoCount() const { return m_undo.size(); }
   std::size_t redoCount() const { return m_redo.size(); }
 

@@ -17,12 +17,13 @@ struct WindowOptions {
   std::string recoveryPath;   ///< Autosave file (default ~/.cache/kcwarp/recovery.kcw.json).
   double spacing = 0.0;       ///< Bind spacing for the startup bind (0 = the CLI default).
   int width = 1400, height = 900;
+  int slowFramesMs = 0;       ///< Each frame lasts at least this long (tests of input faster than the frames).
   bool help = false;
   std::string error;          ///< Set by parseWindowOptions on bad arguments.
 };
 
 /// Parses `kcwarp [INPUT] [--cage C] [--ready-file F] [--frame-log F] [--screenshot-dir D]
-/// [--export PNG] [--recovery F] [--size WxH]`.
+/// [--export PNG] [--recovery F] [--size WxH] [--spacing H] [--slow-frames MS]`.
 WindowOptions parseWindowOptions(int argc, char** argv);
 /// One paragraph of usage text.
 const char* usageText();

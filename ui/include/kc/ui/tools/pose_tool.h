@@ -2,8 +2,8 @@
 /// Pose tool (thesis 6.3.3): left-drag a control point to translate it, right-drag to rotate it
 /// about its rest position; shift-click toggles selection; left-drag on empty canvas selects with a
 /// rectangle; dragging a selected point moves the whole selection. Right-dragging a point of a
-/// multi-selection turns the whole selection about its pivot (the selection's centre unless the
-/// user dragged the pivot marker elsewhere). One undo entry per drag.
+/// multi-selection, or off the points, turns the whole selection about its pivot (the selection's
+/// centre unless the user dragged the pivot marker elsewhere). One undo entry per drag.
 
 #include <vector>
 
@@ -25,6 +25,8 @@ class PoseTool {
   bool active() const { return m_mode != Mode::None; }
   bool selectingRect() const { return m_mode == Mode::Select; }
   bool rotating() const { return m_mode == Mode::Rotate || m_mode == Mode::RotateGroup; }
+  /// While rotating(): the angle turned so far (radians, counter-clockwise on screen).
+  double angle() const { return m_angle; }
   /// Corners of the selection rectangle (image pixels) while selectingRect().
   Vec2 rectStart() const { return m_start; }
   Vec2 rectEnd() const { return m_current; }
@@ -37,6 +39,7 @@ class PoseTool {
   Index m_pivot = -1;        ///< Control under the mouse at press.
   Vec2 m_groupPivot = Vec2::Zero();  ///< RotateGroup: the centre of the turn (posed image pixels).
   double m_startAngle = 0.0;
+  double m_angle = 0.0;      ///< Rotation: the angle turned so far.
   bool m_angleSet = false;   ///< Rotation: reference direction known.
   bool m_additive = false;   ///< Shift held at press (rectangle adds to the selection).
 };

@@ -1,0 +1,153 @@
+// Binding again keeps the person's work: the pose carries over, paint strokes that cannot carry
+// over are named in a question first, and the bind is one undo step (BindEdit) that brings the
+// previous session, its weights and pose back bit for bit.
+#include <gtest/gtest.h>
+
+#include "kc/ui/frame.h"
+#include "ui_fixture.h"
+
+namespace kc::ui {
+namespace {
+
+PointerEvent at(const Vec2& p) {
+  PointerEvent e;
+  e.position = p;
+  e.pickRadius = 6.0;
+  return e;
+}
+
+/// Drags control `i` by `by` with the pose tool, then paints one stroke for it from a to b.
+void poseAndPaint(AppState& s, Index i, const Vec2& by, const Vec2& a, const Vec2& b) {
+  const Vec2 c = s.boundCage.C.row(i).transpose();
+  s.poseTool.press(s, at(c));
+  s.poseTool.drag(s, at(c + by));
+  s.poseTool.release(s, at(c + by));
+  s.activeControl = i;
+  s.brushTool.press(s, at(a));
+  for (int k = 1; k <= 10; ++k) s.brushTool.drag(s, at(a + (b - a) * (k / 10.0)));
+  s.brushTool.release(s, at(b));
+  s.worker.waitFinished();
+  pollWorker(s);
+}
+
+TEST(Rebind, AsksAboutStrokesKeepsThePoseAndIsOneUndoStep) {
+  auto s = test::boundState(16.0);
+  const Weights W0 = s->session->W;
+  poseAndPaint(*s, 1, Vec2(-20, 15), Vec2(100, 60), Vec2(180, 90));
+  ASSERT_EQ(s->undo.undoCount(), 2u);
+  const auto painted = s->session;
+  const Weights Wpainted = painted->W;
+  ASSERT_FALSE(Wpainted == W0);
+  const Pose pose = s->pose;
+  EXPECT_EQ(strokesLostByRebind(*s), std::vector<std::string>{"paint w1"});
+
+  // Bind asks first and changes nothing until answered.
+  EXPECT_FALSE(requestBind(*s));
+  ASSERT_TRUE(s->unsavedPrompt.has_value());
+  EXPECT_EQ(s->unsavedPrompt->what, "Bind again");
+  EXPECT_NE(s->unsavedPrompt->question.find("paint w1"), std::string::npos) << s->unsavedPrompt->question;
+  EXPECT_EQ(s->session, painted);
+  auto action = std::move(s->unsavedPrompt->run);
+  s->unsavedPrompt.reset();
+  action(*s);
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  ASSERT_NE(s->session, painted);
+  const auto rebound = s->session;
+  EXPECT_TRUE(s->session->W == W0) << "the new bind computes the weights anew (without the stroke)";
+  ASSERT_EQ(s->pose.size(), pose.size());
+  EXPECT_EQ(s->pose[1].translate, pose[1].translate) << "the pose is kept";
+  ASSERT_EQ(s->undo.undoCount(), 3u) << "pose, stroke, bind";
+  EXPECT_TRUE(std::holds_alternative<BindEdit>(s->undo.nextUndo()->edit));
+  EXPECT_TRUE(strokesLostByRebind(*s).empty()) << "the stroke belongs to the previous bind now";
+
+  // One undo: the previous session with the stroke, bit for bit, and the pose.
+  ASSERT_TRUE(undo(*s));
+  pollWorker(*s);
+  EXPECT_EQ(s->session, painted);
+  EXPECT_TRUE(s->session->W == Wpainted);
+  EXPECT_EQ(s->pose[1].translate, pose[1].translate);
+  EXPECT_TRUE(s->mesh.hasWeights());
+  // The edits before the bind apply again: undo the stroke on the previous session.
+  ASSERT_TRUE(undo(*s));
+  pollWorker(*s);
+  EXPECT_TRUE(s->session->W == W0);
+  // And forward again to the new bind.
+  ASSERT_TRUE(redo(*s));
+  pollWorker(*s);
+  ASSERT_TRUE(redo(*s));
+  pollWorker(*s);
+  EXPECT_EQ(s->session, rebound);
+  EXPECT_EQ(s->pose[1].translate, pose[1].translate);
+}
+
+TEST(Rebind, WithoutStrokesBindsAtOnceAndKeepsThePose) {
+  auto s = test::boundState(16.0);
+  const auto before = s->session;
+  Pose pose = s->pose;
+  pose[2].translate = Vec2(7, -3);
+  setPose(*s, pose);
+  EXPECT_TRUE(requestBind(*s));
+  pollWorker(*s);
+  EXPECT_FALSE(s->unsavedPrompt.has_value());
+  ASSERT_NE(s->session, before);
+  EXPECT_EQ(s->pose[2].translate, Vec2(7, -3));
+  EXPECT_EQ(s->undo.undoCount(), 1u);
+  ASSERT_TRUE(undo(*s));
+  EXPECT_EQ(s->session, before);
+}
+
+TEST(Rebind, TheUndoStackKeepsTheLastFourBinds) {
+  auto s = test::boundState(20.0);
+  for (int k = 0; k < 6; ++k) {
+    ASSERT_TRUE(requestBind(*s));
+    pollWorker(*s);
+  }
+  EXPECT_EQ(s->undo.undoCount(), 4u) << "each holds a whole session: the oldest went";
+  for (int k = 0; k < 4; ++k) ASSERT_TRUE(undo(*s));
+  EXPECT_FALSE(s->undo.canUndo());
+}
+
+TEST(Rebind, ThePoseFollowsTheControlPointsThatStayed) {
+  Points C(4, 2), D(5, 2);
+  C << 0, 0, 10, 0, 10, 10, 0, 10;
+  D << 0, 0, 5, 0, 10, 0, 10, 10, 0, 10;  // a point inserted on the first edge
+  Pose pose = restPose(4);
+  for (int i = 0; i < 4; ++i) pose[static_cast<std::size_t>(i)].translate = Vec2(i + 1, 0);
+  const Pose carried = carriedPose(Cage::polygon(C), pose, Cage::polygon(D));
+  ASSERT_EQ(carried.size(), 5u);
+  EXPECT_EQ(carried[0].translate, Vec2(1, 0));
+  EXPECT_EQ(carried[1].translate, Vec2::Zero()) << "a new point starts at rest";
+  EXPECT_EQ(carried[2].translate, Vec2(2, 0));
+  EXPECT_EQ(carried[4].translate, Vec2(4, 0));
+  C(1, 0) = 12;  // a moved point, same count: handle by handle
+  EXPECT_EQ(carriedPose(Cage::polygon(C), pose, Cage::polygon(D.topRows(4)))[1].translate, Vec2(2, 0));
+}
+
+TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState(16.0);
+  const auto kc = s->session;
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  gui.clickLabel(*s, "LBC", draw);
+  gui.frame(draw);
+  gui.clickLabel(*s, "Bind", draw);
+  s->worker.waitFinished();
+  pollWorker(*s);
+  ASSERT_TRUE(s->session);
+  ASSERT_GT(s->reports.lbcMesh, 0) << (s->messages.empty() ? "" : s->messages.back().text);
+  // One click back to the KC bind (the Bind panel's "Previous bind"), one forward to LBC again.
+  gui.frame(draw);
+  gui.clickLabel(*s, "Previous bind", draw);
+  EXPECT_EQ(s->session, kc);
+  EXPECT_EQ(s->bindParams.backend, "kc") << "the Bind panel shows the bound session's backend";
+  EXPECT_TRUE(s->capabilities.painting);
+  gui.frame(draw);
+  gui.clickLabel(*s, "Next bind", draw);
+  EXPECT_GT(s->reports.lbcMesh, 0);
+  EXPECT_EQ(s->bindParams.backend, "lbc");
+}
+
+}  // namespace
+}  // namespace kc::ui

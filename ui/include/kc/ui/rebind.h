@@ -1,0 +1,44 @@
+#pragma once
+/// Binding again without losing the person's work: the question before a bind that leaves paint
+/// strokes behind, the pose carried to the new cage, and the bind as one undo step (BindEdit) that
+/// swaps the previous session, its display mesh and pose back. Main thread.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kc/ui/app_state.h"
+
+namespace kc::ui {
+
+/// Bind as the user asks for it (Bind button, Ctrl+B, a loaded cage): when the present weights
+/// hold paint strokes a new bind cannot carry over (strokesLostByRebind), a question names them
+/// first (AppState::unsavedPrompt with a question: "Bind again" or Cancel); else startBind.
+/// Returns true when the bind started.
+bool requestBind(AppState& state);
+
+/// Labels of the paint strokes in the present weights ("paint w3"), oldest first: the weight
+/// edits on the undo stack since the newest bind. A new bind computes the weights anew from the
+/// cage, so these do not carry over (they stay one undo away, behind the bind).
+std::vector<std::string> strokesLostByRebind(const AppState& state);
+
+/// The pose of `after`'s control points that keeps `pose` (of `before`'s points): handle by handle
+/// when the two cages have as many points, else for each point of `after` the handle of the point
+/// of `before` at the same rest position (the rest pose for new points).
+Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after);
+
+/// A bound document as a bind left it (BindEdit): the session, its display mesh and the source of
+/// the mesh's weights, the pose and whether W came from this optimizer.
+struct BoundDocument {
+  std::shared_ptr<app::Session> session;
+  std::shared_ptr<WarpMesh> mesh;
+  std::shared_ptr<AppState::MeshSource> source;
+  Pose pose;
+  bool weightsReproducible = false;
+};
+
+/// Undo or redo of a bind: swaps the present bound document with edit.other (kept in the edit for
+/// the way back). False when the session is held by a job.
+bool swapBoundDocument(AppState& state, const BindEdit& edit);
+
+}  // namespace kc::ui

@@ -1,0 +1,121 @@
+// Binding again without losing the person's work (rebind.h): the question about strokes that
+// cannot carry over, the pose carried to the new cage, and the bind as one undo step (BindEdit).
+#include "kc/ui/rebind.h"
+
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kc/ui/edits.h"
+#include "kc/ui/jobs.h"
+#include "kc/ui/rigidity_edits.h"
+#include "job_support.h"
+
+namespace kc::ui {
+namespace {
+
+/// Binds kept on the undo stack (BindEdit): each holds a session with its weights and display mesh.
+constexpr std::size_t kKeptBinds = 4;
+
+}  // namespace
+
+namespace detail {
+
+void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vector<double>& oldRigidity, double oldSpacing,
+                     const app::Session& s) {
+  if (!anyRigid(oldRigidity)) return;
+  std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s.samples, s.rigidity, std::max(oldSpacing, s.params.spacing));
+  if (rho != s.rigidity) startRigidity(st, std::move(rho), "rigidity after the bind", /*record=*/false);
+}
+
+void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display) {
+  auto before = std::make_shared<BoundDocument>(
+      BoundDocument{std::move(previous), std::make_shared<WarpMesh>(std::move(st.mesh)), st.meshSource, st.pose, st.weightsReproducible});
+  const Cage cageBefore = st.boundCage;
+  const Tool tool = st.tool == Tool::Cage ? Tool::Pose : st.tool;
+  const SampleSet oldSamples = st.samples;
+  const std::vector<double> oldRigidity = st.rigidity;
+  const double oldSpacing = st.boundSpacing;
+  UndoStack history = std::move(st.undo);
+  installSession(st, s, std::move(display), true);
+  setPose(st, carriedPose(cageBefore, before->pose, s->cage));
+  selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
+  history.push({"bind again", BindEdit{std::move(before)}});
+  // Each BindEdit holds a whole session and mesh: the oldest go, with the edits before them.
+  std::size_t binds = 0;
+  const std::vector<UndoEntry>& entries = history.undoEntries();
+  for (std::size_t k = entries.size(); k-- > 0;)
+    if (std::holds_alternative<BindEdit>(entries[k].edit) && ++binds > kKeptBinds) {
+      history.dropOldest(k + 1);
+      break;
+    }
+  st.undo = std::move(history);
+  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+}
+
+std::string rebindQuestion(const AppState& state) {
+  if (!state.bound) return "";
+  const std::vector<std::string> strokes = strokesLostByRebind(state);
+  if (strokes.empty()) return "";
+  std::string names;
+  for (std::size_t k = 0; k < strokes.size(); ++k) names += (k == 0 ? "" : k + 1 == strokes.size() ? " and " : ", ") + strokes[k];
+  const std::string count = strokes.size() == 1 ? "Your paint stroke (" : "Your " + std::to_string(strokes.size()) + " paint strokes (";
+  return count + names + ") cannot be carried over: binding again computes the weights anew from the cage. The pose is kept, " +
+         "and the present weights, " + (strokes.size() == 1 ? "stroke" : "strokes") + " included, stay one undo (Ctrl+Z) away.";
+}
+
+}  // namespace detail
+
+using namespace detail;
+
+std::vector<std::string> strokesLostByRebind(const AppState& state) {
+  std::vector<std::string> strokes;
+  for (const UndoEntry& e : state.undo.undoEntries()) {
+    if (std::holds_alternative<BindEdit>(e.edit)) strokes.clear();  // those before it belong to the previous bind
+    else if (std::holds_alternative<WeightEdit>(e.edit)) strokes.push_back(e.label);
+  }
+  return strokes;
+}
+
+bool requestBind(AppState& state) {
+  if (const std::string question = rebindQuestion(state); !question.empty()) {
+    state.unsavedPrompt = PendingAction{"Bind again", [](AppState& st) { startBind(st); }, question};
+    return false;
+  }
+  return startBind(state);
+}
+
+Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after) {
+  if (pose.size() != static_cast<std::size_t>(before.size())) return restPose(after.size());
+  if (before.size() == after.size()) return pose;
+  Pose out = restPose(after.size());
+  for (Index i = 0; i < after.size(); ++i)
+    for (Index j = 0; j < before.size(); ++j)
+      if ((before.C.row(j) - after.C.row(i)).norm() < 1e-9) {
+        out[static_cast<std::size_t>(i)] = pose[static_cast<std::size_t>(j)];
+        break;
+      }
+  return out;
+}
+
+bool swapBoundDocument(AppState& state, const BindEdit& edit) {
+  if (!state.session || !edit.other || !edit.other->session || state.worker.busy()) return false;
+  BoundDocument next = std::move(*edit.other);
+  *edit.other = BoundDocument{std::move(state.session), std::make_shared<WarpMesh>(std::move(state.mesh)), state.meshSource, state.pose,
+                              state.weightsReproducible};
+  const Tool tool = state.tool;
+  UndoStack history = std::move(state.undo);
+  installSession(state, next.session, {next.mesh, next.source}, next.weightsReproducible);
+  state.undo = std::move(history);
+  setPose(state, next.pose);
+  selectTool(state, tool);
+  const app::Session& b = *state.session;
+  postMessage(state, b.reports.lbcMesh > 0 ? "Back to the LBC bind (" + std::to_string(b.reports.lbcMesh) + " mesh vertices)."
+                                           : "Back to the " + std::string(b.params.backend == "kc" ? "KC" : b.params.backend) + " bind (" +
+                                                 std::to_string(b.samples.size()) + " samples).",
+              false);
+  return true;
+}
+
+}  // namespace kc::ui
