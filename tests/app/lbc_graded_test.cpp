@@ -107,6 +107,17 @@ class LbcNarrowCageSlow : public ::testing::TestWithParam<std::string> {};
 TEST_P(LbcNarrowCageSlow, BindsAtTheDefaultsWithExactBarycentricWeightsInside) { checkBoundAtDefaults(GetParam()); }
 INSTANTIATE_TEST_SUITE_P(Narrow, LbcNarrowCageSlow, ::testing::Values("person-narrow", "person-wide"), testName);
 
+TEST(LbcNarrowCage, AGradedSessionRoundTripsWithItsSizingField) {
+  const Session& s = boundLbc("slit-narrow").session;
+  const Session back = sessionFromJson(sessionToJson(s), "slit");
+  ASSERT_TRUE(back.sizing);
+  EXPECT_EQ(back.sizing->seeds(), s.sizing->seeds());
+  EXPECT_EQ(back.sizing->sizes(), s.sizing->sizes());
+  EXPECT_EQ(back.sizing->hMax(), s.sizing->hMax());
+  const Points P = pointsInside(s.cage, 200, 3);
+  EXPECT_LE((back.field->weightsAt(P) - s.field->weightsAt(P)).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 /// Points d = 1, 2, 3 px from a gap's side x = `side` inside the cage (x = side − d·direction),
 /// at heights y0..y1.
 Points besideGap(double side, double direction, double y0, double y1) {
