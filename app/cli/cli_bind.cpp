@@ -69,6 +69,9 @@ void runBind(const BindArgs& a) {
       std::printf("spacing: automatic %.3g px, the LBC mesh %.3g px (a sample budget of %.0f over the cage and a band around it "
                   "sets the mesh; the samples are %.3g times as far apart; --spacing overrides)\n",
                   p.spacing, p.spacing / app::kLbcTargetSampling, app::kAutoSpacingSamples, app::kLbcTargetSampling);
+    else if (p.spacing != a.spacing && !app::backendFor(p.backend).capabilities().outsideCage)
+      std::printf("spacing: automatic %.3g px (an LBC mesh of about %.0f vertices over the cage interior; --spacing overrides)\n",
+                  p.spacing, app::kAutoLbcVertices);
     else if (p.spacing != a.spacing)
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
                   p.spacing, app::kAutoSpacingSamples);
@@ -102,6 +105,8 @@ void runBind(const BindArgs& a) {
     std::printf("bound %ld control points, LBC mesh of %ld vertices (%ld on the cage), tau %s\n", static_cast<long>(cage.size()),
                 static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.controls + r.sampling.edge),
                 std::string(app::toString(p.lbc.tau)).c_str());
+    if (s.sizing)
+      std::printf("graded: mesh spacing %.3g-%.3g px for the cage's narrow places\n", s.sizing->hMin(), s.sizing->hMax());
     std::printf("%s\n", s.reports.summary().c_str());
   } else {
     std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",

@@ -2,6 +2,7 @@
 // Private to kc::app: the backend instances behind backendFor().
 
 #include <functional>
+#include <memory>
 
 #include "kc/app/backend.h"
 #include "kc/core/lbc/cage_mesh.h"
@@ -21,9 +22,11 @@ struct LbcBind {
   CageMesh mesh;
   LbcResult result;  ///< Converged (else solveLbcForBind threw).
   double meshSeconds = 0.0;
+  std::shared_ptr<const SizingField> sizing;  ///< The mesh's sizing field (bindSizing), or null: uniform.
 };
 
-/// Meshes the cage at params.spacing and solves LBC with params.lbc, reporting stages through
+/// Meshes the cage at params.spacing, graded by bindSizing(cage, no structure, params) where the
+/// cage has narrow places, and solves LBC with params.lbc, reporting stages through
 /// `step` ("mesh", "geodesics", "LBC iterations"; step throws to cancel). Throws
 /// std::invalid_argument with advice for a mesh above kcwarp's vertex limit, a failed
 /// factorization or no convergence within the iteration cap. Shared by the "lbc" backend and the

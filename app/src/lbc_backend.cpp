@@ -10,6 +10,7 @@
 #include <string>
 
 #include "backends.h"
+#include "kc/app/pipeline.h"
 #include "kc/app/text.h"
 #include "kc/core/field/mesh_field.h"
 #include "kc/core/lbc/cage_mesh.h"
@@ -33,8 +34,8 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   if (!(lbc.tolerance > 0.0)) throw std::invalid_argument("the LBC tolerance must be positive (--lbc-tolerance)");
   if (lbc.maxIterations < 1) throw std::invalid_argument("the LBC iteration cap must be at least 1 (--lbc-max-iterations)");
 
-  // About 1.2 vertices per h² of cage area (Delaunay refinement to edges ≤ h): refuse before meshing.
-  const double estimate = 1.2 * std::abs(signedArea(cage.C)) / (params.spacing * params.spacing);
+  // The uniform mesh's vertex count, refused before meshing (a graded mesh adds its narrow places).
+  const double estimate = estimateMeshVertices(cage, params.spacing);
   if (estimate > double(kMaxLbcVertices))
     throw std::invalid_argument("the LBC mesh of this cage at spacing " + shortNumber(params.spacing) + " px would have about " +
                                 shortNumber(estimate) + " vertices, more than kcwarp's limit of " + std::to_string(kMaxLbcVertices) +
@@ -45,7 +46,9 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   CageMeshOptions mo;
   mo.spacing = params.spacing;
   mo.maxVertices = kMaxLbcVertices;
+  mo.sizing = bindSizing(cage, Structure{}, params);
   b.mesh = meshCageInterior(cage, mo);
+  b.sizing = mo.sizing;
   if (b.mesh.status != CageMeshStatus::Ok)
     throw std::invalid_argument("the LBC mesh of this cage at spacing " + shortNumber(params.spacing) + " px would have more than " +
                                 std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
@@ -115,6 +118,7 @@ class LbcBackend final : public Backend {
     r.optimize.seconds = rep.iterationSeconds;
 
     s.sigma = 0.0;
+    s.sizing = b.sizing;
     s.samples.X = mesh.V;
     s.samples.kind.assign(std::size_t(mesh.size()), SampleKind::Interior);
     for (Index v = 0; v < mesh.boundary; ++v) s.samples.kind[std::size_t(v)] = v < mesh.controls ? SampleKind::Control : SampleKind::Edge;

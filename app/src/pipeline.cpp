@@ -3,6 +3,7 @@
 #include "kc/app/errors.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/core/kernel/gaussian_kernel.h"
+#include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/warp_mesh.h"
 
 #include <algorithm>
@@ -61,10 +62,17 @@ void checkCageScale(const Cage& cage, double spacing) {
 }
 
 
-/// True when a bind with `p` samples with a sizing field: graded, blue noise, a backend that samples
-/// the picture (kc).
+/// k of the LBC backend's mesh (SizingOptions::featureSamples): one triangle across a narrow place.
+/// The mesh never crosses a gap outside the cage, and across a narrow part of the interior the
+/// weights follow the cage edges' linear data; k = 2 meshed the person cage (legs 4 px apart) with
+/// 3,225 vertices and 7,180 ADMM iterations where k = 1 needed 1,612 and 4,267 (hMax 10.2 px).
+constexpr double kLbcFeatureSamples = 1.0;
+
+/// True when a bind with `p` samples or meshes with a sizing field: graded, and blue noise for a
+/// backend that samples the picture (kc); the LBC mesh of the cage interior.
 bool gradedBind(const BindParams& p) {
-  return p.graded && p.sampler == sampling::SamplerKind::BlueNoise && backendFor(p.backend).capabilities().outsideCage;
+  if (!backendFor(p.backend).capabilities().outsideCage) return p.graded;
+  return p.graded && p.sampler == sampling::SamplerKind::BlueNoise;
 }
 
 }  // namespace
@@ -80,6 +88,7 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   SizingOptions o;
   o.hMax = params.spacing;
   o.hMin = std::min(kMinSpacing, params.spacing);
+  if (!backendFor(params.backend).capabilities().outsideCage) o.featureSamples = kLbcFeatureSamples;
   auto sizing = std::make_shared<SizingField>(featureSizing(cage, extra, o));
   if (!sizing->graded()) return nullptr;
   return sizing;
@@ -127,7 +136,12 @@ double weightSpacing(const BindParams& params) {
 }
 
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget) {
-  if (!backendFor(params.backend).capabilities().outsideCage) return params.spacing;
+  if (!backendFor(params.backend).capabilities().outsideCage) {  // the LBC mesh of the cage interior
+    double h = params.spacing;
+    for (int step = 0; step < 3 && estimateMeshVertices(cage, h) > kAutoLbcVertices; ++step)
+      h *= std::sqrt(estimateMeshVertices(cage, h) / kAutoLbcVertices);
+    return std::max(params.spacing, std::ceil(h * 100.0) / 100.0);
+  }
   if (params.kc.init.method == InitMethod::Lbc) {  // the LBC mesh at a plain bind's spacing, samples denser
     BindParams plain = params;
     plain.kc.init.method = InitMethod::HeatLinear;

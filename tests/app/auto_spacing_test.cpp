@@ -7,6 +7,7 @@
 
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/lbc/cage_mesh.h"
 #include "quarter_cage.h"
 #include "kc/sampling/sampler.h"
 
@@ -60,10 +61,20 @@ TEST(AutoSpacing, ACageAndItsTenfoldCopyGetAboutTheSameSamples) {
   EXPECT_NEAR(double(na), kAutoSpacingSamples, 0.15 * kAutoSpacingSamples);
 }
 
-TEST(AutoSpacing, OtherBackendsKeepTheirSpacing) {
+TEST(AutoSpacing, TheLbcMeshFollowsItsVertexBudget) {
+  // The LBC backend meshes the cage interior: about kAutoLbcVertices vertices at any scale (the
+  // cage 10× larger, 10× the spacing), the 6 px floor for a small cage.
   BindParams p;
   p.backend = "lbc";
-  EXPECT_EQ(automaticSpacing(quarterCage(4000, 3000), 4000, 3000, p), p.spacing);
+  const Cage small = quarterCage(1200, 900), large = quarterCage(12000, 9000);
+  const double hSmall = automaticSpacing(small, 1200, 900, p), hLarge = automaticSpacing(large, 12000, 9000, p);
+  EXPECT_GT(hSmall, p.spacing);
+  EXPECT_NEAR(hLarge / hSmall, 10.0, 0.1);
+  EXPECT_NEAR(estimateMeshVertices(small, hSmall), kAutoLbcVertices, 0.02 * kAutoLbcVertices);
+  CageMeshOptions o;
+  o.spacing = hSmall;
+  EXPECT_NEAR(double(meshCageInterior(small, o).size()), kAutoLbcVertices, 0.15 * kAutoLbcVertices);
+  EXPECT_EQ(automaticSpacing(quarterCage(320, 240), 320, 240, p), p.spacing);
 }
 
 /// A rectangle over the middle of a w×h picture with a slot `gap` px wide cut in from its bottom.

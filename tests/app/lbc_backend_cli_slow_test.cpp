@@ -63,5 +63,20 @@ TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   EXPECT_FALSE(fs::exists(dir / "w.png"));
 }
 
+TEST(LbcBackendCli, BindsANarrowCageAtAnAutomaticSpacingOnAGradedMesh) {
+  // The slit 3 px wide: no --spacing, no refusal; the spacing from the mesh's vertex budget, the
+  // mesh finer at the slit; stats sees exact barycentric weights inside.
+  const fs::path dir = test::scratchDir("lbc_cli_narrow");
+  const std::string cage = "'" + std::string(KC_SOURCE_DIR) + "/tests/data/narrow/slit-narrow.cage.json'";
+  auto r = test::runCli("bind --backend lbc --size 300x300 --cage " + cage + " -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("spacing: automatic 9.46 px (an LBC mesh of about 1200 vertices"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("graded: mesh spacing 3-9.46 px"), std::string::npos) << r.out;
+  r = test::runCli("stats --json --session s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json st = nlohmann::json::parse(r.out);
+  EXPECT_LE(st["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
+}
+
 }  // namespace
 }  // namespace kc::app

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 
@@ -96,6 +97,61 @@ TEST(CageMesh, PointsTheMesherAddsOnTheCageAreRecorded) {
   }
   EXPECT_GT(added, 0);
   for (Index v = mesh.boundary; v < mesh.size(); ++v) EXPECT_GT(distanceToCage(Cage::polygon(C), mesh.V.row(v)), 1e-9);
+}
+
+TEST(CageMesh, ASizingFieldGradesTheMeshAtTheNarrowPlaceOnly) {
+  // A square with a slit 3 px wide cut in from below: featureSizing refines along the slit
+  // (h = lfs / k = 1.5 px there) and leaves h = 10 px away from it.
+  Points C(8, 2);
+  C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
+  const Cage cage = Cage::polygon(C);
+  SizingOptions so;
+  so.hMax = 10.0;
+  auto sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));
+  ASSERT_TRUE(sizing->graded());
+  EXPECT_NEAR(sizing->hMin(), 1.5, 1e-9);
+  CageMeshOptions options;
+  options.spacing = so.hMax;
+  const CageMesh uniform = meshCageInterior(cage, options);
+  options.sizing = sizing;
+  const CageMesh mesh = meshCageInterior(cage, options);
+  ASSERT_EQ(mesh.status, CageMeshStatus::Ok);
+  // Every triangle within the local spacing at its centroid, none thinner than the angle bound
+  // (the slit's corners are right angles); finer than 10 px only near the slit.
+  double worst = 0.0, smallest = 180.0, area = 0.0, finestAway = so.hMax;
+  for (const auto& t : mesh.T) {
+    const Vec2 a = mesh.V.row(t[0]), b = mesh.V.row(t[1]), c = mesh.V.row(t[2]), centroid = (a + b + c) / 3.0;
+    const double longest = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+    worst = std::max(worst, longest / std::min(so.hMax, (*sizing)(centroid)));
+    smallest = std::min({smallest, angleAt(a, b, c), angleAt(b, c, a), angleAt(c, a, b)});
+    area += 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    if (std::abs(centroid.x() - 150.0) > 60.0) finestAway = std::min(finestAway, longest);
+  }
+  EXPECT_LE(worst, 1.0 + 1e-9);
+  EXPECT_GE(smallest, options.minAngleDegrees - 1e-6);
+  EXPECT_NEAR(area, std::abs(signedArea(C)), 1e-9 * area);
+  EXPECT_GT(finestAway, 0.25 * so.hMax);
+  // Edge points on their edges at their parameters.
+  for (Index v = mesh.controls; v < mesh.boundary; ++v) {
+    const Vec2 a = C.row(mesh.edge(v, 0)), b = C.row(mesh.edge(v, 1));
+    EXPECT_EQ(Vec2(mesh.V.row(v)), ((1.0 - mesh.t(v)) * a + mesh.t(v) * b).eval());
+  }
+  // More vertices than the uniform mesh, far fewer than a uniform mesh at the slit's spacing.
+  EXPECT_GT(mesh.size(), uniform.size());
+  EXPECT_LT(double(mesh.size()), 0.25 * estimateMeshVertices(cage, sizing->hMin()));
+  // Null sizing is the uniform mesh.
+  options.sizing = nullptr;
+  const CageMesh again = meshCageInterior(cage, options);
+  EXPECT_EQ(again.V, uniform.V);
+  EXPECT_EQ(again.T, uniform.T);
+}
+
+TEST(CageMesh, EstimatedVertexCountsMatchTheMesh) {
+  for (const Cage& cage : {test::starCage(), test::lCage()}) {
+    CageMeshOptions options;
+    options.spacing = spacingForVertexCount(cage, 2000);
+    EXPECT_NEAR(estimateMeshVertices(cage, options.spacing), double(meshCageInterior(cage, options).size()), 0.15 * 2000);
+  }
 }
 
 TEST(CageMesh, RefusesWhatItCannotMesh) {

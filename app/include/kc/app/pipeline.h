@@ -25,13 +25,14 @@ inline constexpr double kThesisMarginSpacings = 10.0;
 /// and the exterior extent; a band is max(kExteriorBandSpacings·h, 2·automaticMeshSpacing) wide.
 sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p);
 
-/// The sizing field of a graded bind (params.graded, blue noise, a backend that samples the
-/// picture): featureSizing of the cage, the structure lines and the rigid polygons' sides with
-/// hMax = params.spacing and hMin = kMinSpacing; null for a uniform bind or a cage without a narrow
-/// place (h ≡ spacing).
-/// True when a bind with `params` samples graded: params.graded, blue noise, and a backend that
-/// samples the picture (kc). Such a bind refuses no narrow place of the cage or its lines.
+/// True when a bind with `params` samples or meshes graded: params.graded and, for a backend that
+/// samples the picture (kc), blue noise; the LBC backend grades its mesh of the cage interior.
+/// Such a bind refuses no narrow place of the cage or its lines.
 bool gradedSampling(const BindParams& params);
+/// The sizing field of a graded bind (gradedSampling): featureSizing of the cage, the structure
+/// lines and the rigid polygons' sides with hMax = params.spacing and hMin = kMinSpacing (the LBC
+/// backend's mesh with k = 1, one triangle across a narrow place: SizingOptions::featureSamples);
+/// null for a uniform bind or a cage without a narrow place (h ≡ spacing).
 std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params);
 
 /// What a bind would need, estimated from its inputs before anything is sampled or allocated.
@@ -52,6 +53,10 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
 /// docs/ARCHITECTURE.md "Big pictures"); the bundled examples, which fill their pictures, get
 /// 6.35–8.94 px (checker 6.35, stick 7.28, star 7.80, figure 8.94).
 inline constexpr double kAutoSpacingSamples = 2500.0;
+
+/// Vertex budget of the LBC backend's automatic mesh spacing (estimateMeshVertices of the uniform
+/// mesh of the cage interior; a graded mesh adds what its narrow places need).
+inline constexpr double kAutoLbcVertices = 1200.0;
 
 /// Kernel coordinates on LBC targets (`--init lbc`) sample the cage at this fraction of the LBC
 /// mesh's spacing: the LBC weights are solved on a mesh of spacing h / kLbcTargetSampling and the
@@ -78,8 +83,11 @@ double weightSpacing(const BindParams& params);
 /// 10× larger gets 10× the spacing. A whole-frame bind (params.exterior) uses the same h, grown by
 /// 5% steps while it exceeds kcwarp's limits. Where the cage has a feature narrower than
 /// kNarrowFeatureSpacings·h (narrowestGap), h shrinks to narrowest/kNarrowFeatureSpacings (not
-/// below params.spacing), over the budget but never past kcwarp's limits (checkBindCost). Only
-/// the kc backend samples the picture; for others `params.spacing` is returned. With `--init lbc`
+/// below params.spacing), over the budget but never past kcwarp's limits (checkBindCost); a graded
+/// bind (gradedSampling) keeps h and refines its narrow places itself. The LBC backend meshes the
+/// cage interior: its h ≥ params.spacing is the spacing whose uniform mesh has about
+/// kAutoLbcVertices vertices (estimateMeshVertices; `budget` counts samples and does not apply),
+/// rounded up to 0.01 px. With `--init lbc`
 /// (kc backend) it is kLbcTargetSampling times the spacing of the same bind with heat-linear
 /// targets (which the LBC mesh then uses), grown by 5% steps while it exceeds kcwarp's limits.
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget = kAutoSpacingSamples);

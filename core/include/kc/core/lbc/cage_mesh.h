@@ -5,9 +5,11 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "kc/core/sizing.h"
 #include "kc/core/types.h"
 
 namespace kc {
@@ -16,6 +18,10 @@ struct CageMeshOptions {
   double spacing = 8.0;          ///< h: longest triangle edge; cage edges are pre-split at ≈ h (pixels).
   double minAngleDegrees = 20.0; ///< Smallest triangle angle the mesher aims for (≤ 20.7° always terminates).
   Index maxVertices = 2'000'000; ///< The mesher stops with status TooManyVertices past this count.
+  /// The local spacing h(x) of a graded mesh (featureSizing): cage edges are divided by
+  /// segmentDivision and a triangle is refined while its longest edge exceeds min(spacing, h(c))
+  /// at its centroid c. Null: the uniform mesh at `spacing`.
+  std::shared_ptr<const SizingField> sizing;
 };
 
 enum class CageMeshStatus {
@@ -40,9 +46,10 @@ struct CageMesh {
 };
 
 /// Meshes the interior of a closed cage (paper §4): every cage edge is split into
-/// ⌈|c_l − c_k|/h⌉ equal pieces, the pieces are the constraints of a constrained Delaunay
-/// triangulation, and the Delaunay mesher refines the interior to edges ≤ h and angles ≥
-/// minAngleDegrees. Points the mesher adds on the cage are recorded with their edge and edge
+/// ⌈|c_l − c_k|/h⌉ equal pieces (with a sizing field: segmentDivision's pieces at the local
+/// spacing), the pieces are the constraints of a constrained Delaunay triangulation, and the
+/// Delaunay mesher refines the interior to edges ≤ h (≤ min(h, h(centroid)) with a sizing field)
+/// and angles ≥ minAngleDegrees. Points the mesher adds on the cage are recorded with their edge and edge
 /// parameter (and put exactly on the edge). Throws std::invalid_argument for an open cage, an
 /// edge graph that is not the cage polygon, or an invalid cage (validateCage), or a spacing that
 /// is not positive and finite. On status TooManyVertices the mesh is empty.
@@ -59,6 +66,11 @@ struct ConstrainedTriangulation {
   Triangles T;  ///< Vertex indices into V.
 };
 ConstrainedTriangulation constrainedTriangulation(const Points& points, const std::vector<std::array<int, 2>>& segments);
+
+/// Vertices of the uniform mesh at spacing h (meshCageInterior without a sizing field), estimated
+/// without meshing: about 2.45 per h² of the cage's area (Delaunay refinement to edges ≤ h) plus
+/// the cage's edge points, perimeter / h.
+double estimateMeshVertices(const Cage& cage, double spacing);
 
 /// A spacing h for which meshCageInterior gives about `targetVertices` vertices (for benchmarks
 /// and for binding by vertex count): h from the cage area, corrected once by a trial mesh.
