@@ -90,6 +90,7 @@ class KcBackend final : public Backend {
     so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
     so.lines = s.structure.lines;
     so.sizing = s.sizing = bindSizing(s.cage, s.structure, params);
+    so.gradedLines = gradedSampling(params);
     s.samples = sampling::sample(s.cage, so, &r.sampling);
     // The session records what was sampled: a band that reaches the frame on every side is the frame.
     if (so.exterior == sampling::ExteriorExtent::Band) {

@@ -27,10 +27,15 @@ void SampleSet::validate(Index m) const {
   }
   for (std::size_t l = 0; l < lines.size(); ++l) {
     if (lines[l].size() < 2) throw std::invalid_argument("samples: line " + std::to_string(l) + " has fewer than two samples");
-    for (Index i : lines[l])
-      if (i < m || i >= n || kind[static_cast<std::size_t>(i)] != SampleKind::Line)
+    for (std::size_t k = 0; k < lines[l].size(); ++k) {
+      const Index i = lines[l][k];
+      // A line's end may be the boundary sample where it meets the cage (a control or an edge sample).
+      const bool end = k == 0 || k + 1 == lines[l].size();
+      if (i < 0 || i >= n || (kind[static_cast<std::size_t>(i)] != SampleKind::Line &&
+                              !(end && (kind[static_cast<std::size_t>(i)] == SampleKind::Edge || i < m))))
         throw std::invalid_argument("samples: line " + std::to_string(l) + " names sample " + std::to_string(i) +
-                                    ", which is not a line sample");
+                                    ", which is not a line sample" + (end ? " or a sample on the cage" : ""));
+    }
   }
 }
 

@@ -95,7 +95,9 @@ void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, c
     for (Index i = 0; i < g.nx; ++i) {
       const Rect cell{rect.x0 + static_cast<double>(i) * g.cx, rect.y0 + static_cast<double>(j) * g.cy,
                       rect.x0 + static_cast<double>(i + 1) * g.cx, rect.y0 + static_cast<double>(j + 1) * g.cy};
-      visit(visit, cell, static_cast<std::uint64_t>(j * g.nx + i));
+      const auto root = static_cast<std::uint64_t>(j * g.nx + i);
+      if (keep && (cell.x1 < keep->x0 || cell.x0 > keep->x1 || cell.y1 < keep->y0 || cell.y0 > keep->y1)) continue;
+      visit(visit, cell, root);
     }
 }
 

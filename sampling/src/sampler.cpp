@@ -26,7 +26,7 @@ void validate(const Cage& cage, const SamplingOptions& o) {
   if (!std::isfinite(o.margin)) throw std::invalid_argument("sampling: margin must be finite");
   if (!std::isfinite(o.band)) throw std::invalid_argument("sampling: band width must be finite");
   validateCage(cage);
-  validateLines(cage, o.lines, h);
+  validateLines(cage, o.lines, h, o.gradedLines || (o.sizing && o.sizing->graded()));
   const double extent = std::max(cage.C.col(0).maxCoeff() - cage.C.col(0).minCoeff(), cage.C.col(1).maxCoeff() - cage.C.col(1).minCoeff());
   if (h > extent)
     throw std::invalid_argument("sampling: spacing " + num(h) + " is larger than the cage (" + num(extent) +

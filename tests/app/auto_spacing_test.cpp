@@ -86,8 +86,10 @@ Cage slotCage(int w, int h, double gap) {
 }
 
 TEST(AutoSpacing, NarrowPlacesKeepTwoSamplesAcross) {
-  // At 12 MP the budget alone would choose ~40 px; a 30 px slot asks for 15 px, which fits the limits.
-  const BindParams p;
+  // A uniform bind (a graded one refines the slot instead): at 12 MP the budget alone would choose
+  // ~40 px; a 30 px slot asks for 15 px, which fits the limits.
+  BindParams p;
+  p.graded = false;
   const Cage wide = quarterCage(4384, 2736), slot = slotCage(4384, 2736, 30.0);
   const double hWide = automaticSpacing(wide, 4384, 2736, p), hSlot = automaticSpacing(slot, 4384, 2736, p);
   EXPECT_GT(hWide, 20.0);
@@ -99,8 +101,10 @@ TEST(AutoSpacing, NarrowPlacesKeepTwoSamplesAcross) {
 
 TEST(AutoSpacing, WhenTheLimitsForbidItTheBindWarnsAndStillFits) {
   // A 12 px slot would need 6 px over 12 MP (above the sample limit): the spacing stops at the
-  // smallest that fits the limits, and the warning names the slot's points and what resolves it.
-  const BindParams p;
+  // smallest that fits the limits, and the warning names the slot's points and what resolves it
+  // (a uniform bind; a graded one refines the slot).
+  BindParams p;
+  p.graded = false;
   const Cage slot = slotCage(4384, 2736, 12.0);
   BindParams q = p;
   q.spacing = automaticSpacing(slot, 4384, 2736, p);

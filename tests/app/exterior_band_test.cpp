@@ -117,6 +117,9 @@ void expectDeformOnlyOnTheFrame(const Session& band, const Session& frame) {
 TEST(ExteriorBand, KeepsTheWeightsInsideAndOnTheCage) {
   for (const Example& e : examples()) {
     BindParams p = bandParams(10.0);
+    // Uniform: a graded start is drawn in quadtree order over the cells sampled, so a band's start
+    // differs from the frame's where the cage has short edges (0.062 within 8 px outside here).
+    p.graded = false;
     const Session band = bind(e.cage, e.width, e.height, p);
     p.exterior = sampling::ExteriorExtent::Frame;
     const Session frame = bind(e.cage, e.width, e.height, p);

@@ -46,8 +46,8 @@ struct SampleSet {
   std::vector<SampleKind> kind;   ///< #S kinds.
   /// #S×2: for Edge samples the control indices (k, l) of the edge's ends; (-1, -1) otherwise.
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
-  /// Structure lines (thesis 5.3): the indices of each line's samples (kind Line), from its
-  /// start a to its end b; empty when the sampling has no lines.
+  /// Structure lines (5.3): each line's samples from a to b (kind Line, an end on the cage its edge
+  /// sample; lines that meet share one), empty without lines.
   std::vector<std::vector<Index>> lines;
 
   Index size() const { return X.rows(); }

@@ -76,6 +76,10 @@ struct SamplingOptions {
   /// Graded sampling (blue noise only): the local spacing h(x) (featureSizing), whose hMax is
   /// `spacing`. Null or not graded(): the uniform sampling at `spacing`.
   std::shared_ptr<const SizingField> sizing;
+  /// The lines are those of a graded bind (validateLines(…, graded)): lines may meet each other and
+  /// the cage, and come close to them (set with a graded bind even when `sizing` is null, a cage
+  /// and lines without a narrow place).
+  bool gradedLines = false;
 };
 
 struct SamplingReport {
