@@ -317,7 +317,8 @@ TEST_F(BadInput, BindSpiralAtHalfPixel) {
 
 TEST_F(BadInput, CageWithFortyThousandPoints) {
   writeText(m_dir / "circle.json", circleCage(40000, 500, 500, 400));
-  expectRefused("bind --cage circle.json --size 1000,1000 -o out.kcw.json", "fewer points");
+  // Its points are 0.063 px apart: a graded bind refuses that before estimating its cost.
+  expectRefused("bind --cage circle.json --size 1000,1000 -o out.kcw.json", "0.0628 px apart, narrower than");
 }
 
 TEST_F(BadInput, WarpMeshTooFine) {
@@ -336,13 +337,16 @@ TEST_F(BadInput, CageWithHundredthPixelEdge) {
 }
 
 TEST_F(BadInput, ThinQuad) {
-  writeText(m_dir / "thin.json", R"({"version":1,"points":[[10,40],[90,40],[90,40.5],[10,40.5]],"closed":true})");
-  expectRefused("bind --cage thin.json --size 96,96 -o out.kcw.json", "0.5 px apart");
+  // A graded bind refines a 0.5 px sliver; one of 0.05 px is narrower than kcwarp resolves (0.1 px).
+  writeText(m_dir / "thin.json", R"({"version":1,"points":[[10,40],[90,40],[90,40.05],[10,40.05]],"closed":true})");
+  expectRefused("bind --cage thin.json --size 96,96 -o out.kcw.json", "0.05 px apart, narrower than the 0.1 px kcwarp resolves");
+  writeText(m_dir / "wide.json", R"({"version":1,"points":[[10,40],[90,40],[90,40.5],[10,40.5]],"closed":true})");
+  expectRefused("bind --cage wide.json --size 96,96 --uniform-spacing -o out.kcw.json", "0.5 px apart");
 }
 
 TEST_F(BadInput, SpiralWithGapsNarrowerThanTheSpacing) {
   writeText(m_dir / "spiral.json", spiralCage(128, 128, 4.0, 3));
-  expectRefused("bind --cage spiral.json --size 256,256 --spacing 6 -o out.kcw.json", "use --spacing");
+  expectRefused("bind --cage spiral.json --size 256,256 --spacing 6 --uniform-spacing -o out.kcw.json", "use --spacing");
 }
 
 // ---- Outputs: nothing written by a failing command; special files never replaced ---------------
