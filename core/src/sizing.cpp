@@ -321,10 +321,5 @@ std::vector<double> segmentDivision(const Vec2& a, const Vec2& b, const SizingFi
   return t;
 }
 
-double narrowestFeature(const Cage& cage, double below) {
-  double best = kInf;
-  for (const RawSeed& s : rawSeeds(featureGraph(cage, {}), below, 1.0, below * 1e-6)) best = std::min(best, s.lfs);
-  return best;
-}
 
 }  // namespace kc

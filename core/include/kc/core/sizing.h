@@ -95,8 +95,5 @@ SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extr
 /// n = max(1, round(|b − a| / hMax)), the uniform division).
 std::vector<double> segmentDivision(const Vec2& a, const Vec2& b, const SizingField& h);
 
-/// The narrowest local feature size of the cage alone (the smallest lfs over its edges and
-/// vertices, as featureSizing measures it), +∞ for none below `below`.
-double narrowestFeature(const Cage& cage, double below);
 
 }  // namespace kc

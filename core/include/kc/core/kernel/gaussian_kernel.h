@@ -59,7 +59,8 @@ struct GaussianKernel {
   double operator()(double r2, double sx, double sy) const {
     if (!variable()) return (*this)(r2);
     const double S = sx * sx + sy * sy, A = 2.0 * (sx * sy) / S;  // symmetric in sx, sy to the bit
-    const double c = cutoffFactor * cutoffFactor / 2.0;
+    const double c = 0.5 * cutoffFactor * cutoffFactor;
+    if (r2 > S * c) return 0.0;  // beyond the cut-off for any A ≤ 1, without a log or an exp
     return r2 > S * (c + std::log(A)) ? 0.0 : scale * A * std::exp(-r2 / S);
   }
   /// ∇_x k(x, y) / k(x, y) for x − y = d, widths sx, sy and ∇σ(x) = gx:
