@@ -111,6 +111,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
     for (Index i = 0; i < s.sizing->seeds().rows(); ++i)
       seeds.push_back({s.sizing->seeds()(i, 0), s.sizing->seeds()(i, 1), s.sizing->sizes()(i)});
     j["sizing"] = {{"gradation", s.sizing->gradation()}, {"seeds", seeds}};
+    if (s.sizing->form() == SizingForm::Smooth) j["sizing"]["form"] = "smooth";
   }
   if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.reports);
@@ -128,7 +129,8 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   return j.dump() + "\n";
 }
 
-/// The `sizing` block: {"gradation": g, "seeds": [[x, y, h], ...]} with hMax = params.spacing.
+/// The `sizing` block: {"gradation": g, "seeds": [[x, y, h], ...], "form": "smooth"} with hMax =
+/// params.spacing; without "form" (sessions written before the smooth form) the cones' minimum.
 static std::shared_ptr<const SizingField> sizingFromJson(const json& block, double hMax, const std::string& where) {
   if (!block.is_object()) throw InputError(where, "sizing must be an object");
   const double g = detail::boundedNumber(detail::require(block, "gradation", where), 1.0, where, "sizing.gradation");
@@ -136,6 +138,11 @@ static std::shared_ptr<const SizingField> sizingFromJson(const json& block, doub
   if (!seeds.is_array()) throw InputError(where, "sizing.seeds must be an array of [x, y, h]");
   if (seeds.size() > std::size_t(sampling::kMaxSamples))
     throw InputError(where, "sizing.seeds has " + std::to_string(seeds.size()) + " entries, more than " + std::to_string(sampling::kMaxSamples));
+  SizingForm form = SizingForm::Min;
+  if (block.contains("form")) {
+    if (block["form"] != "smooth" && block["form"] != "min") throw InputError(where, "sizing.form must be \"smooth\" or \"min\"");
+    form = block["form"] == "smooth" ? SizingForm::Smooth : SizingForm::Min;
+  }
   Points P(Index(seeds.size()), 2);
   Eigen::VectorXd H(Index(seeds.size()));
   for (std::size_t i = 0; i < seeds.size(); ++i) {
@@ -147,7 +154,7 @@ static std::shared_ptr<const SizingField> sizingFromJson(const json& block, doub
     H(Index(i)) = detail::boundedNumber(e[2], kMaxCoordinate, where, name);
   }
   try {
-    return std::make_shared<const SizingField>(hMax, g, P, H);
+    return std::make_shared<const SizingField>(hMax, g, P, H, form);
   } catch (const std::invalid_argument& e) {
     throw InputError(where, std::string("sizing: ") + e.what());
   }

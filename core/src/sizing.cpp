@@ -180,8 +180,8 @@ SizingField SizingField::uniform(double hMax) {
   return SizingField(hMax, kSizingGradation, Points(0, 2), Eigen::VectorXd(0));
 }
 
-SizingField::SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H)
-    : m_hMax(hMax), m_g(gradation), m_P(P), m_H(H) {
+SizingField::SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H, SizingForm form)
+    : m_hMax(hMax), m_g(gradation), m_form(form), m_P(P), m_H(H) {
   if (!(hMax > 0.0) || !std::isfinite(hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
   if (!(gradation > 0.0 && gradation <= 0.5)) throw std::invalid_argument("sizing: gradation must be in (0, 0.5]");
   if (P.rows() != H.size()) throw std::invalid_argument("sizing: one size per seed");
@@ -196,7 +196,8 @@ void SizingField::buildGrid() {
   m_items.clear();
   m_nx = m_ny = 0;
   if (m_P.rows() == 0) return;
-  m_reach = (m_hMax - m_H.minCoeff()) / m_g;
+  // Seeds farther than m_reach from x leave h(x) = h̃(x) = hMax (the smooth profile's cones reach 2·hMax).
+  m_reach = ((m_form == SizingForm::Smooth ? 2.0 : 1.0) * m_hMax - (1.0 - 0.5 * m_g) * m_H.minCoeff()) / m_g;
   const double x0 = m_P.col(0).minCoeff(), y0 = m_P.col(1).minCoeff();
   const double w = m_P.col(0).maxCoeff() - x0, h = m_P.col(1).maxCoeff() - y0;
   // Cells of an eighth of the reach: queries scan rings of cells outwards and stop once no seed
@@ -219,46 +220,94 @@ void SizingField::buildGrid() {
   for (Index i = 0; i < m_P.rows(); ++i) m_items[static_cast<std::size_t>(count[cellOf(i)]++)] = static_cast<int>(i);
 }
 
-double SizingField::valueAndGradient(const Vec2& x, Vec2& gradient) const {
-  gradient.setZero();
+template <class Bound, class Visit>
+void SizingField::scanSeeds(const Vec2& x, Bound bound, Visit visit) const {
+  if (m_P.rows() == 0) return;
+  const double hLow = (1.0 - 0.5 * m_g) * m_H.minCoeff();  // a lower bound of every rounded cone's tip
+  const int cx = static_cast<int>(std::floor((x.x() - m_x0) / m_cell)), cy = static_cast<int>(std::floor((x.y() - m_y0) / m_cell));
+  // Cells at Chebyshev ring r lie at least (r − 1)·cell away.
+  const int rings = static_cast<int>(std::ceil(m_reach / m_cell)) + 1;
+  // Distance from x to the grid (x may lie outside it).
+  const double outside = std::max({m_x0 - x.x(), x.x() - (m_x0 + m_nx * m_cell), m_y0 - x.y(), x.y() - (m_y0 + m_ny * m_cell), 0.0});
+  if (hLow + m_g * outside >= bound()) return;
+  for (int r = 0; r <= rings + static_cast<int>(outside / m_cell) + 1; ++r) {
+    if (hLow + m_g * (std::max(r - 1, 0) * m_cell) >= bound()) break;
+    for (int j = cy - r; j <= cy + r; ++j) {
+      if (j < 0 || j >= m_ny) continue;
+      const bool edgeRow = j == cy - r || j == cy + r;
+      for (int i = cx - r; i <= cx + r; i += edgeRow ? 1 : 2 * r) {
+        if (i >= 0 && i < m_nx) {
+          const std::size_t c = static_cast<std::size_t>(j) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(i);
+          for (int k = m_start[c]; k < m_start[c + 1]; ++k) visit(m_items[static_cast<std::size_t>(k)]);
+        }
+        if (r == 0) break;
+      }
+    }
+  }
+}
+
+double SizingField::minForm(const Vec2& x, Vec2& gradient) const {
   double best = m_hMax;
   int arg = -1;
-  if (m_P.rows() > 0) {
-    const double hLow = m_H.minCoeff();
-    const int cx = static_cast<int>(std::floor((x.x() - m_x0) / m_cell)), cy = static_cast<int>(std::floor((x.y() - m_y0) / m_cell));
-    // Cells at Chebyshev ring r lie at least (r − 1)·cell away: stop when hLow + g·(r − 1)·cell ≥ best.
-    const int rings = static_cast<int>(std::ceil(m_reach / m_cell)) + 1;
-    // Distance from x to the grid (x may lie outside it).
-    const double outside = std::max({m_x0 - x.x(), x.x() - (m_x0 + m_nx * m_cell), m_y0 - x.y(), x.y() - (m_y0 + m_ny * m_cell), 0.0});
-    if (hLow + m_g * outside < best)
-      for (int r = 0; r <= rings + static_cast<int>(outside / m_cell) + 1; ++r) {
-        if (hLow + m_g * (std::max(r - 1, 0) * m_cell) >= best) break;
-        for (int j = cy - r; j <= cy + r; ++j) {
-          if (j < 0 || j >= m_ny) continue;
-          const bool edgeRow = j == cy - r || j == cy + r;
-          for (int i = cx - r; i <= cx + r; i += edgeRow ? 1 : 2 * r) {
-            if (i >= 0 && i < m_nx) {
-              const std::size_t c = static_cast<std::size_t>(j) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(i);
-              for (int k = m_start[c]; k < m_start[c + 1]; ++k) {
-                const int s = m_items[static_cast<std::size_t>(k)];
-                const double v = m_H(s) + m_g * (x - Vec2(m_P.row(s))).norm();
-                if (v < best) {
-                  best = v;
-                  arg = s;
-                }
-              }
-            }
-            if (r == 0) break;
-          }
-        }
-      }
-  }
+  scanSeeds(x, [&] { return best; }, [&](int s) {
+    const double v = m_H(s) + m_g * (x - Vec2(m_P.row(s))).norm();
+    if (v < best) {
+      best = v;
+      arg = s;
+    }
+  });
   if (arg >= 0) {
     const Vec2 d = x - Vec2(m_P.row(arg));
     const double len = d.norm();
     if (len > 0.0) gradient = (m_g / len) * d;
   }
   return best;
+}
+
+double SizingField::smoothForm(const Vec2& x, Vec2& gradient) const {
+  // S = 1 + Σ τ(a_i) (hMax/a_i)^p over the seeds with a_i < 2·hMax (τ = 0 beyond); h = hMax·S^(−1/p).
+  constexpr double p = kSizingSoftness;
+  double S = 1.0;
+  Vec2 dS = Vec2::Zero();
+  const double cut = 2.0 * m_hMax;
+  scanSeeds(x, [&] { return cut; }, [&](int s) {
+    const Vec2 d = x - Vec2(m_P.row(s));
+    const double eps = 0.5 * m_H(s), root = std::sqrt(d.squaredNorm() + eps * eps);
+    const double a = m_H(s) + m_g * (root - eps);
+    if (a >= cut) return;
+    double tau = 1.0, dtau = 0.0;  // τ(a) and dτ/da: 1 − smootherstep over [hMax, 2·hMax]
+    if (a > m_hMax) {
+      const double t = a / m_hMax - 1.0;
+      tau = 1.0 - t * t * t * (10.0 - t * (15.0 - 6.0 * t));
+      dtau = -30.0 * t * t * (1.0 - t) * (1.0 - t) / m_hMax;
+    }
+    const double r = m_hMax / a, r2 = r * r, r4 = r2 * r2, rp = r4 * r4;
+    static_assert(p == 8.0, "rp is (hMax/a)^p by repeated squaring");
+    S += tau * rp;
+    // d/da [τ (hMax/a)^p] = (τ' − p τ / a) (hMax/a)^p;  ∇a = g (x − p_i) / root.
+    dS += ((dtau - p * tau / a) * rp * m_g / root) * d;
+  });
+  const double h = m_hMax * std::pow(S, -1.0 / p);
+  gradient = (-h / (p * S)) * dS;
+  return h;
+}
+
+double SizingField::valueAndGradient(const Vec2& x, Vec2& gradient) const {
+  gradient.setZero();
+  return m_P.rows() == 0 ? m_hMax : minForm(x, gradient);
+}
+
+double SizingField::profile(const Vec2& x, Vec2* gradient) const {
+  Vec2 g = Vec2::Zero();
+  const double h = m_P.rows() == 0 ? m_hMax : m_form == SizingForm::Smooth ? smoothForm(x, g) : minForm(x, g);
+  if (gradient) *gradient = g;
+  return h;
+}
+
+Eigen::VectorXd SizingField::profileAt(const Points& X) const {
+  Eigen::VectorXd h(X.rows());
+  for (Index i = 0; i < X.rows(); ++i) h(i) = profile(X.row(i));
+  return h;
 }
 
 double SizingField::operator()(const Vec2& x) const {

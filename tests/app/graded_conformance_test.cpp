@@ -157,3 +157,38 @@ TEST(GradedConformance, UniformSpacingStillRefusesNarrowPlaces) {
 
 }  // namespace
 }  // namespace kc::app
+
+namespace kc::app {
+namespace {
+
+TEST(GradedConformance, SessionsKeepTheWidthProfile) {
+  // A graded session with a line round-trips with its smooth profile and evaluates identically; the same
+  // sizing block without "form" (a session written before the smooth profile) loads the min form.
+  Points C(8, 2);
+  C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
+  EXPECT_EQ(app::bind(Cage::polygon(C), 300, 300, BindParams{}).sizing->form(), SizingForm::Min);  // no lines
+  Structure st;
+  st.lines = {{{146.5, 70}, {146.5, 230}}};
+  const Session s = app::bind(Cage::polygon(C), st, 300, 300, BindParams{});
+  ASSERT_TRUE(s.sizing);
+  EXPECT_EQ(s.sizing->form(), SizingForm::Smooth);
+  const std::string text = sessionToJson(s);
+  const Session t = sessionFromJson(text, "graded.kcw.json");
+  ASSERT_TRUE(t.sizing);
+  EXPECT_EQ(t.sizing->form(), SizingForm::Smooth);
+  Points P(3, 2);
+  P << 147.0, 120.0, 153.0, 60.0, 100.0, 220.0;
+  EXPECT_EQ(s.field->weightsAt(P), t.field->weightsAt(P));
+  nlohmann::json j = nlohmann::json::parse(text);
+  j["sizing"].erase("form");
+  j.erase("field");  // re-solved from the samples and weights with the min-form width
+  const Session old = sessionFromJson(j.dump(), "old.kcw.json");
+  ASSERT_TRUE(old.sizing);
+  EXPECT_EQ(old.sizing->form(), SizingForm::Min);
+  EXPECT_EQ(old.sizing->profile(Vec2(147.0, 120.0)), (*old.sizing)(Vec2(147.0, 120.0)));
+  j["sizing"]["form"] = "wavy";
+  EXPECT_THROW(sessionFromJson(j.dump(), "bad.kcw.json"), std::exception);
+}
+
+}  // namespace
+}  // namespace kc::app

@@ -110,6 +110,50 @@ TEST(Sizing, GradedDivisionFollowsTheLocalSpacing) {
   }
 }
 
+TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
+  // Around a 3 px slit and a short edge: h̃ ≤ h, h̃ ≥ 0.55·h, h̃ = hMax far away, |∇h̃| within the
+  // stated bound on random points, and the gradient agrees with finite differences.
+  const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
+  ASSERT_EQ(h.form(), SizingForm::Smooth);
+  EXPECT_EQ(h.profile(Vec2(60, 240)), 10.0);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 300);
+  const double bound = h.gradation() * (1.0 + 1.875 / kSizingSoftness);
+  double maxRatio = 0.0;
+  for (int t = 0; t < 3000; ++t) {
+    const Vec2 x(u(rng), u(rng));
+    Vec2 g;
+    const double v = h.profile(x, &g);
+    EXPECT_LE(v, h(x) + 1e-12);
+    EXPECT_GE(v, 0.55 * h(x));
+    EXPECT_LE(g.norm(), bound + 1e-12);
+    maxRatio = std::max(maxRatio, g.norm() / h.gradation());
+    const double e = 1e-5;
+    const Vec2 fd((h.profile(x + Vec2(e, 0)) - h.profile(x - Vec2(e, 0))) / (2 * e),
+                  (h.profile(x + Vec2(0, e)) - h.profile(x - Vec2(0, e))) / (2 * e));
+    EXPECT_NEAR((fd - g).norm(), 0.0, 1e-5 * (1.0 + g.norm())) << x.transpose();
+  }
+  EXPECT_GT(maxRatio, 0.5);  // the profile does grade
+  // C¹ across a ridge between two seeds: the gradient changes continuously (no jump between
+  // points 1e-4 px apart anywhere on a line through the slit's refinement).
+  for (double x = 120; x < 180; x += 0.01) {
+    Vec2 g0, g1;
+    h.profile(Vec2(x, 120), &g0);
+    h.profile(Vec2(x + 1e-4, 120), &g1);
+    EXPECT_LE((g1 - g0).norm(), 1e-3) << x;
+  }
+}
+
+TEST(Sizing, MinProfileIsTheSpacing) {
+  const SizingField s = featureSizing(slit(3.0), {}, options(10.0));
+  const SizingField m(s.hMax(), s.gradation(), s.seeds(), s.sizes(), SizingForm::Min);
+  for (double x = 100; x < 200; x += 1.7) {
+    const Vec2 p(x, 130);
+    EXPECT_EQ(m.profile(p), s(p));
+    EXPECT_EQ(m(p), s(p));
+  }
+}
+
 TEST(Sizing, RejectsBadInput) {
   EXPECT_THROW(SizingField(0.0, 0.3, Points(0, 2), Eigen::VectorXd(0)), std::invalid_argument);
   EXPECT_THROW(SizingField(5.0, 0.9, Points(0, 2), Eigen::VectorXd(0)), std::invalid_argument);

@@ -21,14 +21,14 @@ double GaussianKernel::widthAt(const Vec2& x, Vec2& gradient) const {
     return sigma;
   }
   const double f = sigma / width->hMax();
-  const double h = width->valueAndGradient(x, gradient);
+  const double h = width->profile(x, &gradient);
   gradient *= f;
   return f * h;
 }
 
 Eigen::VectorXd GaussianKernel::widthsAt(const Points& X) const {
   if (!variable()) return Eigen::VectorXd::Constant(X.rows(), sigma);
-  return (sigma / width->hMax()) * width->at(X);
+  return (sigma / width->hMax()) * width->profileAt(X);
 }
 
 }  // namespace kc

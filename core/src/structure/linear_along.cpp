@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "kc/core/cage.h"
@@ -36,13 +37,21 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   if (W.rows() != n || static_cast<Index>(keep.size()) != n) throw std::invalid_argument("makeLinearAlong: W and keep need one row per sample");
   const bool exact = interp.mode() == InterpMode::Exact;
   const double theta = kernel.cutoff();
-  // The kernel's width near each segment (its smallest at the ends and the middle; σ when constant):
-  // fit points, the reach of the correction and the scaling of the polynomial rows follow it.
-  std::vector<double> segmentSigma(segments.size(), kernel.sigma);
+  // The kernel's width along each segment (σ when constant), at 65 points: the fit points and the
+  // scaling of the polynomial rows follow its smallest value, the reach of the correction its
+  // largest (where the width is larger, fewer samples lie within a given distance).
+  std::vector<double> segmentSigma(segments.size(), kernel.sigma), segmentReach(segments.size(), kernel.sigma);
   if (kernel.variable())
-    for (std::size_t s = 0; s < segments.size(); ++s)
-      segmentSigma[s] = std::min({kernel.widthAt(segments[s].a), kernel.widthAt(segments[s].b),
-                                  kernel.widthAt(0.5 * (segments[s].a + segments[s].b))});
+    for (std::size_t s = 0; s < segments.size(); ++s) {
+      double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+      for (int k = 0; k <= 64; ++k) {
+        const double w = kernel.widthAt(segments[s].a + (k / 64.0) * (segments[s].b - segments[s].a));
+        lo = std::min(lo, w);
+        hi = std::max(hi, w);
+      }
+      segmentSigma[s] = lo;
+      segmentReach[s] = hi;
+    }
   const Eigen::VectorXd widthX = kernel.widthsAt(X);
 
   // All fit points, their segment and their targets; e = w(F) − target, kept up to date.
@@ -75,7 +84,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   for (int sweep = 0; sweep < std::max(1, options.sweeps); ++sweep)
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec2 a = segments[s].a, b = segments[s].b;
-    const double sigma = segmentSigma[s], radius = options.reach * sigma;
+    const double sigma = segmentSigma[s], radius = options.reach * segmentReach[s];
     std::vector<Index> nodes, held, onLine, own, others, loose;  // onLine: held samples on the segment (fit, not held)
     for (Index j = 0; j < n; ++j) {
       const double d = pointSegmentDistance(X.row(j), a, b);

@@ -47,7 +47,7 @@ struct GaussianKernel {
   }
 
   /// σ(x) (sigma when the width is constant).
-  double widthAt(const Vec2& x) const { return variable() ? sigma * (*width)(x) / width->hMax() : sigma; }
+  double widthAt(const Vec2& x) const { return variable() ? sigma * width->profile(x) / width->hMax() : sigma; }
   /// σ(x) and ∇σ(x) (zero when the width is constant).
   double widthAt(const Vec2& x, Vec2& gradient) const;
   /// σ at every row of X (#X).

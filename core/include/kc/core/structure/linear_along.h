@@ -19,7 +19,7 @@ struct LinearSegment {
 
 struct LinearityOptions {
   double fitSpacing = 0.25;  ///< Fit points along a segment every fitSpacing·σ.
-  double reach = 2.5;        ///< Samples within reach·σ of a segment are adjusted.
+  double reach = 2.5;        ///< Samples within reach·σ of a segment are adjusted (σ: the largest width along it).
   double rankTolerance = 1e-6;   ///< Relative pivot threshold of the least-norm fit (larger: smaller changes, looser fit).
   int sweeps = 1;                ///< Passes over all segments (a second pass settles what later segments
                                  ///< moved at the fit points of earlier ones, as at the corners of a cage).
