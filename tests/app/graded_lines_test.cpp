@@ -80,7 +80,7 @@ void expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& li
   EXPECT_LE(f.reproduction, 1e-7);
 }
 
-TEST(GradedLines, CrossingLinesBindAndStayStraight) {
+TEST(GradedLinesSlow, CrossingLinesBindAndStayStraight) {
   // An X (a window frame) and a T from its crossing: refused by a uniform bind.
   expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
 }
@@ -93,7 +93,7 @@ TEST(GradedLines, ALineEndingOnTheEdgeStaysStraight) {
   expectStraightGraded(square(20, 20, 280, 280), {{{280, 240}, {200, 240}}, {{80, 60}, {180, 20}}}, 300);
 }
 
-TEST(GradedLines, LinesNearANarrowPlaceStayStraight) {
+TEST(GradedLinesSlow, LinesNearANarrowPlaceStayStraight) {
   // A slit 3 px wide with a line along each side of it, 2 px from its walls: the kernel width
   // varies along the lines (the narrow place refines it), which the smooth profile keeps kink-free.
   Points C(8, 2);
