@@ -102,9 +102,8 @@ TEST(CageMesh, PointsTheMesherAddsOnTheCageAreRecorded) {
 TEST(CageMesh, ASizingFieldGradesTheMeshAtTheNarrowPlaceOnly) {
   // A square with a slit 3 px wide cut in from below: featureSizing refines along the slit
   // (h = lfs / k = 1.5 px there) and leaves h = 10 px away from it.
-  Points C(8, 2);
-  C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
-  const Cage cage = Cage::polygon(C);
+  const Cage cage = test::slitCage();
+  const Points& C = cage.C;
   SizingOptions so;
   so.hMax = 10.0;
   auto sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));

@@ -26,4 +26,12 @@ inline Cage lCage(double s = 100.0) {
   return Cage::polygon(C);
 }
 
+/// A square [50, 250]² with a slit 3 px wide cut in from below: x in [148.5, 151.5], y from 50 to
+/// 200. Controls 1, 2 are the slit's left side, 3, 4 its right side.
+inline Cage slitCage() {
+  Points C(8, 2);
+  C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
+  return Cage::polygon(C);
+}
+
 }  // namespace kc::test

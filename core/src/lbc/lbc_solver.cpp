@@ -13,6 +13,10 @@
 //   Since M has orthonormal rows, MᵀM = I − Q1 Q1ᵀ (Q1: orthonormal basis of range(K)), so
 //   Y M = (L_II + M_II)⁻¹ (Gᵀ A P + M_II Q) (I − Q1 Q1ᵀ): step 2 solves for all m columns and
 //   projects each row; Y itself is never formed.
+//   The loop keeps only V1 = X̃ + U1 and V2 = W̃ + U2 (with the iterate and the multipliers):
+//   step 3 is U = V − B Z_new, and step 1 of the next iteration follows in the same pass over the
+//   vertices and the triangles (no per-triangle right-hand-side array; step 2 gathers Gᵀ A V1).
+//   The primal residual is therefore that of step 1's X, W against the Z_new they come from.
 // so the Y-system matrix is the same for every μ (adaptive μ costs nothing) and the residuals are
 // discretized L² norms, comparable across mesh sizes.
 #include "kc/core/lbc/lbc_solver.h"
@@ -20,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
@@ -339,141 +344,155 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
 
   // Final weights from the affine iterate Z: Dirichlet rows, and Z made non-negative by the
   // per-vertex QP (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1); their objective.
+  // Each call keeps in res.W (and the report) whichever has the lower objective: these weights or
+  // the ones already there. The projected iterate's objective does not fall monotonically (where
+  // Z dips below 0 varies over hundreds of iterations; on a person-shaped cage the objective
+  // swings by several tenths of a percent between certificate checks), and any non-negative
+  // barycentric candidate is as good an answer as its objective.
   auto finalize = [&](const RowMatrix& Z) {
-    res.W.resize(d.nb + n, m);
-    res.W.topRows(d.nb) = d.Wb;
-    res.W.bottomRows(n) = Z;
-    rep.projectedVertices = rep.projectionFailures = 0;
-    rep.maxProjection = 0.0;
+    Weights W(d.nb + n, m);
+    W.topRows(d.nb) = d.Wb;
+    W.bottomRows(n) = Z;
+    Index projected = 0, failures = 0;
+    double maxProjection = 0.0;
     if (options.projectNonNegative && n > 0) {
       const ControlFrame frame(d.V.topRows(m));
       std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
       std::vector<double> moved(std::size_t(n), 0.0);
       parallelFor(n, [&](Index v) {
-        if (Z.row(v).minCoeff() >= 0.0) return;
+        const Eigen::RowVectorXd target = Z.row(v);
+        if (target.minCoeff() >= 0.0) return;
         const Vec2 x = d.V.row(d.nb + v);
-        const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(&Z(v, 0), std::size_t(m)),
-                                         std::span<double>(&res.W(d.nb + v, 0), std::size_t(m)));
-        changed[std::size_t(v)] = 1;
+        const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(target.data(), std::size_t(m)),
+                                         std::span<double>(&W(d.nb + v, 0), std::size_t(m)));
+        moved[std::size_t(v)] = (W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
+        changed[std::size_t(v)] = moved[std::size_t(v)] > 0.0;
         failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
-        moved[std::size_t(v)] = (res.W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
       }, 64);
       for (Index v = 0; v < n; ++v) {
-        rep.projectedVertices += changed[std::size_t(v)];
-        rep.projectionFailures += failed[std::size_t(v)];
-        rep.maxProjection = std::max(rep.maxProjection, moved[std::size_t(v)]);
+        projected += changed[std::size_t(v)];
+        failures += failed[std::size_t(v)];
+        maxProjection = std::max(maxProjection, moved[std::size_t(v)]);
       }
     }
-    rep.objective = objective(res.W);
+    const double value = objective(W);
+    if (res.W.size() > 0 && !(value < rep.objective)) return;
+    res.W = std::move(W);
+    rep.objective = value;
+    rep.projectedVertices = projected;
+    rep.projectionFailures = failures;
+    rep.maxProjection = maxProjection;
   };
   const auto iterStart = std::chrono::steady_clock::now();
-  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m);
+  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m), U2 = RowMatrix::Zero(n, m);
   double mu = options.penalty;
-  bool certified = false;  // rep.lowerBound and res.W belong to the current iterate
+  bool certified = false;  // rep.lowerBound and res.W are final
   if (n > 0 && d.r > 0) {
-    RowMatrix X(nt, 2 * m), F(nt, 3 * m);
-    RowMatrix Wc(n, m), U2 = RowMatrix::Zero(n, m), Qm(n, m);
+    // The iteration's state is v = x̃ + U (per triangle V1 = X̃ + U1, per vertex V2 = W̃ + U2):
+    // step 2 is the projection Z = P v onto the affine iterates, U = v − B Z, then step 1 from
+    // B Z − U and the next v (Douglas–Rachford form of ADMM). Z, G = ∇[Wb; Z], U1 and U2 are kept
+    // for the residuals, the certificate and a change of μ.
+    RowMatrix V1(nt, 2 * m), V2(n, m), Qm(n, m);
     std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
     const double norm = 1.0 / (double(m) * d.domainArea);
     int nextGapCheck = 0;
     rep.status = LbcStatus::NotConverged;
-    // Step 1 of triangle s: group shrinkage of ∇W − U1 (eq. 30) into X, and the triangle's share
-    // of step 2's right-hand side, F(s, c·m + i) = a_s ∇λ_c · P_s,i with P = X̃ + U1 (J = ∇[Wb; H]
-    // enters through the constant Gᵀ A J). It runs right after the triangle's step 3 (one pass
-    // over the triangles per iteration), and over all triangles at the start and when μ changes.
+    // Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) and its next V1 = αX + (1 − α)G + U1;
+    // returns a_s |X − G|² (the primal residual's share).
     auto shrink = [&](Index s) {
-      const auto& gr = d.g.gradient[std::size_t(s)];
-      const double area = d.g.area[std::size_t(s)];
       const double* gs = &G(s, 0);
       const double* us = &U1(s, 0);
       const double* phis = &d.phi(s, 0);
-      double* xs = &X(s, 0);
-      double* fs = &F(s, 0);
+      double* vs = &V1(s, 0);
+      double p = 0.0;
       for (Index i = 0; i < m; ++i) {
         const double ax = gs[i] - us[i], ay = gs[m + i] - us[m + i];
         const double len = std::sqrt(ax * ax + ay * ay), thr = phis[i] / mu;
         const double f = len > thr ? 1.0 - thr / len : 0.0;
-        xs[i] = f * ax;
-        xs[m + i] = f * ay;
+        const double xx = f * ax, xy = f * ay;
+        vs[i] = alpha * xx + (1.0 - alpha) * gs[i] + us[i];
+        vs[m + i] = alpha * xy + (1.0 - alpha) * gs[m + i] + us[m + i];
+        p += (xx - gs[i]) * (xx - gs[i]) + (xy - gs[m + i]) * (xy - gs[m + i]);
       }
-      for (Index i = 0; i < m; ++i) {
-        const double px = area * (alpha * xs[i] + (1.0 - alpha) * gs[i] + us[i]);
-        const double py = area * (alpha * xs[m + i] + (1.0 - alpha) * gs[m + i] + us[m + i]);
-        for (int c = 0; c < 3; ++c) fs[c * m + i] = gr[std::size_t(c)].x() * px + gr[std::size_t(c)].y() * py;
-      }
+      return d.g.area[std::size_t(s)] * p;
     };
-    parallelFor(nt, shrink, 256);
+    // Step 1 of interior vertex v (eq. 31: W = max(0, Z − U2)) and its next V2; returns m_v |W − Z|².
+    auto clamp = [&](Index v) {
+      double p = 0.0;
+      for (Index i = 0; i < m; ++i) {
+        const double z = Z(v, i), u = U2(v, i), w = std::max(0.0, z - u);
+        V2(v, i) = alpha * w + (1.0 - alpha) * z + u;
+        p += (w - z) * (w - z);
+      }
+      return d.g.vertexMass[std::size_t(d.nb + v)] * p;
+    };
+    auto firstStep = [&] {
+      parallelFor(nt, [&](Index s) { primalT[std::size_t(s)] = shrink(s); }, 256);
+      parallelFor(n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
+    };
+    firstStep();
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
       const bool parallel = threads.parallel(k);
       auto grain = [&](Index count, Index g) { return parallel ? g : count; };
-      // Step 2: the clamp of W − U2 (eq. 31) and the right-hand side Gᵀ A P + M Q per interior
-      // vertex (Q = W̃ + U2 − H), gathered from its triangles. With MᵀM = I − Q1 Q1ᵀ the
-      // Y-system's solution enters only as (L_II + M_II)⁻¹ (Gᵀ A P + M Q) MᵀM: solve for all m
-      // columns, then project each row (no dense products with M).
+      // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
+      // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
+      // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row.
       parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
-        Eigen::RowVectorXd q(m);
         for (Index v = begin; v < end; ++v) {
           const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
-          for (Index i = 0; i < m; ++i) {
-            Wc(v, i) = std::max(0.0, Z(v, i) - U2(v, i));
-            q(i) = mass * (alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i) + U2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
-          }
+          double* q = &Qm(v, 0);
+          for (Index i = 0; i < m; ++i) q[i] = mass * (V2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
           for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
             const auto [s, c] = d.adj[std::size_t(a)];
-            q += F.row(s).segment(c * m, m);
+            const Vec2 gr = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
+            const double* vs = &V1(s, 0);
+            for (Index i = 0; i < m; ++i) q[i] += gr.x() * vs[i] + gr.y() * vs[m + i];
           }
-          Qm.row(v) = q;
         }
       });
       d.system.solveInPlace(Qm, parallel);
-      // Step 3: new affine iterate Y M + H, multipliers and residuals (eq. 26–27), row by row.
+      // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
       parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
         std::vector<double> znew(static_cast<std::size_t>(m));
         for (Index v = begin; v < end; ++v) {
           d.projectRow(v, &Qm(v, 0), znew.data());
-          double p = 0.0, q = 0.0;
+          double q = 0.0;
           for (Index i = 0; i < m; ++i) {
             const double z = znew[std::size_t(i)];
-            const double relaxed = alpha * Wc(v, i) + (1.0 - alpha) * Z(v, i);
-            U2(v, i) += relaxed - z;
-            p += (Wc(v, i) - z) * (Wc(v, i) - z);
+            U2(v, i) = V2(v, i) - z;
             q += (z - Z(v, i)) * (z - Z(v, i));
             Z(v, i) = z;
           }
-          const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
-          primalV[std::size_t(v)] = mass * p;
-          dualV[std::size_t(v)] = mass * q;
+          dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
+          primalV[std::size_t(v)] = clamp(v);
         }
       });
+      // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
       parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
         std::vector<double> buffer(std::size_t(2 * m));
         double* nx = buffer.data();
         double* ny = buffer.data() + m;
         for (Index s = begin; s < end; ++s) {
           d.gradientRow(Z, s, nx, ny);
-          const double* xs = &X(s, 0);
           double* gs = &G(s, 0);
           double* us = &U1(s, 0);
-          double p = 0.0, q = 0.0;  // (sums in index order; the loops below vectorize)
-          for (Index i = 0; i < m; ++i) {
-            p += (xs[i] - nx[i]) * (xs[i] - nx[i]) + (xs[m + i] - ny[i]) * (xs[m + i] - ny[i]);
-            q += (nx[i] - gs[i]) * (nx[i] - gs[i]) + (ny[i] - gs[m + i]) * (ny[i] - gs[m + i]);
-          }
-          for (Index j = 0; j < 2 * m; ++j) {  // nx, ny are contiguous like a row of G
-            us[j] += (alpha * xs[j] + (1.0 - alpha) * gs[j]) - nx[j];
+          const double* vs = &V1(s, 0);
+          double q = 0.0;  // (sums in index order; the loops below vectorize)
+          for (Index j = 0; j < 2 * m; ++j) q += (nx[j] - gs[j]) * (nx[j] - gs[j]);  // nx, ny are contiguous like a row of G
+          for (Index j = 0; j < 2 * m; ++j) {
+            us[j] = vs[j] - nx[j];
             gs[j] = nx[j];
           }
-          primalT[std::size_t(s)] = d.g.area[std::size_t(s)] * p;
           dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
-          shrink(s);  // step 1 of the next iteration
+          primalT[std::size_t(s)] = shrink(s);
         }
       });
-      threads.record(k, secondsSince(iterationStart));
       rep.iterations = k;
       rep.primalResidual = std::sqrt((sum(primalT) + sum(primalV)) * norm);
       rep.dualResidual = mu * std::sqrt((sum(dualT) + sum(dualV)) * norm);
+      threads.record(k, secondsSince(iterationStart));
       if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
         if (!(options.gapTolerance > 0.0)) {
           rep.status = LbcStatus::Converged;
@@ -496,7 +515,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         rep.status = LbcStatus::Cancelled;
         break;
       }
-      // Residual balancing: μ changes, the scaled multipliers U = λ/μ follow.
+      // Residual balancing: μ changes, the scaled multipliers U = λ/μ follow, step 1 is redone.
       if (options.adaptivePenalty) {
         double factor = 1.0;
         if (rep.primalResidual > 10.0 * rep.dualResidual) factor = 2.0;
@@ -505,7 +524,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           mu *= factor;
           U1 /= factor;
           U2 /= factor;
-          parallelFor(nt, shrink, 256);
+          firstStep();
         }
       }
     }

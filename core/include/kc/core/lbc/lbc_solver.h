@@ -31,8 +31,9 @@ double lbcTau(LbcTau tau, double x);
 
 enum class LbcStatus {
   Converged,     ///< Primal and dual RMS residuals ≤ tolerance.
-  NotConverged,  ///< maxIterations reached first; the weights are the last iterate (still exact barycentric).
-  Cancelled,     ///< The progress callback returned false; the weights are the last iterate.
+  NotConverged,  ///< maxIterations reached first; the weights are the last iterate or, if lower in
+                 ///< objective, one checked before (still exact barycentric).
+  Cancelled,     ///< The progress callback returned false; the weights as for NotConverged.
   Failed,        ///< A factorization failed (the mesh is degenerate); weights are empty.
 };
 
