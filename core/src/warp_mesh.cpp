@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <queue>
 #include <stdexcept>
 #include <string>
 
@@ -70,6 +71,10 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     buildPinned(xs, ys);
     return;
   }
+  if (cull && options.followCage) {
+    buildInside(xs, ys);
+    return;
+  }
   // Which grid vertices can touch the cage region (only needed when culling).
   std::vector<std::uint8_t> near(std::size_t(nx) * ny, 1);
   if (cull) {
@@ -124,6 +129,7 @@ WarpMesh::WarpMesh(int width, int height, const Cage& cage, const WarpMeshOption
     std::stable_sort(m_triangles.begin(), m_triangles.end(), [&](const auto& a, const auto& b) { return layer(a) < layer(b); });
     m_outsideTriangles = Index(std::count_if(m_triangles.begin(), m_triangles.end(), [&](const auto& t) { return layer(t) == 0; }));
     buildRepair(xs, ys);
+    buildFade();
     for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   }
 }
@@ -146,6 +152,34 @@ void WarpMesh::buildPinned(const std::vector<double>& xs, const std::vector<doub
   ext.H.conservativeResize(nv, ext.H.cols());
   m_exterior = std::make_shared<const ExteriorWeights>(std::move(ext));
   buildRepair(xs, ys);
+  buildFade();
+  m_restArea.resize(Index(m_triangles.size()));
+  for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
+  m_deformed = m_rest;
+  m_jacobian = Eigen::VectorXd::Ones(Index(m_triangles.size()));
+}
+
+void WarpMesh::buildInside(const std::vector<double>& xs, const std::vector<double>& ys) {
+  const int nx = int(xs.size()), ny = int(ys.size());
+  const CageQueries queries(m_cage);
+  std::vector<std::uint8_t> exterior(std::size_t(nx) * ny, 0);
+  parallelFor(Index(nx) * ny, [&](Index v) {
+    exterior[std::size_t(v)] = queries.inside(Vec2(xs[std::size_t(v % nx)], ys[std::size_t(v / nx)])) ? 0 : 1;
+  }, 512);
+  const CageConformingGrid grid = cageConformingGrid(xs, ys, m_cage, exterior);
+  // The inside's triangles, and only the vertices they use (renumbered in the grid's order).
+  std::vector<int> newId(std::size_t(grid.V.rows()), -1);
+  for (std::size_t t = std::size_t(grid.outsideTriangles); t < grid.T.size(); ++t)
+    for (int k : grid.T[t]) newId[std::size_t(k)] = 0;
+  int count = 0;
+  for (auto& id : newId)
+    if (id == 0) id = count++;
+  m_rest.resize(count, 2);
+  for (Index v = 0; v < grid.V.rows(); ++v)
+    if (const int id = newId[std::size_t(v)]; id >= 0) m_rest.row(id) = grid.V.row(v);
+  m_triangles.clear();
+  for (std::size_t t = std::size_t(grid.outsideTriangles); t < grid.T.size(); ++t)
+    m_triangles.push_back({newId[std::size_t(grid.T[t][0])], newId[std::size_t(grid.T[t][1])], newId[std::size_t(grid.T[t][2])]});
   m_restArea.resize(Index(m_triangles.size()));
   for (std::size_t t = 0; t < m_triangles.size(); ++t) m_restArea(Index(t)) = 0.5 * signedArea2(m_rest, m_triangles[t]);
   m_deformed = m_rest;
@@ -161,6 +195,82 @@ void WarpMesh::buildRepair(const std::vector<double>& xs, const std::vector<doub
   for (Index v = 0; v < nv; ++v) movable[std::size_t(v)] = m_exterior->exterior[std::size_t(v)] ? 1 : 0;
   const ExteriorRepairFrame frame{xs.front(), ys.front(), xs.back(), ys.back()};
   m_repair = std::make_shared<const ExteriorRepairTopology>(exteriorRepairTopology(m_rest, m_triangles, m_outsideTriangles, movable, &frame));
+}
+
+void WarpMesh::buildFade() {
+  if (!(m_options.fadeBand > 0.0)) return;
+  const Index nv = m_rest.rows();
+  const auto exterior = [this](Index v) { return m_exterior->exterior[std::size_t(v)] != 0; };
+  // Vertex neighbours (CSR) over the drawn triangles.
+  std::vector<int> start(std::size_t(nv) + 1, 0), items;
+  for (const auto& t : m_triangles)
+    for (int k : t) start[std::size_t(k) + 1] += 2;
+  for (Index v = 0; v < nv; ++v) start[std::size_t(v) + 1] += start[std::size_t(v)];
+  items.resize(std::size_t(start.back()));
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  for (const auto& t : m_triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[std::size_t(k)];
+      items[std::size_t(fill[std::size_t(a)]++)] = t[std::size_t((k + 1) % 3)];
+      items[std::size_t(fill[std::size_t(a)]++)] = t[std::size_t((k + 2) % 3)];
+    }
+  // Distances from the edge of the outside by nearest-source propagation (each vertex keeps the
+  // edge vertex it is nearest to, as a vector distance transform does): a Dijkstra order over the
+  // exterior vertices, the distance to a source measured straight, not along mesh edges.
+  auto fade = std::make_shared<Fade>();
+  fade->distance.assign(std::size_t(nv), std::numeric_limits<double>::infinity());
+  std::vector<Index> source(std::size_t(nv), -1);
+  using Item = std::pair<double, Index>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  for (Index v = 0; v < nv; ++v) {
+    if (exterior(v)) continue;
+    fade->distance[std::size_t(v)] = 0.0;
+    const auto first = items.begin() + start[std::size_t(v)], last = items.begin() + start[std::size_t(v) + 1];
+    if (std::any_of(first, last, [&](int u) { return exterior(u); })) {
+      fade->edge.push_back(v);
+      source[std::size_t(v)] = v;
+      queue.push({0.0, v});
+    }
+  }
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > fade->distance[std::size_t(v)]) continue;
+    const Vec2 s = m_rest.row(source[std::size_t(v)]);
+    for (int k = start[std::size_t(v)]; k < start[std::size_t(v) + 1]; ++k) {
+      const int u = items[std::size_t(k)];
+      if (!exterior(u)) continue;
+      const double du = (Vec2(m_rest.row(u)) - s).norm();
+      if (du < fade->distance[std::size_t(u)]) {
+        fade->distance[std::size_t(u)] = du;
+        source[std::size_t(u)] = source[std::size_t(v)];
+        queue.push({du, u});
+      }
+    }
+  }
+  // Vertices no triangle uses (grid vertices next to the cage, cage_conforming_grid.h) or that no
+  // path reaches: their straight distance to the cage (they are drawn by no triangle).
+  const CageQueries queries(m_cage);
+  parallelFor(nv, [&](Index v) {
+    double& d = fade->distance[std::size_t(v)];
+    if (!std::isfinite(d)) d = queries.distance(m_rest.row(v));
+  }, 256);
+  m_fade = std::move(fade);
+}
+
+double WarpMesh::fadeExterior() {
+  double D = 0.0;
+  for (const Index v : m_fade->edge) D = std::max(D, (m_deformed.row(v) - m_rest.row(v)).norm());
+  if (!(D > 0.0)) return 0.0;
+  const double B = m_options.fadeBand * D;
+  const std::vector<double>& r = m_fade->distance;
+  parallelFor(m_rest.rows(), [&](Index v) {
+    if (!m_exterior->exterior[std::size_t(v)]) return;
+    const double t = r[std::size_t(v)] / B;
+    const double phi = t < 1.0 ? 1.0 - t * t * (3.0 - 2.0 * t) : 0.0;
+    m_deformed.row(v) = m_rest.row(v) + phi * (m_deformed.row(v) - m_rest.row(v));
+  }, 4096);
+  return B;
 }
 
 CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
@@ -294,6 +404,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     }
   });
   DeformReport rep;
+  if (m_fade) rep.fadeWidth = fadeExterior();
   if (m_repair) {
     const auto t1 = Clock::now();
     // While dragging, the continuation starts from the last picture when that one was fold-free.

@@ -53,6 +53,82 @@ void drawHandle(ImDrawList* dl, const Vec2& s, bool selected, bool active) {
   dl->AddCircleFilled(c, 5.0f, selected ? rgba(255, 150, 30) : rgba(245, 245, 250));
 }
 
+/// Colour of a local spacing h on the sample plot's scale [lo, hi] (logarithmic): orange where the
+/// samples lie closest, through yellow, to blue where they lie farthest apart.
+ImU32 spacingColor(double h, double lo, double hi, int alpha = 220) {
+  const double t = hi > lo ? std::clamp(std::log(h / lo) / std::log(hi / lo), 0.0, 1.0) : 1.0;
+  const auto mix = [](double a, double b, double u) { return static_cast<int>(std::lround(a + (b - a) * u)); };
+  if (t < 0.5) return rgba(mix(255, 250, 2 * t), mix(90, 225, 2 * t), mix(30, 60, 2 * t), alpha);
+  return rgba(mix(250, 70, 2 * t - 1), mix(225, 150, 2 * t - 1), mix(60, 255, 2 * t - 1), alpha);
+}
+
+/// The sample plot's legend in the canvas's lower left corner: a colour bar from the smallest to
+/// the largest spacing, or the kinds' colours.
+void drawSampleLegend(const AppState& state, ImDrawList* dl, bool bySpacing, double lo, double hi) {
+  const float line = ImGui::GetTextLineHeight();
+  const ImVec2 origin = im(state.view.canvasMin + Vec2(12, state.view.canvasSize.y() - 12 - 2.6 * line));
+  char text[96];
+  if (bySpacing) {
+    std::snprintf(text, sizeof text, "Sample spacing (%ld samples)", long(state.samples.size()));
+    const float width = std::max(ImGui::CalcTextSize("0000.0 px (narrow places)    0000.0 px").x, ImGui::CalcTextSize(text).x);
+    dl->AddRectFilled({origin.x - 6, origin.y - 4}, {origin.x + width + 6, origin.y + 2.6f * line + 4}, rgba(20, 20, 28, 220), 4.0f);
+    dl->AddText(origin, rgba(230, 230, 240), text);
+    const float y0 = origin.y + line + 2, y1 = y0 + 0.5f * line;
+    const int steps = 40;
+    for (int k = 0; k < steps; ++k) {
+      const double h = lo * std::pow(hi / lo, (k + 0.5) / steps);
+      dl->AddRectFilled({origin.x + width * k / steps, y0}, {origin.x + width * (k + 1) / steps, y1}, spacingColor(h, lo, hi, 255));
+    }
+    std::snprintf(text, sizeof text, "%.1f px (narrow places)", lo);
+    dl->AddText({origin.x, y1 + 1}, rgba(230, 230, 240), text);
+    std::snprintf(text, sizeof text, "%.1f px", hi);
+    dl->AddText({origin.x + width - ImGui::CalcTextSize(text).x, y1 + 1}, rgba(230, 230, 240), text);
+    return;
+  }
+  static constexpr SampleKind kinds[] = {SampleKind::Control, SampleKind::Edge, SampleKind::Line, SampleKind::Interior,
+                                         SampleKind::Exterior};
+  std::snprintf(text, sizeof text, "Samples (%ld), spacing %.1f px", long(state.samples.size()), hi);
+  const ImVec2 title = ImGui::CalcTextSize(text);
+  float width = 0.0f;
+  for (SampleKind k : kinds) width += 14.0f + ImGui::CalcTextSize(std::string(toString(k)).c_str()).x + 10.0f;
+  width = std::max(width, title.x);
+  dl->AddRectFilled({origin.x - 6, origin.y - 4}, {origin.x + width + 6, origin.y + 2.2f * line + 4}, rgba(20, 20, 28, 220), 4.0f);
+  dl->AddText(origin, rgba(230, 230, 240), text);
+  float x = origin.x;
+  const float y = origin.y + 1.2f * line;
+  for (SampleKind k : kinds) {
+    const Rgba c = app::sampleColor(k);
+    dl->AddCircleFilled({x + 5, y + 0.5f * line}, 4.0f, rgba(c.r, c.g, c.b), 10);
+    const std::string name(toString(k));
+    dl->AddText({x + 14, y}, rgba(230, 230, 240), name.c_str());
+    x += 14.0f + ImGui::CalcTextSize(name.c_str()).x + 10.0f;
+  }
+}
+
+/// The bound session's samples (deformed with the pose), coloured by their local spacing when it
+/// varies (state.sampleSpacing) and show.sampleSpacing is on, else by kind; with a legend.
+void drawSamples(const AppState& state, ImDrawList* dl) {
+  const SampleSet& S = state.samples;
+  if (S.size() == 0) return;
+  const bool deformed = state.session && !isRestPose(state.pose) && state.session->W.rows() == S.size();
+  const Points X = deformed ? deformPoints(state.session->W, S.X, state.boundCage.C, state.pose) : S.X;
+  const bool known = state.sampleSpacing.size() == S.size();
+  const double lo = known ? state.sampleSpacing.minCoeff() : state.boundSpacing;
+  const double hi = known ? state.sampleSpacing.maxCoeff() : state.boundSpacing;
+  const bool bySpacing = state.show.sampleSpacing && known && lo < hi - 0.05;
+  for (Index s = 0; s < X.rows(); ++s) {
+    ImU32 color;
+    if (bySpacing) {
+      color = spacingColor(state.sampleSpacing(s), lo, hi);
+    } else {
+      const Rgba c = app::sampleColor(S.kind[static_cast<std::size_t>(s)]);
+      color = rgba(c.r, c.g, c.b, 200);
+    }
+    dl->AddCircleFilled(im(state.view.toScreen(X.row(s).transpose())), 1.8f, color, 6);
+  }
+  drawSampleLegend(state, dl, bySpacing, lo, hi);
+}
+
 void drawPoseOverlay(AppState& state, ImDrawList* dl) {
   const View& view = state.view;
   const Points P = posedControls(state.boundCage.C, state.pose);
@@ -65,15 +141,7 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
         dl->AddTriangleFilled(im(view.toScreen(F.row(T[t][0]).transpose())), im(view.toScreen(F.row(T[t][1]).transpose())),
                               im(view.toScreen(F.row(T[t][2]).transpose())), rgba(255, 0, 60, 110));
   }
-  if (state.show.samples) {
-    const SampleSet& S = state.samples;
-    const bool deformed = state.session && !isRestPose(state.pose) && state.session->W.rows() == S.size();
-    const Points X = deformed ? deformPoints(state.session->W, S.X, state.boundCage.C, state.pose) : S.X;
-    for (Index s = 0; s < X.rows(); ++s) {
-      const Rgba c = app::sampleColor(S.kind[static_cast<std::size_t>(s)]);
-      dl->AddCircleFilled(im(view.toScreen(X.row(s).transpose())), 1.8f, rgba(c.r, c.g, c.b, 200), 6);
-    }
-  }
+  if (state.show.samples) drawSamples(state, dl);
   if (state.show.restCage) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(200, 200, 220, 120), 1.0f);
   if (state.show.cage) {
     drawPolygon(dl, view, state.boundCage, P, rgba(20, 20, 28, 200), 4.0f);

@@ -38,6 +38,7 @@ void clearDocument(AppState& state) {
   state.bound = false;
   state.boundCage = Cage{};
   state.samples = SampleSet{};
+  state.sampleSpacing.resize(0);
   state.lines = {};
   state.boundLines.clear();
   state.lineSelection.clear();

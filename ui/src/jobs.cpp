@@ -9,6 +9,7 @@
 #include "kc/app/diagnostics.h"
 #include "kc/app/export.h"
 #include "kc/app/pipeline.h"
+#include "kc/core/lbc/cage_mesh.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/line_edits.h"
 #include "kc/ui/rigidity_edits.h"
@@ -159,6 +160,8 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   refreshBoundLines(state, s);
   refreshBoundRigidity(state, s);
   state.boundSpacing = s.params.spacing;
+  state.boundMinSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
+  state.sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
@@ -192,22 +195,45 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
   return params;
 }
 
-double autoSpacingShown(AppState& state) {
+const AppState::ShownSpacing& spacingPlan(AppState& state) {
   auto& shown = state.shownSpacing;
   app::BindParams p = state.bindParams;
   p.exterior = exteriorFor(state.outside);
+  if (state.autoSpacing) p.spacing = 0.0;  // the slider's value is not used
+  const auto sameRigid = [](const app::Structure& a, const app::Structure& b) {
+    if (a.rigid.size() != b.rigid.size()) return false;
+    for (std::size_t k = 0; k < a.rigid.size(); ++k)
+      if (a.rigid[k].polygon.rows() != b.rigid[k].polygon.rows() || a.rigid[k].polygon != b.rigid[k].polygon) return false;
+    return true;
+  };
   const bool same = shown.width == state.source.width && shown.height == state.source.height &&
                     shown.params.backend == p.backend && shown.params.sampler == p.sampler && shown.params.margin == p.margin &&
-                    shown.params.exterior == p.exterior &&
+                    shown.params.exterior == p.exterior && shown.params.spacing == p.spacing && shown.params.graded == p.graded &&
                     shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
                     shown.params.kc.init.method == p.kc.init.method &&  // --init lbc samples at half the spacing
-                    shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C;
+                    shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C &&
+                    sameLines(shown.lines, state.lines) && sameRigid(shown.lines, state.lines);
   if (!same) {
-    shown = {state.cage.C, state.source.width, state.source.height, p,
-             bindParamsFor(state, state.cage, state.source.width, state.source.height).spacing};
+    const int w = state.source.width, h = state.source.height;
+    shown = {state.cage.C, w, h, p, state.lines, state.bindParams.spacing, state.bindParams.spacing, 0.0};
+    if (state.cageValid && w > 0 && h > 0) {
+      try {
+        app::BindParams used = bindParamsFor(state, state.cage, w, h);
+        shown.spacing = shown.minSpacing = used.spacing;
+        if (!state.lines.lines.empty()) used.graded = false;  // as app::bind does: lines sample uniformly
+        // The sizing field the bind will sample or mesh with (the LBC backend meshes without lines).
+        const bool mesh = !app::backendFor(used.backend).capabilities().outsideCage;
+        if (const auto sizing = app::bindSizing(state.cage, mesh ? app::Structure{} : state.lines, used)) shown.minSpacing = sizing->hMin();
+        shown.points = mesh ? estimateMeshVertices(state.cage, used.spacing) : app::estimateBindCost(state.cage, w, h, used).samples;
+      } catch (const std::exception&) {
+        // A cage or lines the bind refuses: the bind says why; the panel shows the spacing alone.
+      }
+    }
   }
-  return shown.spacing;
+  return shown;
 }
+
+double autoSpacingShown(AppState& state) { return spacingPlan(state).spacing; }
 
 bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   if (!canStart(state, "bind")) return false;

@@ -48,13 +48,43 @@ void backendSwitch(AppState& state) {
     p.backend = "lbc";
 }
 
-/// The Auto spacing tooltip, with the sample budget the automatic spacing keeps to.
-std::string autoSpacingTip() {
-  char text[320];
-  std::snprintf(text, sizeof text,
-                "Let kcwarp choose the sample spacing: 6 px, wider on big pictures so that Bind takes seconds, not minutes "
-                "(about %.0f samples over the cage and a band around it). Untick to set it yourself.",
-                app::kAutoSpacingSamples);
+/// "2.1-11.3 px" for a graded spacing (the smallest and the largest), "11.3 px" for one spacing.
+/// (An ASCII hyphen: the GUI's font has Latin-1 glyphs only.)
+std::string spacingRange(double smallest, double largest) {
+  char text[64];
+  if (smallest < largest - 0.05) std::snprintf(text, sizeof text, "%.1f-%.1f px", smallest, largest);
+  else std::snprintf(text, sizeof text, "%.1f px", largest);
+  return text;
+}
+
+/// The Auto spacing tooltip, with the budget the automatic spacing keeps to.
+std::string autoSpacingTip(bool mesh) {
+  char text[400];
+  if (mesh)
+    std::snprintf(text, sizeof text,
+                  "Let kcwarp choose the mesh's edge length: 6 px, longer on big cages so that Bind takes seconds, not "
+                  "minutes (about %.0f mesh points inside the cage), shorter near narrow places. Untick to set it yourself.",
+                  app::kAutoLbcVertices);
+  else
+    std::snprintf(text, sizeof text,
+                  "Let kcwarp choose the sample spacing: 6 px, wider on big pictures so that Bind takes seconds, not minutes "
+                  "(about %.0f samples over the cage and a band around it), finer near narrow places. Untick to set it yourself.",
+                  app::kAutoSpacingSamples);
+  return text;
+}
+
+/// The tooltip of the spacing the next bind uses: its range and its sample (or mesh point) count.
+std::string plannedSpacingTip(const AppState::ShownSpacing& plan, bool mesh) {
+  char text[400];
+  const char* points = mesh ? "mesh points" : "samples";
+  if (plan.minSpacing < plan.spacing - 0.05)
+    std::snprintf(text, sizeof text,
+                  "What Bind will use for this picture and cage: %.1f px apart away from narrow places, closer where the "
+                  "cage is narrow, down to %.1f px at its narrowest place; about %.0f %s%s.",
+                  plan.spacing, plan.minSpacing, plan.points, points, mesh ? " (a few more near narrow places)" : "");
+  else
+    std::snprintf(text, sizeof text, "What Bind will use for this picture and cage: %.1f px apart everywhere; about %.0f %s.",
+                  plan.spacing, plan.points, points);
   return text;
 }
 
@@ -113,6 +143,13 @@ void drawBindButtons(AppState& state) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
   }
+  if (state.bound) {  // what the bound session was computed with
+    const bool mesh = state.reports.lbcMesh > 0;
+    ImGui::TextDisabled("Bound: spacing %s, %ld %s", spacingRange(state.boundMinSpacing, state.boundSpacing).c_str(),
+                        long(mesh ? state.reports.lbcMesh : state.samples.size()), mesh ? "mesh points" : "samples");
+    tooltip("The spacing the weights of the bound picture were computed at (closer where the cage is narrow) and how "
+            "many points they were computed at. Show them with View > Samples.");
+  }
   if (button(state, "Load cage...", "Read a cage outline from a JSON file (it is bound right away).")) requestPath(state, PathPurpose::LoadCage, "");
   ImGui::SameLine();
   if (button(state, "Save cage...", "Write the cage outline to a JSON file.")) requestPath(state, PathPurpose::SaveCage, "cage.json");
@@ -125,24 +162,24 @@ void drawBindPanel(AppState& state) {
   backendSwitch(state);
   const bool lbc = p.backend == "lbc";
   ImGui::PushItemWidth(150);
-  if (!lbc) {
-    checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip().c_str());
-    if (state.autoSpacing && !state.source.empty() && state.cageValid) {
-      ImGui::SameLine();
-      ImGui::TextDisabled("%.1f px", autoSpacingShown(state));
-      tooltip("The spacing Bind will use for this picture and cage.");
-    }
+  checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(lbc).c_str());
+  const bool planned = !state.source.empty() && state.cageValid;
+  if (state.autoSpacing && planned) {
+    const AppState::ShownSpacing& plan = spacingPlan(state);
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", spacingRange(plan.minSpacing, plan.spacing).c_str());
+    tooltip(plannedSpacingTip(plan, lbc).c_str());
   }
-  const bool spacingFixed = !lbc && state.autoSpacing;
-  ImGui::BeginDisabled(spacingFixed);
-  float spacing = static_cast<float>(p.spacing);
+  ImGui::BeginDisabled(state.autoSpacing);
+  // Greyed under Auto spacing, the slider shows the spacing the bind will use, not the last one set.
+  float spacing = static_cast<float>(state.autoSpacing && planned ? spacingPlan(state).spacing : p.spacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
   ImGui::EndDisabled();
-  std::string tip = lbc ? "Edge length of the triangle mesh of the cage's inside, in pixels. "
-                          "Smaller: finer detail, slower Bind. Larger: faster, coarser."
-                        : spacingFixed ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
-                                       : "Distance between the sample points the weights are computed at, in pixels. "
-                                         "Smaller: finer detail, slower Bind. Larger: faster, smoother.";
+  std::string tip = state.autoSpacing ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
+                    : lbc ? "Edge length of the triangle mesh of the cage's inside away from narrow places, in pixels. "
+                            "Smaller: finer detail, slower Bind. Larger: faster, coarser."
+                          : "Distance between the sample points the weights are computed at, away from narrow places, in "
+                            "pixels. Smaller: finer detail, slower Bind. Larger: faster, smoother.";
   if (!lbc && p.kc.init.method == InitMethod::Lbc) {
     char line[128];
     std::snprintf(line, sizeof line, " With LBC initialization the LBC mesh's edges are %.3g times this spacing.",
@@ -150,6 +187,14 @@ void drawBindPanel(AppState& state) {
     tip += line;
   }
   tooltip(tip.c_str());
+  if (!state.autoSpacing && planned) {
+    // A graded bind samples narrow places more finely than the slider says.
+    const AppState::ShownSpacing& plan = spacingPlan(state);
+    if (plan.minSpacing < plan.spacing - 0.05) {
+      ImGui::TextDisabled("Used: %s", spacingRange(plan.minSpacing, plan.spacing).c_str());
+      tooltip(plannedSpacingTip(plan, lbc).c_str());
+    }
+  }
   if (lbc) {
     lbcControls(state);
     ImGui::PopItemWidth();
@@ -162,8 +207,11 @@ void drawBindPanel(AppState& state) {
     p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   if (autoSigma) {
-    ImGui::TextDisabled("about %.2f px", app::automaticSigma(p.spacing));
-    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28).");
+    // From the spacing the bind will use (the automatic one when Auto spacing is on).
+    const double h = state.autoSpacing && !state.source.empty() && state.cageValid ? spacingPlan(state).spacing : p.spacing;
+    ImGui::TextDisabled("about %.2f px", app::automaticSigma(h));
+    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
+            "Where the samples lie closer (narrow places), sigma is smaller in proportion.");
   } else {
     float sigma = static_cast<float>(p.kc.sigma);
     ImGui::SetNextItemWidth(100);

@@ -81,8 +81,11 @@ float drawMainMenu(AppState& state) {
     tooltip("Show the lines kept straight (line tool, L) over the warped picture; each parallel group has its own colour.");
     ImGui::MenuItem("Rigid regions", nullptr, &state.show.rigid);
     tooltip("Tint the parts painted rigid (rigidity brush, R) in cyan and outline the rigid shapes of a structure file.");
-    ImGui::MenuItem("Samples (by kind)", nullptr, &state.show.samples);
-    tooltip("Show the points the weights were computed at, coloured by kind (cage point, edge, inside, outside).");
+    ImGui::MenuItem("Samples", nullptr, &state.show.samples);
+    tooltip("Show the points the weights were computed at, with a legend: coloured by their spacing where it varies "
+            "(closer where the cage is narrow), else by kind (cage point, edge, inside, outside).");
+    ImGui::MenuItem("Samples by spacing", nullptr, &state.show.sampleSpacing, state.show.samples);
+    tooltip("Colour the samples by how close together they lie (on), or by kind (off).");
     ImGui::MenuItem("Warp mesh", nullptr, &state.show.mesh);
     tooltip("Show the grid of triangles the picture is drawn with.");
     ImGui::MenuItem("Fold-overs", nullptr, &state.show.foldovers);

@@ -25,7 +25,9 @@ namespace kc {
 enum class OutsideMode {
   /// The image border stays pinned; the background between cage and border stretches smoothly:
   /// outside the cage each control's weight is its harmonic extension to the border and a fixed
-  /// anchor takes the rest (exterior_weights.h). Inside the cage the field's weights are used.
+  /// anchor takes the rest (exterior_weights.h), and the motion fades out within a band around the
+  /// cage that grows with the pose (WarpMeshOptions::fadeBand). Inside the cage the field's
+  /// weights are used.
   Pinned,
   Deform,       ///< Everything follows the weights (kernel coordinates cover the whole image).
   Fixed,        ///< Outside stays in place (like GIMP's cage tool): deformed inside drawn over the original.
@@ -46,11 +48,14 @@ struct WarpMeshOptions {
   /// precision, are kept too).
   double keepThreshold = 1e-3;
   OutsideMode outside = OutsideMode::Pinned;
-  /// Pinned mode: a mesh whose edges follow the cage (cage_conforming_grid.h): every triangle lies
-  /// wholly inside or outside and points on the cage take the field's weights, so the picture
-  /// inside the cage depends only on the field and the fold repair (repairFolds) can move the
-  /// outside without touching it. Off: the regular grid, whose triangles straddle the cage (the
-  /// repair can then move only vertices of triangles wholly outside, and folds across the cage stay).
+  /// Pinned, Fixed and Transparent modes: a mesh whose edges follow the cage
+  /// (cage_conforming_grid.h): every triangle lies wholly inside or outside and points on the cage
+  /// take the field's weights, so the picture inside the cage depends only on the field and the
+  /// fold repair (repairFolds) can move the outside without touching it. No triangle of the inside
+  /// spans a gap of the cage however narrow (the two legs of a figure drawn 3 px apart), so pulling
+  /// one side does not drag the picture of the other. Fixed and Transparent keep only the inside's
+  /// triangles. Off: the regular grid, whose triangles straddle the cage (the repair can then move
+  /// only vertices of triangles wholly outside, and folds across the cage stay).
   bool followCage = true;
   /// Pinned mode: after the harmonic extension, untangle the background where it folds
   /// (exterior_untangle.h), moving only vertices strictly outside the cage (border vertices other
@@ -61,6 +66,17 @@ struct WarpMeshOptions {
   /// diagonals) take the coordinate field's weights, and the background's harmonic extension
   /// starts at that band's edge (exterior_weights.h). 0: the extension starts on the sticks.
   double stickBand = 0.2;
+  /// Pinned mode: the background's motion fades out with the distance r from the cage (from the
+  /// edge of the outside, which a stick band widens). Per pose, with D the largest displacement
+  /// of a vertex on that edge (the cage's outline) and B = fadeBand · D, a vertex outside the cage
+  /// moves by φ(r / B) times its harmonic displacement, φ(t) = 1 − 3t² + 2t³ for t < 1, else 0:
+  /// φ is 1 with zero slope at the cage, so the stretch next to the cage is the harmonic one, and
+  /// 0 with zero slope at r = B, so what lies farther than B from the cage stays where it was.
+  /// Along the distance's gradient the fade adds a stretch or squeeze of at most 1.5·D/B to the
+  /// harmonic one (|φ'| ≤ 1.5): 0.75 at the default 2, the smallest width that leaves what lies
+  /// beyond twice the drag untouched without folding a drag straight into the background.
+  /// 0: no fade (the stretch reaches the image border, the plain harmonic extension).
+  double fadeBand = 2.0;
 };
 
 /// Compact (sparse) vs dense storage of the vertex weights (LBC paper Table 1).
@@ -87,6 +103,9 @@ struct DeformReport {
   /// (its region) and its time (included in `seconds`). All 0 when the repair is off or nothing folds.
   Index harmonicFolds = 0, repairedFolds = 0, repairVertices = 0;
   Index repairBorderVertices = 0;  ///< Of repairVertices, border vertices (slid along the border or moved outward).
+  /// Pinned mode: the width B (px) of the band within which the background's motion fades out
+  /// (WarpMeshOptions::fadeBand); 0 when the fade is off or the cage's outline did not move.
+  double fadeWidth = 0.0;
   bool repairWarmStart = false;    ///< The repair started from the previous picture (DeformPass::Live).
   double repairSeconds = 0.0;
   double seconds = 0.0;
@@ -112,9 +131,10 @@ class WarpMesh {
 
   WarpMesh() = default;
   /// Grid over [−0.5, w−0.5]×[−0.5, h−0.5] (pixel centres at integers) with about `spacing`
-  /// pixels between vertices, two triangles per cell. In Fixed/Transparent modes only triangles
-  /// that can meet the cage are kept; in Pinned mode the exterior weights are solved here (one
-  /// sparse factorization, exteriorWeights()). Throws std::invalid_argument on bad sizes or options.
+  /// pixels between vertices, two triangles per cell (with followCage, re-triangulated along the
+  /// cage). In Fixed/Transparent modes only triangles inside the cage (without followCage: that
+  /// can meet it) are kept; in Pinned mode the exterior weights are solved here (one sparse
+  /// factorization, exteriorWeights()). Throws std::invalid_argument on bad sizes or options.
   WarpMesh(int width, int height, const Cage& cage, const WarpMeshOptions& options = {});
 
   int width() const { return m_width; }
@@ -164,9 +184,15 @@ class WarpMesh {
  private:
   /// Pinned mode: the cage-conforming mesh over the grid xs × ys and its exterior weights.
   void buildPinned(const std::vector<double>& xs, const std::vector<double>& ys);
+  /// Fixed and Transparent modes with followCage: the inside triangles of the cage-conforming mesh.
+  void buildInside(const std::vector<double>& xs, const std::vector<double>& ys);
   /// Pinned mode with repairFolds: the fold repair's topology (vertices outside the cage and off
   /// the border of the grid xs × ys are movable).
   void buildRepair(const std::vector<double>& xs, const std::vector<double>& ys);
+  /// Pinned mode with fadeBand > 0: each vertex's distance from the edge of the outside.
+  void buildFade();
+  /// Scales the displacement of the vertices outside the cage by φ(r / B) (fadeBand); returns B.
+  double fadeExterior();
 
   int m_width = 0, m_height = 0;
   WarpMeshOptions m_options;
@@ -177,6 +203,13 @@ class WarpMesh {
   std::shared_ptr<const ExteriorWeights> m_exterior;  // Pinned mode; shared by copies (immutable)
   Index m_outsideTriangles = 0;  // Pinned mode: triangles[0..m_outsideTriangles) lie outside the cage
   std::shared_ptr<const ExteriorRepairTopology> m_repair;  // Pinned mode with repairFolds; shared by copies (immutable)
+  // Pinned mode with fadeBand > 0: per vertex, the distance from the edge of the outside (exterior
+  // vertices; 0 elsewhere), and the vertices on that edge (not exterior, next to an exterior one).
+  struct Fade {
+    std::vector<double> distance;
+    std::vector<Index> edge;
+  };
+  std::shared_ptr<const Fade> m_fade;  // shared by copies (immutable)
   Eigen::VectorXd m_restArea, m_jacobian;
   // The fold repair's last result, the start of a DeformPass::Live repair: positions (#V×2, kept
   // from the first live pass on) and whether it left no fold outside the cage.

@@ -57,6 +57,9 @@ struct ViewOptions {
   bool lines = true;  ///< Structure lines over the picture (always shown in the line tool).
   bool rigid = true;  ///< Rigid regions (tint and polygon outlines; always shown in the rigidity tool).
   bool cage = true, samples = false, mesh = false, foldovers = true, restCage = false;
+  /// The sample plot coloured by the local spacing of a graded sampling (with a legend); off, or a
+  /// uniform sampling: coloured by kind.
+  bool sampleSpacing = true;
 };
 
 /// Measured times (milliseconds unless noted) shown in the diagnostics panel.
@@ -153,7 +156,11 @@ struct AppState {
     Points cage;
     int width = 0, height = 0;
     app::BindParams params;
-    double spacing = 0.0;
+    app::Structure lines;
+    /// What the next bind uses (spacingPlan()): the spacing h away from narrow places, the
+    /// smallest h of its sizing field (== spacing for a uniform bind) and the estimated number of
+    /// samples (kc) or mesh vertices (LBC).
+    double spacing = 0.0, minSpacing = 0.0, points = 0.0;
   } shownSpacing;
   Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
   bool cageValid = false;
@@ -177,6 +184,11 @@ struct AppState {
   /// weights (#n×m), drawn deformed with the pose like boundLines.
   std::vector<BoundLine> boundRigid;
   double boundSpacing = 0.0;               ///< The bound session's sample spacing h (pixels).
+  /// The bound session's smallest local spacing (its sizing field's; == boundSpacing when uniform).
+  double boundMinSpacing = 0.0;
+  /// The local spacing h(x) at each of `samples` (#S; boundSpacing everywhere when uniform): the
+  /// sample plot's colours.
+  Eigen::VectorXd sampleSpacing;
   Pose pose;                               ///< Current pose, one handle per bound control point.
   std::uint64_t poseRevision = 0;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").

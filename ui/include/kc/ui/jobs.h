@@ -34,8 +34,15 @@ OutsideMode sessionOutsideMode(const app::Session& session);
 /// (BindParams::exterior), with the automatic spacing when state.autoSpacing
 /// (app::automaticSpacing from the 6 px default).
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
-/// bindParamsFor(state, state.cage, picture size).spacing, recomputed only when the draft cage,
-/// the picture size or the parameters it depends on changed since the last call.
+/// What the next bind of the draft cage uses (AppState::ShownSpacing): bindParamsFor(state,
+/// state.cage, picture size).spacing, the smallest spacing of its sizing field (app::bindSizing,
+/// rigid polygons included; == spacing for a uniform bind, one with lines, or no narrow place)
+/// and the estimated samples (app::estimateBindCost) or, for a mesh backend, mesh vertices
+/// (estimateMeshVertices of the uniform mesh; a graded mesh adds some near narrow places).
+/// Recomputed only when the draft cage, its lines, the picture size or the parameters it depends
+/// on changed since the last call.
+const AppState::ShownSpacing& spacingPlan(AppState& state);
+/// spacingPlan(state).spacing.
 double autoSpacingShown(AppState& state);
 /// Binds the draft cage with the document's lines (state.lines) over the current image with
 /// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =

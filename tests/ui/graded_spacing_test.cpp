@@ -1,0 +1,70 @@
+// The Bind panel's spacing on a graded bind: the range it shows before the bind is the one the
+// bind uses, and after the bind the session's; the sample plot's spacings are the session's.
+#include <gtest/gtest.h>
+
+#include "kc/app/pipeline.h"
+#include "kc/ui/jobs.h"
+#include "ui_fixture.h"
+
+namespace kc::ui {
+namespace {
+
+/// Two legs 3 px apart (the gap x ∈ [198.5, 201.5], y ∈ [120, 250]) on the 400×300 picture.
+Cage legs() {
+  Points C(8, 2);
+  C << 100, 50, 300, 50, 300, 250, 201.5, 250, 201.5, 120, 198.5, 120, 198.5, 250, 100, 250;
+  return Cage::polygon(C);
+}
+
+TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
+  auto s = test::newPicture();
+  setDraftCage(*s, legs());
+  ASSERT_TRUE(s->cageValid) << s->cageStatus;
+  s->autoSpacing = true;
+  const AppState::ShownSpacing plan = spacingPlan(*s);
+  EXPECT_LT(plan.minSpacing, 0.5 * plan.spacing) << "the 3 px gap is sampled finer than the rest";
+  EXPECT_LE(plan.minSpacing, 3.0 / kFeatureSamples + 1e-9);
+  EXPECT_GT(plan.points, 0.0);
+  ASSERT_TRUE(startBind(*s, true, false));
+  s->worker.waitFinished();
+  pollWorker(*s);
+  ASSERT_TRUE(s->session) << "the bind did not finish: " << (s->messages.empty() ? "" : s->messages.back().text);
+  const app::Session& session = *s->session;
+  ASSERT_TRUE(session.sizing);
+  EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
+  EXPECT_DOUBLE_EQ(session.sizing->hMin(), plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->boundSpacing, plan.spacing);
+  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
+  // The count shown before the bind is the sampler's estimate: within a quarter of what it drew.
+  const double drawn = double(s->samples.size());
+  EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
+  // The sample plot colours each sample by the session's h there.
+  ASSERT_EQ(s->sampleSpacing.size(), s->samples.size());
+  EXPECT_NEAR(s->sampleSpacing.minCoeff(), plan.minSpacing, 0.5 * plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->sampleSpacing.maxCoeff(), plan.spacing);
+}
+
+TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
+  auto s = test::newPicture();
+  setDraftCage(*s, legs());
+  s->autoSpacing = true;
+  s->bindParams.graded = false;
+  const AppState::ShownSpacing plan = spacingPlan(*s);
+  EXPECT_EQ(plan.minSpacing, plan.spacing);
+  // The plan follows the panel: grading on again changes it at once (no stale cache).
+  s->bindParams.graded = true;
+  EXPECT_LT(spacingPlan(*s).minSpacing, plan.spacing);
+}
+
+TEST(GradedSpacing, ThePlanFollowsTheSliderWhenAutoSpacingIsOff) {
+  auto s = test::newPicture();
+  setDraftCage(*s, legs());
+  s->autoSpacing = false;
+  s->bindParams.spacing = 8.0;
+  EXPECT_DOUBLE_EQ(spacingPlan(*s).spacing, 8.0);
+  s->bindParams.spacing = 12.0;
+  EXPECT_DOUBLE_EQ(spacingPlan(*s).spacing, 12.0);
+}
+
+}  // namespace
+}  // namespace kc::ui
