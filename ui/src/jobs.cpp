@@ -220,7 +220,6 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
       try {
         app::BindParams used = bindParamsFor(state, state.cage, w, h);
         shown.spacing = shown.minSpacing = used.spacing;
-        if (!state.lines.lines.empty()) used.graded = false;  // as app::bind does: lines sample uniformly
         // The sizing field the bind will sample or mesh with (the LBC backend meshes without lines).
         const bool mesh = !app::backendFor(used.backend).capabilities().outsideCage;
         if (const auto sizing = app::bindSizing(state.cage, mesh ? app::Structure{} : state.lines, used)) shown.minSpacing = sizing->hMin();
