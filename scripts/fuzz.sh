@@ -3,8 +3,9 @@
 # header) from the sanitized build (scripts/sanitized_build.sh builds build-asan/ when needed:
 # clang, AddressSanitizer, UndefinedBehaviorSanitizer), each for SECONDS (default 40) from the
 # committed seed corpus (tests/fuzz/corpus/; new inputs go to a scratch folder), one target per
-# core at a time. A finding fails the run with the target's log and its reproducer in
-# build-asan/finding-TARGET-*.
+# core at a time (FUZZ_JOBS=1: one target after the other). A finding — a crash, a sanitizer
+# report, an input taking more than 20 s, or a peak above 1 GB of memory (-rss_limit_mb=1024) —
+# fails the run with the target's log and its reproducer in build-asan/finding-TARGET-*.
 #   bash scripts/fuzz.sh          # 40 s per target
 #   bash scripts/fuzz.sh 600      # a long run: 10 minutes per target
 #   bash scripts/fuzz.sh 600 session   # one target
@@ -25,7 +26,7 @@ run_one() {
   mkdir -p "$work/$t"
   # OMP_NUM_THREADS=1: the session target factorizes small kernels; threads only add noise.
   if OMP_NUM_THREADS=1 build-asan/tests/fuzz/fuzz_"$t" "$work/$t" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -timeout=20 \
-      -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="build-asan/finding-$t-" > "$log" 2>&1; then
+      -rss_limit_mb=1024 -print_final_stats=1 -artifact_prefix="build-asan/finding-$t-" > "$log" 2>&1; then
     local runs rss cov
     runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
     rss=$(grep -o 'stat::peak_rss_mb: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")

@@ -6,6 +6,7 @@
 
 int main(int argc, char** argv) {
   kc::app::preferPassiveOpenMpWaiting(argv);
+  kc::app::keepMemoryReserve();  // a load or bind that runs out of memory is reported, and the window stays
   kc::ui::WindowOptions options = kc::ui::parseWindowOptions(argc, argv);
   if (options.help) {
     std::fputs(kc::ui::usageText(), stdout);

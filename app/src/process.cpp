@@ -27,7 +27,11 @@ void releaseReserve() {
 }  // namespace
 
 void keepMemoryReserve() {
-  g_reserve.store(new char[kMemoryReserveBytes]);
+  if (g_reserve.load() != nullptr) return;
+  char* reserve = new (std::nothrow) char[kMemoryReserveBytes];
+  if (reserve == nullptr) return;
+  char* none = nullptr;
+  if (!g_reserve.compare_exchange_strong(none, reserve)) delete[] reserve;  // another thread set one aside
   std::set_new_handler(releaseReserve);
 }
 

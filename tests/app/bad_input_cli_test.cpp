@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bad_files.h"
 #include "cli_run.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_io.h"
@@ -46,30 +47,6 @@ Timed runTimed(const std::string& args, const fs::path& dir) {
   t.r.out = slurp(out);
   t.r.err = slurp(err);
   return t;
-}
-
-std::uint32_t crc32(const std::string& bytes) {
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (unsigned char b : bytes) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return c ^ 0xFFFFFFFFu;
-}
-
-std::string be32(std::uint32_t v) {
-  return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-}
-
-/// A small, valid PNG file whose header claims width×height (8-bit RGBA); its pixel data is a
-/// few bytes, so only a decoder that believes the header allocates anything.
-std::string pngClaiming(std::uint32_t width, std::uint32_t height) {
-  auto chunk = [](const std::string& type, const std::string& data) {
-    return be32(std::uint32_t(data.size())) + type + data + be32(crc32(type + data));
-  };
-  const std::string ihdr = be32(width) + be32(height) + std::string("\x08\x06\x00\x00\x00", 5);
-  const std::string idat("\x78\x9c\x63\x60\x00\x00\x00\x02\x00\x01", 10);  // zlib stream of a few zero bytes
-  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
 }
 
 /// A closed polygon approximating a circle of n points.
@@ -413,23 +390,14 @@ TEST_F(BadInput, TruncatedJpeg) {
 }
 
 TEST_F(BadInput, PngTextChunkClaimingTwoGigabytes) {
-  const std::string ihdr("\x00\x00\x00\x10\x00\x00\x00\x10\x08\x06\x00\x00\x00", 13);
-  auto chunk = [](const std::string& type, const std::string& data, std::uint32_t length) {
-    return be32(length) + type + data + be32(crc32(type + data));
-  };
-  writeText(m_dir / "chunk.png", std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr, 13) +
-                                     chunk("tEXt", std::string("Comment\0abc", 11), 0x7ffffff0u));
+  writeText(m_dir / "chunk.png", pngTextChunkClaiming(0x7ffffff0u));
   expectRefused("sample --cage cage.json --image chunk.png -o s.json", "a chunk claims 2147483632 bytes");
 }
 
 TEST_F(BadInput, SessionWeightsAllZero) {
   json j = session();
   json& block = j["weights"]["optimized_b64"];
-  const std::size_t bytes = block["shape"][0].get<std::size_t>() * block["shape"][1].get<std::size_t>() * 8;
-  std::string b64((bytes + 2) / 3 * 4, 'A');  // base64 of zero bytes
-  if (bytes % 3 == 1) b64.replace(b64.size() - 2, 2, "==");
-  if (bytes % 3 == 2) b64.back() = '=';
-  block["base64"] = b64;
+  block["base64"] = base64OfZeroBytes(block["shape"][0].get<std::size_t>() * block["shape"][1].get<std::size_t>() * 8);
   writeSession(j);
   expectRefused("eval --session bad.kcw.json --points p.csv -o w.csv", "weights.optimized row 0 sums to 0 (partition of unity");
 }

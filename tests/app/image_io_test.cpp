@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "bad_files.h"
 #include "kc/app/errors.h"
 
 namespace kc::app {
@@ -198,24 +199,10 @@ TEST(ImageIo, JpegDecodesLikeOpenCvAndRefusesTruncatedOrLyingFiles) {
   EXPECT_EQ(printed, "");
 }
 
-/// A PNG file chunk: length, type, data, CRC.
-std::string pngChunk(const std::string& type, const std::string& data, std::uint32_t claimedLength) {
-  auto be32 = [](std::uint32_t v) { return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; };
-  const std::string td = type + data;
-  std::uint32_t c = 0xFFFFFFFFu;
-  for (unsigned char b : td) {
-    c ^= b;
-    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
-  }
-  return be32(claimedLength) + td + be32(c ^ 0xFFFFFFFFu);
-}
-
 TEST(ImageIo, PngChunkClaimingGigabytesIsRefusedWithoutAllocatingThem) {
   const fs::path dir = freshDir("png_chunk");
-  const std::string ihdr("\x00\x00\x00\x10\x00\x00\x00\x10\x08\x06\x00\x00\x00", 13);  // 16x16 RGBA
   // 8 + 25 + 23 = 56 bytes: the text chunk's length field says 0x7ffffff0, its data is 11 bytes.
-  const std::string bytes =
-      std::string("\x89PNG\r\n\x1a\n", 8) + pngChunk("IHDR", ihdr, 13) + pngChunk("tEXt", std::string("Comment\0abc", 11), 0x7ffffff0u);
+  const std::string bytes = test::pngTextChunkClaiming(0x7ffffff0u);
   ASSERT_EQ(bytes.size(), 56u);
   struct rusage before{}, after{};
   getrusage(RUSAGE_SELF, &before);

@@ -1,26 +1,20 @@
-// End to end: corrupt files opened in the real window (under its own Xvfb) — a session cut off
-// mid-file, a cage holding a 100 KB unterminated string, a PNG given as a session — opened with
-// File > Open over a picture. Each is refused with a short error on the canvas, the picture stays,
-// and the window stays open and keeps drawing.
+// End to end: bad files opened in the real window (under its own Xvfb) with File > Open, over a
+// picture — every case of the bad-input tests (tests/support/bad_files.h), every file of the
+// fuzzers' corpus (tests/fuzz/corpus) cut in half, and the corpus files that are not pictures,
+// sessions or cages. Each is refused with a short error naming the file, the picture stays, nothing
+// is bound, and the window stays open and keeps drawing. Then every corpus file as it is (pictures,
+// sessions and cages open), and a session that does not fit in the memory left to the app: refused
+// as out of memory, twice, with the document untouched.
+#include <sys/resource.h>
+
 #include <fstream>
 
+#include "bad_files.h"
 #include "gui_session.h"
+#include "scene_image.h"
 
 namespace kc::test {
 namespace {
-
-void writeBytes(const fs::path& p, const std::string& bytes) {
-  std::ofstream out(p, std::ios::binary);
-  out << bytes;
-}
-
-/// Messages that are errors, in the app's state.
-std::vector<std::string> errors(const json& st) {
-  std::vector<std::string> out;
-  for (const json& m : st.value("messages", json::array()))
-    if (m.value("error", false)) out.push_back(m.value("text", ""));
-  return out;
-}
 
 /// Pixels of the error banner's dark red in `shot`.
 long bannerPixels(const Image& shot) {
@@ -33,54 +27,155 @@ long bannerPixels(const Image& shot) {
   return n;
 }
 
-TEST_F(GuiSession, CorruptFilesAreRefusedWithAShortErrorAndTheWindowStaysOpen) {
-  const std::string session = slurp(fs::path(KC_SOURCE_DIR) / "tests/fuzz/corpus/session/kc_square.kcw.json");
-  ASSERT_GT(session.size(), 1000u);
-  const fs::path truncated = dir / "truncated.kcw.json";
-  writeBytes(truncated, session.substr(0, session.size() / 2));
-  const fs::path longString = dir / "long_string.json";  // a cage file: the GUI tries it as a cage, then as a session
-  writeBytes(longString, "{\"version\": 1, \"points\": [[0, 0], [10, 0], [0, 10]], \"name\": \"" + std::string(100000, 'A'));
-  const fs::path png = dir / "picture.kcw.json";
-  fs::copy_file(fs::path(KC_SOURCE_DIR) / "images/checker.png", png);
+/// The files of tests/fuzz/corpus, folder by folder.
+std::vector<fs::path> corpusFiles() {
+  std::vector<fs::path> files;
+  for (const auto& d : fs::directory_iterator(fs::path(KC_SOURCE_DIR) / "tests/fuzz/corpus"))
+    for (const auto& f : fs::directory_iterator(d.path())) files.push_back(f.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
 
-  // A picture first (the app writes its state once something is open), then each corrupt file.
-  startApp({std::string(KC_SOURCE_DIR) + "/images/checker.png"}, false);
-  json s = waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && !j.value("busy", true); }, 60);
-  const json pictureSize = s["image_size"];
-  std::size_t seen = 0;
-  auto expectRefused = [&](const fs::path& file, const char* problem) {
-    const std::vector<std::string> e = errors(s);
-    ASSERT_EQ(e.size(), seen) << file;
-    EXPECT_NE(e.back().find(file.filename().string()), std::string::npos) << e.back();
-    EXPECT_NE(e.back().find(problem), std::string::npos) << e.back();
-    EXPECT_LT(e.back().size(), 700u) << e.back();
-    EXPECT_FALSE(s.value("bound", true)) << "a failed load left a session open";
-    EXPECT_EQ(s["image_size"], pictureSize) << "a failed load changed the document";
-  };
-
-  // File > Open (Ctrl+O): type the path into the dialog.
-  auto openByDialog = [&](const fs::path& file) {
+class CorruptFiles : public GuiSession {
+ protected:
+  /// File > Open (Ctrl+O), the path typed into the dialog, then waits until the app has answered
+  /// (a new message, a question, or neither busy nor asking any more) and returns its state. An
+  /// unsaved-changes question is answered "Open without saving".
+  json openByDialog(const fs::path& file) {
+    const json before = state();
     focusApp();
     key("ctrl+o");
-    pause(300);
+    waitFor([](const json& j) { return j.value("file_dialog", false); }, 20);
+    pause(600);  // the path field takes the keyboard focus in the dialog's first frames
     xdo("key --delay 20 ctrl+a");
     xdo("type --delay 5 '" + file.string() + "'");
+    pause(300);
     key("Return");
-    ++seen;
-    s = waitFor([&](const json& j) { return errors(j).size() == seen && !j.value("busy", true); }, 60);
-  };
-  openByDialog(truncated);
-  expectRefused(truncated, "the file looks truncated");
-  openByDialog(longString);
-  expectRefused(longString, "malformed JSON at byte");
-  openByDialog(png);
-  expectRefused(png, "malformed JSON at byte 0");
+    json s = waitFor(
+        [&](const json& j) {
+          return !j.value("busy", true) && !j.value("file_dialog", true) &&
+                 (j["messages"] != before["messages"] || !j.value("prompt", "").empty());
+        },
+        120);
+    if (s.value("prompt", "") == "Open") {
+      s = waitFor([](const json& j) { return j["widgets"].contains("Open without saving"); }, 10);
+      click(s["widgets"]["Open without saving"][0].get<double>() + s["window"][0].get<double>(),
+            s["widgets"]["Open without saving"][1].get<double>() + s["window"][1].get<double>());
+      s = waitFor([&](const json& j) { return !j.value("busy", true) && j.value("prompt", "x").empty() && j["messages"] != before["messages"]; },
+                  120);
+    }
+    return s;
+  }
 
-  // Still drawing frames, and the banner is on screen.
+  /// Starts the app on the checker picture; its state once the picture is shown.
+  json startOnPicture() {
+    startApp({std::string(KC_SOURCE_DIR) + "/images/checker.png"}, false);
+    return waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && !j.value("busy", true); }, 60);
+  }
+
+  /// Checks that the last open of `file` was refused: the newest message is an error naming the
+  /// file and (when given) the problem, short; nothing bound; the picture as in `picture`.
+  void expectRefused(const json& s, const fs::path& file, const std::string& problem, const json& picture) {
+    const json& messages = s["messages"];
+    ASSERT_FALSE(messages.empty()) << file;
+    const json& last = messages.back();
+    const std::string text = last.value("text", "");
+    EXPECT_TRUE(last.value("error", false)) << file << ": " << text;
+    EXPECT_NE(text.find(file.filename().string()), std::string::npos) << text;
+    EXPECT_NE(text.find(problem), std::string::npos) << "expected '" << problem << "' in: " << text;
+    EXPECT_LT(text.size(), 700u) << text;
+    EXPECT_FALSE(s.value("bound", true)) << file << ": a failed load left a session open";
+    EXPECT_EQ(s["image_size"], picture["image_size"]) << file << ": a failed load changed the document";
+    EXPECT_EQ(s["image_path"], picture["image_path"]) << file;
+  }
+};
+
+TEST_F(CorruptFiles, EveryBadFileIsRefusedWithAShortErrorAndTheWindowStaysOpen) {
+  // The inputs: a bound session, a JPEG picture and a PNG picture to corrupt.
+  writeText(dir / "cage.json", R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})");
+  const CliResult bound = runCli("bind --cage cage.json --size 96,96 --spacing 8 -o square.kcw.json", dir);
+  ASSERT_EQ(bound.code, 0) << bound.err;
+  app::saveImage((dir / "scene.jpg").string(), sceneImage(320, 320));
+  const fs::path bad = dir / "bad";
+  fs::create_directories(bad);
+  std::vector<BadFile> files = writeBadFiles(bad, json::parse(slurp(dir / "square.kcw.json")), slurp(dir / "scene.jpg"),
+                                             slurp(fs::path(KC_SOURCE_DIR) / "images/checker.png"));
+  std::vector<fs::path> whole;  // corpus files that open (pictures, sessions, cages)
+  for (const fs::path& f : corpusFiles()) {
+    const std::string bytes = slurp(f);
+    const fs::path cut = bad / ("cut-" + f.parent_path().filename().string() + "-" + f.filename().string());
+    writeText(cut, bytes.substr(0, bytes.size() / 2));
+    files.push_back({cut, ""});
+    const std::string kind = f.parent_path().filename().string();
+    if (kind == "pose" || kind == "structure" || kind == "points_csv") files.push_back({f, ""});
+    else whole.push_back(f);
+  }
+
+  const json picture = startOnPicture();
+  for (const BadFile& f : files) {
+    SCOPED_TRACE(f.path.string());
+    const json s = openByDialog(f.path);
+    expectRefused(s, f.path, f.problem, picture);
+    if (HasFatalFailure()) return;
+  }
   const Image shot = app::loadImage(screenshot("refused.png").string());
   EXPECT_GT(bannerPixels(shot), 2000) << "no error banner drawn";
   EXPECT_EQ(waitExit(0.5), -1) << "the window closed: " << slurp(dir / "app.log");
-  keepShots("corrupt-", {"refused.png"});
+  std::printf("[corrupt files] %zu bad files refused in the window\n", files.size());
+
+  // The corpus as it is: pictures open, sessions open (a grey placeholder for their missing
+  // picture), cages are put on the open picture and bound. Each answer names the file.
+  for (const fs::path& f : whole) {
+    SCOPED_TRACE(f.string());
+    const json s = openByDialog(f);
+    bool named = false;
+    for (const json& m : s["messages"]) named = named || m.value("text", "").find(f.filename().string()) != std::string::npos;
+    EXPECT_TRUE(named) << s["messages"].dump();
+  }
+  screenshot("corpus.png");
+  EXPECT_EQ(waitExit(0.5), -1) << "the window closed: " << slurp(dir / "app.log");
+  keepShots("corrupt-", {"refused.png", "corpus.png"});
+}
+
+/// VmSize of process `pid`, bytes (0 when unknown).
+std::uint64_t addressSpace(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;
+  return 0;
+}
+
+TEST_F(CorruptFiles, ASessionThatDoesNotFitInMemoryIsRefusedAndTheWindowStaysOpen) {
+  // 50 million numbers (100 MB): under kcwarp's parse limit (their estimate is 1.6 GB), more than
+  // the 600 MB the app is left below.
+  std::string text = R"({"version": 1, "junk": [)";
+  text.reserve(100'000'100);
+  for (int i = 0; i < 25'000'000; ++i) text += "0,0,";
+  writeText(dir / "large.kcw.json", text + "0]}");
+  std::string().swap(text);
+  writeText(dir / "cage.json", R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})");
+  const CliResult bound = runCli("bind --cage cage.json --size 96,96 --spacing 8 -o square.kcw.json", dir);
+  ASSERT_EQ(bound.code, 0) << bound.err;
+
+  const json picture = startOnPicture();
+  const std::uint64_t used = addressSpace(app);
+  ASSERT_GT(used, 0u);
+  const rlimit limit{used + (600ull << 20), used + (600ull << 20)};
+  ASSERT_EQ(prlimit(app, RLIMIT_AS, &limit, nullptr), 0) << "cannot limit the app's memory";
+  for (int attempt = 0; attempt < 2; ++attempt) {  // the second finds the memory reserve set aside again
+    SCOPED_TRACE(attempt);
+    const json s = openByDialog(dir / "large.kcw.json");
+    expectRefused(s, dir / "large.kcw.json", "out of memory: opening it needs more memory than is free", picture);
+    ASSERT_EQ(waitExit(0.5), -1) << "the window closed: " << slurp(dir / "app.log");
+  }
+  screenshot("out-of-memory.png");
+  // The app still works: a session that fits opens.
+  const json s = openByDialog(dir / "square.kcw.json");
+  EXPECT_TRUE(s.value("bound", false)) << s["messages"].dump();
+  EXPECT_EQ(s.value("session_path", ""), (dir / "square.kcw.json").string());
+  EXPECT_EQ(waitExit(0.5), -1) << "the window closed: " << slurp(dir / "app.log");
+  keepShots("corrupt-", {"out-of-memory.png"});
 }
 
 }  // namespace

@@ -1,16 +1,19 @@
 // Files of the document (document.h) and the two file jobs of jobs.h: open session, export.
 #include "kc/ui/document.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <new>
 #include <nlohmann/json.hpp>
 
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_io.h"
+#include "kc/app/process.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/panels/panels.h"
@@ -61,16 +64,58 @@ void clearDocument(AppState& state) {
   state.unsaved = false;
 }
 
-/// A JSON file holding a cage (not a session): it parses as a cage file.
+/// The keys of a JSON text's top-level object, read without building anything below it.
+class TopLevelKeys final : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  std::vector<std::string> keys;
+
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return ++m_depth, true; }
+  bool key(string_t& k) override {
+    if (m_depth == 1) keys.push_back(k);
+    return true;
+  }
+  bool end_object() override { return --m_depth, true; }
+  bool start_array(std::size_t) override { return ++m_depth, true; }
+  bool end_array() override { return --m_depth, true; }
+  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+
+ private:
+  int m_depth = 0;
+};
+
+/// A JSON file holding a cage (not a session), for Open and drop: a *.json file (not *.kcw.json)
+/// that loads as a cage, or one with a mistake that is still meant as a cage — its top-level object
+/// has "points" and no "samples" — so that opening it reports the cage's problem, not a session's.
 bool isCageFile(const std::string& path) {
   if (endsWith(path, ".kcw.json") || !endsWith(path, ".json")) return false;
   try {
-    app::loadCage(path);
-    return true;
+    const std::string text = app::readTextFile(path);  // a cage file's size limit: larger files are sessions
+    try {
+      app::cageFromJson(text, path);
+      return true;
+    } catch (const app::InputError&) {
+      TopLevelKeys top;
+      nlohmann::json::sax_parse(text, &top);
+      const auto has = [&](const char* k) { return std::find(top.keys.begin(), top.keys.end(), k) != top.keys.end(); };
+      return has("points") && !has("samples");
+    }
+  } catch (const std::bad_alloc&) {
+    app::keepMemoryReserve();  // the session loader tries it next and reports
+    return false;
   } catch (const std::exception&) {
     return false;
   }
 }
+
+/// The advice of failureText for a file that did not fit in memory.
+constexpr const char* kLoadNeedsMore = "opening it needs more memory than is free; nothing was changed";
 
 /// False, with a message naming the path, when there is no such file.
 bool fileExists(AppState& state, const std::string& path) {
@@ -88,7 +133,7 @@ bool openImage(AppState& state, const std::string& path) {
   try {
     img = app::loadImage(path);
   } catch (const std::exception& e) {
-    postMessage(state, std::string("Cannot open image: ") + e.what(), true);
+    postMessage(state, "Cannot open image: " + failureText(e, path, kLoadNeedsMore), true);
     return false;
   }
   if (state.worker.busy()) {
@@ -181,7 +226,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
         if (img.width != s->imageWidth || img.height != s->imageHeight)
           throw app::InputError(imagePath, "image size differs from the session's");
       } catch (const std::exception& e) {
-        warning = std::string(e.what()) + " — showing a grey placeholder.";
+        warning = failureText(e, imagePath, "the picture needs more memory than is free") + " — showing a grey placeholder.";
         img = Image(s->imageWidth, s->imageHeight, Rgba{128, 128, 128, 255});
         imagePath.clear();
       }
@@ -202,11 +247,17 @@ bool startOpenSession(AppState& state, const std::string& path) {
         postMessage(st, warning.empty() ? "Opened " + path : warning, !warning.empty());
       };
     } catch (const std::exception& e) {
-      const std::string text = std::string("Cannot open session: ") + e.what();
+      const std::string text = "Cannot open session: " + failureText(e, path, kLoadNeedsMore);
       return [text](AppState& st) { postMessage(st, text, true); };
     }
   });
   return true;
+}
+
+std::string failureText(const std::exception& e, const std::string& where, const std::string& advice) {
+  if (dynamic_cast<const std::bad_alloc*>(&e) == nullptr) return e.what();
+  app::keepMemoryReserve();
+  return (where.empty() ? std::string() : app::oneLine(where, app::kMaxMessageWhere) + ": ") + "out of memory: " + advice;
 }
 
 bool startExport(AppState& state, const std::string& path) {
@@ -382,7 +433,7 @@ bool loadCageFile(AppState& state, const std::string& path) {
     commitCage(state, before, "load cage");
     state.tool = Tool::Cage;
   } catch (const std::exception& e) {
-    postMessage(state, std::string("Cannot load cage: ") + e.what(), true);
+    postMessage(state, "Cannot load cage: " + failureText(e, path, kLoadNeedsMore), true);
     return false;
   }
   postMessage(state, "Loaded cage " + path + (state.cageValid ? "." : ": " + state.cageStatus), !state.cageValid);
@@ -471,7 +522,7 @@ bool openRecoveryCopy(AppState& state) {
     postMessage(state, "Recovered the cage on " + image + (state.cageValid ? ": press Bind." : "."), false);
     return true;
   } catch (const std::exception& e) {
-    postMessage(state, std::string("Cannot open the recovery copy: ") + e.what(), true);
+    postMessage(state, "Cannot open the recovery copy: " + failureText(e, recoveryCagePath(state), kLoadNeedsMore), true);
     return false;
   }
 }

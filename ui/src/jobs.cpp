@@ -307,7 +307,8 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
     } catch (const app::BindCancelled&) {
       return cancelled;
     } catch (const std::exception& e) {
-      const std::string text = std::string("Bind failed: ") + e.what();
+      const std::string text = "Bind failed: " + failureText(e, "", "this cage at this spacing needs more memory than is free; "
+                                                                   "use a larger spacing or a smaller picture");
       return [previous, text, restoreLines](AppState& st) {
         if (previous) {
           st.session = previous;

@@ -16,7 +16,10 @@ inline constexpr unsigned long kMemoryReserveBytes = 64ul * 1024 * 1024;
 /// on the first allocation that fails, frees it and throws std::bad_alloc: the destructors that
 /// run while that exception unwinds (nlohmann::json's allocates its work stack) then find memory
 /// instead of throwing a second std::bad_alloc, which would end the program (std::terminate).
-/// Later failures throw std::bad_alloc at once. Call once, early in main().
+/// Later failures throw std::bad_alloc at once, until this is called again: a program that carries
+/// on after a std::bad_alloc (the GUI, after a load that did not fit) calls it once the failure was
+/// handled to set the reserve aside anew (nothing happens while the reserve is in place, or when
+/// the memory for it is not free). Call early in main().
 void keepMemoryReserve();
 
 }  // namespace kc::app

@@ -4,6 +4,7 @@
 /// meanwhile), works on its own data, and hands everything back in a closure applied on the main
 /// thread by pollWorker() — also on failure or cancel, so nothing is lost.
 
+#include <exception>
 #include <memory>
 #include <string>
 #include <vector>
@@ -79,6 +80,12 @@ bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const 
 /// Loads a session file (and its image) on the worker; on success it replaces the document, on
 /// failure the current one is untouched and the error is shown.
 bool startOpenSession(AppState& state, const std::string& path);
+
+/// What a failed load or bind reports: e.what() (an app::InputError names the file and the
+/// problem), or for std::bad_alloc "<where>: out of memory: <advice>" — and then the memory
+/// reserve is set aside again (app::keepMemoryReserve), so that the next failure unwinds as
+/// safely as this one did.
+std::string failureText(const std::exception& e, const std::string& where, const std::string& advice);
 
 /// Saves the session (with the current pose) atomically on the worker, so a large session does
 /// not freeze the window. On success: sessionPath, the unsaved flag (cleared unless the pose
