@@ -18,6 +18,8 @@ short=0
 if [ "${1:-}" = "--short" ]; then short=1; shift; fi
 seconds="${1:-60}"
 jobs="$(nproc 2>/dev/null || echo 2)"
+# One build at -O1 serves the tests and the fuzzers (scripts/fuzz.sh alone builds build-fuzz/ at -O0).
+export KC_SANITIZED_DIR=build-asan KC_SANITIZED_OPT=-O1
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1" UBSAN_OPTIONS="print_stacktrace=1"
 if [ "$short" = 1 ]; then
   bash scripts/sanitized_build.sh kc_sanitized_short_tests kc_fuzz_targets
