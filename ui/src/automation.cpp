@@ -75,6 +75,7 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
       for (Index k = 0; k < state.session->W.cols(); ++k) fingerprint += state.session->W(i, k) * double(1 + (i + k) % 7);
   j["weights_fingerprint"] = fingerprint;
   j["file_dialog"] = state.pathDialog != PathPurpose::None;
+  j["file_dialog_text"] = state.pathDialog != PathPurpose::None ? state.pathDialogText : std::string();
   j["image_path"] = state.imagePath;
   j["image_size"] = {state.source.width, state.source.height};
   j["session_path"] = state.sessionPath;

@@ -87,6 +87,7 @@ void browserDialog(AppState& state) {
   const bool enter = ImGui::InputText("##path", buffer, sizeof buffer,
                                       ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
   tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
+  state.pathDialogText = buffer;  // what the field holds now (the automation state reports it)
   if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)
     chosen = buffer;
   ImGui::SameLine();
