@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "json_util.h"
+#include "kc/app/draft_cage.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 
@@ -293,6 +294,27 @@ void savePose(const std::string& path, const Pose& pose) {
   detail::json j = {{"version", 1}};
   j.update(detail::poseToJson(pose));
   writeFileAtomic(path, j.dump(1) + "\n");
+}
+
+void saveDraftCage(const std::string& path, const DraftCage& draft) {
+  detail::json j = {{"version", 1}};
+  j.update(detail::cageToJson(draft.cage));
+  detail::json edges = detail::json::array();  // always written: a draft's edges need not be its polygon's
+  for (const auto& [a, b] : draft.cage.edges) edges.push_back({a, b});
+  j["edges"] = edges;
+  j["image"] = draft.image;
+  writeFileAtomic(path, j.dump(1) + "\n");
+}
+
+DraftCage loadDraftCage(const std::string& path) {
+  const detail::json j = detail::parseJson(readTextFile(path), path);
+  detail::checkVersion(j, path);
+  DraftCage draft;
+  draft.cage = detail::parseCageDraft(j, path, "");
+  const detail::json& image = detail::require(j, "image", path);
+  if (!image.is_string()) throw InputError(path, "image must be the picture's path (a string)");
+  draft.image = image.get<std::string>();
+  return draft;
 }
 
 }  // namespace kc::app

@@ -165,7 +165,7 @@ json pointsToJson(const Points& P) {
   return arr;
 }
 
-Cage parseCage(const json& obj, const std::string& where, const std::string& field) {
+Cage parseCageDraft(const json& obj, const std::string& where, const std::string& field) {
   const std::string pre = field.empty() ? "" : field + ".";
   Cage cage;
   const json& points = require(obj, "points", where);
@@ -197,6 +197,11 @@ Cage parseCage(const json& obj, const std::string& where, const std::string& fie
   } else {
     for (int i = 0; i + 1 < static_cast<int>(cage.C.rows()); ++i) cage.edges.push_back({i, i + 1});
   }
+  return cage;
+}
+
+Cage parseCage(const json& obj, const std::string& where, const std::string& field) {
+  Cage cage = parseCageDraft(obj, where, field);
   try {
     validateCage(cage);
   } catch (const std::invalid_argument& e) {

@@ -44,6 +44,9 @@ json pointsToJson(const Points& P);
 
 /// {"points": ..., "closed": ..., "edges"?: ...} → validated Cage.
 Cage parseCage(const json& obj, const std::string& where, const std::string& field);
+/// The same without the checks of the cage's shape (validateCage): a cage being drawn, which may
+/// be open, short or crossing itself. Points (count, finite, bounded) and edge indices are checked.
+Cage parseCageDraft(const json& obj, const std::string& where, const std::string& field);
 json cageToJson(const Cage& cage);
 
 /// {"positions": ...} or {"handles": ...} with exactly C.rows() entries.

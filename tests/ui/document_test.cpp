@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "cli_run.h"
+#include "kc/app/draft_cage.h"
 #include "kc/app/file_io.h"
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/panels/panels.h"
@@ -74,6 +75,58 @@ TEST(Recovery, AnUnboundCageIsAutosavedAndRecovered) {
   EXPECT_TRUE(t.cageValid);
   ui::discardRecoveryCopy(t);
   EXPECT_FALSE(ui::hasRecoveryCopy(t));
+}
+
+TEST(Recovery, AnUnfinishedCageIsRecoveredAsDrawn) {
+  // Open, two points, and a closed one crossing itself: drafts, kept as they were.
+  const auto dir = scratchDir("ui_recovery_draft");
+  const std::string image = (dir / "scene.png").string();
+  app::saveImage(image, sceneImage(300, 200));
+  Points open(2, 2), bow(4, 2);
+  open << 10, 10, 50, 20;
+  bow << 100, 50, 200, 150, 200, 50, 100, 150;
+  for (const Cage& drawn : {Cage{open, {{0, 1}}, false}, Cage::polygon(bow)}) {
+    app::saveDraftCage((dir / "recovery.cage.json").string(), {drawn, image});
+    ui::AppState t;
+    t.worker.setSynchronous(true);
+    t.recoveryPath = (dir / "recovery.kcw.json").string();
+    ASSERT_TRUE(ui::openRecoveryCopy(t)) << (t.messages.empty() ? "" : t.messages.back().text);
+    EXPECT_EQ(t.cage.C, drawn.C);
+    EXPECT_EQ(t.cage.edges, drawn.edges);
+    EXPECT_EQ(t.cage.closed, drawn.closed);
+    if (drawn.closed) EXPECT_FALSE(t.cageValid) << "the crossing cage is a draft, not a cage to bind";
+  }
+}
+
+TEST(Recovery, ACorruptCageCopyIsRefusedAndNothingChanges) {
+  const auto dir = scratchDir("ui_recovery_corrupt");
+  const std::string image = (dir / "scene.png").string(), other = (dir / "other.png").string();
+  app::saveImage(image, sceneImage(300, 200));
+  app::saveImage(other, sceneImage(120, 90));
+  const std::string head = R"({"version": 1, "image": ")" + image + R"(", )";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {head + R"("points": [[10, 10], [50, 20], [30, 40]], "closed": true, "edges": [[0, 1], [1, 7]]})", "edges[1][1]"},
+      {head + R"("points": [[10, 10], [50, 20], [30, "x"]], "closed": true, "edges": []})", "points"},
+      {head + R"("points": [[10, 10], [50, 20]], "closed": "yes", "edges": []})", "closed"},
+      {R"({"version": 1, "image": 7, "points": [[10, 10], [50, 20]], "closed": false, "edges": [[0, 1]]})", "image"},
+      {head + R"("points": [[10, 10], [50, 20]], "closed": false, "edges": [[0, 1])", "malformed JSON"},
+  };
+  for (const auto& [text, problem] : cases) {
+    SCOPED_TRACE(text);
+    writeText(dir / "recovery.cage.json", text);
+    ui::AppState t;
+    t.worker.setSynchronous(true);
+    t.recoveryPath = (dir / "recovery.kcw.json").string();
+    ASSERT_TRUE(ui::openImage(t, other));
+    EXPECT_FALSE(ui::openRecoveryCopy(t));
+    ASSERT_FALSE(t.messages.empty());
+    const std::string said = t.messages.back().text;
+    EXPECT_TRUE(t.messages.back().error) << said;
+    EXPECT_NE(said.find("recovery.cage.json"), std::string::npos) << said;
+    EXPECT_NE(said.find(problem), std::string::npos) << said;
+    EXPECT_EQ(t.imagePath, other) << "a failed recovery changed the document";
+    EXPECT_EQ(t.cage.size(), 0);
+  }
 }
 
 TEST(Files, DroppedPictureAndCageOpenTheOneAndBindTheOther) {

@@ -11,6 +11,7 @@
 
 #include "kc/app/errors.h"
 #include "kc/app/export.h"
+#include "kc/app/draft_cage.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_io.h"
 #include "kc/app/process.h"
@@ -468,13 +469,8 @@ namespace {
 
 /// The recovery copy of an unbound draft cage: its points, edges, closed flag and the picture.
 void writeCageRecovery(const AppState& state) {
-  nlohmann::json points = nlohmann::json::array(), edges = nlohmann::json::array();
-  for (Index i = 0; i < state.cage.size(); ++i) points.push_back({state.cage.C(i, 0), state.cage.C(i, 1)});
-  for (const auto& e : state.cage.edges) edges.push_back({e[0], e[1]});
-  const nlohmann::json j = {{"version", 1}, {"points", points}, {"edges", edges}, {"closed", state.cage.closed},
-                            {"image", state.imagePath}};
   fs::create_directories(fs::path(recoveryCagePath(state)).parent_path());
-  app::writeFileAtomic(recoveryCagePath(state), j.dump(1) + "\n");
+  app::saveDraftCage(recoveryCagePath(state), {state.cage, state.imagePath});
 }
 
 }  // namespace
@@ -506,20 +502,11 @@ bool openRecoveryCopy(AppState& state) {
   std::error_code ec;
   if (fs::exists(state.recoveryPath, ec)) return startOpenSession(state, state.recoveryPath);
   try {
-    const nlohmann::json j = nlohmann::json::parse(app::readTextFile(recoveryCagePath(state)));
-    const std::string image = j.at("image").get<std::string>();
-    Points C(static_cast<Index>(j.at("points").size()), 2);
-    for (Index i = 0; i < C.rows(); ++i) C.row(i) << j["points"][static_cast<std::size_t>(i)][0].get<double>(), j["points"][static_cast<std::size_t>(i)][1].get<double>();
-    Cage cage = j.at("closed").get<bool>() ? Cage::polygon(C) : Cage{};
-    cage.C = C;
-    cage.closed = j.at("closed").get<bool>();
-    cage.edges.clear();
-    for (const auto& e : j.at("edges")) cage.edges.push_back({e[0].get<int>(), e[1].get<int>()});
-    if (cage.closed && cage.edges.empty()) cage = Cage::polygon(C);
-    if (!openImage(state, image)) return false;
-    setDraftCage(state, std::move(cage));
+    app::DraftCage draft = app::loadDraftCage(recoveryCagePath(state));
+    if (!openImage(state, draft.image)) return false;
+    setDraftCage(state, std::move(draft.cage));
     state.unsaved = true;  // recovered work is not saved anywhere else
-    postMessage(state, "Recovered the cage on " + image + (state.cageValid ? ": press Bind." : "."), false);
+    postMessage(state, "Recovered the cage on " + draft.image + (state.cageValid ? ": press Bind." : "."), false);
     return true;
   } catch (const std::exception& e) {
     postMessage(state, "Cannot open the recovery copy: " + failureText(e, recoveryCagePath(state), kLoadNeedsMore), true);
