@@ -11,6 +11,7 @@
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
 #include "kc/sampling/sampler.h"
+#include "kc/core/structure/linear_along.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::app {
@@ -66,23 +67,32 @@ TEST(GradedLines, MeetingLinesShareASampleInAGradedSampling) {
 
 /// Binds `lines` in `cage` at the defaults (graded) and checks they stay straight (≤ 0.1 px) under
 /// 20 random ±40 px translations of every control, with unity and reproduction along them.
-void expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int size) {
+/// Returns the number of fit points of the lines' linear fit over the number that the largest
+/// kernel width needs (Σ length / (fitSpacing·σ)).
+double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int size) {
   Structure st;
   st.lines = lines;
   BindReport r;
   const Session s = app::bind(cage, st, size, size, BindParams{}, &r);
   EXPECT_TRUE(s.params.graded);  // graded (a sizing field only where some place is narrow)
   const LineFigures f = measureLines(s, st.lines, 20, 40.0);
-  std::printf("%ld samples, bind %.2f s (lines %.2f s), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
-              r.lines.seconds, f.deviation);
+  std::printf("%ld samples, bind %.2f s (lines %.2f s, %ld fit points), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
+              r.lines.seconds, long(r.lines.fitPoints), f.deviation);
   EXPECT_LE(f.deviation, 0.1);
   EXPECT_LE(f.unity, 1e-9);
   EXPECT_LE(f.reproduction, 1e-7);
+  double needed = 0.0;
+  for (const StructureLine& l : lines) needed += l.length() / (LinearityOptions{}.fitSpacing * s.sigma);
+  return double(r.lines.fitPoints) / needed;
 }
 
 TEST(GradedLinesSlow, CrossingLinesBindAndStayStraight) {
   // An X (a window frame) and a T from its crossing: refused by a uniform bind.
-  expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
+  const double fitShare =
+      expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
+  // The fit is dense only near the crossing, where the width is small (0.03 px): at most 4× the
+  // fit points that the largest width needs (the smallest width everywhere needed 180×).
+  EXPECT_LE(fitShare, 4.0);
 }
 
 TEST(GradedLines, ALineEndingOnePixelFromTheEdgeStaysStraight) {
