@@ -111,6 +111,48 @@ TEST(GradedLinesSlow, LinesNearANarrowPlaceStayStraight) {
   expectStraightGraded(Cage::polygon(C), {{{146.5, 70}, {146.5, 230}}, {{153.5, 70}, {153.5, 230}}, {{60, 225}, {240, 225}}}, 300);
 }
 
+TEST(GradedLines, EffectiveParamsAreWhatTheBindUses) {
+  // A square with no narrow place, spacing 8: one line 12 px (1.5 h) from its top edge, which the
+  // uniform rules accept although a graded sampling would refine between them (lfs 12 px < 2 h);
+  // then the same line with two crossing lines, which they refuse.
+  const Cage cage = square(20, 20, 280, 280);
+  BindParams requested;
+  requested.spacing = 8.0;
+  ASSERT_TRUE(gradedSampling(requested));
+  Structure beside, crossing;
+  beside.lines = {{{80, 32}, {220, 32}}};
+  crossing.lines = {{{80, 32}, {220, 32}}, {{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}};
+
+  const BindParams uniform = effectiveBindParams(cage, beside, requested);
+  EXPECT_FALSE(gradedSampling(uniform));
+  ASSERT_TRUE(bindSizing(cage, beside, requested)) << "the requested parameters would grade the sampling";
+  EXPECT_FALSE(bindSizing(cage, beside, uniform));
+  const Session u = app::bind(cage, beside, 300, 300, requested);
+  EXPECT_FALSE(u.params.graded);
+  EXPECT_FALSE(u.sizing);
+  EXPECT_EQ(estimateBindCost(cage, beside, 300, 300, requested).samples, estimateBindCost(cage, beside, 300, 300, uniform).samples);
+  EXPECT_NEAR(estimateBindCost(cage, beside, 300, 300, requested).samples, double(u.samples.size()), 0.25 * double(u.samples.size()));
+
+  const BindParams graded = effectiveBindParams(cage, crossing, requested);
+  EXPECT_TRUE(gradedSampling(graded));
+  const auto sizing = bindSizing(cage, crossing, graded);
+  ASSERT_TRUE(sizing);
+  EXPECT_LT(sizing->hMin(), requested.spacing);
+  const Session g = app::bind(cage, crossing, 300, 300, requested);
+  EXPECT_TRUE(g.params.graded);
+  ASSERT_TRUE(g.sizing);
+  EXPECT_EQ(g.sizing->hMin(), sizing->hMin());
+  EXPECT_EQ(g.sizing->form(), SizingForm::Smooth);  // the kernel width of a bind with lines
+  // The estimate counts the refinement along the lines: within a quarter of what was sampled.
+  EXPECT_NEAR(estimateBindCost(cage, crossing, 300, 300, requested).samples, double(g.samples.size()), 0.25 * double(g.samples.size()));
+
+  // Without lines, or on a backend that meshes the cage (no lines), the parameters as given.
+  EXPECT_TRUE(effectiveBindParams(cage, Structure{}, requested).graded);
+  BindParams lbc = requested;
+  lbc.backend = "lbc";
+  EXPECT_TRUE(effectiveBindParams(cage, beside, lbc).graded);
+}
+
 TEST(GradedLines, UniformBindStillRefusesThem) {
   const Cage cage = square(20, 20, 280, 280);
   Structure st;
