@@ -123,6 +123,7 @@ LinearityReport applyLines(Session& s, KernelField& field) {
   r.seconds += edgeReport.seconds;
   r.adjusted += edgeReport.adjusted;
   r.changedRows += edgeReport.changedRows;
+  r.fitPoints += edgeReport.fitPoints;
   return r;
 }
 

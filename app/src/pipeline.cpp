@@ -101,6 +101,18 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   return std::make_shared<SizingField>(h.hMax(), h.gradation(), h.seeds(), h.sizes(), form);
 }
 
+BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params) {
+  BindParams p = params;
+  if (structure.lines.empty() || !gradedBind(p) || !backendFor(p.backend).capabilities().outsideCage) return p;
+  try {
+    checkCageScale(cage, p.spacing);
+    validateLines(cage, structure.lines, p.spacing, false);
+    p.graded = false;
+  } catch (const std::exception&) {  // refused uniformly: graded (bad lines are refused by the bind)
+  }
+  return p;
+}
+
 double automaticSigma(double spacing) { return 3.0 * spacing / std::numbers::pi; }
 
 sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p) {
@@ -123,17 +135,20 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
   return so;
 }
 
-BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params) {
+namespace {
+
+/// estimateBindCost for parameters that are already the bind's own (effectiveBindParams).
+BindCost costOf(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params) {
   if (gradedBind(params) && backendFor(params.backend).capabilities().outsideCage) {
     // A graded sampling only adds samples to the uniform one: past the limits already, it is not
     // worth finding its sizing field (O(edges · neighbours), slow on a cage of 40,000 points).
     BindParams uniform = params;
     uniform.graded = false;
-    const BindCost c = estimateBindCost(cage, width, height, uniform);
+    const BindCost c = costOf(cage, structure, width, height, uniform);
     if (bindLimitFactor(c) > 1.0) return c;
   }
   sampling::SamplingOptions so = samplingOptions(width, height, params);
-  so.sizing = bindSizing(cage, Structure{}, params);
+  so.sizing = bindSizing(cage, structure, params);
   BindCost c;
   c.samples = sampling::estimateSampleCount(cage, so);
   c.controls = static_cast<double>(cage.size());
@@ -144,6 +159,16 @@ BindCost estimateBindCost(const Cage& cage, int width, int height, const BindPar
   c.kernelNonZeros = c.samples * neighbours;
   c.bytes = kDenseBytesPerWeight * c.samples * c.controls + kBytesPerKernelNonZero * c.kernelNonZeros;
   return c;
+}
+
+}  // namespace
+
+BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params) {
+  return costOf(cage, Structure{}, width, height, params);
+}
+
+BindCost estimateBindCost(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params) {
+  return costOf(cage, structure, width, height, effectiveBindParams(cage, structure, params));
 }
 
 double weightSpacing(const BindParams& params) {
@@ -248,18 +273,8 @@ Session bind(const Cage& cage, int width, int height, const BindParams& params, 
 
 Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& requested,
              BindReport* report, const BindProgress& progress) {
-  // Structure lines keep the uniform sampling where its rules accept the cage and the lines: there
-  // the weights beside a line ring less (a long line near the star's edge: lobe -0.14 graded, within
-  // -0.1 uniform). Crossing lines, lines near the cage and narrow cages bind graded.
-  BindParams params = requested;
-  if (!structure.lines.empty() && gradedBind(params) && backendFor(params.backend).capabilities().outsideCage) {
-    try {
-      checkCageScale(cage, params.spacing);
-      validateLines(cage, structure.lines, params.spacing, false);
-      params.graded = false;
-    } catch (const std::exception&) {  // refused uniformly: graded (bad lines are refused below)
-    }
-  }
+  // Structure lines keep the uniform sampling where its rules accept the cage and the lines.
+  const BindParams params = asUserInput("bind", [&] { return effectiveBindParams(cage, structure, requested); });
   const auto t0 = std::chrono::steady_clock::now();
   // What the user gave (cage, parameters, image size): a lower layer's rejection is bad input.
   const Backend& backend = asUserInput("bind", [&]() -> const Backend& {
@@ -271,7 +286,7 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     if (!gradedBind(params)) checkCageScale(cage, params.spacing);
     else checkCageScale(cage, kFeatureSamples * kMinSpacing, true);
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
-      checkBindCost(estimateBindCost(cage, width, height, params), params);
+      checkBindCost(costOf(cage, structure, width, height, params), params);
     if (!structure.empty() && !b.capabilities().lines)
       throw std::invalid_argument("lines and rigid regions are supported by the kernel backend (--backend kc), not by '" +
                                   std::string(b.name()) + "'");

@@ -11,6 +11,7 @@
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
 #include "kc/sampling/sampler.h"
+#include "kc/core/structure/linear_along.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::app {
@@ -66,23 +67,32 @@ TEST(GradedLines, MeetingLinesShareASampleInAGradedSampling) {
 
 /// Binds `lines` in `cage` at the defaults (graded) and checks they stay straight (≤ 0.1 px) under
 /// 20 random ±40 px translations of every control, with unity and reproduction along them.
-void expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int size) {
+/// Returns the number of fit points of the lines' linear fit over the number that the largest
+/// kernel width needs (Σ length / (fitSpacing·σ)).
+double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int size) {
   Structure st;
   st.lines = lines;
   BindReport r;
   const Session s = app::bind(cage, st, size, size, BindParams{}, &r);
   EXPECT_TRUE(s.params.graded);  // graded (a sizing field only where some place is narrow)
   const LineFigures f = measureLines(s, st.lines, 20, 40.0);
-  std::printf("%ld samples, bind %.2f s (lines %.2f s), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
-              r.lines.seconds, f.deviation);
+  std::printf("%ld samples, bind %.2f s (lines %.2f s, %ld fit points), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
+              r.lines.seconds, long(r.lines.fitPoints), f.deviation);
   EXPECT_LE(f.deviation, 0.1);
   EXPECT_LE(f.unity, 1e-9);
   EXPECT_LE(f.reproduction, 1e-7);
+  double needed = 0.0;
+  for (const StructureLine& l : lines) needed += l.length() / (LinearityOptions{}.fitSpacing * s.sigma);
+  return double(r.lines.fitPoints) / needed;
 }
 
 TEST(GradedLinesSlow, CrossingLinesBindAndStayStraight) {
   // An X (a window frame) and a T from its crossing: refused by a uniform bind.
-  expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
+  const double fitShare =
+      expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
+  // The fit is dense only near the crossing, where the width is small (0.03 px): at most 4× the
+  // fit points that the largest width needs (the smallest width everywhere needed 180×).
+  EXPECT_LE(fitShare, 4.0);
 }
 
 TEST(GradedLines, ALineEndingOnePixelFromTheEdgeStaysStraight) {
@@ -99,6 +109,48 @@ TEST(GradedLinesSlow, LinesNearANarrowPlaceStayStraight) {
   Points C(8, 2);
   C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
   expectStraightGraded(Cage::polygon(C), {{{146.5, 70}, {146.5, 230}}, {{153.5, 70}, {153.5, 230}}, {{60, 225}, {240, 225}}}, 300);
+}
+
+TEST(GradedLines, EffectiveParamsAreWhatTheBindUses) {
+  // A square with no narrow place, spacing 8: one line 12 px (1.5 h) from its top edge, which the
+  // uniform rules accept although a graded sampling would refine between them (lfs 12 px < 2 h);
+  // then the same line with two crossing lines, which they refuse.
+  const Cage cage = square(20, 20, 280, 280);
+  BindParams requested;
+  requested.spacing = 8.0;
+  ASSERT_TRUE(gradedSampling(requested));
+  Structure beside, crossing;
+  beside.lines = {{{80, 32}, {220, 32}}};
+  crossing.lines = {{{80, 32}, {220, 32}}, {{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}};
+
+  const BindParams uniform = effectiveBindParams(cage, beside, requested);
+  EXPECT_FALSE(gradedSampling(uniform));
+  ASSERT_TRUE(bindSizing(cage, beside, requested)) << "the requested parameters would grade the sampling";
+  EXPECT_FALSE(bindSizing(cage, beside, uniform));
+  const Session u = app::bind(cage, beside, 300, 300, requested);
+  EXPECT_FALSE(u.params.graded);
+  EXPECT_FALSE(u.sizing);
+  EXPECT_EQ(estimateBindCost(cage, beside, 300, 300, requested).samples, estimateBindCost(cage, beside, 300, 300, uniform).samples);
+  EXPECT_NEAR(estimateBindCost(cage, beside, 300, 300, requested).samples, double(u.samples.size()), 0.25 * double(u.samples.size()));
+
+  const BindParams graded = effectiveBindParams(cage, crossing, requested);
+  EXPECT_TRUE(gradedSampling(graded));
+  const auto sizing = bindSizing(cage, crossing, graded);
+  ASSERT_TRUE(sizing);
+  EXPECT_LT(sizing->hMin(), requested.spacing);
+  const Session g = app::bind(cage, crossing, 300, 300, requested);
+  EXPECT_TRUE(g.params.graded);
+  ASSERT_TRUE(g.sizing);
+  EXPECT_EQ(g.sizing->hMin(), sizing->hMin());
+  EXPECT_EQ(g.sizing->form(), SizingForm::Smooth);  // the kernel width of a bind with lines
+  // The estimate counts the refinement along the lines: within a quarter of what was sampled.
+  EXPECT_NEAR(estimateBindCost(cage, crossing, 300, 300, requested).samples, double(g.samples.size()), 0.25 * double(g.samples.size()));
+
+  // Without lines, or on a backend that meshes the cage (no lines), the parameters as given.
+  EXPECT_TRUE(effectiveBindParams(cage, Structure{}, requested).graded);
+  BindParams lbc = requested;
+  lbc.backend = "lbc";
+  EXPECT_TRUE(effectiveBindParams(cage, beside, lbc).graded);
 }
 
 TEST(GradedLines, UniformBindStillRefusesThem) {

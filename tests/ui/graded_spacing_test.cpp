@@ -56,6 +56,49 @@ TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
   EXPECT_LT(spacingPlan(*s).minSpacing, plan.spacing);
 }
 
+/// Binds the draft cage with `lines` at spacing 8 and checks that the plan shown before the bind is
+/// what the bind used: the spacing, the smallest spacing of its sizing field and its grading.
+/// Returns the plan.
+AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines) {
+  auto s = test::newPicture();
+  Points C(4, 2);
+  C << 100, 50, 300, 50, 300, 250, 100, 250;  // no narrow place
+  setDraftCage(*s, Cage::polygon(C));
+  EXPECT_TRUE(s->cageValid) << s->cageStatus;
+  s->autoSpacing = false;
+  s->bindParams.spacing = 8.0;
+  s->lines.lines = std::move(lines);
+  const AppState::ShownSpacing plan = spacingPlan(*s);
+  EXPECT_TRUE(startBind(*s, true, false));
+  s->worker.waitFinished();
+  pollWorker(*s);
+  EXPECT_TRUE(s->session) << "the bind did not finish: " << (s->messages.empty() ? "" : s->messages.back().text);
+  if (!s->session) return plan;
+  const app::Session& session = *s->session;
+  EXPECT_EQ(session.structure.lines.size(), s->lines.lines.size());
+  EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
+  EXPECT_DOUBLE_EQ(session.sizing ? session.sizing->hMin() : session.params.spacing, plan.minSpacing);
+  EXPECT_EQ(session.params.graded && session.sizing, plan.minSpacing < plan.spacing);
+  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
+  const double drawn = double(s->samples.size());
+  EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
+  return plan;
+}
+
+TEST(GradedSpacing, LinesTheUniformRulesAcceptShowOneSpacing) {
+  // A line 12 px (1.5 h) below the top edge: a graded sizing field would refine between them, but
+  // the bind keeps the uniform sampling, and so does the plan.
+  const AppState::ShownSpacing plan = expectPlanIsTheBinds({{{150, 62}, {250, 62}}});
+  EXPECT_EQ(plan.minSpacing, plan.spacing);
+}
+
+TEST(GradedSpacing, CrossingLinesShowTheGradedRange) {
+  // The same line with two crossing lines: the bind samples graded, refined between line and edge.
+  const AppState::ShownSpacing plan =
+      expectPlanIsTheBinds({{{150, 62}, {250, 62}}, {{150, 100}, {250, 200}}, {{150, 200}, {250, 100}}});
+  EXPECT_LT(plan.minSpacing, plan.spacing);
+}
+
 TEST(GradedSpacing, ThePlanFollowsTheSliderWhenAutoSpacingIsOff) {
   auto s = test::newPicture();
   setDraftCage(*s, legs());

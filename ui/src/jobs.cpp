@@ -218,12 +218,15 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
     shown = {state.cage.C, w, h, p, state.lines, state.bindParams.spacing, state.bindParams.spacing, 0.0};
     if (state.cageValid && w > 0 && h > 0) {
       try {
-        app::BindParams used = bindParamsFor(state, state.cage, w, h);
+        // The parameters and the sizing field the bind will sample or mesh with (the LBC backend
+        // meshes without lines; structure lines may keep the uniform sampling).
+        const app::BindParams requested = bindParamsFor(state, state.cage, w, h);
+        const bool mesh = !app::backendFor(requested.backend).capabilities().outsideCage;
+        const app::Structure& structure = mesh ? app::Structure{} : state.lines;
+        const app::BindParams used = app::effectiveBindParams(state.cage, structure, requested);
         shown.spacing = shown.minSpacing = used.spacing;
-        // The sizing field the bind will sample or mesh with (the LBC backend meshes without lines).
-        const bool mesh = !app::backendFor(used.backend).capabilities().outsideCage;
-        if (const auto sizing = app::bindSizing(state.cage, mesh ? app::Structure{} : state.lines, used)) shown.minSpacing = sizing->hMin();
-        shown.points = mesh ? estimateMeshVertices(state.cage, used.spacing) : app::estimateBindCost(state.cage, w, h, used).samples;
+        if (const auto sizing = app::bindSizing(state.cage, structure, used)) shown.minSpacing = sizing->hMin();
+        shown.points = mesh ? estimateMeshVertices(state.cage, used.spacing) : app::estimateBindCost(state.cage, structure, w, h, used).samples;
       } catch (const std::exception&) {
         // A cage or lines the bind refuses: the bind says why; the panel shows the spacing alone.
       }
@@ -254,7 +257,8 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const app::Structure boundLines = previous ? previous->structure : app::Structure{};
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = bindParamsFor(state, cage, w, h);
-  const std::string narrow = params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing) : "";
+  const std::string narrow =
+      params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing, app::effectiveBindParams(cage, lines, params)) : "";
   const std::string image = state.imagePath;
   WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, app::weightSpacing(params), state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {

@@ -29,10 +29,25 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
 /// samples the picture (kc), blue noise; the LBC backend grades its mesh of the cage interior.
 /// Such a bind refuses no narrow place of the cage or its lines.
 bool gradedSampling(const BindParams& params);
+/// The parameters a bind of `cage` with `structure` really uses (bind(), the Bind panel's planned
+/// spacing and the cost estimate all go through it): `params`, with `graded` off where the bind
+/// samples uniformly although a graded sampling was asked for — structure lines on the kc backend
+/// (blue noise) whose cage and lines the uniform rules accept at params.spacing (no cage feature
+/// narrower than kMinFeatureSpacings·h, lines at least h from the cage and from each other, no
+/// crossing, each at least kMinLineSpacings·h long): there the weights beside a line ring less (a
+/// long line near the star's edge: lobe −0.14 graded, within −0.1 uniform). Crossing lines, lines
+/// near the cage and narrow cages keep the graded sampling; without lines, or on a backend without
+/// samples outside the cage (LBC), `params` as given. The sampling of the result is graded when
+/// gradedSampling(result), with the sizing field bindSizing(cage, structure, result); its kernel
+/// width follows SizingForm::Smooth with lines, SizingForm::Min without. Throws
+/// std::invalid_argument for an unknown backend.
+BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params);
 /// The sizing field of a graded bind (gradedSampling): featureSizing of the cage, the structure
 /// lines and the rigid polygons' sides with hMax = params.spacing and hMin = kMinSpacing (the LBC
 /// backend's mesh with k = 1, one triangle across a narrow place: SizingOptions::featureSamples);
-/// null for a uniform bind or a cage without a narrow place (h ≡ spacing).
+/// null for a uniform bind or a cage without a narrow place (h ≡ spacing). `params` are the
+/// bind's own (effectiveBindParams): with the requested ones, lines the uniform rules accept
+/// would get a sizing field the bind does not use.
 std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params);
 
 /// What a bind would need, estimated from its inputs before anything is sampled or allocated.
@@ -45,6 +60,9 @@ struct BindCost {
 
 /// The estimate for a bind of `cage` over width×height with `params` (σ automatic: 3h/π).
 BindCost estimateBindCost(const Cage& cage, int width, int height, const BindParams& params);
+/// The same for a bind with `structure`: with the parameters it really uses (effectiveBindParams)
+/// and a graded sampling's refinement along the lines and rigid polygons (bindSizing).
+BindCost estimateBindCost(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params);
 
 /// Sample budget of the automatic spacing, counted over the cage's bounding box and its exterior
 /// band (sampling::ExteriorExtent::Band). Chosen so that a cage's bind costs about the same at

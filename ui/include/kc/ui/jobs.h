@@ -35,10 +35,11 @@ OutsideMode sessionOutsideMode(const app::Session& session);
 /// (BindParams::exterior), with the automatic spacing when state.autoSpacing
 /// (app::automaticSpacing from the 6 px default).
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
-/// What the next bind of the draft cage uses (AppState::ShownSpacing): bindParamsFor(state,
-/// state.cage, picture size).spacing, the smallest spacing of its sizing field (app::bindSizing,
-/// rigid polygons included; == spacing for a uniform bind, one with lines, or no narrow place)
-/// and the estimated samples (app::estimateBindCost) or, for a mesh backend, mesh vertices
+/// What the next bind of the draft cage uses (AppState::ShownSpacing), from the parameters the bind
+/// really uses (app::effectiveBindParams of bindParamsFor(state, state.cage, picture size) with the
+/// draft's lines): their spacing, the smallest spacing of their sizing field (app::bindSizing, lines
+/// and rigid polygons included; == spacing for a uniform bind — lines the uniform rules accept
+/// keep one — or no narrow place) and the estimated samples (app::estimateBindCost) or, for a mesh backend, mesh vertices
 /// (estimateMeshVertices of the uniform mesh; a graded mesh adds some near narrow places).
 /// Recomputed only when the draft cage, its lines, the picture size or the parameters it depends
 /// on changed since the last call.

@@ -18,7 +18,7 @@ struct LinearSegment {
 };
 
 struct LinearityOptions {
-  double fitSpacing = 0.25;  ///< Fit points along a segment every fitSpacing·σ.
+  double fitSpacing = 0.25;  ///< Fit points along a segment about every fitSpacing·σ(p), σ(p) the kernel's width there.
   double reach = 2.5;        ///< Samples within reach·σ of a segment are adjusted (σ: the largest width along it).
   double rankTolerance = 1e-6;   ///< Relative pivot threshold of the least-norm fit (larger: smaller changes, looser fit).
   int sweeps = 1;                ///< Passes over all segments (a second pass settles what later segments
@@ -34,6 +34,7 @@ struct LinearityReport {
   double after = 0.0;    ///< The same after (evaluated through the re-solved field).
   Index adjusted = 0;    ///< Samples whose kernel coefficients changed.
   Index changedRows = 0; ///< Rows of W that changed.
+  Index fitPoints = 0;   ///< Fit points over all segments (the rows of the fit, a measure of its cost).
   double seconds = 0.0;
 };
 
@@ -41,7 +42,9 @@ struct LinearityReport {
 /// segment, then re-solves the field (field.update(W)). Segment by segment, the kernel
 /// coefficients ΔU of the samples N within reach·σ of the segment solve, in the least-norm
 /// sense (complete orthogonal decomposition),
-///   k(F_s, X_N) ΔU = −(w(F_s) − linear(F_s))   at the fit points F_s of the segment,
+///   k(F_s, X_N) ΔU = −(w(F_s) − linear(F_s))   at the fit points F_s of the segment, spaced by
+///                         fitSpacing·σ(p) (dense only where a graded width is small) and weighted
+///                         by √(σ(p)/σ_min) (the quadrature of the misfit along the segment),
 ///   k(x_i, X_N) ΔU = 0   at every sample i with keep[i] within the reach of ΔU (controls, edge and
 ///                         line samples: Lagrange and the other lines' weights stay as they are),
 ///   k(F_t, X_N) ΔU = 0   at the fit points of every other segment t within that reach,
