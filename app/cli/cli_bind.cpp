@@ -25,6 +25,9 @@ struct BindArgs {
   bool linearEdges = false;
   bool uniformSpacing = false;
   double locality = 0.0;  // unscreened
+  double localitySpacings = app::kLocalitySpacings;
+  bool noGuardLobes = false;
+  CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
   std::uint64_t seed = 1;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
   std::string lbcTau = "square";
@@ -51,6 +54,10 @@ void runBind(const BindArgs& a) {
   p.kc.init.method = parseOption<InitMethod>(a.init, "--init");
   p.kc.init.iterations = a.heatIterations;
   p.kc.init.locality = a.locality;
+  requireFinite(a.localitySpacings, "--locality-spacings");
+  if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
+  p.kc.localitySpacings = a.localityOption && *a.localityOption ? 0.0 : a.localitySpacings;
+  p.kc.guardLobes = !a.noGuardLobes;
   p.kc.method = parseOption<Method>(a.method, "--method");
   p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
   p.kc.linearEdges = a.linearEdges;
@@ -155,8 +162,15 @@ void addBindCommand(CLI::App& app) {
                   "Heat diffusion iterations, 0.." + std::to_string(app::kMaxHeatIterations) + " (0 = converged steady state)")
       ->check(CLI::Range(0, app::kMaxHeatIterations))
       ->capture_default_str();
-  sub->add_option("--locality", a->locality,
-                  "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage diagonal)");
+  a->localityOption = sub->add_option("--locality", a->locality,
+                  "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage "
+                  "diagonal); replaces --locality-spacings");
+  sub->add_option("--locality-spacings", a->localitySpacings,
+                  "Screened heat-linear targets: locality length in sample spacings (0 = off: --locality decides)")
+      ->capture_default_str();
+  sub->add_flag("--no-guard-lobes", a->noGuardLobes,
+                "Keep the optimizer's weights outside next to the cage and the sampling at sharp outside corners (the field then "
+                "dips deeper below 0 inside, next to the cage)");
   sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
   sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
   sub->add_flag("--uniform-spacing", a->uniformSpacing,

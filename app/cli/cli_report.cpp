@@ -13,6 +13,15 @@ using app::format;
 using app::shortNumber;
 
 
+std::string dragText(const app::Diagnostics& d, const char* indent) {
+  const app::DragArea& a = d.drag;
+  if (a.points == 0) return format("%sarea that moves under a drag: no grid point inside the cage\n", indent);
+  return format("%sarea that moves >= %g px under a %g px drag of one control (w_i >= %g, every %d px): mean %.1f%%, max %.1f%% "
+                "(control %ld) of the cage; deepest weight %.3g\n",
+                indent, app::kVisibleShift, app::kDragPixels, app::kDragWeight, a.step, 100.0 * a.mean, 100.0 * a.max,
+                static_cast<long>(a.maxControl), a.minWeight);
+}
+
 std::string localityText(const app::Diagnostics& d, const char* indent) {
   const LocalityStats& l = d.locality;
   std::string out;
@@ -25,6 +34,7 @@ std::string localityText(const app::Diagnostics& d, const char* indent) {
   for (std::size_t k = 1; k < l.Q.size() && k <= 8; ++k) out += format(" Q(%zu) %.3f", k, l.Q[k]);
   out += format("\n%scompact weights (w > 1e-3/m, CSR) take %.1f%% of dense storage (LBC paper Table 1)\n", indent,
                 100.0 * d.compactFraction);
+  out += dragText(d, indent);
   return out;
 }
 

@@ -14,6 +14,11 @@ namespace kc::cli {
 /// over dense storage — all measured inside the cage (Diagnostics::locality, compactFraction).
 std::string localityText(const app::Diagnostics& d, const char* indent);
 
+/// One line starting with `indent`: the area that moves ≥ kVisibleShift px under a kDragPixels
+/// drag of one control (Diagnostics::drag), mean and largest over the controls, and the deepest
+/// weight at those points. localityText ends with it.
+std::string dragText(const app::Diagnostics& d, const char* indent);
+
 /// What SolverReports::summary() leaves out of an LBC solve (lbcMesh > 0), one line starting with
 /// `indent`: the stopping rule, the objective (LBC eq. 14) and its certified lower bound, the
 /// penalty, the largest change made by the projection to w ≥ 0.

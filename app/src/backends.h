@@ -68,6 +68,12 @@ RigidityReport applyRigidity(Session& s, KernelField& field, const std::function
 /// changed columns, which are appended to `columns`.
 void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rows, std::vector<Index>& columns);
 
+/// Per-sample optimization of rows `rows` (sorted; all when empty) of s.W from s.W0 with `method`
+/// (WeightOptimizer), then, with params.kc.guardLobes, the exterior continuation of the continued
+/// rows among them (all of them for an empty `rows`). Pass rows from rederivedRows so that the
+/// continued rows reading a re-optimized row are among them.
+OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows);
+
 LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
 
 }  // namespace kc::app

@@ -35,6 +35,26 @@ Weights selectRows(const Weights& W, const std::vector<Index>& rows) {
 
 }  // namespace
 
+DragArea dragArea(const Weights& W, int step) {
+  DragArea a;
+  a.step = step;
+  a.points = W.rows();
+  const Index m = W.cols();
+  a.fraction.assign(static_cast<std::size_t>(m), 0.0);
+  if (W.rows() == 0 || m == 0) return a;
+  for (Index i = 0; i < m; ++i) {
+    const double f = static_cast<double>((W.col(i).array() >= kDragWeight).count()) / static_cast<double>(W.rows());
+    a.fraction[static_cast<std::size_t>(i)] = f;
+    a.mean += f / static_cast<double>(m);
+    if (f > a.max || a.maxControl < 0) {
+      a.max = f;
+      a.maxControl = i;
+    }
+  }
+  a.minWeight = W.minCoeff();
+  return a;
+}
+
 Diagnostics diagnose(const Session& s, Index maxPoints) {
   if (!s.hasField()) throw std::invalid_argument("the session has no coordinate field (bind it first)");
   const auto t0 = std::chrono::steady_clock::now();
@@ -93,6 +113,12 @@ Diagnostics diagnose(const Session& s, Index maxPoints) {
     // Unit areas: meanInfluencing is the mean count of entries above 10⁻³/m per point.
     d.compactFraction = (12.0 * d.locality.meanInfluencing + 4.0) / (8.0 * static_cast<double>(std::max<Index>(1, C.rows())));
   }
+  // The drag area on every `every`-th point of the grid, at least 2 px apart.
+  const int every = d.pixelStep >= 2 ? 1 : 2;
+  std::vector<Index> coarse;
+  for (std::size_t k = 0; k < inside.size(); ++k)
+    if ((inside[k] % nx) % every == 0 && (inside[k] / nx) % every == 0) coarse.push_back(static_cast<Index>(k));
+  d.drag = dragArea(every == 1 ? Win : selectRows(Win, coarse), every * d.pixelStep);
   d.evalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return d;
 }

@@ -1,6 +1,7 @@
 // The kernel-coordinate backend ("kc"): samples → K → W0 → W → KernelField (thesis ch. 3–6).
 
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <functional>
 #include <numeric>
@@ -15,6 +16,7 @@
 #include "kc/core/field/mesh_field.h"
 #include "kc/sampling/sigma.h"
 #include "kc/core/timing.h"
+#include "kc/core/weights/exterior_continuation.h"
 
 namespace kc::app {
 namespace {
@@ -71,6 +73,51 @@ void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>
     if (W.row(Index(k)).sum() > 0.5) s.W0.row(inside[k]) = W.row(Index(k));  // (a point the mesh misses by round-off keeps its heat target)
 }
 
+/// The exterior rows a session's bind continues from the inside (KcParams::guardLobes), over
+/// its samples; none when the option is off, or with linearEdges, whose post-processing of the
+/// rows next to the edges sets the field there itself.
+ExteriorContinuation continuationFor(const Session& s) {
+  if (!s.params.kc.guardLobes || s.params.kc.linearEdges) return {};
+  return ExteriorContinuation(s.samples, s.cage, s.params.spacing, s.sizing.get());
+}
+
+}  // namespace
+
+std::vector<Index> rederivedRows(const Session& s, std::span<const Index> rowsIn) {
+  std::vector<Index> rows(rowsIn.begin(), rowsIn.end());
+  const ExteriorContinuation continuation = continuationFor(s);
+  if (!continuation.rows().empty()) {
+    std::vector<char> touched(static_cast<std::size_t>(s.samples.size()), 0);
+    for (Index i : rowsIn) touched[static_cast<std::size_t>(i)] = 1;
+    for (std::size_t k = 0; k < continuation.rows().size(); ++k) {
+      bool reads = touched[static_cast<std::size_t>(continuation.rows()[k])] != 0;
+      for (Index j : continuation.sources(k)) reads = reads || touched[static_cast<std::size_t>(j)] != 0;
+      if (reads) rows.push_back(continuation.rows()[k]);
+    }
+  }
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  return rows;
+}
+
+OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows) {
+  const WeightOptimizer optimizer(s.cage.C);
+  OptimizeOptions oo;
+  oo.method = method;
+  const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, rows);
+  const ExteriorContinuation continuation = continuationFor(s);
+  if (rows.empty()) {
+    continuation.apply(s.W);
+  } else if (!continuation.rows().empty()) {
+    std::vector<Index> continued;
+    std::set_intersection(rows.begin(), rows.end(), continuation.rows().begin(), continuation.rows().end(), std::back_inserter(continued));
+    continuation.apply(s.W, continued);
+  }
+  return r;
+}
+
+namespace {
+
 class KcBackend final : public Backend {
  public:
   std::string_view name() const override { return "kc"; }
@@ -111,6 +158,7 @@ class KcBackend final : public Backend {
     step("initial weights", kStageStart[2]);
     InitOptions init = kc.init;
     if (init.method == InitMethod::Lbc) init.method = InitMethod::HeatLinear;  // the exterior; the inside follows
+    if (kc.localitySpacings > 0.0) init.locality = kc.localitySpacings * params.spacing;
     s.W0 = initialWeights(s.samples, s.cage, K, init, &r.init);
     if (kc.init.method == InitMethod::Lbc) {
       t0 = std::chrono::steady_clock::now();
@@ -150,6 +198,7 @@ class KcBackend final : public Backend {
 
     step("interpolation", kStageStart[5]);
     const auto ts = std::chrono::steady_clock::now();
+    if (const ExteriorContinuation c = continuationFor(s); !c.rows().empty()) c.apply(s.W);
     field->update(s.W);
     r.lines = applyLines(s, *field);
     s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
@@ -177,7 +226,6 @@ class KcBackend final : public Backend {
                             std::vector<Index>* changedColumns) const override {
     if (s.W0.rows() != s.samples.size() || s.W0.cols() != s.cage.size())
       throw std::invalid_argument("this session has no target weights (weights.initial) to optimize from");
-    const WeightOptimizer optimizer(s.cage.C);
     const bool whole = subset.empty() || s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols();
     auto* kernel = dynamic_cast<KernelField*>(s.field.get());
     const bool rigid = std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; });
@@ -190,11 +238,6 @@ class KcBackend final : public Backend {
     }
     if (s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols()) s.W = s.W0;
     const Index m = s.W0.cols();
-    RowMatrix before(static_cast<Index>(subset.size()), m);
-    if (!whole)
-      for (std::size_t k = 0; k < subset.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(subset[k]);
-    OptimizeOptions oo;
-    oo.method = method;
     // With lines, the samples near them are re-derived from W0 too, so that the lines' blend and
     // post-processing start again from the optimizer's weights (as at the bind), not from their
     // own earlier result.
@@ -204,14 +247,20 @@ class KcBackend final : public Backend {
       std::sort(rows.begin(), rows.end());
       rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
     }
-    const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, whole ? std::span<const Index>{} : std::span<const Index>(rows));
+    // The continued exterior rows (guardLobes) that read a re-optimized row, or are one, are
+    // re-derived with them; the columns that change are found over all of those rows.
+    if (!whole) rows = rederivedRows(s, rows);
+    RowMatrix before(static_cast<Index>(rows.size()), m);
+    if (!whole)
+      for (std::size_t k = 0; k < rows.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(rows[k]);
+    const OptimizeReport r = optimizeRows(s, method, whole ? std::span<const Index>{} : std::span<const Index>(rows));
     s.params.kc.method = method;
     if (whole) s.reports.optimize = r;
 
     std::vector<Index> columns;
     for (Index c = 0; c < m; ++c) {
       bool changed = whole;
-      for (std::size_t k = 0; k < subset.size() && !changed; ++k) changed = s.W(subset[k], c) != before(static_cast<Index>(k), c);
+      for (std::size_t k = 0; k < rows.size() && !whole && !changed; ++k) changed = s.W(rows[k], c) != before(static_cast<Index>(k), c);
       if (changed) columns.push_back(c);
     }
     if (!s.structure.lines.empty() || s.params.kc.linearEdges || rigid) {  // lines and edges made linear again, then rigidity

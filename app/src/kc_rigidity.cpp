@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "backends.h"
+#include "kc/app/pipeline.h"
 #include "kc/app/rigidity.h"
 #include "kc/core/kernel/interpolator.h"
 
@@ -42,11 +43,9 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
   }
+  rows = rederivedRows(s, rows);  // and the continued exterior rows that read them
   const RowMatrix before = s.W;
-  const WeightOptimizer optimizer(s.cage.C);
-  OptimizeOptions oo;
-  oo.method = s.params.kc.method;
-  optimizer.optimize(s.samples, s.W0, s.W, oo, rows);
+  optimizeRows(s, s.params.kc.method, rows);
   if (lines) {
     field.update(s.W);  // applyLines blends from the field of the weights before the lines
     applyLines(s, field);

@@ -86,6 +86,8 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"method", std::string(toString(p.kc.method))},
                  {"interp", std::string(toString(p.kc.interp))},
                  {"linear_edges", p.kc.linearEdges},
+                 {"locality_spacings", p.kc.localitySpacings},
+                 {"guard_lobes", p.kc.guardLobes},
                  {"backend", p.backend},
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
@@ -210,6 +212,16 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     p.kc.init.locality = detail::boundedNumber(params["locality"], kMaxCoordinate, where, "params.locality");  // 0 off, < 0 automatic
   } else {
     p.kc.init.locality = 0.0;  // sessions written before the option existed
+  }
+  p.kc.localitySpacings = 0.0;  // sessions written before the option: ℓ was params.locality alone
+  if (params.contains("locality_spacings")) {
+    p.kc.localitySpacings = detail::boundedNumber(params["locality_spacings"], kMaxCoordinate, where, "params.locality_spacings");
+    if (!(p.kc.localitySpacings >= 0.0)) throw InputError(where, "params.locality_spacings must be 0 (off) or a positive number of spacings");
+  }
+  p.kc.guardLobes = false;  // sessions written before the option: exterior rows as optimized, corners as sampled
+  if (params.contains("guard_lobes")) {
+    if (!params["guard_lobes"].is_boolean()) throw InputError(where, "params.guard_lobes must be true or false");
+    p.kc.guardLobes = params["guard_lobes"].get<bool>();
   }
   p.kc.method = parseEnum(params, "method", Method::QP, where);
   p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, where);

@@ -55,9 +55,19 @@ TEST(CliBind, BindEvalStatsOnSquare) {
   EXPECT_LT(j["properties"]["image"]["reproduction"].get<double>(), 1e-7);
   EXPECT_LT(j["properties"]["lagrange"].get<double>(), 1e-6);
   EXPECT_GE(j["properties"]["inside"]["min_weight"].get<double>(), -0.05);
+  // The area a 40 px drag of one control moves by 0.5 px or more: on a square, each corner's
+  // weight reaches 0.0125 over most of the square but not all of it.
+  const auto& drag = j["locality"]["drag"];
+  EXPECT_EQ(drag["weight_threshold"].get<double>(), 0.0125);
+  EXPECT_EQ(drag["area_fraction"].size(), 4u);
+  EXPECT_GT(drag["mean_area_fraction"].get<double>(), 0.5);
+  EXPECT_LT(drag["max_area_fraction"].get<double>(), 1.0);
+  EXPECT_GE(drag["max_area_fraction"].get<double>(), drag["mean_area_fraction"].get<double>());
+  EXPECT_GE(drag["min_weight"].get<double>(), j["properties"]["inside"]["min_weight"].get<double>());  // a subset of its grid
   r = runCli("stats --session s.kcw.json", dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(contains(r.out, "partition of unity"));
+  EXPECT_TRUE(contains(r.out, "area that moves >= 0.5 px under a 40 px drag"));
   EXPECT_TRUE(contains(r.out, "Lagrange"));
 }
 

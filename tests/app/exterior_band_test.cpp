@@ -23,8 +23,12 @@ namespace {
 /// What the band may change, measured against the whole-frame bind with the same seed
 /// (docs/notes/big-pictures.md): at most 1.2e-2 inside and on the cage and 3.8e-2 within
 /// 8 px outside it over the bundled examples and the generated cages at h = 8 (blue noise), where
-/// a different seed alone changes the frame bind's weights by 3e-3–2.2e-1.
-constexpr double kInsideTolerance = 2.5e-2, kNearTolerance = 5e-2;
+/// a different seed alone changes the frame bind's weights by 3e-3–2.2e-1. With the exterior rows
+/// next to the cage continued from the inside (KcParams::guardLobes, the default) they follow the
+/// inside samples around their mirror points, which the band's relaxation places a little
+/// differently: 3.1e-2 inside and 1.0e-1 within 8 px outside on the quarter cage at h = 10
+/// (1.9e-2 and 3.6e-2 without the continuation).
+constexpr double kInsideTolerance = 3.5e-2, kNearTolerance = 1.1e-1;
 
 /// Where the band must not change the weights: grid points (step px) inside the cage, points along
 /// every edge (step px), and grid points outside within `near` px of the cage (the outer vertices

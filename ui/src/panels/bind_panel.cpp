@@ -230,19 +230,27 @@ void drawBindPanel(AppState& state) {
   markWidget(state, "Initialization");
   if (p.kc.init.method == InitMethod::Lbc) lbcControls(state);
   if (p.kc.init.method == InitMethod::HeatLinear) {
-    // Screened targets (opt-in): how far a control point's influence reaches inside the shape.
-    bool screened = p.kc.init.locality != 0.0;
+    // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
+    bool screened = p.kc.localitySpacings > 0.0 || p.kc.init.locality != 0.0;
     if (checkbox(state, "Local targets", &screened,
-                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion). "
-                 "More local, but far points may get very small influence. "
-                 "Off: smooth, global influences. Takes effect at the next Bind."))
-      p.kc.init.locality = screened ? -1.0 : 0.0;
+                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion), about as locally as LBC "
+                 "(recommended). Off: smooth influences that reach further. Takes effect at the next Bind.")) {
+      p.kc.localitySpacings = screened ? app::kLocalitySpacings : 0.0;
+      p.kc.init.locality = 0.0;
+    }
     if (screened) {
       ImGui::SameLine();
-      float locality = static_cast<float>(p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C) : p.kc.init.locality);
+      // In spacings (follows the spacing, the default) or, once edited, in pixels.
+      const double spacing = std::max(p.spacing, 1e-9);
+      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? p.kc.localitySpacings * spacing
+                                          : p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C)
+                                                                    : p.kc.init.locality);
       ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) p.kc.init.locality = std::max(1.0f, locality);
-      tooltip("How far (pixels, inside the shape) a point's pull reaches.");
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) {
+        p.kc.init.locality = std::max(1.0f, locality);
+        p.kc.localitySpacings = 0.0;
+      }
+      tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings.");
     }
   }
   enumCombo("Interpolation", p.kc.interp, interps,

@@ -97,6 +97,17 @@ void drawDiagnosticsPanel(AppState& state) {
     labelled(state, "Lagrange", "Lagrange: how far each cage point's own weight is from 1 at that point. Edge linearity: "
                                 "how far the weights along each cage edge are from a straight blend of its two points. "
                                 "Small means the cage outline follows the points exactly.");
+    if (d.drag.points > 0) {
+      ImGui::Text("Drag area %.0f%% mean, %.0f%% max (point %ld)", 100.0 * d.drag.mean, 100.0 * d.drag.max, long(d.drag.maxControl));
+      char tip[512];
+      std::snprintf(tip, sizeof tip,
+                    "How local the weights are: when you drag one cage point %.0f px, the part of the picture inside the cage that "
+                    "moves by %.1f px or more (where that point's weight is at least %.4g, the tick on the heatmap's colour bar), "
+                    "averaged over the points and for the point that moves the most. Smaller is more local. Checked every %d px; the "
+                    "lowest weight there is %.3f (below 0 the picture moves against the drag).",
+                    app::kDragPixels, app::kVisibleShift, app::kDragWeight, d.drag.step, d.drag.minWeight);
+      labelled(state, "Drag area", tip);
+    }
     ImGui::TextDisabled("grid step %d px, %.0f ms", d.pixelStep, d.evalSeconds * 1e3);
     labelled(state, "grid step", "Spacing of the check grid, in pixels, and how long the check took.");
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "kc/app/diagnostics.h"
 #include "kc/app/heatmap.h"
 #include "kc/ui/heat_field.h"
 #include "kc/ui/edits.h"
@@ -25,8 +26,21 @@ void colorBar(const AppState& state) {
                       IM_COL32(c.r, c.g, c.b, 255));
   }
   dl->AddRect(p, {p.x + width, p.y + height}, IM_COL32(0, 0, 0, 255));
-  ImGui::Dummy({width, height});
   const HeatRange r{state.heatLow, state.heatHigh, state.heat.log};
+  // The level a person sees move: weight kDragWeight moves a pixel kVisibleShift px under a
+  // kDragPixels drag of the point. A white tick edged in black, reaching a little past the bar.
+  const double drag = heatPosition(app::kDragWeight, r);
+  const bool tick = r.high > app::kDragWeight && r.low < app::kDragWeight;
+  if (tick) {
+    const float x = p.x + width * static_cast<float>(drag);
+    dl->AddRectFilled({x - 2.0f, p.y - 3.0f}, {x + 2.0f, p.y + height + 3.0f}, IM_COL32(0, 0, 0, 255));
+    dl->AddLine({x, p.y - 2.0f}, {x, p.y + height + 2.0f}, IM_COL32(255, 255, 255, 255), 2.0f);
+  }
+  ImGui::Dummy({width, height});
+  if (tick && ImGui::IsItemHovered()) {
+    ImGui::SetTooltip("The tick marks weight %.4g: where the weight is at least that, dragging the point %.0f px moves the "
+                      "picture %.1f px or more.", app::kDragWeight, app::kDragPixels, app::kVisibleShift);
+  }
   const double mid = r.log ? std::sqrt(r.low * r.high) : 0.5 * (r.low + r.high);
   char lo[32], md[32], hi[32];
   std::snprintf(lo, sizeof lo, "%.3g", r.low);

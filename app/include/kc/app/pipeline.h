@@ -147,6 +147,11 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
 OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset = {},
                           std::vector<Index>* changedColumns = nullptr);
 
+/// The rows of session.W a re-optimization of `rows` re-derives (sorted): `rows`, and with
+/// params.kc.guardLobes the continued exterior rows next to the cage (ExteriorContinuation) that
+/// read one of them around their mirror point or are one of them. Painting re-optimizes these.
+std::vector<Index> rederivedRows(const Session& session, std::span<const Index> rows);
+
 /// Rebuilds session.field from what a session file holds (after loading it), through its backend.
 void refreshField(Session& session);
 

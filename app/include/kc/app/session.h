@@ -20,6 +20,12 @@
 
 namespace kc::app {
 
+/// Default locality length of the kc backend's targets, in sample spacings (KcParams::
+/// localitySpacings). Shorter lengths are more local (the drag area of `kcwarp-cli stats` falls
+/// towards the LBC backend's), but targets that fall off within about one sample spacing ring
+/// between the samples: 1.5 spacings is the shortest length that does not deepen the lobes.
+inline constexpr double kLocalitySpacings = 1.5;
+
 /// Bind parameters of the kernel-coordinate backend ("kc").
 struct KcParams {
   double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28, T measured).
@@ -31,6 +37,18 @@ struct KcParams {
   /// edge samples; deepens the negative lobes near the controls (docs/ARCHITECTURE.md). Sessions
   /// written before the option (no `params.linear_edges`) read false.
   bool linearEdges = false;
+  /// Screened heat-linear targets (InitOptions::locality) with the locality length
+  /// ℓ = localitySpacings · BindParams::spacing, so that dragging one control moves about its own
+  /// part of the picture (kLocalitySpacings); 0: ℓ is init.locality (pixels, 0 = unscreened). Used
+  /// with HeatLinear targets only. Sessions written before the option (no
+  /// `params.locality_spacings`) read 0.
+  double localitySpacings = kLocalitySpacings;
+  /// Bound the field's negative lobes inside the cage: the exterior rows next to the cage continue
+  /// the inside across it (ExteriorContinuation), and sharp outside corners are sampled finer
+  /// (app's sharp-corner seeds of the sizing field; exact interpolation only). No effect with
+  /// linearEdges, whose post-processing sets the field next to the edges itself. Sessions written
+  /// before the option (no `params.guard_lobes`) read false.
+  bool guardLobes = true;
 };
 
 /// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is

@@ -1,0 +1,61 @@
+#include "corner_sizing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace kc::app {
+
+void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double maxDegrees, double finest, std::vector<Vec2>& P,
+                      std::vector<double>& H) {
+  const Points& C = cage.C;
+  const Index m = C.rows();
+  if (!cage.closed || m < 4) return;
+  const auto edges = cageEdges(cage);  // the polygon i → i+1 only
+  if (static_cast<Index>(edges.size()) != m) return;
+  for (Index i = 0; i < m; ++i)
+    if (edges[std::size_t(i)][0] != i || edges[std::size_t(i)][1] != (i + 1) % m) return;
+  const double orientation = signedArea(C) > 0.0 ? 1.0 : -1.0;
+  const double cosMax = std::cos(maxDegrees * std::numbers::pi / 180.0);
+  const double hMax = options.hMax, hLow = std::max(options.hMin, finest * hMax);
+  for (Index i = 0; i < m; ++i) {
+    const Vec2 c = C.row(i), a = C.row((i + m - 1) % m), b = C.row((i + 1) % m);
+    const Vec2 u = a - c, v = b - c;
+    const double lu = u.norm(), lv = v.norm();
+    if (!(lu > 0.0 && lv > 0.0)) continue;
+    const double turn = (c - a).x() * (b - c).y() - (c - a).y() * (b - c).x();
+    const double cosine = u.dot(v) / (lu * lv);
+    if (turn * orientation >= 0.0 || cosine <= cosMax) continue;  // convex, or an open angle
+    const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
+    for (const auto& [dir, length] : {std::pair<Vec2, double>{u / lu, lu}, std::pair<Vec2, double>{v / lv, lv}}) {
+      for (double s = 0.0; s <= length;) {
+        const double h = std::clamp(s * sine / options.featureSamples, hLow, hMax);
+        if (h >= hMax) break;
+        P.push_back(c + s * dir);
+        H.push_back(h);
+        s += 0.5 * h;
+      }
+    }
+  }
+}
+
+SizingField withSharpCorners(const Cage& cage, const SizingOptions& options, const SizingField& h) {
+  std::vector<Vec2> P;
+  std::vector<double> H;
+  sharpCornerSeeds(cage, options, kSharpCornerDegrees, kSharpCornerFinest, P, H);
+  if (P.empty()) return h;
+  const Index n = h.graded() ? h.seeds().rows() : 0;
+  Points S(n + static_cast<Index>(P.size()), 2);
+  Eigen::VectorXd sizes(S.rows());
+  if (n > 0) {
+    S.topRows(n) = h.seeds();
+    sizes.head(n) = h.sizes();
+  }
+  for (std::size_t k = 0; k < P.size(); ++k) {
+    S.row(n + static_cast<Index>(k)) = P[k].transpose();
+    sizes(n + static_cast<Index>(k)) = H[k];
+  }
+  return SizingField(options.hMax, options.gradation, S, sizes, h.form());
+}
+
+}  // namespace kc::app

@@ -1,0 +1,81 @@
+#pragma once
+/// The weights of the exterior samples next to a closed cage, continued from the inside.
+///
+/// A kernel field interpolates its samples' weights; across a cage edge it sees the inside rows
+/// (heat targets optimized with w ≥ 0) and the exterior rows (diffused outside, and outside the
+/// control points' hull forced by reproduction towards the hull's vertices). Where the two differ
+/// in slope the interpolant rings, and the ring reaches inside the cage as negative lobes (−0.135
+/// on the bundled figure next to the elbow: exterior samples above the arm carry 0.8 of the hand's
+/// weight, the inside ones 0.1, the edge between them 0).
+///
+/// The continuation replaces each such exterior row by the odd reflection of the inside through
+/// the cage: for an exterior sample x at distance d < band from the cage, with p its nearest
+/// point on a loop edge (a, b) and λ(p) the edge's linear weights there (4.7), and m = 2p − x its
+/// mirror image inside the cage,
+///   w(x) = α(d) · (2 λ(p) − ŵ(m)) + (1 − α(d)) · w_opt(x),   α(d) = 1 − smoothstep(d / band),
+/// where ŵ(m) is a moving-least-squares fit (linear basis, Gaussian weights) of the rows of the
+/// samples inside and on the cage around m, and w_opt(x) the row the optimizer gave x. Each term
+/// sums to 1 and reproduces its position (the fit reproduces affine data exactly, and 2p − m = x),
+/// so the result keeps partition of unity and reproduction exact; it may be negative outside.
+/// Rows whose mirror falls outside the cage (past a thin part) keep w_opt, and so do rows in a gap
+/// narrower than the band: α is multiplied by smoothstep((d + d′)/band − 1), d′ the distance to the
+/// other side (another loop edge seen across the outside, or a stick), because continuing either
+/// side into a narrow gap would steepen the weights across it, and a stick's linear weights are
+/// the data next to it.
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "kc/core/cage.h"
+#include "kc/core/sizing.h"
+#include "kc/core/types.h"
+
+namespace kc {
+
+struct ExteriorContinuationOptions {
+  /// Width of the band, in local sample spacings h(x): beyond it the optimizer's rows are kept.
+  /// Measured (deepest weight inside the cage, default bind): 2 spacings left −0.035 on the bundled
+  /// figure and −0.054 on a hand-drawn hand; 3 spacings −0.035 and −0.080; 5 −0.059 on the figure.
+  double bandSpacings = 2.0;
+  /// Radius of the inside fit around m, in local spacings (grown until it holds 3 points off one line).
+  double fitSpacings = 2.0;
+};
+
+/// The exterior samples the continuation replaces and how: for each, the mirror fit and blend.
+/// Built once per sampling (positions, kinds, cage and spacing); applied to any W.
+class ExteriorContinuation {
+ public:
+  ExteriorContinuation() = default;
+  /// S: the samples (kinds Exterior are continued, Control/Edge/Interior/Line are the inside);
+  /// spacing: h away from narrow places; sizing: the local spacing of a graded sampling (null:
+  /// uniform). A cage without an interior (sticks only) continues nothing.
+  ExteriorContinuation(const SampleSet& S, const Cage& cage, double spacing, const SizingField* sizing,
+                       const ExteriorContinuationOptions& options = {});
+
+  /// The exterior rows continued (increasing).
+  const std::vector<Index>& rows() const { return m_rows; }
+  /// The inside rows row k's fit reads (increasing).
+  std::vector<Index> sources(std::size_t k) const;
+
+  /// Overwrites rows() of W (#S×m), whose rows hold the optimizer's weights, with the continued
+  /// weights (see the file comment). Reads only the inside rows of W and the continued rows'
+  /// own. Parallel over rows, bit-identical for any thread count.
+  void apply(Weights& W) const;
+  /// The same for the continued rows in `only` (increasing, each one of rows()).
+  void apply(Weights& W, std::span<const Index> only) const;
+
+ private:
+  struct Term {
+    Index row;                  // the exterior sample
+    double alpha;               // blend α(d)
+    int a, b;                   // edge end controls (a == b: the nearest point is a control)
+    double t;                   // p = (1 − t)·c_a + t·c_b
+    std::vector<Index> fitRows; // inside samples of the fit
+    std::vector<double> fit;    // their MLS shape-function values at m (sum 1, reproduce m)
+  };
+  std::vector<Term> m_terms;
+  std::vector<Index> m_rows;
+};
+
+}  // namespace kc

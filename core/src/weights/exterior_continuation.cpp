@@ -1,0 +1,189 @@
+// The exterior samples' weights continued from the inside (exterior_continuation.h).
+#include "kc/core/weights/exterior_continuation.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "kc/core/cage_edge_grid.h"
+#include "kc/core/parallel.h"
+#include "kc/core/spatial_grid.h"
+
+namespace kc {
+namespace {
+
+/// The nearest point to x on the loop edges within `radius` (its edge, ends and parameter), and
+/// the width of the gap x lies in: the distance to the nearest point of a stick or of any other
+/// loop edge seen across the outside (the midpoint of the way there is outside the cage), except an edge whose
+/// nearest point is a corner it shares with the first (outside a convex corner both edges are
+/// nearest there; in a wedge the other edge's nearest point lies along it).
+struct Nearest {
+  double distance = std::numeric_limits<double>::infinity();
+  double other = std::numeric_limits<double>::infinity();
+  int edge = -1, a = -1, b = -1;
+  double t = 0.0;
+};
+
+Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop,
+                         const CageQueries& cage, const Vec2& x, double radius) {
+  Nearest n;
+  const Vec2 r(radius, radius);
+  auto closest = [&](const Vec2& a, const Vec2& b, double& t) {
+    const Vec2 ab = b - a;
+    t = std::clamp((x - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+    return (a + t * ab - x).norm();
+  };
+  grid.forEachEdgeNear(x - r, x + r, [&](int e, const Vec2& a, const Vec2& b) {
+    if (!onLoop[static_cast<std::size_t>(e)]) return;
+    double t = 0.0;
+    const double d = closest(a, b, t);
+    if (d < n.distance || (d == n.distance && e < n.edge)) {  // ties: the lower edge, whatever the order of visits
+      n.distance = d;
+      n.edge = e;
+      n.a = edges[static_cast<std::size_t>(e)][0];
+      n.b = edges[static_cast<std::size_t>(e)][1];
+      n.t = t;
+    }
+  });
+  if (n.edge < 0) return n;
+  grid.forEachEdgeNear(x - r, x + r, [&](int e, const Vec2& a, const Vec2& b) {
+    if (e == n.edge) return;
+    double t = 0.0;
+    const double d = closest(a, b, t);
+    const int corner = t == 0.0 ? edges[static_cast<std::size_t>(e)][0] : t == 1.0 ? edges[static_cast<std::size_t>(e)][1] : -1;
+    if (corner >= 0 && (corner == n.a || corner == n.b)) return;
+    // A stick (an edge on no loop) always bounds the gap; a loop edge only seen across the outside.
+    if (!(d < n.other) || (onLoop[static_cast<std::size_t>(e)] && cage.inside(0.5 * (x + a + t * (b - a))))) return;
+    n.other = d;
+  });
+  return n;
+}
+
+/// Moving-least-squares shape functions at m over the inside samples within `radius` (linear
+/// basis, weight (1 − r²/R²)²): Σ φ_j = 1 and Σ φ_j x_j = m. False when the points within the
+/// radius do not determine a plane (fewer than 3, or on one line).
+bool fitAt(const SpatialGrid& grid, const Points& Y, const std::vector<Index>& inside, const Vec2& m, double radius,
+           std::vector<Index>& rows, std::vector<double>& phi) {
+  rows.clear();
+  phi.clear();
+  std::vector<double> theta;
+  Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
+  const double r2 = radius * radius;
+  grid.forEachWithin(m, radius, [&](Index k, double d2) {
+    const double q = 1.0 - d2 / r2;
+    if (q <= 0.0) return;
+    const Eigen::Vector3d bj(1.0, (Y(k, 0) - m.x()) / radius, (Y(k, 1) - m.y()) / radius);
+    M.noalias() += q * q * bj * bj.transpose();
+    rows.push_back(k);
+    theta.push_back(q * q);
+  });
+  if (rows.size() < 3) return false;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(M);
+  if (!(eig.eigenvalues()(0) > 1e-6 * eig.eigenvalues()(2))) return false;
+  const Eigen::Vector3d e = M.ldlt().solve(Eigen::Vector3d::UnitX());  // M symmetric: e1ᵀ M⁻¹ = (M⁻¹ e1)ᵀ
+  // Shape functions, with rows mapped to sample indices and sorted (deterministic sums).
+  std::vector<std::pair<Index, double>> pairs;
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const Index k = rows[j];
+    const Eigen::Vector3d bj(1.0, (Y(k, 0) - m.x()) / radius, (Y(k, 1) - m.y()) / radius);
+    pairs.emplace_back(inside[static_cast<std::size_t>(k)], theta[j] * e.dot(bj));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  for (std::size_t j = 0; j < pairs.size(); ++j) {
+    rows[j] = pairs[j].first;
+    phi.push_back(pairs[j].second);
+  }
+  return true;
+}
+
+}  // namespace
+
+ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage, double spacing, const SizingField* sizing,
+                                           const ExteriorContinuationOptions& options) {
+  if (!hasInterior(cage) || !(spacing > 0.0)) return;
+  const Index n = S.size();
+  std::vector<Index> inside;
+  std::vector<Index> exterior;
+  for (Index i = 0; i < n; ++i) (S.kind[static_cast<std::size_t>(i)] == SampleKind::Exterior ? exterior : inside).push_back(i);
+  if (exterior.empty() || inside.size() < 3) return;
+  Points Y(static_cast<Index>(inside.size()), 2);
+  for (std::size_t k = 0; k < inside.size(); ++k) Y.row(static_cast<Index>(k)) = S.X.row(inside[k]);
+  const SpatialGrid grid(Y, spacing);
+  const auto edges = cageEdges(cage);
+  const std::vector<char> onLoop = loopEdgeFlags(cage);
+  const CageEdgeGrid edgeGrid(cage, options.bandSpacings * spacing);
+  const CageQueries queries(cage);
+  auto h = [&](const Vec2& x) { return sizing ? (*sizing)(x) : spacing; };
+
+  std::vector<Term> terms(exterior.size());
+  std::vector<char> used(exterior.size(), 0);
+  parallelFor(static_cast<Index>(exterior.size()), [&](Index k) {
+    const Index i = exterior[static_cast<std::size_t>(k)];
+    const Vec2 x = S.X.row(i).transpose();
+    const double band = options.bandSpacings * h(x);
+    const Nearest p = nearestLoopPoint(edgeGrid, edges, onLoop, queries, x, 2.0 * band);
+    if (!(p.distance < band) || !(p.distance > 0.0)) return;
+    const Vec2 onEdge = (1.0 - p.t) * cage.C.row(p.a).transpose() + p.t * cage.C.row(p.b).transpose();
+    const Vec2 m = 2.0 * onEdge - x;
+    if (!queries.inside(m)) return;
+    Term& term = terms[static_cast<std::size_t>(k)];
+    double radius = options.fitSpacings * h(m);
+    bool ok = false;
+    for (int grow = 0; grow < 4 && !ok; ++grow, radius *= 1.5) ok = fitAt(grid, Y, inside, m, radius, term.fitRows, term.fit);
+    if (!ok) return;
+    // α: 1 at the cage, 0 at the band's edge; and 0 in a gap narrower than the band (the other
+    // side's inside is as near as this one's: continuing either side would steepen the gap).
+    auto smoothstep = [](double u) {
+      u = std::clamp(u, 0.0, 1.0);
+      return u * u * (3.0 - 2.0 * u);
+    };
+    term.row = i;
+    term.alpha = (1.0 - smoothstep(p.distance / band)) * smoothstep((p.distance + p.other) / band - 1.0);
+    if (!(term.alpha > 0.0)) return;
+    term.a = p.a;
+    term.b = p.b;
+    term.t = p.t;
+    used[static_cast<std::size_t>(k)] = 1;
+  });
+  for (std::size_t k = 0; k < terms.size(); ++k)
+    if (used[k]) {
+      m_rows.push_back(terms[k].row);
+      m_terms.push_back(std::move(terms[k]));
+    }
+}
+
+std::vector<Index> ExteriorContinuation::sources(std::size_t k) const { return m_terms[k].fitRows; }
+
+namespace {
+
+/// Row term.row of W: α·(2λ(p) − ŵ(m)) + (1 − α)·(its optimized row).
+template <class Term>
+void continueRow(const Term& term, Weights& W) {
+  Eigen::RowVectorXd reflected = Eigen::RowVectorXd::Zero(W.cols());
+  for (std::size_t j = 0; j < term.fitRows.size(); ++j) reflected.noalias() -= term.fit[j] * W.row(term.fitRows[j]);
+  reflected(term.a) += 2.0 * (1.0 - term.t);
+  reflected(term.b) += 2.0 * term.t;
+  auto row = W.row(term.row);
+  row = term.alpha * reflected + (1.0 - term.alpha) * row;
+}
+
+}  // namespace
+
+void ExteriorContinuation::apply(Weights& W) const {
+  parallelFor(static_cast<Index>(m_terms.size()), [&](Index k) { continueRow(m_terms[static_cast<std::size_t>(k)], W); });
+}
+
+void ExteriorContinuation::apply(Weights& W, std::span<const Index> only) const {
+  std::vector<std::size_t> terms;
+  for (Index i : only) {
+    const auto it = std::lower_bound(m_rows.begin(), m_rows.end(), i);
+    if (it == m_rows.end() || *it != i) throw std::invalid_argument("ExteriorContinuation::apply: row " + std::to_string(i) + " is not continued");
+    terms.push_back(static_cast<std::size_t>(it - m_rows.begin()));
+  }
+  parallelFor(static_cast<Index>(terms.size()), [&](Index k) { continueRow(m_terms[terms[static_cast<std::size_t>(k)]], W); });
+}
+
+}  // namespace kc

@@ -1,0 +1,94 @@
+// The default kc bind is local (screened targets, KcParams::localitySpacings) and guards its
+// negative lobes (continued exterior rows, KcParams::guardLobes): painting re-derives exactly what
+// a whole re-optimization would, method switches come back to the bind's weights, and sessions
+// keep the options (older sessions read them off).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "kc/app/diagnostics.h"
+#include "kc/app/file_io.h"
+#include "kc/app/pipeline.h"
+
+namespace kc::app {
+namespace {
+
+Cage figureCage() { return loadCage(std::string(KC_SOURCE_DIR) + "/images/figure.cage.json"); }
+
+Session bindFigure(const BindParams& p) { return app::bind(figureCage(), 320, 400, p); }
+
+BindParams defaults() {
+  BindParams p;
+  p.spacing = 10.0;
+  p.exterior = sampling::ExteriorExtent::Band;
+  return p;
+}
+
+TEST(LocalDefault, IsScreenedAndGuardedAndLocalerThanBefore) {
+  const BindParams p = defaults();
+  EXPECT_EQ(p.kc.localitySpacings, kLocalitySpacings);
+  EXPECT_TRUE(p.kc.guardLobes);
+  BindParams before = p;
+  before.kc.localitySpacings = 0.0;
+  before.kc.guardLobes = false;
+  const Diagnostics now = diagnose(bindFigure(p), 40000), old = diagnose(bindFigure(before), 40000);
+  std::printf("[measured] figure h = 10: drag area %.3f (before %.3f), deepest weight %.4f (before %.4f)\n", now.drag.mean,
+              old.drag.mean, now.drag.minWeight, old.drag.minWeight);
+  EXPECT_LT(now.drag.mean, 0.75 * old.drag.mean);
+  EXPECT_GT(now.drag.minWeight, 0.5 * old.drag.minWeight);  // lobes at most half as deep
+  EXPECT_LE(now.inside.partitionOfUnity, 1e-9);
+  EXPECT_LE(now.inside.reproduction, 1e-7);
+}
+
+TEST(LocalDefault, PaintingReDerivesWhatAWholeReoptimizationGives) {
+  Session painted = bindFigure(defaults()), whole = bindFigure(defaults());
+  // Paint the hand control's targets up at the interior samples within 25 px of the elbow
+  // (292, 178): next to the cage, where continued exterior rows read them.
+  const Index hand = 6;
+  std::vector<Index> stroke;
+  for (Index i = 0; i < painted.samples.size(); ++i)
+    if (painted.samples.kind[std::size_t(i)] == SampleKind::Interior && (painted.samples.X.row(i) - Vec2(292, 178).transpose()).norm() < 25)
+      stroke.push_back(i);
+  ASSERT_GT(stroke.size(), 5u);
+  for (Session* s : {&painted, &whole})
+    for (Index i : stroke) {
+      s->W0(i, hand) += 0.3;
+      s->W0.row(i) /= s->W0.row(i).sum();
+    }
+  std::vector<Index> columns;
+  reoptimize(painted, Method::QP, stroke, &columns);
+  reoptimize(whole, Method::QP);
+  EXPECT_EQ((painted.W - whole.W).cwiseAbs().maxCoeff(), 0.0) << "a stroke left rows a whole re-optimization changes";
+  EXPECT_TRUE(std::find(columns.begin(), columns.end(), hand) != columns.end());
+  const Diagnostics d = diagnose(painted, 20000), w = diagnose(whole, 20000);
+  EXPECT_LE(d.image.partitionOfUnity, 1e-9);
+  EXPECT_LE(d.image.reproduction, 1e-7);
+  EXPECT_NEAR(d.drag.mean, w.drag.mean, 1e-12);  // the field follows: only the changed columns were updated
+  EXPECT_NEAR(d.drag.minWeight, w.drag.minWeight, 1e-9);
+}
+
+TEST(LocalDefault, MethodSwitchesComeBackToTheBindsWeights) {
+  Session s = bindFigure(defaults());
+  const Weights bound = s.W;
+  reoptimize(s, Method::QEC);
+  EXPECT_GT((s.W - bound).cwiseAbs().maxCoeff(), 1e-3);
+  reoptimize(s, Method::QP);
+  EXPECT_EQ((s.W - bound).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(LocalDefault, SessionsKeepTheOptionsAndOlderOnesReadThemOff) {
+  const Session s = bindFigure(defaults());
+  const Session back = sessionFromJson(sessionToJson(s), "mem.kcw.json");
+  EXPECT_EQ(back.params.kc.localitySpacings, kLocalitySpacings);
+  EXPECT_TRUE(back.params.kc.guardLobes);
+  EXPECT_EQ((back.W - s.W).cwiseAbs().maxCoeff(), 0.0);
+  const Session old = loadSession(std::string(KC_SOURCE_DIR) + "/tests/data/old_format.kcw.json");
+  EXPECT_EQ(old.params.kc.localitySpacings, 0.0);
+  EXPECT_FALSE(old.params.kc.guardLobes);
+}
+
+}  // namespace
+}  // namespace kc::app
