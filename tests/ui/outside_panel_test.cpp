@@ -142,7 +142,7 @@ TEST(OutsidePanel, MoveEverythingNamesThePaintABindLeavesBehindAndKeepsItOneUndo
   test::HeadlessImGui gui;
   auto s = boundSquare("kc", OutsideMode::Pinned, 100.0, sampling::ExteriorExtent::Band);
   s->unsaved = true;
-  s->undo.push({"paint w1", WeightEdit{{0}, Weights(), Weights(), Weights(), Weights()}});
+  s->undo.push({"paint w1", WeightEdit{{0}, {0}, Weights(), Weights(), Weights(), Weights()}});
   const auto sessionBefore = s->session;
 
   gui.frame([&] { drawSide(*s); });

@@ -93,10 +93,10 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
           if (forward || edit.WBefore.rows() == 0) return startMethod(state, forward ? edit.after : edit.before, false);
           // Weights from a session file: put them back as they were.
           state.weightsReproducible = false;
-          return startRestoreWeights(state, {}, state.session->W0, edit.WBefore, edit.before);
+          return startRestoreWeights(state, {}, state.session->W0, {}, edit.WBefore, edit.before);
         } else {
           if (!state.session) return false;
-          return startRestoreWeights(state, edit.rows, forward ? edit.W0After : edit.W0Before,
+          return startRestoreWeights(state, edit.rows, forward ? edit.W0After : edit.W0Before, edit.weightRows,
                                      forward ? edit.WAfter : edit.WBefore, forward ? edit.methodAfter : edit.methodBefore);
         }
         return true;

@@ -484,6 +484,9 @@ bool submitReoptimize(AppState& state, std::vector<Index> rows, Method method, c
 bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
   if (!state.session || !state.meshSource || !canStart(state, "re-optimize")) return false;
   auto e = std::make_shared<WeightEdit>(std::move(edit));
+  // W before the stroke, whole: a re-optimization changes the painted rows and the rows derived
+  // from them (app::reoptimize), and the undo entry keeps exactly the rows that changed.
+  auto before = std::make_shared<const Weights>(state.session->W);
   // A stroke that would fold the shown picture is made gentler (FoldGuard), when the picture shown
   // is the full deform of the present pose.
   std::shared_ptr<FoldGuard> guard;
@@ -491,9 +494,14 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
     guard = std::make_shared<FoldGuard>(FoldGuard{state.pose, state.deformReport.flippedTriangles, e->W0Before, e->W0After});
   return submitReoptimize(
       state, e->rows, e->methodAfter, "Re-optimizing",
-      [e, label, guard](AppState& st) {
+      [e, label, guard, before](AppState& st) {
         e->W0After = gatherRows(st.session->W0, e->rows);  // the stroke as kept
-        e->WAfter = gatherRows(st.session->W, e->rows);
+        const Weights& W = st.session->W;
+        e->weightRows.clear();
+        for (Index r = 0; r < W.rows(); ++r)
+          if (W.row(r) != before->row(r)) e->weightRows.push_back(r);
+        e->WBefore = gatherRows(*before, e->weightRows);
+        e->WAfter = gatherRows(W, e->weightRows);
         char text[200];
         if (guard && guard->kept < 1.0)
           std::snprintf(text, sizeof text, "Stroke (%s) softened to 1/%.0f: at full strength it folded the picture. %ld samples re-optimized in %.0f ms.",
@@ -504,9 +512,9 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
         postMessage(st, text, false);
         st.undo.push({label, std::move(*e)});
       },
-      [e](app::Session& s) {
+      [e, before](app::Session& s) {
         scatterRows(s.W0, e->rows, e->W0Before);
-        if (e->WBefore.rows() > 0) scatterRows(s.W, e->rows, e->WBefore);
+        s.W = *before;
         s.params.kc.method = e->methodBefore;
       },
       guard);
@@ -544,16 +552,17 @@ bool switchMethod(AppState& state, Method method) {
   return startMethod(state, method, true);
 }
 
-bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const Weights& W,
+bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const std::vector<Index>& weightRows,
+                         const Weights& W,
                          Method method) {
   if (!state.session || !state.meshSource || !canStart(state, "undo")) return false;
   SessionPtr s = std::move(state.session);
   SourcePtr source = std::move(state.meshSource);
   auto mesh = std::make_shared<WarpMesh>(state.mesh);
-  state.worker.submit("Restoring weights", [s, rows, W0, W, method, source, mesh](JobContext&) -> Worker::Apply {
+  state.worker.submit("Restoring weights", [s, rows, W0, weightRows, W, method, source, mesh](JobContext&) -> Worker::Apply {
     try {
       scatterRows(s->W0, rows, W0);
-      scatterRows(s->W, rows, W);
+      scatterRows(s->W, weightRows, W);
       s->params.kc.method = method;
       s->field->update(s->W);
       source->W = source->sampler.evaluate(*s->field);

@@ -89,8 +89,7 @@ void BrushTool::release(AppState& state, const PointerEvent& e) {
   if (edit.rows.empty()) return;
   const app::Session& session = *state.session;
   edit.W0Before = gatherRows(m_W0Before, edit.rows);
-  edit.W0After = gatherRows(session.W0, edit.rows);
-  edit.WBefore = gatherRows(session.W, edit.rows);
+  edit.W0After = gatherRows(session.W0, edit.rows);  // W's changed rows: found when the re-optimization ends
   edit.methodBefore = edit.methodAfter = state.method;
   m_W0Before.resize(0, 0);
   startReoptimize(state, std::move(edit), "paint w" + std::to_string(state.activeControl));

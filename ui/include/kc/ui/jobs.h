@@ -74,8 +74,10 @@ bool switchMethod(AppState& state, Method method);
 /// (undo and redo of a method switch pass false).
 bool startMethod(AppState& state, Method method, bool record);
 
-/// Writes W0/W rows (after undo/redo) and refreshes field + display mesh on the worker.
-bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const Weights& W,
+/// Writes W0 rows `rows` and W rows `weightRows` (after undo/redo; empty = all) and refreshes field
+/// + display mesh on the worker.
+bool startRestoreWeights(AppState& state, const std::vector<Index>& rows, const Weights& W0, const std::vector<Index>& weightRows,
+                         const Weights& W,
                          Method method);
 
 /// Loads a session file (and its image) on the worker; on success it replaces the document, on

@@ -28,9 +28,12 @@ struct CageEdit {
 };
 
 /// Rows of W0 (targets) and W (optimized) before and after a paint stroke.
-/// `rows` lists the sample indices (#R); the matrices are #R×m. Empty `rows` = all samples.
+/// `rows` lists the painted samples (#R), whose targets W0Before/W0After (#R×m) hold;
+/// `weightRows` the samples whose optimized weights the stroke changed (#Q: the painted ones and
+/// those derived from them, e.g. the exterior rows continued from the inside, the samples near a
+/// structure line), whose weights WBefore/WAfter (#Q×m) hold. Empty `rows` = all samples.
 struct WeightEdit {
-  std::vector<Index> rows;
+  std::vector<Index> rows, weightRows;
   Weights W0Before, W0After, WBefore, WAfter;
   Method methodBefore = Method::QP, methodAfter = Method::QP;
 };
