@@ -10,8 +10,9 @@ namespace kc::app {
 
 /// Outside corners sharper than this are refined (an armpit, a crotch, the root of a thumb).
 inline constexpr double kSharpCornerDegrees = 60.0;
-/// The refinement's finest spacing, as a fraction of hMax.
-inline constexpr double kSharpCornerFinest = 1.0 / 3.0;
+/// The refinement's finest spacing, as a fraction of hMax. Finer corners sharpen the weights'
+/// turn there: at hMax/3 the bundled figure's demo pose folds a triangle at the armpit.
+inline constexpr double kSharpCornerFinest = 0.5;
 
 /// Seeds (p_i, h_i) of the sizing field (SizingField) along both edges of every sharp outside
 /// corner of a closed polygon cage: where the two edges meet at a reflex vertex with an angle
