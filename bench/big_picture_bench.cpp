@@ -1,4 +1,4 @@
-// Big pictures (issue 11): cost against picture size. Generated photo-like pictures of 0.1, 1, 4
+// Big pictures: cost against picture size. Generated photo-like pictures of 0.1, 1, 4
 // and 12 megapixels (4:3) with the same 34-point cage shape over a quarter of each (its bounding
 // box is half the width and half the height, centred), default bind parameters. Rows:
 //   Bind        `kcwarp-cli bind` as a child process (process start to session file)

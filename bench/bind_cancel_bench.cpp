@@ -1,4 +1,4 @@
-// Progress and Cancel of a bind (issue 8): for each stage, the longest time between two progress
+// Progress and Cancel of a bind: for each stage, the longest time between two progress
 // calls (a Cancel is noticed at the next call, so this bounds the time Cancel takes in app::bind)
 // and the measured time from a cancel request in the middle of the stage until bind() returns.
 // With the GUI built, also "ui cancel s": the same request made through the GUI's worker (the

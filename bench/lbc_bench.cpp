@@ -1,4 +1,4 @@
-// LBC (issue 12): solve time, ADMM iterations, optimality and peak memory on the bundled star
+// LBC backend: solve time, ADMM iterations, optimality and peak memory on the bundled star
 // (10 controls) and figure (30 controls) at about 2k / 5k / 20k mesh vertices, 2 threads; and
 // the locality of LBC and of default kernel coordinates on the bundled star and figure.
 //
@@ -48,7 +48,7 @@ double processCpuSeconds() {
   return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
 }
 
-/// Threads of the solve benchmarks: 2 (the issue's goal), or KC_BENCH_THREADS.
+/// Threads of the solve benchmarks: 2 (the speed goals are for 2 cores), or KC_BENCH_THREADS.
 int benchThreads() {
   const char* env = std::getenv("KC_BENCH_THREADS");
   return env ? std::max(1, std::atoi(env)) : 2;

@@ -1,4 +1,4 @@
-// Session files (issue 11): save (to text) and load (text → validated session with its field
+// Session files: save (to text) and load (text → validated session with its field
 // rebuilt) of the bundled figure bound at its size with default parameters, with the weights in
 // the compact form (base64 of little-endian doubles, the default) and as JSON rows (older files).
 // Counter "MB": the file's size.

@@ -1,4 +1,4 @@
-// Warp speed goals (issue 4): re-deforming the warp mesh of a 1-megapixel image for a new pose
+// Warp speed goals: re-deforming the warp mesh of a 1-megapixel image for a new pose
 // (goal ≤ 2 ms) and full-resolution export of a 2048×2048 image (goal ~100 ms on 2 cores).
 // Weights: mean value coordinates of a 24-point star-shaped cage — dense, i.e. every vertex keeps
 // all 24 entries, a pessimistic stand-in for kernel coordinates (which keep 4–25 in the demo).

@@ -21,7 +21,7 @@ bool fieldFromJson(const json& block, Session& s, const std::string& where);
 /// Partition of unity and linear reproduction of the weights W (#S×m) of samples X (#S×2) over
 /// control points C (m×2), row by row: |Σ_k W(i,k) − 1| ≤ kUnityTolerance and
 /// ‖Σ_k W(i,k)·C_k − X_i‖ ≤ kReproductionTolerance·(1 + max ‖C_k‖∞) (docs/ARCHITECTURE.md,
-/// "Session files"). InputError naming `field`, the row and the check otherwise.
+/// "File formats"). InputError naming `field`, the row and the check otherwise.
 void checkWeightRows(const Weights& W, const Points& X, const Points& C, const std::string& where, const std::string& field);
 /// Sessions kcwarp writes stay below 5e-13 in both (every backend, method, init and structure of
 /// the bundled examples); the tolerances leave three orders of magnitude.

@@ -1,4 +1,4 @@
-// The automatic spacing of a bind (issue 11): 6 px while the sample estimate fits the budget,
+// The automatic spacing of a bind: 6 px while the sample estimate fits the budget,
 // larger on big pictures so the estimate stays at the budget instead of growing with pixels.
 #include <gtest/gtest.h>
 

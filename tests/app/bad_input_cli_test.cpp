@@ -1,4 +1,4 @@
-// The hostile and careless inputs of issue 10, one row each, through the real kcwarp-cli: every
+// Hostile and careless inputs, one row each, through the real kcwarp-cli: every
 // one must exit 2 with one line on stderr naming the problem, without a crash, a hang, a damaged
 // file or a partial output. The table prints each case's exit code and wall time.
 

@@ -1,4 +1,4 @@
-// Sampling only a band around the cage (issue 11): the weights inside and on the cage stay those
+// Sampling only a band around the cage: the weights inside and on the cage stay those
 // of the whole-frame bind, the session says how far it was sampled, and `deform` is refused on it.
 #include <gtest/gtest.h>
 

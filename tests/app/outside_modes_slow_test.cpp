@@ -1,4 +1,4 @@
-// The outside of the cage on a picture with a background (issue 8): a character on a sky with a
+// The outside of the cage on a picture with a background: a character on a sky with a
 // sun, a horizon and grass; its arm is raised (the bundled figure's cage and pose, scaled and
 // placed on a 640×480 picture). Every outside mode is warped and measured; the PNGs are kept in
 // the scratch folder (printed) for people to look at.

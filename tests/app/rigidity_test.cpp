@@ -1,4 +1,4 @@
-// Rigid regions in sessions (issue 13, thesis 5.4, docs/rigidity.md): structure files, bind,
+// Rigid regions in sessions (thesis 5.4, docs/rigidity.md): structure files, bind,
 // session files, the brush entry point (app::setRigidity) and the Fig 6.37 quality goals.
 
 #include "kc/app/rigidity.h"
@@ -53,7 +53,7 @@ TEST(RigidRegionsApp, Fig637SetUpKeepsPropertiesAndFarWeights) {
   const RigidityFigures f = measureRigidity(s, leg.polygon, leg.pose);
   std::printf("mean |J-R|: %.4f without rigidity, %.4f with (energy %.4g -> %.4g, %d solver rounds)\n", none.distortion,
               f.distortion, u.report.energyBefore, u.report.energyAfter, u.report.solver.iterations);
-  // Issue 13's goal: at most half (measured 0.2708 -> 0.1304, docs/rigidity.md).
+  // The goal: at most half the distortion without rigidity (measured 0.2708 -> 0.1304, docs/rigidity.md).
   EXPECT_LE(f.distortion, 0.5 * none.distortion);
   EXPECT_GT(u.report.region, 20);
   EXPECT_TRUE(u.report.solver.converged);

@@ -83,7 +83,7 @@ TEST(PinnedOutside, CornersStayAndTheInsideFollowsTheField) {
   EXPECT_EQ(harmonicBorder, 0.0) << "without the fade the image border does not move";
   // (up to the compact weights' dropped entries, |w| ≤ 1e-3/m, which the field's own formula keeps)
   EXPECT_LT(insideGap, 0.01) << "inside the cage the field's weights are used unchanged";
-  // The thesis mode moves the far corner (the complaint); pinned does not.
+  // The thesis mode moves the far corner; pinned does not.
   const Index corner = field.restVertices().rows() - 1;
   EXPECT_GT((field.deformedVertices().row(corner) - field.restVertices().row(corner)).norm(), 0.5);
 }

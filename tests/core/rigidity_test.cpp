@@ -263,7 +263,7 @@ TEST(Rigidity, FlattensTheRegionKeepsPropertiesAndLeavesFarWeights) {
   };
   // Farther than 6σ from every region sample only the re-interpolation's global term is left
   // (docs/rigidity.md). It grows toward the edge of the samples, which here is the cage (2.7e-3
-  // there); P keeps 2σ inside it (measured 2.0e-4). Sessions sample the whole picture: issue 13's
+  // there); P keeps 2σ inside it (measured 2.0e-4). Sessions sample the whole picture: the bound
   // ≤ 1e-4 beyond 6σ is checked on the star in tests/app/rigidity_test.cpp.
   int farPoints = 0;
   EXPECT_LE(changeBeyond(6.0 * sigma, farPoints), 1e-3);

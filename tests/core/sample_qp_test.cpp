@@ -268,7 +268,7 @@ bool clpObjective(const Problem& p, double& objective) {
   return true;
 }
 
-/// A sample exactly on an edge or at a vertex of the control points' convex hull (issue 9, §4):
+/// A sample exactly on an edge or at a vertex of the control points' convex hull:
 /// the feasible set has no interior, the optimal multipliers run off along the edge's normal and
 /// a Newton iteration that evaluates w0 + Aᵀλ directly stalls at its rounding level. Every such
 /// sample must be certified optimal (never the fallback), non-negative, and match CLP's

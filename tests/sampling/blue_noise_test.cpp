@@ -1,4 +1,4 @@
-// Blue-noise sampling by inverse mean shift (issue 3): regions, kinds, quality bounds, determinism.
+// Blue-noise sampling by inverse mean shift: regions, kinds, quality bounds, determinism.
 #include <gtest/gtest.h>
 
 #include <algorithm>

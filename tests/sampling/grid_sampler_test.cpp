@@ -1,4 +1,4 @@
-// Grid sampler: regions, kinds, edge spacing and input checks (issue 2 §3).
+// Grid sampler: regions, kinds, edge spacing and input checks.
 #include <gtest/gtest.h>
 
 #include <stdexcept>

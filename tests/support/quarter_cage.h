@@ -1,6 +1,6 @@
 #pragma once
 // The big-picture benchmark's cage (bench/big_picture_bench.cpp), for tests of how costs follow
-// the cage rather than the picture (issue 11).
+// the cage rather than the picture.
 
 #include <cmath>
 

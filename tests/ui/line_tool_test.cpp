@@ -78,7 +78,7 @@ TEST(LineTool, DrawingALineRebindsWithItAndKeepsThePose) {
   EXPECT_EQ(s->tool, Tool::Lines);
   EXPECT_EQ(s->lineSelection, std::vector<int>{0});
   EXPECT_TRUE(s->unsaved);
-  // The bound line stays straight under random translations of the controls (issue 13: ≤ 0.1 px).
+  // The bound line stays straight under random translations of the controls (≤ 0.1 px).
   const app::LineFigures f = app::measureLines(*s->session, s->session->structure.lines, 20);
   EXPECT_LT(f.deviation, 0.1);
   // The same line without the structure bends (the check above can fail).

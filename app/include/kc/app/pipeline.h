@@ -16,8 +16,8 @@ namespace kc::app {
 using BindProgress = std::function<bool(const char* stage, double fraction)>;
 
 /// Automatic sampling margin in `thesis` interpolation mode, in sample spacings (the exact mode
-/// uses the sampler's default of about 3h). Measured on the checker cage, which spans its whole
-/// image, at h = 8: partition-of-unity error 1.2e-2 with ~3h, 3.0e-3 with 5h, 1.3e-3 with 10h.
+/// uses the sampler's default of about 3h): on a cage that spans its image, 10h brings the
+/// partition-of-unity error from ~1e-2 at 3h to ~1e-3 (docs/notes/measured-constants.md).
 inline constexpr double kThesisMarginSpacings = 10.0;
 
 /// The sampler's options for a bind of width×height with `p` (what the kc backend samples and
@@ -66,10 +66,7 @@ BindCost estimateBindCost(const Cage& cage, const Structure& structure, int widt
 
 /// Sample budget of the automatic spacing, counted over the cage's bounding box and its exterior
 /// band (sampling::ExteriorExtent::Band). Chosen so that a cage's bind costs about the same at
-/// any picture size: the big-picture benchmark's 34-point cage binds with ~1,540 samples at the
-/// 6 px floor on a 0.1 MP picture and with this budget on larger ones (bind time within 2×,
-/// docs/ARCHITECTURE.md "Big pictures"); the bundled examples, which fill their pictures, get
-/// 6.35–8.94 px (checker 6.35, stick 7.28, star 7.80, figure 8.94).
+/// any picture size (docs/notes/big-pictures.md).
 inline constexpr double kAutoSpacingSamples = 2500.0;
 
 /// Vertex budget of the LBC backend's automatic mesh spacing (estimateMeshVertices of the uniform
@@ -81,9 +78,7 @@ inline constexpr double kAutoLbcVertices = 1200.0;
 /// kernel samples lie h apart (h = BindParams::spacing). A kernel field rings where it interpolates
 /// targets that fall to exactly 0 with a kink, and the ring reaches about a sample spacing past
 /// each weight's support; sampling twice as densely as the mesh halves that halo, while the LBC
-/// solve, the bind's slowest stage, keeps its cost. Measured with `kcwarp-cli stats` (controls
-/// above 10⁻³/m per point inside the cage, automatic spacing): figure 9.30 → 6.83, star 4.82 → 4.31
-/// (docs/ARCHITECTURE.md, "KC on LBC targets").
+/// solve, the bind's slowest stage, keeps its cost (docs/notes/lbc-backend.md, "KC on LBC targets").
 inline constexpr double kLbcTargetSampling = 0.5;
 
 /// The spacing of the weights' detail, which the warp mesh follows (automaticMeshSpacing): the

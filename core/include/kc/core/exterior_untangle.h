@@ -43,11 +43,6 @@
 ///    may double again. The work is budgeted (ExteriorRepairOptions::budget). Once the
 ///    continuation ends fold-free, the relaxation runs again over the region (`relaxSweeps`).
 ///    Outside the region the background is the harmonic one.
-///    (Before the barrier, each step was untangled by the max–min moves and then smoothed towards
-///    the harmonic correction. That left slivers and, on the bundled stick figure with its hand
-///    turned, 48–52 folds with the border pushed 99 px out to the ghost ring; at a mesh spacing of
-///    3 or 4 px even its full pose kept 140–242 folds. With the barrier all of these end fold-free
-///    with the border in place.)
 /// 4. Fallback: per connected part of the region, if the repair left more folded triangles around
 ///    it than the harmonic map had, the part goes back to the harmonic positions. That happens
 ///    where no placement of the free vertices removes a fold — the deformed cage overlaps itself

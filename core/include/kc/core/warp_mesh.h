@@ -233,7 +233,7 @@ inline constexpr double kAutoMeshPerFieldSpacing = 2.0 / 3.0;
 /// The picture term keeps the grid at about 2¹⁶ vertices however many pixels the picture has (a
 /// picture scaled by k gets k times the spacing: the same mesh relative to the picture); the
 /// field term keeps the default's ratio of mesh to sample spacing (4 px per 6 px), since the
-/// field has no detail finer than its samples (σ ≈ h); 4 px is the floor (today's default).
+/// field has no detail finer than its samples (σ ≈ h); 4 px is the floor.
 double automaticMeshSpacing(int width, int height, double fieldSpacing = 0.0);
 
 }  // namespace kc

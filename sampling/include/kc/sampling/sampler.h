@@ -45,10 +45,8 @@ namespace kc::sampling {
 inline constexpr Index kMaxSamples = 400000;
 
 /// Width of the automatic exterior band in sample spacings (σ ≈ 0.95 h, so ≈ 6.3 σ, beyond the
-/// kernel's 5σ cut-off). Measured (docs/ARCHITECTURE.md "Big pictures"): against the whole-frame
-/// bind with the same seed, the weights inside and on the cage change by at most 2.0e-2 (a
-/// smooth 34-point cage; 1e-3–3e-3 on the bundled star and stick figure), where changing the
-/// seed alone changes them by up to 2.2e-1; with 4 spacings the grid sampler's change was 1.7×.
+/// kernel's 5σ cut-off): the weights inside and on the cage change less than a change of seed
+/// does (docs/notes/big-pictures.md).
 inline constexpr double kExteriorBandSpacings = 6.0;
 
 struct SamplingOptions {

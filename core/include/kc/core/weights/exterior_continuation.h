@@ -35,8 +35,7 @@ namespace kc {
 
 struct ExteriorContinuationOptions {
   /// Width of the band, in local sample spacings h(x): beyond it the optimizer's rows are kept.
-  /// Measured (deepest weight inside the cage, default bind): 2 spacings left −0.035 on the bundled
-  /// figure and −0.054 on a hand-drawn hand; 3 spacings −0.035 and −0.080; 5 −0.059 on the figure.
+  /// 2 left the shallowest negative weights inside the cage (docs/notes/measured-constants.md).
   double bandSpacings = 2.0;
   /// Radius of the inside fit around m, in local spacings (grown until it holds 3 points off one line).
   double fitSpacings = 2.0;

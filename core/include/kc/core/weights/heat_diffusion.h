@@ -42,9 +42,8 @@ struct InitOptions {
   /// free row to reproduce its position with corrections proportional to its own targets
   /// (min Σ (w_i − w0_i)²/w0_i s.t. Cw = x, 1ᵀw = 1, w ≥ 0), so the per-sample QP leaves it as is
   /// inside the control hull. < 0 = ℓ automatic, kAutoLocalityFraction of the cage's bounding-box
-  /// diagonal. Measured on the bundled figure (QP, automatic ℓ): the area where a control's weight
-  /// is ≤ 1e-3 grows from 40% to 59% of the cage, but reproduction still recruits extreme controls
-  /// a little far away (a faint, non-monotone halo ~1e-2), hence opt-in.
+  /// diagonal. More local weights, but reproduction still recruits extreme controls a little far
+  /// away (a faint, non-monotone halo ~1e-2; docs/notes/measured-constants.md).
   double locality = 0.0;
 };
 
