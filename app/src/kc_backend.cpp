@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <iterator>
-#include <limits>
 #include <chrono>
 #include <functional>
 #include <numeric>
@@ -80,25 +79,6 @@ void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>
 ExteriorContinuation continuationFor(const Session& s) {
   if (!s.params.kc.guardLobes || s.params.kc.linearEdges) return {};
   return ExteriorContinuation(s.samples, s.cage, s.params.spacing, s.sizing.get());
-}
-
-/// The locality length of the screened targets (KcParams::localitySpacings): ℓ = max(S·h, D/4),
-/// D the cage's depth, the largest distance from an interior sample to the cage's edges. The
-/// targets decay like exp(−d/ℓ) from the cage inwards; where the deepest point keeps less than
-/// e^−4 ≈ 2% of the heat that leaves the cage, the discretized diffusion's error there is of the
-/// targets' size and the optimizer turns it into lobes (a 720×477 rectangle with 8 controls: ℓ =
-/// D/7 −0.26, D/5 −0.03, D/4 −0.005 inside). Cages no deeper than 4·S spacings keep ℓ = S·h.
-double localityLength(const Session& s, double spacings, double spacing) {
-  const std::vector<std::array<int, 2>> edges = cageEdges(s.cage);
-  double depth = 0.0;
-  for (Index i = 0; i < s.samples.size(); ++i) {
-    if (s.samples.kind[static_cast<std::size_t>(i)] != SampleKind::Interior) continue;
-    const Vec2 p = s.samples.X.row(i).transpose();
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& e : edges) d = std::min(d, pointSegmentDistance(p, s.cage.C.row(e[0]).transpose(), s.cage.C.row(e[1]).transpose()));
-    if (d > depth) depth = d;
-  }
-  return std::max(spacings * spacing, depth / 4.0);
 }
 
 }  // namespace
@@ -180,7 +160,7 @@ class KcBackend final : public Backend {
     if (init.method == InitMethod::Lbc) init.method = InitMethod::HeatLinear;  // the exterior; the inside follows
     // Screened (local) targets, except with structure lines: their linear fit bends where the
     // targets fall off steeply (a line by a narrow place: 0.11 px screened, 0.06 px unscreened).
-    if (kc.localitySpacings > 0.0 && s.structure.lines.empty()) init.locality = localityLength(s, kc.localitySpacings, params.spacing);
+    if (kc.localitySpacings > 0.0 && s.structure.lines.empty()) init.locality = localityLength(s.cage, params.spacing, kc.localitySpacings);
     s.W0 = initialWeights(s.samples, s.cage, K, init, &r.init);
     if (kc.init.method == InitMethod::Lbc) {
       t0 = std::chrono::steady_clock::now();

@@ -123,6 +123,21 @@ BindParams effectiveBindParams(const Cage& cage, const Structure& structure, con
   return p;
 }
 
+double localityLength(const Cage& cage, double spacing, double spacings) {
+  const double base = spacings * spacing;
+  if (!cage.closed || cage.size() < 3) return base;
+  const Vec2 lo = cage.C.colwise().minCoeff().transpose(), hi = cage.C.colwise().maxCoeff().transpose();
+  const Vec2 size = hi - lo;
+  const double step = std::max(0.5 * spacing, std::sqrt(size.x() * size.y() / 20000.0));
+  if (!(step > 0.0) || !std::isfinite(step)) return base;
+  const CageQueries queries(cage);
+  double depth = 0.0;
+  for (double y = lo.y() + 0.5 * step; y < hi.y(); y += step)
+    for (double x = lo.x() + 0.5 * step; x < hi.x(); x += step)
+      if (const Vec2 p(x, y); queries.inside(p)) depth = std::max(depth, queries.distance(p));
+  return std::max(base, depth / 4.0);
+}
+
 double automaticSigma(double spacing) { return 3.0 * spacing / std::numbers::pi; }
 
 sampling::SamplingOptions samplingOptions(int width, int height, const BindParams& p) {

@@ -11,6 +11,7 @@
 
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"
 
 namespace kc::app {
@@ -41,6 +42,33 @@ TEST(LocalDefault, IsScreenedAndGuardedAndLocalerThanBefore) {
   EXPECT_GT(now.drag.minWeight, 0.5 * old.drag.minWeight);  // lobes at most half as deep
   EXPECT_LE(now.inside.partitionOfUnity, 1e-9);
   EXPECT_LE(now.inside.reproduction, 1e-7);
+}
+
+TEST(LocalDefault, TheLocalityLengthFollowsTheCagesDepthInADeepCage) {
+  // A 400×200 rectangle is 100 px deep: ℓ = max(1.5 h, 100/4) (within the grid's step).
+  Points C(4, 2);
+  C << 0, 0, 400, 0, 400, 200, 0, 200;
+  const Cage rect = Cage::polygon(C);
+  EXPECT_NEAR(localityLength(rect, 6.0, 1.5), 25.0, 0.5);
+  EXPECT_DOUBLE_EQ(localityLength(rect, 20.0, 1.5), 30.0);  // 1.5 h beyond the depth's quarter
+  Points S(4, 2);
+  S << 0, 0, 400, 0, 400, 20, 0, 20;
+  EXPECT_DOUBLE_EQ(localityLength(Cage::polygon(S), 6.0, 1.5), 9.0);  // a strip 10 px deep: 1.5 h
+  Cage open = rect;
+  open.closed = false;
+  EXPECT_DOUBLE_EQ(localityLength(open, 6.0, 1.5), 9.0);  // no inside
+}
+
+TEST(LocalDefault, TheBundledFigureBindsWithEverySampleSolved) {
+  // At its automatic spacing one exterior sample's QP positive set cycled among rounding-level
+  // weights with the residual at 1.6e-13 (tolerance 1e-13): "1 samples not solved to optimality".
+  const Image picture = loadImage(std::string(KC_SOURCE_DIR) + "/images/figure.png");
+  BindParams p = defaults();
+  p.spacing = automaticSpacing(figureCage(), picture.width, picture.height, p);
+  BindReport r;
+  const Session s = app::bind(figureCage(), Structure{}, picture.width, picture.height, p, &r);
+  EXPECT_EQ(s.reports.optimize.failed, 0);
+  EXPECT_FALSE(s.reports.anyProblem()) << s.reports.summary();
 }
 
 TEST(LocalDefault, PaintingReDerivesWhatAWholeReoptimizationGives) {

@@ -242,7 +242,17 @@ void drawBindPanel(AppState& state) {
       ImGui::SameLine();
       // In spacings (follows the spacing, the default) or, once edited, in pixels.
       const double spacing = std::max(p.spacing, 1e-9);
-      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? p.kc.localitySpacings * spacing
+      // The cage's depth decides it in a deep shape: measured again only when the cage or spacing changes.
+      static Points lastCage;
+      static double lastSpacing = -1.0, lastSpacings = -1.0, lastLength = 0.0;
+      if (p.kc.localitySpacings > 0.0 &&
+          (spacing != lastSpacing || p.kc.localitySpacings != lastSpacings || lastCage.rows() != state.cage.C.rows() || lastCage != state.cage.C)) {
+        lastCage = state.cage.C;
+        lastSpacing = spacing;
+        lastSpacings = p.kc.localitySpacings;
+        lastLength = app::localityLength(state.cage, spacing, p.kc.localitySpacings);
+      }
+      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? lastLength
                                           : p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C)
                                                                     : p.kc.init.locality);
       ImGui::SetNextItemWidth(100);
@@ -250,7 +260,8 @@ void drawBindPanel(AppState& state) {
         p.kc.init.locality = std::max(1.0f, locality);
         p.kc.localitySpacings = 0.0;
       }
-      tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings.");
+      tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings, more in a deep shape "
+              "with few points. Binds with structure lines keep smooth influences.");
     }
   }
   enumCombo("Interpolation", p.kc.interp, interps,

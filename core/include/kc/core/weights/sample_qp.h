@@ -49,7 +49,9 @@ struct SampleReport {
 /// the positive set often lies on one line (H singular): the last step is then evaluated
 /// incrementally on the positive set, which avoids the cancellation in w0 + Aᵀλ, and on a
 /// singular H the step along its null space goes to the first control that becomes positive.
-/// If Newton is not certified within maxIterations (not seen in the tests, which include samples
+/// Newton ending its iterations with the residual within 10× the tolerance (a positive set that
+/// cycles among rounding-level weights) counts as certified. If Newton is not certified within
+/// maxIterations otherwise (not seen in the tests, which include samples
 /// on hull edges and vertices for m up to 3,000), w = the last iterate projected onto Aw = b
 /// (exact constraints, moved only by the residual) and status Failed; report.residual is the
 /// iterate's residual before that projection.
