@@ -38,9 +38,9 @@ struct KcParams {
   /// written before the option (no `params.linear_edges`) read false.
   bool linearEdges = false;
   /// Screened heat-linear targets (InitOptions::locality) with the locality length
-  /// ℓ = max(localitySpacings · BindParams::spacing, D/4), D the cage's depth (the largest
-  /// distance from an interior sample to the cage), so that dragging one control moves about its own
-  /// part of the picture (kLocalitySpacings); 0: ℓ is init.locality (pixels, 0 = unscreened). Used
+  /// ℓ = max(localitySpacings · BindParams::spacing, D/4), D the cage's depth (localityLength in
+  /// pipeline.h), so that dragging one control moves about its own part of the picture
+  /// (kLocalitySpacings); 0: ℓ is init.locality (pixels, 0 = unscreened). Used
   /// with HeatLinear targets only, and not in binds with structure lines (unscreened there).
   /// Sessions written before the option (no `params.locality_spacings`) read 0.
   double localitySpacings = kLocalitySpacings;
