@@ -9,6 +9,7 @@
 #include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/structure/linear_along.h"
 #include "kc/core/structure/rigidity.h"
+#include "kc/core/weights/exterior_continuation.h"
 
 namespace kc::app {
 
@@ -68,11 +69,20 @@ RigidityReport applyRigidity(Session& s, KernelField& field, const std::function
 /// changed columns, which are appended to `columns`.
 void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rows, std::vector<Index>& columns);
 
+/// The exterior continuation of a kc session's bind (KcParams::guardLobes) over its samples; empty
+/// when the option is off, or with linearEdges, whose post-processing of the rows next to the
+/// edges sets the field there itself. Its construction fits every exterior row near the cage:
+/// build it once per bind or re-optimization and pass it on.
+ExteriorContinuation continuationFor(const Session& s);
+
+/// rederivedRows (pipeline.h) with the session's continuation already built.
+std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& continuation, std::span<const Index> rows);
+
 /// Per-sample optimization of rows `rows` (sorted; all when empty) of s.W from s.W0 with `method`
-/// (WeightOptimizer), then, with params.kc.guardLobes, the exterior continuation of the continued
-/// rows among them (all of them for an empty `rows`). Pass rows from rederivedRows so that the
-/// continued rows reading a re-optimized row are among them.
-OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows);
+/// (WeightOptimizer), then `continuation` (continuationFor(s)) applied to the continued rows among
+/// them (all of them for an empty `rows`). Pass rows from rederivedRows so that the continued rows
+/// reading a re-optimized row are among them.
+OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation);
 
 LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
 

@@ -16,7 +16,6 @@
 #include "kc/core/field/mesh_field.h"
 #include "kc/sampling/sigma.h"
 #include "kc/core/timing.h"
-#include "kc/core/weights/exterior_continuation.h"
 
 namespace kc::app {
 namespace {
@@ -73,19 +72,17 @@ void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>
     if (W.row(Index(k)).sum() > 0.5) s.W0.row(inside[k]) = W.row(Index(k));  // (a point the mesh misses by round-off keeps its heat target)
 }
 
-/// The exterior rows a session's bind continues from the inside (KcParams::guardLobes), over
-/// its samples; none when the option is off, or with linearEdges, whose post-processing of the
-/// rows next to the edges sets the field there itself.
+}  // namespace
+
 ExteriorContinuation continuationFor(const Session& s) {
   if (!s.params.kc.guardLobes || s.params.kc.linearEdges) return {};
   return ExteriorContinuation(s.samples, s.cage, s.params.spacing, s.sizing.get());
 }
 
-}  // namespace
+std::vector<Index> rederivedRows(const Session& s, std::span<const Index> rows) { return rederivedRows(s, continuationFor(s), rows); }
 
-std::vector<Index> rederivedRows(const Session& s, std::span<const Index> rowsIn) {
+std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& continuation, std::span<const Index> rowsIn) {
   std::vector<Index> rows(rowsIn.begin(), rowsIn.end());
-  const ExteriorContinuation continuation = continuationFor(s);
   if (!continuation.rows().empty()) {
     std::vector<char> touched(static_cast<std::size_t>(s.samples.size()), 0);
     for (Index i : rowsIn) touched[static_cast<std::size_t>(i)] = 1;
@@ -100,12 +97,11 @@ std::vector<Index> rederivedRows(const Session& s, std::span<const Index> rowsIn
   return rows;
 }
 
-OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows) {
+OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation) {
   const WeightOptimizer optimizer(s.cage.C);
   OptimizeOptions oo;
   oo.method = method;
   const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, rows);
-  const ExteriorContinuation continuation = continuationFor(s);
   if (rows.empty()) {
     continuation.apply(s.W);
   } else if (!continuation.rows().empty()) {
@@ -200,7 +196,7 @@ class KcBackend final : public Backend {
 
     step("interpolation", kStageStart[5]);
     const auto ts = std::chrono::steady_clock::now();
-    if (const ExteriorContinuation c = continuationFor(s); !c.rows().empty()) c.apply(s.W);
+    continuationFor(s).apply(s.W);
     field->update(s.W);
     r.lines = applyLines(s, *field);
     s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
@@ -251,11 +247,12 @@ class KcBackend final : public Backend {
     }
     // The continued exterior rows (guardLobes) that read a re-optimized row, or are one, are
     // re-derived with them; the columns that change are found over all of those rows.
-    if (!whole) rows = rederivedRows(s, rows);
+    const ExteriorContinuation continuation = continuationFor(s);  // built once for both uses
+    if (!whole) rows = rederivedRows(s, continuation, rows);
     RowMatrix before(static_cast<Index>(rows.size()), m);
     if (!whole)
       for (std::size_t k = 0; k < rows.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(rows[k]);
-    const OptimizeReport r = optimizeRows(s, method, whole ? std::span<const Index>{} : std::span<const Index>(rows));
+    const OptimizeReport r = optimizeRows(s, method, whole ? std::span<const Index>{} : std::span<const Index>(rows), continuation);
     s.params.kc.method = method;
     if (whole) s.reports.optimize = r;
 

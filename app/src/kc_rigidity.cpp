@@ -43,9 +43,10 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
   }
-  rows = rederivedRows(s, rows);  // and the continued exterior rows that read them
+  const ExteriorContinuation continuation = continuationFor(s);
+  rows = rederivedRows(s, continuation, rows);  // and the continued exterior rows that read them
   const RowMatrix before = s.W;
-  optimizeRows(s, s.params.kc.method, rows);
+  optimizeRows(s, s.params.kc.method, rows, continuation);
   if (lines) {
     field.update(s.W);  // applyLines blends from the field of the weights before the lines
     applyLines(s, field);
