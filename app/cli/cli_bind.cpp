@@ -54,7 +54,7 @@ void runBind(const BindArgs& a) {
   p.kc.init.method = parseOption<InitMethod>(a.init, "--init");
   p.kc.init.iterations = a.heatIterations;
   p.kc.init.locality = a.locality;
-  requireFinite(a.localitySpacings, "--locality-spacings");
+  requireFinite(a.localitySpacings, "--locality-spacings", "spacings");
   if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
   p.kc.localitySpacings = a.localityOption && *a.localityOption ? 0.0 : a.localitySpacings;
   p.kc.guardLobes = !a.noGuardLobes;
@@ -65,7 +65,7 @@ void runBind(const BindArgs& a) {
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   p.exterior = parseOption<sampling::ExteriorExtent>(a.exterior, "--exterior");
   p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
-  requireFinite(a.lbcTolerance, "--lbc-tolerance");
+  requireFinite(a.lbcTolerance, "--lbc-tolerance", "");
   if (!(a.lbcTolerance > 0.0)) throw app::InputError("--lbc-tolerance", "must be positive");
   p.lbc.tolerance = a.lbcTolerance;
   p.lbc.maxIterations = a.lbcMaxIterations;

@@ -40,8 +40,8 @@ std::pair<int, int> imageHeaderSize(const std::string& path) {
   return {static_cast<int>(header.width), static_cast<int>(header.height)};
 }
 
-void requireFinite(double value, const std::string& option) {
-  if (!std::isfinite(value)) throw app::InputError(option, "must be a finite number of pixels");
+void requireFinite(double value, const std::string& option, const std::string& unit) {
+  if (!std::isfinite(value)) throw app::InputError(option, unit.empty() ? "must be a finite number" : "must be a finite number of " + unit);
 }
 
 void addPngCompressionOption(CLI::App* sub, int& level) {

@@ -42,8 +42,9 @@ std::pair<int, int> imageSize(const std::string& path);
 /// Width and height from the image file's header (format and limits checked, pixels not decoded):
 /// what `bind` needs of a picture.
 std::pair<int, int> imageHeaderSize(const std::string& path);
-/// InputError naming `option` when `value` is NaN or infinite.
-void requireFinite(double value, const std::string& option);
+/// InputError naming `option` when `value` is NaN or infinite ("must be a finite number of `unit`";
+/// no unit for an empty one).
+void requireFinite(double value, const std::string& option, const std::string& unit = "pixels");
 /// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.
 std::string limitsText();
 /// Help text of the --outside options.
