@@ -5,7 +5,9 @@
 #include <numbers>
 
 namespace kc::app {
+namespace {
 
+/// The seeds of withSharpCorners (corner_sizing.h), appended to P and H.
 void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double maxDegrees, double finest, std::vector<Vec2>& P,
                       std::vector<double>& H) {
   const Points& C = cage.C;
@@ -38,6 +40,8 @@ void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double max
     }
   }
 }
+
+}  // namespace
 
 SizingField withSharpCorners(const Cage& cage, const SizingOptions& options, const SizingField& h) {
   std::vector<Vec2> P;

@@ -14,20 +14,15 @@ inline constexpr double kSharpCornerDegrees = 60.0;
 /// turn there: at hMax/3 the bundled figure's demo pose folds a triangle at the armpit.
 inline constexpr double kSharpCornerFinest = 0.5;
 
-/// Seeds (p_i, h_i) of the sizing field (SizingField) along both edges of every sharp outside
-/// corner of a closed polygon cage: where the two edges meet at a reflex vertex with an angle
-/// θ < maxDegrees between them, a point at distance s from the corner along one edge lies
-/// s·sin θ from the other, the width of the outside wedge there; it gets
-/// h = clamp(s·sin θ / k, finest·hMax, hMax) with k = options.featureSamples, seeds every h/2
-/// until h reaches hMax. featureSizing counts the gap between two edges only when they share no
-/// end; at a sharp corner they do, and the kernel, which is Euclidean, otherwise reaches across
-/// the wedge from one side to the other (negative lobes inside next to it: −0.13 at the bundled
-/// figure's armpits). Empty for an edge graph (sticks) or a cage without such a corner.
-void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double maxDegrees, double finest, std::vector<Vec2>& P,
-                      std::vector<double>& H);
-
-/// h with the sharp-corner seeds (kSharpCornerDegrees, kSharpCornerFinest) added to its own, in
-/// its form; h itself when the cage has no sharp outside corner.
+/// h with seeds (p_i, h_i) added along both edges of every sharp outside corner of a closed
+/// polygon cage: where two edges meet at a reflex vertex with an angle θ < kSharpCornerDegrees
+/// between them, a point at distance s from the corner along one edge lies s·sin θ from the other,
+/// the width of the outside wedge there; it gets h = clamp(s·sin θ / k, kSharpCornerFinest·hMax,
+/// hMax) with k = options.featureSamples, seeds every h/2 until h reaches hMax. featureSizing
+/// counts the gap between two edges only when they share no end; at a sharp corner they do, and
+/// the kernel, which is Euclidean, otherwise reaches across the wedge from one side to the other
+/// (negative lobes inside next to it: −0.13 at the bundled figure's armpits). h itself, in its
+/// form, for an edge graph (sticks) or a cage without such a corner.
 SizingField withSharpCorners(const Cage& cage, const SizingOptions& options, const SizingField& h);
 
 }  // namespace kc::app
