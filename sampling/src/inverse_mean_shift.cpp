@@ -16,6 +16,8 @@ namespace {
 
 /// The graded relaxation's bound on the largest move at convergence, in tolerances (see the loop).
 constexpr double kGradedSlack = 3.0;
+/// The graded relaxation re-evaluates a sample's spacing after it moved this fraction of it.
+constexpr double kRelStale = 0.1;
 
 /// X plus, for a periodic domain, copies of the samples near a side shifted by the period, so
 /// that plain neighbour queries see the torus. ghostOf maps each row to its original sample.
@@ -83,6 +85,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   // Graded: every sample's local spacing, as a multiple of h (1 where h(x) = hMax).
   const SizingField* sizing = options.sizing && options.sizing->graded() ? options.sizing : nullptr;
   std::vector<double> rel;
+  Points relAt;  // where each rel was evaluated
   // Sample k (relative spacing rk) meets j within c·sqrt((rk² + rj²)/2) (c = radius/h), and
   // rj ≤ min(1, rk + g·d/h): the reach in units of h is the root of
   // d²(1 − c²g²/2) − c²g·rk·d − c²rk² = 0, or c·sqrt((rk² + 1)/2) where rj reaches 1 first.
@@ -128,8 +131,21 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
       grid.build(X, 0.5 * radius);
     }
     if (sizing) {
-      rel.resize(static_cast<std::size_t>(n));
-      parallelFor(n, [&](Index i) { rel[static_cast<std::size_t>(i)] = (*sizing)(X.row(i)) / h; }, 256);
+      // h(x) is g-Lipschitz: re-evaluated only where a sample has moved more than kRelStale of its
+      // spacing since, which changes h there by at most g·kRelStale (3% at g = 0.3).
+      if (rel.empty()) {
+        rel.resize(static_cast<std::size_t>(n));
+        relAt = X;
+        parallelFor(n, [&](Index i) { rel[static_cast<std::size_t>(i)] = (*sizing)(X.row(i)) / h; }, 256);
+      } else {
+        parallelFor(nFree, [&](Index f) {
+          const Index i = firstFree + f;
+          const std::size_t u = static_cast<std::size_t>(i);
+          if ((X.row(i) - relAt.row(i)).squaredNorm() <= kRelStale * kRelStale * rel[u] * rel[u] * h * h) return;
+          relAt.row(i) = X.row(i);
+          rel[u] = (*sizing)(X.row(i)) / h;
+        }, 256);
+      }
     }
     parallelFor(nFree, [&](Index f) {
       const Index k = firstFree + f;
