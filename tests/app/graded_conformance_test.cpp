@@ -14,6 +14,7 @@
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
 #include "kc/app/pipeline.h"
+#include "random_point.h"
 
 namespace kc::app {
 namespace {
@@ -113,7 +114,8 @@ Cage randomSlitCage(std::mt19937_64& rng, double width) {
   std::vector<Vec2> p;
   for (int i = 0; i < m; ++i) {
     const double t = 2.0 * std::numbers::pi * i / m;
-    p.emplace_back(200.0 + radius(rng) * std::cos(t), 200.0 + radius(rng) * std::sin(t));
+    const Vec2 r = test::randomPoint(radius, rng);  // a radius for each coordinate
+    p.emplace_back(200.0 + r.x() * std::cos(t), 200.0 + r.y() * std::sin(t));
   }
   // Cut the slit in edge 0 → 1: along the bisector from the edge's middle to 40% of the way in.
   const Vec2 a = p[0], b = p[1], mid = 0.5 * (a + b), centre(200, 200);

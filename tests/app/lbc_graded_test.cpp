@@ -17,6 +17,7 @@
 #include "kc/app/pipeline.h"
 #include "kc/core/field/mesh_field.h"
 #include "kc/core/lbc/cage_mesh.h"
+#include "random_point.h"
 
 namespace kc::app {
 namespace {
@@ -50,7 +51,7 @@ Points pointsInside(const Cage& cage, int count, unsigned seed) {
   std::uniform_real_distribution<double> ux(lo.x(), hi.x()), uy(lo.y(), hi.y());
   std::vector<Vec2> got;
   while (int(got.size()) < count)
-    if (const Vec2 x(ux(rng), uy(rng)); insideCage(cage, x)) got.push_back(x);
+    if (const Vec2 x = test::randomPoint(ux, uy, rng); insideCage(cage, x)) got.push_back(x);
   Points P(count, 2);
   for (int i = 0; i < count; ++i) P.row(i) = got[std::size_t(i)];
   return P;

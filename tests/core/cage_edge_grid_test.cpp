@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -43,7 +44,7 @@ void expectMatchesBruteForce(const Cage& cage, std::mt19937& rng, int queries = 
   for (double cell : {0.01, 3.0, 25.0, 5000.0}) {
     const CageEdgeGrid grid(cage, cell);
     for (int k = 0; k < queries; ++k) {
-      const Vec2 x(coord(rng), coord(rng));
+      const Vec2 x = test::randomPoint(coord, rng);
       const double t = ang(rng), r = reach(rng);
       const Vec2 y = x + len(rng) * Vec2(std::cos(t), std::sin(t));
       EXPECT_EQ(grid.distance(x, r), std::min(r, bruteDistance(cage, x))) << "cell " << cell;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <random>
 #include <vector>
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -57,7 +58,7 @@ TEST(SampleL1Slow, MatchesGlpkOnRandomProblems) {
   int unique = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const int m = 3 + trial % 38;
-    Problem p{randomControls(rng, m), Vec2(1.2 * (2 * u(rng) - 1), 1.2 * (2 * u(rng) - 1)), Eigen::VectorXd(m)};
+    Problem p{randomControls(rng, m), 1.2 * (2.0 * test::randomPoint(u, rng) - Vec2::Ones()), Eigen::VectorXd(m)};
     for (int i = 0; i < m; ++i) p.w0(i) = trial % 2 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;
     unique += expectMatchesGlpk(p, "trial " + std::to_string(trial), rng);
   }
@@ -82,7 +83,7 @@ void expectMatchesGlpkOnDegenerateProblems(int trials) {
         p.x = a * Vec2(p.C.row(k)) + (1.0 - a) * Vec2(p.C.row(l));
         break;
       }
-      default: p.x = Vec2(2 * u(rng) - 1, 2 * u(rng) - 1); break;
+      default: p.x = 2.0 * test::randomPoint(u, rng) - Vec2::Ones(); break;
     }
     // Many zeros; every third problem already feasible (w0 = e_k at x = c_k: v = 0).
     for (int i = 0; i < m; ++i) p.w0(i) = u(rng) < 0.7 ? 0.0 : u(rng);

@@ -6,6 +6,7 @@
 
 #include "kc/core/weights/sample_qec.h"
 #include "kc/core/weights/sample_qp.h"
+#include "random_point.h"
 
 namespace kc::test {
 
@@ -20,7 +21,7 @@ struct Problem {
 inline Points randomControls(std::mt19937& rng, int m, double scale = 1.0, const Vec2& offset = Vec2::Zero()) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Points C(m, 2);
-  for (int i = 0; i < m; ++i) C.row(i) = (offset + scale * Vec2(u(rng), u(rng))).transpose();
+  for (int i = 0; i < m; ++i) C.row(i) = (offset + scale * test::randomPoint(u, rng)).transpose();
   return C;
 }
 

@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 #include <random>
 #include <stdexcept>
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -37,7 +38,7 @@ TEST(SampleQec, MatchesDenseKktSolveOnRandomProblems) {
     const int m = 3 + trial % 38;
     // Pixel-like coordinates far from the origin exercise the normalization.
     const Points C = randomControls(rng, m, trial % 2 ? 300.0 : 1.0, trial % 2 ? Vec2(500, 400) : Vec2::Zero());
-    const Vec2 x = Vec2(C.colwise().mean()) + 0.5 * (trial % 2 ? 300.0 : 1.0) * Vec2(u(rng), u(rng));
+    const Vec2 x = Vec2(C.colwise().mean()) + 0.5 * (trial % 2 ? 300.0 : 1.0) * test::randomPoint(u, rng);
     const Eigen::VectorXd w0 = Eigen::VectorXd::Random(m);
     const ControlFrame frame(C);
     Eigen::VectorXd w(m);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -335,7 +336,7 @@ TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
           const Vec2 q = s == 0 ? Vec2(a, -1) : s == 1 ? Vec2(1, a) : s == 2 ? Vec2(-a, 1) : Vec2(-1, -a);
           C.row(i++) = 100.0 * q.transpose();  // pixels
         }
-      for (; i < m; ++i) C.row(i) = (100.0 * Vec2(2 * u(rng) - 1, 2 * u(rng) - 1)).transpose();
+      for (; i < m; ++i) C.row(i) = (100.0 * (2.0 * test::randomPoint(u, rng) - Vec2::Ones())).transpose();
       Problem p{C, trial % 4 == 0 ? Vec2(100, 100) : Vec2(100.0 * (2 * u(rng) - 1), -100), Eigen::VectorXd(m)};
       for (int j = 0; j < m; ++j) p.w0(j) = trial % 3 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;
       const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);

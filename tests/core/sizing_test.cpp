@@ -7,6 +7,7 @@
 #include <random>
 
 #include "kc/core/sizing.h"
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -50,7 +51,7 @@ TEST(Sizing, SlitGetsHalfItsWidthAndGrowsAtMostByTheGradation) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 300);
   for (int t = 0; t < 2000; ++t) {
-    const Vec2 x(u(rng), u(rng)), y = x + Vec2(u(rng) - 150, u(rng) - 150) * 0.05;
+    const Vec2 x = test::randomPoint(u, rng), y = x + (test::randomPoint(u, rng) - Vec2(150, 150)) * 0.05;
     EXPECT_LE(std::abs(h(x) - h(y)), h.gradation() * (x - y).norm() + 1e-12);
   }
   // The gradient agrees with finite differences where h < hMax.
@@ -121,7 +122,7 @@ TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
   const double bound = h.gradation() * (1.0 + 1.875 / kSizingSoftness);
   double maxRatio = 0.0;
   for (int t = 0; t < 3000; ++t) {
-    const Vec2 x(u(rng), u(rng));
+    const Vec2 x = test::randomPoint(u, rng);
     Vec2 g;
     const double v = h.profile(x, &g);
     EXPECT_LE(v, h(x) + 1e-12);

@@ -13,6 +13,7 @@
 #include "kc/core/kernel/interpolator.h"
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/sizing.h"
+#include "random_point.h"
 
 namespace kc {
 namespace {
@@ -93,7 +94,7 @@ TEST(VariableKernel, ExactInterpolationReproducesLinearFunctions) {
       const double h = (*width)(p);
       // Keep a point where it falls on the local spacing's lattice.
       if (std::fmod(x, std::max(0.5, std::round(h * 2) / 2)) == 0.0 && std::fmod(y, std::max(0.5, std::round(h * 2) / 2)) == 0.0)
-        pts.push_back(p + Vec2(u(rng), u(rng)) * h);
+        pts.push_back(p + test::randomPoint(u, rng) * h);
     }
   Points X(static_cast<Index>(pts.size()), 2);
   for (std::size_t i = 0; i < pts.size(); ++i) X.row(static_cast<Index>(i)) = pts[i].transpose();

@@ -7,6 +7,7 @@
 #include "kc/core/parallel.h"
 #include "kc/sampling/inverse_mean_shift.h"
 #include "test_shapes.h"
+#include "random_point.h"
 
 namespace kc::sampling {
 namespace {
@@ -67,7 +68,7 @@ TEST(InverseMeanShift, StopsWhenLargestMoveFallsBelowTolerance) {
   X = cage.C;
   std::vector<Vec2> free;
   while (free.size() < 300) {
-    const Vec2 p(75 + 250 * u(rng), 30 + 250 * u(rng));
+    const Vec2 p = Vec2(75, 30) + 250 * test::randomPoint(u, rng);
     if (insideCage(cage, p) && distanceToCage(cage, p) > 4.0) free.push_back(p);
   }
   X.conservativeResize(cage.size() + 300, 2);

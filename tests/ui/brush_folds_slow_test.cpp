@@ -19,6 +19,7 @@
 #include "kc/app/pipeline.h"
 #include "kc/core/cage.h"
 #include "ui_fixture.h"
+#include "random_point.h"
 
 namespace kc::ui {
 namespace {
@@ -47,7 +48,7 @@ FoldCount strokesThatFold(const std::string& example, unsigned seed) {
   for (int trial = 0; trial < kPoses; ++trial) {
     Pose pose = restPose(cage.size());
     for (HandlePose& h : pose) {
-      h.translate = Vec2(kMove * unit(rng), kMove * unit(rng));
+      h.translate = kMove * test::randomPoint(unit, rng);
       h.rotate = kTurn * unit(rng);
     }
     setPose(s, pose);
