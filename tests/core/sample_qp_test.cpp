@@ -30,9 +30,9 @@ Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
   return test::solveSample(sampleQp, p, report);
 }
 
-/// CLP is left out of sanitized builds (scripts/sanitize.sh): there its nonlinear primal can
-/// cycle without end on the degenerate problems (see clpSolve), and GLPK's exact certificate
-/// (kktMargin) checks every problem on its own.
+/// CLP is left out of sanitized builds (scripts/sanitize.sh), which run the unit tests once per
+/// release: its nonlinear primal can cycle without end on a degenerate problem (see clpSolve),
+/// and GLPK's exact certificate (kktMargin) checks every problem on its own.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr bool kClpReference = false;
 #elif defined(__has_feature)
@@ -74,14 +74,13 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   model.loadQuadraticObjective(m, qs.data(), qc.data(), qv.data());
   model.setPrimalTolerance(tolerance);
   model.setDualTolerance(tolerance);
-  // On some degenerate problems CLP's nonlinear primal can cycle (seen in the sanitized build,
-  // where the inputs differ in the last bits and each pivot allocates under the sanitizer's
-  // allocator: one test ran for over 13 minutes). 10 pivots per variable is far more than a solve
-  // of these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure. Neither
-  // this cap nor CLP's clock (below) bounds the nonlinear primal's inner loop: in the sanitized
-  // build this test still hangs in ClpSimplexNonlinear::whileIterating → pivotColumn →
-  // directionVector (seen with gdb after 13 min). A solve here takes well under a millisecond in
-  // the Release build; sanitized builds leave CLP out (kClpReference).
+  // On some degenerate problems CLP's nonlinear primal cycles: the degenerate problems drawn
+  // with x and y in the other order (test::randomPoint) hung this test for over 13 minutes in the
+  // Release build as in the sanitized one. 10 pivots per variable is far more than a solve of
+  // these problems (3 rows) takes; beyond that it stops with status 3, a CLP failure. Neither this
+  // cap nor CLP's clock (below) bounds the nonlinear primal's inner loop (it hangs in
+  // ClpSimplexNonlinear::whileIterating → pivotColumn → directionVector, seen with gdb). On the
+  // problems drawn here a solve takes well under a millisecond.
   model.setMaximumIterations(std::max(1000, 10 * m));
   model.setMaximumSeconds(2.0);
   model.primal();
