@@ -73,6 +73,10 @@ void checkCageScale(const Cage& cage, double spacing, bool graded = false) {
 /// weights follow the cage edges' linear data; k = 2 meshed the person cage (legs 4 px apart) with
 /// 3,225 vertices and 7,180 ADMM iterations where k = 1 needed 1,612 and 4,267 (hMax 10.2 px).
 constexpr double kLbcFeatureSamples = 1.0;
+/// g of the LBC backend's mesh (SizingOptions::gradation): the steepest grading the sizing field
+/// allows. The Delaunay mesher keeps its angle bound at any grading, and the ADMM solve's cost
+/// follows the vertex count, which a steeper grading keeps near the uniform mesh's.
+constexpr double kLbcGradation = 0.5;
 
 /// True when a bind with `p` samples or meshes with a sizing field: graded, and blue noise for a
 /// backend that samples the picture (kc); the LBC mesh of the cage interior.
@@ -94,7 +98,10 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   SizingOptions o;
   o.hMax = params.spacing;
   o.hMin = std::min(kMinSpacing, params.spacing);
-  if (!backendFor(params.backend).capabilities().outsideCage) o.featureSamples = kLbcFeatureSamples;
+  if (!backendFor(params.backend).capabilities().outsideCage) {
+    o.featureSamples = kLbcFeatureSamples;
+    o.gradation = kLbcGradation;
+  }
   SizingField h = featureSizing(cage, extra, o);
   // Sharp outside corners sampled finer (guardLobes) where the interpolation is exact (the thesis's
   // plain form loses partition of unity where the kernel's width varies: 0.09 on the figure) and
