@@ -198,7 +198,7 @@ void addBindCommand(CLI::App& app) {
                       " spacings; enough for --outside pinned, fixed and transparent) | frame (the whole picture: "
                       "needed by warp --outside deform)")
       ->capture_default_str();
-  sub->add_option("--seed", a->seed, "Random seed of the sampling")->capture_default_str();
+  sub->add_option("--seed", a->seed, "Random seed of the sampling (0..2^64-1)")->check(seedCheck())->capture_default_str();
   sub->add_option("--structure", a->structure,
                   "Structure file (JSON): line segments kept straight, groups kept parallel (kc backend)");
   sub->add_option("-o,--output", a->output, "Session file to write (*.kcw.json)")->required();

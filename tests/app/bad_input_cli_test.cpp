@@ -442,6 +442,9 @@ TEST_F(BadInput, SeedOutOfRange) {
   expectRefused("sample --cage cage.json --size 96,96 --seed -1 -o s.json", "--seed");
   expectRefused("sample --cage cage.json --size 96,96 --seed 18446744073709551616 -o s.json", "--seed");
   EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+  expectRefused("bind --cage cage.json --size 96,96 --seed -1 -o b.kcw.json", "--seed");
+  expectRefused("bind --cage cage.json --size 96,96 --seed 18446744073709551616 -o b.kcw.json", "--seed");
+  EXPECT_FALSE(fs::exists(m_dir / "b.kcw.json"));
 }
 
 TEST_F(BadInput, BenchNegativeThreads) { expectRefused("bench --threads -3", "--threads"); }
