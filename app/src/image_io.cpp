@@ -1,6 +1,8 @@
 #include "kc/app/image_io.h"
 
 #include <algorithm>
+#include <sstream>
+#include <iostream>
 #include <cctype>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -37,6 +39,42 @@ ImageHeader readImageFileHeader(const std::string& path) {
   return checkImageFile(readTextFile(path, kMaxImageFileBytes), path);
 }
 
+namespace {
+
+/// Redirects std::cerr into `text` while alive: OpenCV's imdecode reports a failed decode there
+/// (its own line before kcwarp's) instead of throwing.
+class CerrCapture {
+ public:
+  explicit CerrCapture(std::string& text) : m_text(text), m_old(std::cerr.rdbuf(m_buffer.rdbuf())) {}
+  ~CerrCapture() {
+    std::cerr.rdbuf(m_old);
+    m_text = m_buffer.str();
+  }
+  CerrCapture(const CerrCapture&) = delete;
+  CerrCapture& operator=(const CerrCapture&) = delete;
+
+ private:
+  std::string& m_text;
+  std::ostringstream m_buffer;
+  std::streambuf* m_old;
+};
+
+/// ": <reason>" from an OpenCV error line ("... error: (-2:Unspecified error) <reason> in function
+/// '...'"), at most 120 characters on one line; "" when there is none.
+std::string decoderReason(const std::string& said) {
+  const std::size_t open = said.find("error: (");
+  if (open == std::string::npos) return "";
+  const std::size_t close = said.find(") ", open);
+  if (close == std::string::npos) return "";
+  std::string reason = said.substr(close + 2, said.find(" in function", close) - (close + 2));
+  for (char& c : reason)
+    if (c == '\n' || c == '\r') c = ' ';
+  if (reason.size() > 120) reason = reason.substr(0, 117) + "...";
+  return reason.empty() ? "" : ": " + reason;
+}
+
+}  // namespace
+
 Image loadImage(const std::string& path) {
   const std::string bytes = readTextFile(path, kMaxImageFileBytes);
   const ImageHeader header = checkImageFile(bytes, path);
@@ -54,12 +92,15 @@ Image loadImage(const std::string& path) {
     return img;
   }
   cv::Mat m;
+  std::string said;  // what OpenCV's decoder wrote to std::cerr, kept for kcwarp's one line
   try {
+    const CerrCapture capture(said);
     m = detail::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     throw InputError(path, "cannot decode the " + header.format + " image: " + e.msg);
   }
-  if (m.empty()) throw InputError(path, "cannot decode the " + header.format + " image (corrupt or truncated)");
+  if (m.empty())
+    throw InputError(path, "cannot decode the " + header.format + " image (corrupt or truncated)" + decoderReason(said));
   if (m.cols != header.width || m.rows != header.height)
     throw InputError(path, "the " + header.format + " header says " + std::to_string(header.width) + "x" +
                                std::to_string(header.height) + " but the pixels are " + std::to_string(m.cols) + "x" +

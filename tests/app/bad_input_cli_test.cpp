@@ -285,6 +285,12 @@ TEST_F(BadInput, ImageThatIsNotAnImage) {
   expectRefused("bind --cage cage.json --image text.png -o out.kcw.json", "not an image kcwarp reads");
 }
 
+TEST_F(BadInput, TruncatedPnmGivesOneLineWithTheDecodersReason) {  // OpenCV writes its reason to std::cerr
+  writeText(m_dir / "cut.ppm", std::string("P6\n64 64\n255\n") + std::string(100, 'x'));
+  expectRefused("sample --cage cage.json --image cut.ppm -o s.json", "cut.ppm: cannot decode the PNM image (corrupt or truncated): ");
+  EXPECT_FALSE(fs::exists(m_dir / "s.json"));
+}
+
 TEST_F(BadInput, BindSpacingTooFine) {
   expectRefused("bind --cage cage.json --size 256,256 --spacing 0.5 --exterior frame -o out.kcw.json", "use --spacing");
 }
