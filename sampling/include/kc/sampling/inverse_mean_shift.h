@@ -32,6 +32,8 @@ struct InverseMeanShiftOptions {
   /// the bandwidth s·h_kj/h with h_kj² = (h_k² + h_j²)/2 (symmetric: the forces balance, which the
   /// relaxation needs to settle), and the move cap, tolerance and clearance of k scale with h_k. The step (6.4) is
   /// scale-free (λ/s² = 0.3 by default), so a locally uniform region relaxes as a uniform one.
+  /// h_k is re-evaluated only after x_k has moved 0.1·h_k since it was last (h is g-Lipschitz: it
+  /// is then within 0.1·g of the exact value, 3% at g = 0.3).
   const SizingField* sizing = nullptr;
 };
 
