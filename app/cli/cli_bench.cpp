@@ -32,7 +32,7 @@ Cage blobCage(int m, double size) {
 
 }  // namespace
 
-void benchLines(const std::string& cagePath, int sets, int repeats);  // cli_bench_lines.cpp
+void benchLines(const std::string& cagePath, int sets, int repeats, bool crossing);  // cli_bench_lines.cpp
 void benchEdges(const std::string& folder, int repeats);                // cli_bench_lines.cpp
 void benchRigid(const std::string& imagesDir, int repeats, const std::string& speedOnly);  // cli_bench_rigid.cpp
 void benchGraded(const std::string& folder, int repeats);                                 // cli_bench_graded.cpp
@@ -54,6 +54,7 @@ struct BenchArgs {
   std::string rigidSpeed;
   std::string images = "images";
   int lineSets = 10;
+  bool crossing = false;
   std::string cage = "images/star.cage.json";
 };
 
@@ -178,6 +179,7 @@ void addBenchCommand(CLI::App& app) {
                 "and a neck on a 12 MP picture");
   sub->add_option("--narrow", a->narrow, "--graded: the folder of the narrow test cages")->capture_default_str();
   sub->add_option("--line-sets", a->lineSets, "--lines: random sets of lines")->capture_default_str();
+  sub->add_flag("--crossing", a->crossing, "--lines: sets of three lines that cross (an X and a third across one), graded binds");
   sub->add_option("--cage", a->cage, "--lines: the cage (default: the bundled star)")->capture_default_str();
   sub->callback([a] {
     if (a->samples < 100 || a->samples > 1000000) throw app::InputError("--samples", "must be within 100..1000000");
@@ -199,7 +201,7 @@ void addBenchCommand(CLI::App& app) {
     }
     if (a->lines) {
       if (a->lineSets < 1 || a->lineSets > 1000) throw app::InputError("--line-sets", "must be within 1..1000");
-      benchLines(a->cage, a->lineSets, a->repeats);
+      benchLines(a->cage, a->lineSets, a->repeats, a->crossing);
       return;
     }
     benchBind(*a);

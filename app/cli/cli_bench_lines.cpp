@@ -19,14 +19,16 @@
 
 namespace kc::cli {
 
-void benchLines(const std::string& cagePath, int sets, int repeats) {
+void benchLines(const std::string& cagePath, int sets, int repeats, bool crossing) {
   const Cage cage = app::loadCage(cagePath);
   const double x1 = cage.C.col(0).maxCoeff(), y1 = cage.C.col(1).maxCoeff();
   const int w = static_cast<int>(std::ceil(x1 + 20.0)), h = static_cast<int>(std::ceil(y1 + 20.0));
   app::BindParams p;
-  std::printf("lines: %s, %d random sets of 3 lines (100-150 px, one parallel pair), 50 random translations of every\n"
+  const RandomLineLayout layout = crossing ? RandomLineLayout::Crossing : RandomLineLayout::ParallelPair;
+  std::printf("lines: %s, %d random sets of 3 lines (100-150 px, %s), 50 random translations of every\n"
               "control by up to +-40 px each; bind times median of %d runs\n",
-              cagePath.c_str(), sets, repeats);
+              cagePath.c_str(), sets, crossing ? "each after the first crossing an earlier one; graded binds" : "one parallel pair",
+              repeats);
   std::printf("  (ratio: bind wall time with lines / without; cpu: the same in process CPU time, steadier on a shared\n"
               "   machine; iterations: the blue-noise relaxation's, with / without lines)\n");
   std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %7s %11s %10s\n", "set", "bend px", "without px", "angle deg", "without",
@@ -35,8 +37,8 @@ void benchLines(const std::string& cagePath, int sets, int repeats) {
   double sumRatio = 0.0, sumCpu = 0.0, sumSamplingLines = 0.0, sumSamplingPlain = 0.0, sumTotalLines = 0.0, sumTotalPlain = 0.0;
   for (int set = 0; set < sets; ++set) {
     app::Structure st;
-    st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 1000 + std::uint64_t(set), true);
-    st.groups = {"pair"};
+    st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 1000 + std::uint64_t(set), layout);
+    if (!crossing) st.groups = {"pair"};
     std::vector<double> tLines, tPlain, cLines, cPlain;
     app::Session lined, plain;
     const auto cpu = [] { return double(std::clock()) / CLOCKS_PER_SEC; };

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <random>
 
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
@@ -40,6 +41,55 @@ TEST(GradedLines, ContactsAreFound) {
   }
   const std::vector<StructureLine> overlapping{{{0, 0}, {10, 0}}, {{5, 0}, {20, 0}}};
   EXPECT_THROW(lineContacts(overlapping), std::invalid_argument);
+}
+
+TEST(GradedLines, MeetingLinesAgreeExactlyWhereTheyMeet) {
+  // Three lines crossing pairwise in a small triangle (sides 3-6 px), three through one point, and
+  // an X with a line going on from one of its ends; random end weights that sum to 1 and reproduce their points.
+  const std::vector<std::vector<StructureLine>> sets{
+      {{{189.2, 82.9}, {214.1, 221.4}}, {{239.4, 160.3}, {108.6, 158.9}}, {{252.4, 186.9}, {161.6, 130.8}}},
+      {{{50, 50}, {150, 150}}, {{50, 150}, {150, 50}}, {{100, 40}, {100, 160}}},
+      {{{50, 50}, {150, 150}}, {{50, 150}, {150, 50}}, {{150, 150}, {150, 250}}}};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Index m = 6;
+  Points C(m, 2);
+  for (Index j = 0; j < m; ++j) C.row(j) << 300.0 * u(rng), 300.0 * u(rng);
+  Eigen::MatrixXd M(m, 3);
+  M << Eigen::VectorXd::Ones(m), C;
+  const std::size_t expectedContacts[] = {3, 3, 2};
+  for (std::size_t set = 0; set < sets.size(); ++set) {
+    const std::vector<StructureLine>& lines = sets[set];
+    const std::vector<LineContact> contacts = lineContacts(lines);
+    ASSERT_EQ(contacts.size(), expectedContacts[set]);
+    // One sample per end point, shared where lines share an end (as the sampler shares it).
+    std::vector<Vec2> points;
+    auto sample = [&](const Vec2& p) {
+      for (std::size_t i = 0; i < points.size(); ++i)
+        if (points[i] == p) return Index(i);
+      points.push_back(p);
+      return Index(points.size() - 1);
+    };
+    std::vector<std::array<Index, 2>> ends;
+    for (const StructureLine& l : lines) ends.push_back({sample(l.a), sample(l.b)});
+    Points X(Index(points.size()), 2);
+    for (std::size_t i = 0; i < points.size(); ++i) X.row(Index(i)) = points[i].transpose();
+    Weights W(X.rows(), m);
+    for (Index i = 0; i < X.rows(); ++i) {  // random, then the least-norm change to sum 1 and reproduce x_i
+      Eigen::VectorXd r(m);
+      for (Index j = 0; j < m; ++j) r(j) = u(rng);
+      const Eigen::Vector3d q(1.0, X(i, 0), X(i, 1));
+      W.row(i) = (r + M * (M.transpose() * M).ldlt().solve(q - M.transpose() * r)).transpose();
+    }
+    coupleMeetingLines(contacts, ends, W);
+    for (const LineContact& c : contacts) {
+      const Eigen::RowVectorXd d = (1.0 - c.tk) * W.row(ends[c.k][0]) + c.tk * W.row(ends[c.k][1]) -
+                                   (1.0 - c.tl) * W.row(ends[c.l][0]) - c.tl * W.row(ends[c.l][1]);
+      EXPECT_LE(d.cwiseAbs().maxCoeff(), 1e-12) << "lines " << c.k << " and " << c.l;
+    }
+    EXPECT_LE((W.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-12);
+    EXPECT_LE((W * C - X).cwiseAbs().maxCoeff(), 1e-9);
+  }
 }
 
 TEST(GradedLines, MeetingLinesShareASampleInAGradedSampling) {

@@ -57,7 +57,7 @@ TEST(StructureLinesSlow, RandomLinesStayStraightAndParallelUnderTranslations) {
   const Cage cage = starCage();
   BindParams p;
   Structure st;
-  st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 11, /*parallelPair=*/true);
+  st.lines = randomLines(cage, 3, 100.0, 150.0, p.spacing, 11, RandomLineLayout::ParallelPair);
   st.groups = {"pair"};
   const Session plain = bind(cage, 320, 320, p);
   const Session lined = bind(cage, st, 320, 320, p);
@@ -86,7 +86,7 @@ TEST(StructureLinesSlow, SessionKeepsTheLinesAndTheirWeights) {
   const Cage cage = starCage();
   BindParams p;
   Structure st;
-  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5, true);
+  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5, RandomLineLayout::ParallelPair);
   st.groups = {"g"};
   const Session s = bind(cage, st, 320, 320, p);
   const std::string path = (dir / "lines.kcw.json").string();
@@ -108,7 +108,7 @@ TEST(StructureLinesSlow, ReoptimizingSamplesNearALineGivesTheBindsWeightsBack) {
   const Cage cage = starCage();
   BindParams p;
   Structure st;
-  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5, false);
+  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5);
   Session s = bind(cage, st, 320, 320, p);
   const Weights W = s.W;
   const Vec2 mid = 0.5 * (st.lines[0].a + st.lines[0].b);

@@ -150,23 +150,27 @@ std::vector<LineContact> lineContacts(std::span<const StructureLine> lines) {
 void coupleMeetingLines(std::span<const LineContact> contacts, std::span<const std::array<Index, 2>> ends, Weights& W) {
   for (const LineContact& c : contacts)
     if (c.k >= ends.size() || c.l >= ends.size()) throw std::invalid_argument("coupleMeetingLines: a contact names a line without ends");
-  for (int sweep = 0; sweep < 50; ++sweep) {
-    double worst = 0.0;
-    for (const LineContact& c : contacts) {
-      const auto [ak, bk] = ends[c.k];
-      const auto [al, bl] = ends[c.l];
-      const Eigen::RowVectorXd d = (1.0 - c.tk) * W.row(ak) + c.tk * W.row(bk) - (1.0 - c.tl) * W.row(al) - c.tl * W.row(bl);
-      worst = std::max(worst, d.cwiseAbs().maxCoeff());
-      // Shared rows (a common end) count once in the norm of the change.
-      const double nk = (1.0 - c.tk) * (1.0 - c.tk) + c.tk * c.tk, nl = (1.0 - c.tl) * (1.0 - c.tl) + c.tl * c.tl;
-      const Eigen::RowVectorXd lambda = d / (nk + nl);
-      W.row(ak) -= (1.0 - c.tk) * lambda;
-      W.row(bk) -= c.tk * lambda;
-      W.row(al) += (1.0 - c.tl) * lambda;
-      W.row(bl) += c.tl * lambda;
-    }
-    if (worst <= 1e-13) break;
-  }
+  if (contacts.empty()) return;
+  // The end samples involved, each once (lines sharing an end share its row), and A (contacts ×
+  // ends) with A·W_ends = the contacts' disagreements D.
+  std::vector<Index> rows;
+  auto column = [&](Index i) {
+    const auto at = std::find(rows.begin(), rows.end(), i);
+    if (at != rows.end()) return Index(at - rows.begin());
+    rows.push_back(i);
+    return Index(rows.size() - 1);
+  };
+  std::vector<std::array<std::pair<Index, double>, 4>> terms;
+  for (const LineContact& c : contacts)
+    terms.push_back({{{column(ends[c.k][0]), 1.0 - c.tk}, {column(ends[c.k][1]), c.tk},
+                      {column(ends[c.l][0]), -(1.0 - c.tl)}, {column(ends[c.l][1]), -c.tl}}});
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(Index(contacts.size()), Index(rows.size()));
+  for (Index r = 0; r < A.rows(); ++r)
+    for (const auto& [col, coef] : terms[std::size_t(r)]) A(r, col) += coef;
+  const Weights E = W(rows, Eigen::all);
+  // The least-norm change Δ with A·(E + Δ) = 0; its rows are combinations of the rows of D.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+  W(rows, Eigen::all) = E - cod.solve((A * E).eval());
 }
 
 void coupleParallelLines(const Points& C, std::span<const StructureLine> lines, std::span<const std::array<Index, 2>> ends,
@@ -235,36 +239,42 @@ double translatedLineDeviation(const Points& P, const Weights& Wp, const Points&
 }
 
 std::vector<StructureLine> randomLines(const Cage& cage, int count, double minLength, double maxLength, double h,
-                                       std::uint64_t seed, bool parallelPair) {
+                                       std::uint64_t seed, RandomLineLayout layout) {
   std::mt19937_64 rng(seed);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53; };
   const double x0 = cage.C.col(0).minCoeff(), x1 = cage.C.col(0).maxCoeff();
   const double y0 = cage.C.col(1).minCoeff(), y1 = cage.C.col(1).maxCoeff();
+  const bool graded = layout == RandomLineLayout::Crossing;
   std::vector<StructureLine> lines;
   for (int attempt = 0; attempt < 10000 && static_cast<int>(lines.size()) < count; ++attempt) {
     StructureLine l;
-    const bool twin = parallelPair && lines.size() == 1;
+    l.group = -1;
     const double len = uniform(minLength, maxLength);
     Vec2 u;
-    if (twin) {
+    if (layout == RandomLineLayout::ParallelPair && lines.size() == 1) {
       u = (lines[0].b - lines[0].a).normalized();
       const Vec2 normal(-u.y(), u.x());
       l.a = 0.5 * (lines[0].a + lines[0].b) + uniform(-4.0, 4.0) * h * normal + uniform(-0.5, 0.5) * len * u;
       if (rng() & 1) u = -u;  // either orientation: the coupling's signs (5.11) matter
       l.a -= 0.5 * len * u;
-      l.group = lines[0].group = 0;
+      l.group = 0;
+    } else if (graded && !lines.empty()) {
+      const StructureLine& other = lines[std::size_t(rng() % lines.size())];
+      const Vec2 v = (other.b - other.a).normalized(), at = other.a + uniform(0.2, 0.8) * (other.b - other.a);
+      const double turn = uniform(std::numbers::pi / 6.0, 5.0 * std::numbers::pi / 6.0);
+      u = Vec2(std::cos(turn) * v.x() - std::sin(turn) * v.y(), std::sin(turn) * v.x() + std::cos(turn) * v.y());
+      l.a = at - uniform(0.2, 0.8) * len * u;
     } else {
       const double angle = uniform(0.0, 2.0 * std::numbers::pi);
       u = Vec2(std::cos(angle), std::sin(angle));
       l.a = Vec2(uniform(x0, x1), uniform(y0, y1));
-      l.group = -1;
     }
     l.b = l.a + len * u;
     std::vector<StructureLine> trial = lines;
     trial.push_back(l);
-    if (twin) trial[0].group = 0;
+    if (l.group == 0) trial[0].group = 0;
     try {
-      validateLines(cage, trial, h);
+      validateLines(cage, trial, h, graded);
     } catch (const std::invalid_argument&) {
       continue;
     }

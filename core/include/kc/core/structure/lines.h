@@ -62,12 +62,14 @@ struct LineContact {
 /// more than a point. O(n²) in the number of lines.
 std::vector<LineContact> lineContacts(std::span<const StructureLine> lines);
 
-/// Makes the weights of lines that meet agree where they meet (both stay straight only then): for
-/// each contact, the end weights of both lines move by the least-norm change that makes
-/// (1 − tk) w(a_k) + tk w(b_k) = (1 − tl) w(a_l) + tl w(b_l); repeated (Gauss–Seidel, at most 50
-/// sweeps) until every contact agrees to 1e-13. Each change is a multiple of the difference of two
-/// rows that both sum to 1 and reproduce the same point, so partition of unity and reproduction are
-/// kept exactly. `ends[k]` = the sample indices of line k's a and b; W #S×m.
+/// Makes the weights of lines that meet agree where they meet (both stay straight only then): the
+/// end weights of the lines move by the least-norm change (all contacts at once, a complete
+/// orthogonal decomposition of the contacts × end samples system) that makes
+/// (1 − tk) w(a_k) + tk w(b_k) = (1 − tl) w(a_l) + tl w(b_l) at every contact, to round-off. The
+/// change is a combination of the contacts' disagreements, each the difference of two rows that sum
+/// to 1 and reproduce the same point, so partition of unity and reproduction are kept exactly.
+/// Contacts that repeat others (three lines through one point) are redundant, not contradictory.
+/// `ends[k]` = the sample indices of line k's a and b; W #S×m.
 void coupleMeetingLines(std::span<const LineContact> contacts, std::span<const std::array<Index, 2>> ends, Weights& W);
 
 /// Largest angle between the lines of a parallel group that validateLines accepts (degrees):
@@ -93,11 +95,19 @@ void coupleParallelLines(const Points& C, std::span<const StructureLine> lines, 
 /// p'_{n−1} − p'_0.
 double translatedLineDeviation(const Points& P, const Weights& Wp, const Points& T, Vec2* direction = nullptr);
 
+/// How randomLines places its lines.
+enum class RandomLineLayout {
+  Free,          ///< Each line anywhere inside the cage, apart from the others.
+  ParallelPair,  ///< The second line parallel to the first (group 0), offset sideways.
+  /// Every line after the first crosses an earlier one at 20–80% of both their lengths, at least
+  /// 30° from it (a window frame's X); validated as a graded bind validates them.
+  Crossing,
+};
+
 /// `count` random lines that pass validateLines for the cage at spacing h, lengths uniform in
-/// [minLength, maxLength] (for tests and benchmarks; deterministic in `seed`). With `parallelPair`
-/// the second line is parallel to the first (group 0), offset sideways. Throws
-/// std::invalid_argument when 10,000 attempts did not find them.
+/// [minLength, maxLength], placed as `layout` says (for tests and benchmarks; deterministic in
+/// `seed`). Throws std::invalid_argument when 10,000 attempts did not find them.
 std::vector<StructureLine> randomLines(const Cage& cage, int count, double minLength, double maxLength, double h,
-                                       std::uint64_t seed, bool parallelPair = false);
+                                       std::uint64_t seed, RandomLineLayout layout = RandomLineLayout::Free);
 
 }  // namespace kc
