@@ -60,5 +60,29 @@ TEST_F(GuiSession, CageClicksFasterThanTheFramesAllArrive) {
   EXPECT_GE(*std::min_element(ms.begin(), ms.end()), 290.0);
 }
 
+TEST_F(GuiSession, ADragFasterThanTheFramesEndsWhereTheMouseWasReleased) {
+  // Frames of 800 ms (a big picture on a slow machine); a control dragged in 12 steps 25 ms apart
+  // and released: the whole drag falls within one or two frames, and the point must end under the
+  // mouse, not at a position of the last frame that drew it.
+  const std::string images = std::string(KC_SOURCE_DIR) + "/images/";
+  startApp({images + "checker.png", "--cage", images + "checker.cage.json", "--spacing", "16", "--slow-frames", "800"});
+  json s = waitFor([](const json& j) { return j.value("bound", false) && !j.value("busy", true); }, 90);
+  ASSERT_TRUE(s.value("bound", false));
+  const int wx = s["window"][0], wy = s["window"][1];
+  const double zoom = s["view"]["zoom"];
+  const double cx = s["controls"][1][0].get<double>() + wx, cy = s["controls"][1][1].get<double>() + wy;
+  drag(cx, cy, cx - 60, cy + 40, 1, 12, 25);
+  s = waitFor([](const json& j) { return j.value("undo", 0) == 1 && j.value("idle", false); }, 30);
+  const json t = s["pose_translate"][1];
+  EXPECT_NEAR(t[0].get<double>(), -60.0 / zoom, 1.5 / zoom) << s["pose_translate"].dump();
+  EXPECT_NEAR(t[1].get<double>(), 40.0 / zoom, 1.5 / zoom) << s["pose_translate"].dump();
+  for (std::size_t k = 0; k < s["pose_translate"].size(); ++k)
+    if (k != 1) EXPECT_EQ(s["pose_translate"][k], json::array({0.0, 0.0})) << "control " << k << " moved";
+  shutDown();
+  const std::vector<double> ms = frameTimes(dir / "frames.csv");
+  ASSERT_GE(ms.size(), 2u);
+  EXPECT_GE(*std::min_element(ms.begin(), ms.end()), 790.0) << "the frames were not slowed";
+}
+
 }  // namespace
 }  // namespace kc::test
