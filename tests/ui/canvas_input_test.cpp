@@ -67,5 +67,25 @@ TEST(CanvasInput, ADragInOneFrameMovesAndReleasesAtItsPositions) {
   EXPECT_EQ(s->undo.undoCount(), 1u);
 }
 
+TEST(CanvasInput, HandlesCloserThanTheirSizeAreDrawnSmallerToStayApart) {
+  // Screen points: a pair 8.8 px apart (two handles 5 px apart at 176% zoom), a pair 2 px apart,
+  // and one alone.
+  Points S(5, 2);
+  S << 100, 100, 108.8, 100, 300, 300, 300, 302, 500, 100;
+  const Eigen::VectorXd k = handleScales(S, 6.5);
+  ASSERT_EQ(k.size(), 5);
+  EXPECT_NEAR(k(0), 0.5 * 8.8 / 6.5, 1e-12);
+  EXPECT_NEAR(k(1), k(0), 1e-12);
+  EXPECT_LE(2.0 * 6.5 * k(0), 8.8 + 1e-9) << "the two handles' discs touch at most";
+  EXPECT_EQ(k(2), kMinHandleScale);  // too close to keep apart: the smallest size, still visible
+  EXPECT_EQ(k(3), kMinHandleScale);
+  EXPECT_EQ(k(4), 1.0);
+  EXPECT_EQ(handleScales(S.topRows(1), 6.5)(0), 1.0);
+  // 13 px apart or more: full size.
+  Points far(2, 2);
+  far << 0, 0, 13, 0;
+  EXPECT_EQ(handleScales(far, 6.5).minCoeff(), 1.0);
+}
+
 }  // namespace
 }  // namespace kc::ui

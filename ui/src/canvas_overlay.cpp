@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "kc/app/heatmap.h"
+#include "kc/core/spatial_grid.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/canvas.h"
 #include "kc/ui/tools/pose_tool.h"
@@ -46,11 +47,21 @@ void drawPointNumbers(const AppState& state, ImDrawList* dl, const Points& P, bo
     if (all || (P.row(i).transpose() - state.mouseImage).norm() <= radius) drawPointNumber(dl, state.view.toScreen(P.row(i).transpose()), i, color);
 }
 
-void drawHandle(ImDrawList* dl, const Vec2& s, bool selected, bool active) {
+/// A control's handle at screen point s, `scale` times its full size (handleScales).
+constexpr double kHandleRadius = 6.5;
+void drawHandle(ImDrawList* dl, const Vec2& s, bool selected, bool active, double scale) {
   const ImVec2 c = im(s);
-  if (active) dl->AddCircle(c, 11.0f, rgba(255, 230, 80), 20, 2.5f);
-  dl->AddCircleFilled(c, 6.5f, rgba(20, 20, 28));
-  dl->AddCircleFilled(c, 5.0f, selected ? rgba(255, 150, 30) : rgba(245, 245, 250));
+  const float k = static_cast<float>(scale);
+  if (active) dl->AddCircle(c, 11.0f * k, rgba(255, 230, 80), 20, 2.5f);
+  dl->AddCircleFilled(c, float(kHandleRadius) * k, rgba(20, 20, 28));
+  dl->AddCircleFilled(c, 5.0f * k, selected ? rgba(255, 150, 30) : rgba(245, 245, 250));
+}
+
+/// The rows of P (image pixels) on screen.
+Points screenPoints(const View& view, const Points& P) {
+  Points S(P.rows(), 2);
+  for (Index i = 0; i < P.rows(); ++i) S.row(i) = view.toScreen(P.row(i).transpose()).transpose();
+  return S;
 }
 
 /// Colour of a local spacing h on the sample plot's scale [lo, hi] (logarithmic): orange where the
@@ -147,10 +158,12 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
     drawPolygon(dl, view, state.boundCage, P, rgba(20, 20, 28, 200), 4.0f);
     drawPolygon(dl, view, state.boundCage, P, rgba(255, 160, 40), 2.0f);
   }
+  const Points S = screenPoints(view, P);
+  const Eigen::VectorXd scale = handleScales(S, kHandleRadius);
   for (Index i = 0; i < P.rows(); ++i) {
     const bool selected = std::find(state.selection.begin(), state.selection.end(), i) != state.selection.end();
-    const Vec2 s = view.toScreen(P.row(i).transpose());
-    drawHandle(dl, s, selected, i == state.activeControl);
+    const Vec2 s = S.row(i).transpose();
+    drawHandle(dl, s, selected, i == state.activeControl, scale(i));
     const double theta = state.pose.empty() ? 0.0 : state.pose[static_cast<std::size_t>(i)].rotate;
     if (theta != 0.0)  // a short tick showing the handle's rotation
       dl->AddLine(im(s), im(s + 16.0 * Vec2(std::cos(theta), -std::sin(theta))), rgba(255, 230, 80), 2.0f);
@@ -214,11 +227,14 @@ void drawCageToolOverlay(AppState& state, ImDrawList* dl) {
   if (!complete && cage.size() > 0 && state.canvasHovered)  // rubber band to the mouse
     dl->AddLine(im(view.toScreen(cage.C.row(cage.size() - 1).transpose())), im(view.toScreen(state.mouseImage)),
                 rgba(120, 200, 255, 120), 1.0f);
+  const Points S = screenPoints(view, cage.C);
+  const Eigen::VectorXd scale = handleScales(S, 6.0);
   for (Index i = 0; i < cage.size(); ++i) {
-    const ImVec2 s = im(view.toScreen(cage.C.row(i).transpose()));
+    const ImVec2 s = im(S.row(i).transpose());
     const bool first = i == 0 && !complete;
-    dl->AddCircleFilled(s, first ? 8.0f : 6.0f, rgba(20, 20, 28));
-    dl->AddCircleFilled(s, first ? 6.5f : 4.5f, i == state.cageTool.selected() ? rgba(255, 150, 30) : color);
+    const float k = static_cast<float>(scale(i));
+    dl->AddCircleFilled(s, (first ? 8.0f : 6.0f) * k, rgba(20, 20, 28));
+    dl->AddCircleFilled(s, (first ? 6.5f : 4.5f) * k, i == state.cageTool.selected() ? rgba(255, 150, 30) : color);
   }
   // Every point's number while the cage is invalid (the message names points), else near the mouse.
   drawPointNumbers(state, dl, cage.C, invalid, invalid ? rgba(255, 150, 150) : rgba(255, 255, 255));
@@ -264,6 +280,20 @@ void drawCanvasOverlay(AppState& state) {
   }
   dl->PopClipRect();
   if (!state.showOriginal && state.tool != Tool::Cage) drawLinesOverlay(state);
+}
+
+Eigen::VectorXd handleScales(const Points& S, double radius) {
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(S.rows());
+  if (S.rows() < 2 || !(radius > 0.0)) return scale;
+  const SpatialGrid grid(S, 2.0 * radius);
+  for (Index i = 0; i < S.rows(); ++i) {
+    double nearest2 = 4.0 * radius * radius;
+    grid.forEachWithin(S.row(i).transpose(), 2.0 * radius, [&](Index j, double d2) {
+      if (j != i) nearest2 = std::min(nearest2, d2);
+    });
+    scale(i) = std::clamp(0.5 * std::sqrt(nearest2) / radius, kMinHandleScale, 1.0);
+  }
+  return scale;
 }
 
 }  // namespace kc::ui

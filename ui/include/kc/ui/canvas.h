@@ -35,4 +35,10 @@ bool showsWarp(const AppState& state);
 /// outside the deformed mesh.
 bool restPositionOf(const WarpMesh& mesh, const Vec2& p, Vec2& rest);
 
+/// How large to draw each of the points S (#S×2, screen pixels) as a handle of `radius` px: 1 where
+/// its nearest neighbour is at least 2·radius away, else half that distance over `radius`, not
+/// below kMinHandleScale — so that handles a few pixels apart stay apart on screen at any zoom.
+inline constexpr double kMinHandleScale = 0.4;
+Eigen::VectorXd handleScales(const Points& S, double radius);
+
 }  // namespace kc::ui
