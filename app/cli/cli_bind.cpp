@@ -99,8 +99,8 @@ void runBind(const BindArgs& a) {
   app::Structure st;
   if (!a.structure.empty()) {
     st = app::loadStructure(a.structure);
-    if (!app::backendFor(p.backend).capabilities().lines)
-      throw app::InputError(a.structure, "lines and rigid regions are supported by the kernel backend (--backend kc), not by '" + p.backend + "'");
+    if (const std::string missing = app::unsupportedStructure(st, app::backendFor(p.backend).capabilities()); !missing.empty())
+      throw app::InputError(a.structure, missing + " are not supported by the '" + p.backend + "' backend (use --backend kc)");
     app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p));
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);

@@ -36,29 +36,13 @@ struct LbcBind {
 /// optimization: with params.kc.linearEdges, first post-processes the samples near each edge of the
 /// cage's loops so that the field is linear along it from one control's Lagrange weights to the
 /// other's (4.7); then couples the base points (the line ends) of parallel groups (5.11), blends the
-/// neighbourhoods toward the lines (blendLineNeighbourhoods), sets the intermediate line samples'
+/// neighbourhoods toward the lines (kc::blendLineNeighbourhoods), sets the intermediate line samples'
 /// weights linear between them (5.6), re-solves `field` and post-processes the neighbouring samples
 /// so that the field is linear along each whole line (makeLinearAlong). `field` must hold s.W on
 /// entry (the weights before the lines). Does nothing without lines and linear edges. Returns the
 /// post-processing's report (lines and edges together).
 LinearityReport applyLines(Session& s, KernelField& field);
 
-/// A line's neighbourhood reaches kLineBlendLength × its length from it, at least kLineBlendSigmas σ
-/// (and never past the cage).
-inline constexpr double kLineBlendLength = 0.25, kLineBlendSigmas = 4.0;
-
-/// The interior samples near each line move with it: a line's samples jump from the optimized
-/// weights w(p) to the linear ones ℓ(p) (5.6), so without this the picture next to a line shears
-/// and folds. Each interior sample x_i within
-/// the reach R of line k (p_i its nearest point on the line, d_i = |x_i − p_i| / R) gets
-///   W_i += (1 − d_i²)² (ℓ_k(p_i) − w(p_i)),
-/// w the field on entry. ℓ(p) and w(p) both sum to 1 and reproduce p, so partition of unity and
-/// reproduction stay exact; control, edge and line samples are not changed.
-void blendLineNeighbourhoods(Session& s, const CoordinateField& field);
-
-/// The samples applyLines may change: within max(blend reach, (2.5 + 5)σ) of a line (the blend,
-/// and the post-processing's kernels with their reach). Sorted.
-std::vector<Index> lineNeighbourhoodRows(const Session& s);
 /// Rigid regions in a kernel session (docs/rigidity.md), after the lines: kc::makeRigid with
 /// s.rigidity, holding controls and line samples. Does nothing without a positive ρ.
 /// Throws std::invalid_argument when s.rigidity does not have one entry per sample. `progress`

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "backends.h"
+#include "kc/core/structure/line_blend.h"
 #include "kc/app/pipeline.h"
 #include "kc/core/field/kernel_field.h"
 #include "kc/core/field/mesh_field.h"
@@ -120,7 +121,7 @@ class KcBackend final : public Backend {
 
   BackendCapabilities capabilities() const override {
     BackendCapabilities c;
-    c.targets = c.methods = c.painting = c.outsideCage = c.lines = true;
+    c.targets = c.methods = c.painting = c.outsideCage = c.lines = c.rigidity = true;
     return c;
   }
 
@@ -240,7 +241,7 @@ class KcBackend final : public Backend {
     // post-processing start again from the optimizer's weights (as at the bind), not from their
     // own earlier result.
     if (!whole && !s.structure.lines.empty()) {
-      const std::vector<Index> near = lineNeighbourhoodRows(s);
+      const std::vector<Index> near = lineNeighbourhoodRows(s.cage, s.structure.lines, s.samples.X, s.sigma);
       rows.insert(rows.end(), near.begin(), near.end());
       std::sort(rows.begin(), rows.end());
       rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
@@ -296,6 +297,11 @@ const Backend& backendFor(std::string_view name) {
 }
 
 std::vector<std::string_view> backendNames() { return {"kc", "lbc"}; }
+
+std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps) {
+  const bool lines = !structure.lines.empty() && !caps.lines, rigid = !structure.rigid.empty() && !caps.rigidity;
+  return lines && rigid ? "lines and rigid regions" : lines ? "lines" : rigid ? "rigid regions" : "";
+}
 
 BackendCapabilities sessionCapabilities(const Session& s) {
   BackendCapabilities c = backendFor(s.params.backend).capabilities();

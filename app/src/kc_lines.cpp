@@ -10,6 +10,7 @@
 
 #include "backends.h"
 #include "kc/app/line_metrics.h"
+#include "kc/core/structure/line_blend.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::app {
@@ -27,61 +28,7 @@ const LinearityOptions kEdgeLinearity = [] {
   return o;
 }();
 
-/// How far from a line its neighbourhood is blended toward it (pixels): a quarter of its length,
-/// at least 4σ, and never past the cage (the edge samples are held).
-double blendReach(const Cage& cage, const StructureLine& l, double sigma) {
-  double toCage = std::numeric_limits<double>::infinity();
-  for (const auto& e : cage.edges)
-    toCage = std::min(toCage, segmentSegmentDistance(l.a, l.b, cage.C.row(e[0]).transpose(), cage.C.row(e[1]).transpose()));
-  return std::min(std::max(kLineBlendLength * l.length(), kLineBlendSigmas * sigma), toCage);
-}
-
 }  // namespace
-
-void blendLineNeighbourhoods(Session& s, const CoordinateField& field) {
-  const std::vector<StructureLine>& lines = s.structure.lines;
-  const Weights W = s.W;  // every line's change is measured against the weights before any
-  for (std::size_t k = 0; k < lines.size(); ++k) {
-    const auto& idx = s.samples.lines[k];
-    const Vec2 a = lines[k].a, b = lines[k].b;
-    const double R = blendReach(s.cage, lines[k], s.sigma), len2 = (b - a).squaredNorm();
-    std::vector<Index> near;
-    std::vector<double> t;
-    for (Index i = 0; i < s.samples.size(); ++i) {
-      if (s.samples.kind[static_cast<std::size_t>(i)] != SampleKind::Interior) continue;
-      const Vec2 x = s.samples.X.row(i).transpose();
-      if (pointSegmentDistance(x, a, b) >= R) continue;
-      near.push_back(i);
-      t.push_back(std::clamp((x - a).dot(b - a) / len2, 0.0, 1.0));
-    }
-    if (near.empty()) continue;
-    Points P(static_cast<Index>(near.size()), 2);
-    for (std::size_t q = 0; q < near.size(); ++q) P.row(static_cast<Index>(q)) = ((1.0 - t[q]) * a + t[q] * b).transpose();
-    const Weights Wp = field.weightsAt(P);  // the field before the line, at the projections
-    const Eigen::RowVectorXd wa = W.row(idx.front()), wb = W.row(idx.back());
-    for (std::size_t q = 0; q < near.size(); ++q) {
-      const Index i = near[q];
-      const double d = (s.samples.X.row(i) - P.row(static_cast<Index>(q))).norm() / R;
-      const double phi = (1.0 - d * d) * (1.0 - d * d);
-      s.W.row(i) += phi * ((1.0 - t[q]) * wa + t[q] * wb - Wp.row(static_cast<Index>(q)));
-    }
-  }
-}
-
-std::vector<Index> lineNeighbourhoodRows(const Session& s) {
-  std::vector<Index> rows;
-  for (Index i = 0; i < s.samples.size(); ++i) {
-    const Vec2 x = s.samples.X.row(i).transpose();
-    for (const StructureLine& l : s.structure.lines) {
-      const double reach = std::max(blendReach(s.cage, l, s.sigma), (LinearityOptions{}.reach + 5.0) * s.sigma);
-      if (pointSegmentDistance(x, l.a, l.b) <= reach) {
-        rows.push_back(i);
-        break;
-      }
-    }
-  }
-  return rows;
-}
 
 LinearityReport applyLines(Session& s, KernelField& field) {
   const std::vector<StructureLine>& lines = s.structure.lines;
@@ -110,7 +57,7 @@ LinearityReport applyLines(Session& s, KernelField& field) {
   coupleParallelLines(s.cage.C, lines, ends, s.W);
   const std::vector<LineContact> contacts = lineContacts(lines);
   coupleMeetingLines(contacts, ends, s.W);  // lines that meet agree where they meet
-  blendLineNeighbourhoods(s, field);
+  blendLineNeighbourhoods(s.cage, lines, s.samples, s.sigma, field, s.W);
   for (const auto& idx : s.samples.lines) interpolateLineWeights(s.samples.X, idx, s.W);
   field.update(s.W);
 

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "backends.h"
+#include "kc/core/structure/line_blend.h"
 #include "kc/app/pipeline.h"
 #include "kc/app/rigidity.h"
 #include "kc/core/kernel/interpolator.h"
@@ -38,7 +39,7 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
   std::vector<Index> rows(rowsIn.begin(), rowsIn.end());
   const bool lines = !s.structure.lines.empty() || s.params.kc.linearEdges;
   if (!s.structure.lines.empty()) {  // the lines' neighbourhoods start again from the optimizer's weights, as at the bind
-    const std::vector<Index> near = lineNeighbourhoodRows(s);
+    const std::vector<Index> near = lineNeighbourhoodRows(s.cage, s.structure.lines, s.samples.X, s.sigma);
     rows.insert(rows.end(), near.begin(), near.end());
     std::sort(rows.begin(), rows.end());
     rows.erase(std::unique(rows.begin(), rows.end()), rows.end());

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "cli_run.h"
+#include "kc/app/backend.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/line_metrics.h"
@@ -226,7 +227,30 @@ TEST(StructureLines, BadStructureFilesNameTheEntry) {
   BindParams lbc;
   lbc.backend = "lbc";
   Structure st = structureFromJson(R"({"version": 1, "lines": [{"points": [[110, 160], [210, 165]]}]})", "s.json");
-  EXPECT_THROW(bind(cage, st, 320, 320, lbc), InputError);
+  try {
+    bind(cage, st, 320, 320, lbc);
+    ADD_FAILURE() << "LBC bound lines";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lines are not supported by the 'lbc' backend (use --backend kc)"), std::string::npos) << e.what();
+  }
+}
+
+TEST(StructureLines, CapabilitiesForLinesAndRigidRegionsAreSeparate) {
+  Structure st;
+  st.lines = {{{0, 0}, {10, 0}}};
+  st.rigid = {RigidRegion{}};
+  BackendCapabilities caps;
+  EXPECT_EQ(unsupportedStructure(st, caps), "lines and rigid regions");
+  caps.lines = true;
+  EXPECT_EQ(unsupportedStructure(st, caps), "rigid regions");
+  caps = {};
+  caps.rigidity = true;
+  EXPECT_EQ(unsupportedStructure(st, caps), "lines");
+  caps.lines = true;
+  EXPECT_EQ(unsupportedStructure(st, caps), "");
+  EXPECT_EQ(unsupportedStructure(Structure{}, BackendCapabilities{}), "");
+  EXPECT_TRUE(backendFor("kc").capabilities().lines && backendFor("kc").capabilities().rigidity);
+  EXPECT_FALSE(backendFor("lbc").capabilities().lines || backendFor("lbc").capabilities().rigidity);
 }
 
 }  // namespace

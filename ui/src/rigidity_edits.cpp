@@ -77,7 +77,7 @@ bool anyRigid(const std::vector<double>& rho) {
 
 std::string rigidityProblem(const AppState& state) {
   const app::BackendCapabilities caps = shownCapabilities(state);
-  if (!caps.lines)
+  if (!caps.rigidity)
     return "rigid regions are kept by KC weights only (choose KC in the Bind panel and bind again)" +
            (caps.why.empty() ? std::string() : ": " + caps.why);
   if (!state.bound) return "bind a cage first: the brush paints the samples of a bound picture";

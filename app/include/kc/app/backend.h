@@ -44,7 +44,8 @@ struct BackendCapabilities {
   bool methods = false;      ///< The per-sample optimization method can be switched after a bind.
   bool painting = false;     ///< The brush paints targets and re-optimizes the painted samples.
   bool outsideCage = false;  ///< The field has weights outside the cage (`--outside deform`).
-  bool lines = false;        ///< Structures: lines kept straight and parallel, rigid regions (`--structure`, thesis 5.3–5.4).
+  bool lines = false;        ///< Structure lines kept straight and parallel (`--structure` "lines", thesis 5.3).
+  bool rigidity = false;     ///< Rigid regions (`--structure` "rigid", the rigidity brush; thesis 5.4).
   std::string why;           ///< Why the missing capabilities are missing (tooltip text).
 };
 
@@ -75,5 +76,8 @@ std::vector<std::string_view> backendNames();
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
 /// weights.initial → no targets, painting or method switches).
 BackendCapabilities sessionCapabilities(const Session& s);
+/// What of `structure` a backend with `caps` cannot keep: "lines", "rigid regions", "lines and rigid
+/// regions", or "" when it keeps all of it.
+std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps);
 
 }  // namespace kc::app
