@@ -162,22 +162,11 @@ static std::shared_ptr<const SizingField> sizingFromJson(const json& block, doub
   }
 }
 
-Session sessionFromJson(const std::string& text, const std::string& where) {
-  const json j = detail::parseJson(text, where);
-  detail::checkVersion(j, where);
-  Session s;
-  s.cage = detail::parseCage(detail::require(j, "cage", where), where, "cage");
-  const Index m = s.cage.size();
+namespace {
 
-  if (j.contains("image_size")) {
-    const json& sz = j["image_size"];
-    if (!sz.is_array() || sz.size() != 2) throw InputError(where, "image_size must be [width, height] in whole pixels");
-    s.imageWidth = static_cast<int>(detail::integerInRange(sz[0], 1, kMaxImageSide, where, "image_size[0]"));
-    s.imageHeight = static_cast<int>(detail::integerInRange(sz[1], 1, kMaxImageSide, where, "image_size[1]"));
-    checkImageSize(s.imageWidth, s.imageHeight, where, "image_size");
-  }
-
-  const json& params = detail::require(j, "params", where);
+/// The session's `params` block into s.params, with σ (s.sigma) and the LBC mesh spacing
+/// (s.lbcMeshSpacing); absent keys take the meaning they had before the key existed.
+void paramsFromJson(const json& params, Session& s, const std::string& where) {
   if (!params.is_object()) throw InputError(where, "params must be an object");
   BindParams& p = s.params;
   p.spacing = detail::boundedNumber(detail::require(params, "spacing", where), kMaxCoordinate, where, "params.spacing");
@@ -248,7 +237,12 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     if (!params["seed"].is_number_unsigned()) throw InputError(where, "params.seed must be a whole number ≥ 0");
     p.seed = params["seed"].get<std::uint64_t>();
   }
+}
 
+/// The samples (points, kinds, edge ends), the structure lines with their samples, the rigid
+/// regions and ρ; checks them against the cage (s.cage).
+void samplesFromJson(const json& j, Session& s, const std::string& where) {
+  const Index m = s.cage.size();
   const json& samples = detail::require(j, "samples", where);
   if (const json& pts = detail::require(samples, "points", where); pts.is_array() && pts.size() > std::size_t(sampling::kMaxSamples))
     throw InputError(where, "samples.points has " + std::to_string(pts.size()) + " samples, more than kcwarp's limit of " +
@@ -317,6 +311,49 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     if ((s.samples.X.row(i) - s.cage.C.row(i)).norm() > 1e-9 * (1.0 + s.cage.C.row(i).norm()))
       throw InputError(where, "samples.points[" + std::to_string(i) + "] differs from cage point " + std::to_string(i) +
                                   " (the first samples must be the control points)");
+}
+
+/// The field: a self-contained block (mesh) is read as it is, the others rebuilt by the backend.
+void fieldOfSession(const json& j, Session& s, const std::string& where) {
+  const BindParams& p = s.params;
+  const bool kernel = backendFor(p.backend).capabilities().targets;
+  if (j.contains("field")) {
+    const json& kind = detail::require(j["field"], "kind", where);
+    if (kind.is_string() && (kind == "mesh") == kernel)
+      throw InputError(where, "field.kind " + detail::quoted(kind) + " does not match params.backend \"" + p.backend + "\" (its field is " +
+                                  (kernel ? "a kernel field" : "a mesh") + ")");
+  }
+  const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
+  if (!built) {
+    if (s.sigma > 0) checkFieldCost(s, where);  // a kernel field is rebuilt from the samples
+    try {
+      refreshField(s);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, e.what());
+    }
+  }
+}
+
+}  // namespace
+
+Session sessionFromJson(const std::string& text, const std::string& where) {
+  const json j = detail::parseJson(text, where);
+  detail::checkVersion(j, where);
+  Session s;
+  s.cage = detail::parseCage(detail::require(j, "cage", where), where, "cage");
+  const Index m = s.cage.size();
+
+  if (j.contains("image_size")) {
+    const json& sz = j["image_size"];
+    if (!sz.is_array() || sz.size() != 2) throw InputError(where, "image_size must be [width, height] in whole pixels");
+    s.imageWidth = static_cast<int>(detail::integerInRange(sz[0], 1, kMaxImageSide, where, "image_size[0]"));
+    s.imageHeight = static_cast<int>(detail::integerInRange(sz[1], 1, kMaxImageSide, where, "image_size[1]"));
+    checkImageSize(s.imageWidth, s.imageHeight, where, "image_size");
+  }
+
+  paramsFromJson(detail::require(j, "params", where), s, where);
+  samplesFromJson(j, s, where);
+  const Index n = s.samples.size();
 
   const json& weights = detail::require(j, "weights", where);
   if (!weights.is_object()) throw InputError(where, "weights must be an object");
@@ -341,23 +378,8 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     s.timings = {get("sampling"), get("assemble"), get("factor"), get("init"), get("optimize"), get("solve"), get("total")};
   }
   if (j.contains("reports")) s.reports = detail::reportsFromJson(j["reports"]);
-  if (j.contains("sizing") && !j["sizing"].is_null()) s.sizing = sizingFromJson(j["sizing"], p.spacing, where);
-  // The field: self-contained blocks (mesh) are read as they are, the others rebuilt by the backend.
-  if (j.contains("field")) {
-    const json& kind = detail::require(j["field"], "kind", where);
-    if (kind.is_string() && (kind == "mesh") == kernel)
-      throw InputError(where, "field.kind " + detail::quoted(kind) + " does not match params.backend \"" + p.backend + "\" (its field is " +
-                                  (kernel ? "a kernel field" : "a mesh") + ")");
-  }
-  const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
-  if (!built) {
-    if (s.sigma > 0) checkFieldCost(s, where);  // a kernel field is rebuilt from the samples
-    try {
-      refreshField(s);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(where, e.what());
-    }
-  }
+  if (j.contains("sizing") && !j["sizing"].is_null()) s.sizing = sizingFromJson(j["sizing"], s.params.spacing, where);
+  fieldOfSession(j, s, where);
   return s;
 }
 

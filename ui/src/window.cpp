@@ -108,13 +108,13 @@ double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_cl
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
-}  // namespace
-
-int runWindow(const WindowOptions& o) {
+/// GLFW with an OpenGL 3.3 core window and ImGui on it; nullptr (after a message on stderr, GLFW
+/// terminated) when either cannot start.
+GLFWwindow* openWindow(const WindowOptions& o) {
   glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "kcwarp: GLFW error %d: %s\n", code, text); });
   if (!glfwInit()) {
     std::fprintf(stderr, "kcwarp: cannot initialize GLFW (is DISPLAY set? try kcwarp-cli for headless use)\n");
-    return 1;
+    return nullptr;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
@@ -124,7 +124,7 @@ int runWindow(const WindowOptions& o) {
   if (!window) {
     std::fprintf(stderr, "kcwarp: cannot open an OpenGL 3.3 window\n");
     glfwTerminate();
-    return 1;
+    return nullptr;
   }
   glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
@@ -134,6 +134,126 @@ int runWindow(const WindowOptions& o) {
   applyStyle();
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330");
+  return window;
+}
+
+/// ImGui and GLFW shut down, the window destroyed.
+void closeWindow(GLFWwindow* window) {
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+}
+
+/// The window's input callbacks for `state`, installed after ImGui's backend installed its own:
+/// keys are forwarded to ImGui and their presses kept for handleShortcuts (AppState::tappedKeys);
+/// mouse buttons and moves are forwarded and queued in order with their positions for the canvas
+/// (AppState::pointerInputs); dropped files are kept (AppState::droppedPaths).
+void installInputCallbacks(GLFWwindow* window, AppState& state) {
+  glfwSetWindowUserPointer(window, &state);
+  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
+    ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
+    if (action == GLFW_PRESS) static_cast<AppState*>(glfwGetWindowUserPointer(w))->tappedKeys.emplace_back(key, mods);
+  });
+  state.pointerQueued = true;
+  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+    ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    if (button > 2 || action == GLFW_REPEAT) return;
+    if (!st->pointerAt) {  // no move seen yet: where the pointer is now
+      double x = 0.0, y = 0.0;
+      glfwGetCursorPos(w, &x, &y);
+      st->pointerAt = Vec2(x, y);
+    }
+    st->pointerInputs.push_back({action == GLFW_PRESS ? PointerInput::Kind::Press : PointerInput::Kind::Release, button,
+                                 *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
+  });
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    st->pointerAt = Vec2(x, y);
+    st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
+  });
+  glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
+  });
+}
+
+/// ImGui's own callbacks back, the state detached (before the state goes).
+void removeInputCallbacks(GLFWwindow* window) {
+  glfwSetDropCallback(window, nullptr);
+  glfwSetKeyCallback(window, ImGui_ImplGlfw_KeyCallback);
+  glfwSetMouseButtonCallback(window, ImGui_ImplGlfw_MouseButtonCallback);
+  glfwSetCursorPosCallback(window, nullptr);
+  glfwSetWindowUserPointer(window, nullptr);
+}
+
+/// When the loop draws the next frame. Display rate while dragging or for a few frames after an
+/// event (ImGui settles hover and popups over two or three frames); a running job gets a few
+/// progress redraws per second once it has run kQuietJobSeconds (before that, only input or its
+/// end wakes the loop); otherwise sleep until input arrives (no redraw while nothing changes). A
+/// timeout wakes the loop only for a blinking text cursor and for the next autosave of unsaved work.
+struct FramePacing {
+  int settleFrames = 3;
+  bool wasBusy = false;
+  double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
+
+  /// Polls or waits for events as above. `waitsForever`: a signal can wake a wait without timeout.
+  void waitForEvents(const AppState& state, bool waitsForever) {
+    const bool busy = state.worker.busy();
+    if (busy && !wasBusy) jobSince = nowSeconds();
+    wasBusy = busy;
+    const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
+    if (state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
+      glfwPollEvents();
+      // A drag's end gets its settle frames too: the release's full deform may post a message
+      // (a fold) after the status bar was drawn.
+      settleFrames = state.canvasDrag.button >= 0 ? 3 : settleFrames - 1;
+      return;
+    }
+    if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
+    else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
+    else if (state.unsaved) glfwWaitEventsTimeout(std::max(1.0, state.lastAutosave + kAutosaveSeconds - nowSeconds()));
+    else if (waitsForever) glfwWaitEvents();
+    else glfwWaitEventsTimeout(1.0);
+    settleFrames = 3;
+  }
+};
+
+/// The --ready-file: the app's state (stateJson) rewritten atomically whenever it changes, from the
+/// first idle frame with a picture on.
+struct StateFile {
+  std::string path, last;
+  bool written = false;
+
+  void update(GLFWwindow* window, const AppState& state, int screenshots) {
+    if (path.empty() || !(written || (!state.worker.busy() && !state.source.empty()))) return;
+    int win[4];
+    glfwGetWindowPos(window, &win[0], &win[1]);
+    glfwGetWindowSize(window, &win[2], &win[3]);
+    const std::string text = stateJson(state, win, screenshots, state.exportCount);
+    if (text != last && writeAtomically(path, text)) {
+      last = text;
+      written = true;
+    }
+  }
+};
+
+/// F12 with --screenshot-dir: the framebuffer to shot-NNN.png there; `screenshots` counts them.
+void saveScreenshotOnF12(const std::string& dir, int fbw, int fbh, int& screenshots) {
+  if (dir.empty() || !ImGui::IsKeyPressed(GLFW_KEY_F12, false)) return;
+  char name[64];
+  std::snprintf(name, sizeof name, "shot-%03d.png", ++screenshots);
+  std::filesystem::create_directories(dir);
+  if (!saveScreenshot((std::filesystem::path(dir) / name).string(), fbw, fbh)) --screenshots;
+}
+
+}  // namespace
+
+int runWindow(const WindowOptions& o) {
+  GLFWwindow* window = openWindow(o);
+  if (!window) return 1;
   std::signal(SIGTERM, onSignal);
   std::signal(SIGINT, onSignal);
 
@@ -148,36 +268,7 @@ int runWindow(const WindowOptions& o) {
     state->nativeDialogs = true;
     state->recentFilesPath = defaultRecentFilesPath();
     state->recentFiles = loadRecentFiles(state->recentFilesPath);
-    glfwSetWindowUserPointer(window, state.get());
-    // After ImGui's backend installed its callbacks: this one forwards to it and also keeps the
-    // presses for handleShortcuts (AppState::tappedKeys).
-    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
-      ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
-      if (action == GLFW_PRESS) static_cast<AppState*>(glfwGetWindowUserPointer(w))->tappedKeys.emplace_back(key, mods);
-    });
-    // Mouse buttons and moves, in order with their positions, for the canvas (AppState::pointerInputs).
-    state->pointerQueued = true;
-    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
-      ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
-      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
-      if (button > 2 || action == GLFW_REPEAT) return;
-      if (!st->pointerAt) {  // no move seen yet: where the pointer is now
-        double x = 0.0, y = 0.0;
-        glfwGetCursorPos(w, &x, &y);
-        st->pointerAt = Vec2(x, y);
-      }
-      st->pointerInputs.push_back({action == GLFW_PRESS ? PointerInput::Kind::Press : PointerInput::Kind::Release, button,
-                                   *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
-    });
-    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
-      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
-      st->pointerAt = Vec2(x, y);
-      st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
-    });
-    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
-      auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
-      for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
-    });
+    installInputCallbacks(window, *state);
     state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
     state->exportPath = o.exportPath;
     state->lastAutosave = nowSeconds();
@@ -188,37 +279,14 @@ int runWindow(const WindowOptions& o) {
                   false);
 
     FrameLog frameLog;
-    std::string title, lastState;
+    FramePacing pacing;
+    StateFile stateFile{o.readyFile};
+    std::string title;
     int screenshots = 0;
-    bool readyWritten = false;
-    int settleFrames = 3;
-    bool wasBusy = false;
-    double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
     auto previous = std::chrono::steady_clock::now();
     const auto start = previous;
     while (!state->quitConfirmed && !g_terminate) {
-      // Display rate while dragging or for a few frames after an event (ImGui settles hover and
-      // popups over two or three frames); a running job gets a few progress redraws per second
-      // once it has run kQuietJobSeconds (before that, only input or its end wakes the loop);
-      // otherwise sleep until input arrives (no redraw while nothing changes). A timeout wakes
-      // the loop only for a blinking text cursor and for the next autosave of unsaved work.
-      const bool busy = state->worker.busy();
-      if (busy && !wasBusy) jobSince = nowSeconds();
-      wasBusy = busy;
-      const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
-      if (state->canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
-        glfwPollEvents();
-        // A drag's end gets its settle frames too: the release's full deform may post a message
-        // (a fold) after the status bar was drawn.
-        settleFrames = state->canvasDrag.button >= 0 ? 3 : settleFrames - 1;
-      } else {
-        if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
-        else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
-        else if (state->unsaved) glfwWaitEventsTimeout(std::max(1.0, state->lastAutosave + kAutosaveSeconds - nowSeconds()));
-        else if (waker.waitsForever()) glfwWaitEvents();
-        else glfwWaitEventsTimeout(1.0);
-        settleFrames = 3;
-      }
+      pacing.waitForEvents(*state, waker.waitsForever());
       if (glfwWindowShouldClose(window)) {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
         state->quitRequested = true;
@@ -240,14 +308,9 @@ int runWindow(const WindowOptions& o) {
       const ImVec2 display = ImGui::GetIO().DisplaySize;
       state->frameWanted = false;
       renderer.draw(*state, fbw, fbh, display.x, display.y);
-      if (state->frameWanted) settleFrames = std::max(settleFrames, 1);  // e.g. the detail texture, once the view is still
+      if (state->frameWanted) pacing.settleFrames = std::max(pacing.settleFrames, 1);  // e.g. the detail texture, once the view is still
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-      if (ImGui::IsKeyPressed(GLFW_KEY_F12, false) && !o.screenshotDir.empty()) {
-        char name[64];
-        std::snprintf(name, sizeof name, "shot-%03d.png", ++screenshots);
-        std::filesystem::create_directories(o.screenshotDir);
-        if (!saveScreenshot((std::filesystem::path(o.screenshotDir) / name).string(), fbw, fbh)) --screenshots;
-      }
+      saveScreenshotOnF12(o.screenshotDir, fbw, fbh, screenshots);
       if (o.slowFramesMs > 0) std::this_thread::sleep_until(t0 + std::chrono::milliseconds(o.slowFramesMs));
       const auto tSubmitted = std::chrono::steady_clock::now();
       glfwSwapBuffers(window);  // a software renderer draws here
@@ -267,33 +330,16 @@ int runWindow(const WindowOptions& o) {
 
       if (const std::string t = windowTitle(*state); t != title) glfwSetWindowTitle(window, (title = t).c_str());
       maybeAutosave(*state, nowSeconds());
-      if (!o.readyFile.empty() && (readyWritten || (!state->worker.busy() && !state->source.empty()))) {
-        int win[4];
-        glfwGetWindowPos(window, &win[0], &win[1]);
-        glfwGetWindowSize(window, &win[2], &win[3]);
-        const std::string text = stateJson(*state, win, screenshots, state->exportCount);
-        if (text != lastState && writeAtomically(o.readyFile, text)) {
-          lastState = text;
-          readyWritten = true;
-        }
-      }
+      stateFile.update(window, *state, screenshots);
     }
     if (!o.frameLog.empty()) frameLog.write(o.frameLog);
     if (state->quitConfirmed) discardRecoveryCopy(*state);  // a crash or a signal keeps it
     state->worker.cancel();
     pollWorker(*state);
     glfwHideWindow(window);  // the window goes at once; an abandoned bind may still end its solver call
-    glfwSetDropCallback(window, nullptr);
-    glfwSetKeyCallback(window, ImGui_ImplGlfw_KeyCallback);
-    glfwSetMouseButtonCallback(window, ImGui_ImplGlfw_MouseButtonCallback);
-    glfwSetCursorPosCallback(window, nullptr);
-    glfwSetWindowUserPointer(window, nullptr);
+    removeInputCallbacks(window);
   }
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
-  glfwDestroyWindow(window);
-  glfwTerminate();
+  closeWindow(window);
   return exitCode;
 }
 
