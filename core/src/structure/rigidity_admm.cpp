@@ -16,6 +16,46 @@ constexpr int kMemory = 5;
 
 double maxAbs(const Eigen::MatrixXd& M) { return M.size() > 0 ? M.cwiseAbs().maxCoeff() : 0.0; }
 
+/// Anderson acceleration (type II; Walker & Ni 2011) of a fixed-point iteration z ← T(z) in R^size:
+/// from the last kMemory differences of the residuals f = T(z) − z and of the values g = T(z),
+/// the next point g − ΔG γ with γ = argmin ‖f − ΔF γ‖.
+class Anderson {
+ public:
+  explicit Anderson(Index size) : m_dF(size, kMemory), m_dG(size, kMemory) {}
+
+  /// Drops the stored differences (an extrapolated point was rejected).
+  void forget() { m_stored = 0; }
+  /// Drops the stored differences and the last residual (the map itself changed).
+  void restart() {
+    m_stored = 0;
+    m_fPrev.resize(0);
+  }
+  /// Records the residual f and value g of the last point; returns the next point and sets
+  /// `extrapolated` (false: the plain step, z = g).
+  Eigen::VectorXd next(const Eigen::VectorXd& f, const Eigen::VectorXd& g, bool& extrapolated) {
+    if (m_fPrev.size() == f.size()) {
+      m_dF.col(m_next) = f - m_fPrev;
+      m_dG.col(m_next) = g - m_gPrev;
+      m_next = (m_next + 1) % kMemory;
+      m_stored = std::min(m_stored + 1, kMemory);
+    }
+    m_fPrev = f;
+    m_gPrev = g;
+    extrapolated = m_stored > 0;
+    if (!extrapolated) return g;
+    const auto F = m_dF.leftCols(m_stored), G = m_dG.leftCols(m_stored);
+    Eigen::MatrixXd normal = F.transpose() * F;
+    normal.diagonal().array() += 1e-10 * std::max(normal.diagonal().maxCoeff(), 1e-300);
+    const Eigen::VectorXd gamma = normal.ldlt().solve(F.transpose() * f);
+    return g - G * gamma;
+  }
+
+ private:
+  Eigen::MatrixXd m_dF, m_dG;
+  Eigen::VectorXd m_fPrev, m_gPrev;
+  int m_stored = 0, m_next = 0;
+};
+
 }  // namespace
 
 RowPolytope::RowPolytope(const RowMatrix& Z) {
@@ -197,16 +237,13 @@ RowMatrix solveSplitting(const RigidityQp& qp, const RigidityQpOptions& options,
   const double gScale = std::max(maxAbs(GZ2), 1e-300);
   const double alpha = options.relaxation;
   // The iteration is a map (S, U) → (S⁺, U⁺) = T(S, U); it is accelerated by Anderson's method
-  // (type II, memory kMemory; Walker & Ni 2011) with a safeguard: an extrapolated
-  // point whose fixed-point residual ‖T(z) − z‖ exceeds the last accepted one is dropped for the
-  // plain step, and the memory starts again.
+  // with a safeguard: an extrapolated point whose fixed-point residual ‖T(z) − z‖ exceeds the last
+  // accepted one is dropped for the plain step, and the memory starts again.
   const Index N = c * m;
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * N), g(2 * N), f(2 * N), fPrev, gPrev, gAccepted;
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(2 * N), g(2 * N), f(2 * N), gAccepted;
   Eigen::MatrixXd X(c, m), V(c, m), Y, dual;
   Eigen::MatrixXd nu = Eigen::MatrixXd::Zero(c, 3);
-  const int memory = kMemory;
-  Eigen::MatrixXd dF(2 * N, std::max(memory, 1)), dG(2 * N, std::max(memory, 1));
-  int stored = 0, next = 0;
+  Anderson anderson(2 * N);
   bool extrapolated = false;
   double fAccepted = std::numeric_limits<double>::infinity();
   const int maxIt = std::max(options.splittingIterations, 1);
@@ -243,7 +280,7 @@ RowMatrix solveSplitting(const RigidityQp& qp, const RigidityQpOptions& options,
     }
     if (extrapolated && !(fn <= fAccepted)) {  // the safeguard: back to the plain step from the last accepted point
       z = gAccepted;
-      stored = 0;
+      anderson.forget();
       extrapolated = false;
       continue;
     }
@@ -261,34 +298,15 @@ RowMatrix solveSplitting(const RigidityQp& qp, const RigidityQpOptions& options,
           break;
         }
         z = g;
-        stored = 0;
+        anderson.restart();
         extrapolated = false;
         fAccepted = std::numeric_limits<double>::infinity();
-        fPrev.resize(0);
         continue;
       }
     }
-    if (memory > 0 && fPrev.size() == f.size()) {
-      dF.col(next) = f - fPrev;
-      dG.col(next) = g - gPrev;
-      next = (next + 1) % memory;
-      stored = std::min(stored + 1, memory);
-    }
-    fPrev = f;
-    gPrev = g;
     gAccepted = g;
     fAccepted = fn;
-    if (stored > 0) {  // γ = argmin ‖f − ΔF γ‖, z = g − ΔG γ
-      const auto F = dF.leftCols(stored), G2 = dG.leftCols(stored);
-      Eigen::MatrixXd normal = F.transpose() * F;
-      normal.diagonal().array() += 1e-10 * std::max(normal.diagonal().maxCoeff(), 1e-300);
-      const Eigen::VectorXd gamma = normal.ldlt().solve(F.transpose() * f);
-      z = g - G2 * gamma;
-      extrapolated = true;
-    } else {
-      z = g;
-      extrapolated = false;
-    }
+    z = anderson.next(f, g, extrapolated);
   }
   rep.penalty = mu;
   const RowMatrix dU = Y * qp.Z.transpose();

@@ -91,6 +91,107 @@ bool solveSteadyState(const SparseRowMatrix& R, const Eigen::VectorXd& D, const 
   return true;
 }
 
+/// Rows fixed before the diffusion, marked in `known`: controls e_i (3.18, 4.11) and, in
+/// HeatLinear, edge samples linear along their edge (4.7).
+void fixKnownRows(const SampleSet& S, const Points& C, InitMethod method, Weights& W, std::vector<char>& known) {
+  const Index m = C.rows(), n = S.size();
+  for (Index i = 0; i < m; ++i) {
+    W(i, i) = 1.0;
+    known[static_cast<std::size_t>(i)] = 1;
+  }
+  if (method != InitMethod::HeatLinear) return;
+  for (Index j = m; j < n; ++j) {
+    if (S.kind[static_cast<std::size_t>(j)] != SampleKind::Edge) continue;
+    const int k = S.edge(j, 0), l = S.edge(j, 1);
+    const Vec2 ck = C.row(k), cl = C.row(l), x = S.X.row(j);
+    const double wk = std::clamp((x - cl).dot(ck - cl) / (ck - cl).squaredNorm(), 0.0, 1.0);
+    W(j, k) = wk;
+    W(j, l) = 1.0 - wk;
+    known[static_cast<std::size_t>(j)] = 1;
+  }
+}
+
+/// Screening μ for the locality length ℓ > 0. A step of the walk P = D⁻¹R moves heat by
+/// s² = E|x_j − x_i|²; its generator is (s²/4)Δ, so absorbing μ per step gives (s²/4)Δw = μw:
+/// decay exp(−d/ℓ) with ℓ = s / (2√μ), i.e. μ = s² / (4ℓ²).
+double screeningFor(const SparseRowMatrix& R, const Eigen::VectorXd& D, const Points& X, double locality) {
+  const Index n = X.rows();
+  double s2 = 0.0;
+  for (Index i = 0; i < n; ++i)
+    for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) s2 += e.value() / D(i) * (X.row(e.col()) - X.row(i)).squaredNorm();
+  s2 /= static_cast<double>(n);
+  return s2 / (4.0 * locality * locality);
+}
+
+/// The diffusion of the unknown rows of W, one stage of samples at a time.
+struct Diffusion {
+  const SparseRowMatrix& R;  // the operator P = D⁻¹R
+  const Eigen::VectorXd& D;
+  const Points& C;
+  const Points& X;
+  double p;  // inverse-distance power of the fallback
+  Weights& W;
+  std::vector<char>& known;
+  InitReport& rep;
+
+  /// Row i normalized inverse distance (4.10), for samples heat cannot reach.
+  void fallback(Index i) {
+    inverseDistanceRow(C, X.row(i).transpose(), p, W.row(i));
+    W.row(i) /= W.row(i).sum();
+    known[static_cast<std::size_t>(i)] = 1;
+    ++rep.fallbackSamples;
+  }
+
+  /// One stage's rows: those with no path to a known sample fall back; with iterations = 0 the
+  /// others take the steady state screened by μ (rows the screening drove to nothing — heat
+  /// underflowed on the way — the unscreened one), else they are appended to `active` for the
+  /// iteration.
+  void stage(const std::vector<Index>& rows, double mu, int iterations, std::vector<Index>& active) {
+    std::vector<char> isUnknown(static_cast<std::size_t>(X.rows()), 0);
+    for (Index i : rows) isUnknown[static_cast<std::size_t>(i)] = 1;
+    const std::vector<char> reach = reachableFromKnown(R, rows, isUnknown);
+    std::vector<Index> solvable;
+    for (Index i : rows) {
+      if (reach[static_cast<std::size_t>(i)])
+        solvable.push_back(i);
+      else
+        fallback(i);
+    }
+    if (iterations > 0) {
+      active.insert(active.end(), solvable.begin(), solvable.end());
+      return;
+    }
+    std::vector<Index> vanished;
+    const bool solved = solveSteadyState(R, D, solvable, mu, W, &vanished);
+    if (solved && vanished.empty()) return;
+    Weights unscreened = W;
+    const std::vector<Index>& retry = solved ? vanished : solvable;
+    if (solveSteadyState(R, D, solvable, 0.0, unscreened)) {  // diagonally dominant: does not fail
+      for (Index i : retry) W.row(i) = unscreened.row(i);
+    } else {
+      for (Index i : retry) fallback(i);
+    }
+    if (mu > 0.0) rep.unscreenedSamples += static_cast<Index>(retry.size());
+  }
+};
+
+/// (4.12)/(4.13): `iterations` sweeps W_F ← (P W)_F over the rows F = `active`, the others
+/// unchanged; each row written by one task.
+void iterateDiffusion(const SparseRowMatrix& R, const Eigen::VectorXd& D, std::vector<Index> active, int iterations, Weights& W) {
+  std::sort(active.begin(), active.end());
+  Weights next = W;
+  for (int it = 0; it < iterations; ++it) {
+    parallelFor(static_cast<Index>(active.size()), [&](Index f) {
+      const Index i = active[static_cast<std::size_t>(f)];
+      auto row = next.row(i);
+      row.setZero();
+      for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) row.noalias() += e.value() * W.row(e.col());
+      row /= D(i);
+    }, /*grain=*/512);  // few, large tasks: one parallel region per sweep
+    W.swap(next);  // rows not in `active` are equal in both buffers
+  }
+}
+
 }  // namespace
 
 double automaticLocality(const Points& C) {
@@ -118,23 +219,8 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
 
   Weights W = Weights::Zero(n, m);
   InitReport rep;
-  // Fixed rows: controls e_i (3.18, 4.11); in HeatLinear also edge samples, linear (4.7).
   std::vector<char> known(static_cast<std::size_t>(n), 0);
-  for (Index i = 0; i < m; ++i) {
-    W(i, i) = 1.0;
-    known[static_cast<std::size_t>(i)] = 1;
-  }
-  if (options.method == InitMethod::HeatLinear) {
-    for (Index j = m; j < n; ++j) {
-      if (S.kind[static_cast<std::size_t>(j)] != SampleKind::Edge) continue;
-      const int k = S.edge(j, 0), l = S.edge(j, 1);
-      const Vec2 ck = C.row(k), cl = C.row(l), x = X.row(j);
-      const double wk = std::clamp((x - cl).dot(ck - cl) / (ck - cl).squaredNorm(), 0.0, 1.0);
-      W(j, k) = wk;
-      W(j, l) = 1.0 - wk;
-      known[static_cast<std::size_t>(j)] = 1;
-    }
-  }
+  fixKnownRows(S, C, options.method, W, known);
 
   if (options.method == InitMethod::InverseDistance) {
     parallelFor(n - m, [&](Index r) { inverseDistanceRow(C, X.row(m + r).transpose(), p, W.row(m + r)); });
@@ -146,24 +232,8 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   // Diffusion operator P = D⁻¹R, R = K restricted to the shape (rows normalized to sum 1).
   const SparseRowMatrix R = diffusionOperator(S, cage, K);
   const Eigen::VectorXd D = R * Eigen::VectorXd::Ones(n);
-  // Screening μ for the locality length ℓ. A step of the walk P moves heat by s² = E|x_j − x_i|²;
-  // its generator is (s²/4)Δ, so absorbing μ per step gives (s²/4)Δw = μw: decay exp(−d/ℓ) with
-  // ℓ = s / (2√μ), i.e. μ = s² / (4ℓ²).
-  double mu = 0.0;
   const double locality = options.locality >= 0.0 ? options.locality : automaticLocality(C);
-  if (locality > 0.0 && options.method == InitMethod::HeatLinear) {
-    double s2 = 0.0;
-    for (Index i = 0; i < n; ++i)
-      for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) s2 += e.value() / D(i) * (X.row(e.col()) - X.row(i)).squaredNorm();
-    s2 /= static_cast<double>(n);
-    mu = s2 / (4.0 * locality * locality);
-  }
-  auto fallback = [&](Index i) {  // normalized (4.10) for samples heat cannot reach
-    inverseDistanceRow(C, X.row(i).transpose(), p, W.row(i));
-    W.row(i) /= W.row(i).sum();
-    known[static_cast<std::size_t>(i)] = 1;
-    ++rep.fallbackSamples;
-  };
+  const double mu = locality > 0.0 && options.method == InitMethod::HeatLinear ? screeningFor(R, D, X, locality) : 0.0;
 
   // Two stages: inside/on-cage samples first, then exterior ones (which depend on the former,
   // never the reverse). Each stage's unknowns with no path to a known sample fall back.
@@ -172,37 +242,9 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   for (Index i = 0; i < n; ++i)
     if (!known[static_cast<std::size_t>(i)])
       stages[regionOf(S.kind[static_cast<std::size_t>(i)], closed) == Region::Outside ? 1 : 0].push_back(i);
+  Diffusion diffusion{R, D, C, X, p, W, known, rep};
   std::vector<Index> active;  // rows updated by the iteration
-  for (auto& stage : stages) {
-    std::vector<char> isUnknown(static_cast<std::size_t>(n), 0);
-    for (Index i : stage) isUnknown[static_cast<std::size_t>(i)] = 1;
-    const std::vector<char> reach = reachableFromKnown(R, stage, isUnknown);
-    std::vector<Index> solvable;
-    for (Index i : stage) {
-      if (reach[static_cast<std::size_t>(i)])
-        solvable.push_back(i);
-      else
-        fallback(i);
-    }
-    if (options.iterations == 0) {
-      // Rows the screening drove to nothing (heat underflowed on the way) take the unscreened
-      // steady state; every other row keeps its screened one.
-      std::vector<Index> vanished;
-      const bool solved = solveSteadyState(R, D, solvable, mu, W, &vanished);
-      if (!solved || !vanished.empty()) {
-        Weights unscreened = W;
-        const std::vector<Index>& retry = solved ? vanished : solvable;
-        if (solveSteadyState(R, D, solvable, 0.0, unscreened)) {  // diagonally dominant: does not fail
-          for (Index i : retry) W.row(i) = unscreened.row(i);
-        } else {
-          for (Index i : retry) fallback(i);
-        }
-        if (mu > 0.0) rep.unscreenedSamples += static_cast<Index>(retry.size());
-      }
-    } else {
-      active.insert(active.end(), solvable.begin(), solvable.end());
-    }
-  }
+  for (const auto& stage : stages) diffusion.stage(stage, mu, options.iterations, active);
 
   if (mu > 0.0 && options.iterations == 0) {
     // Screened rows are local but do not reproduce their positions; left so, the per-sample QP's
@@ -217,19 +259,7 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   }
 
   if (options.iterations > 0) {
-    // (4.12)/(4.13): W_F ← (P W)_F, known rows unchanged; each row written by one task.
-    std::sort(active.begin(), active.end());
-    Weights next = W;
-    for (int it = 0; it < options.iterations; ++it) {
-      parallelFor(static_cast<Index>(active.size()), [&](Index f) {
-        const Index i = active[static_cast<std::size_t>(f)];
-        auto row = next.row(i);
-        row.setZero();
-        for (SparseRowMatrix::InnerIterator e(R, i); e; ++e) row.noalias() += e.value() * W.row(e.col());
-        row /= D(i);
-      }, /*grain=*/512);  // few, large tasks: one parallel region per sweep
-      W.swap(next);  // rows not in `active` are equal in both buffers
-    }
+    iterateDiffusion(R, D, std::move(active), options.iterations, W);
     rep.iterations = options.iterations;
   } else {
     rep.steadyState = true;
