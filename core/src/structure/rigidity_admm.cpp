@@ -23,11 +23,12 @@ class Anderson {
  public:
   explicit Anderson(Index size) : m_dF(size, kMemory), m_dG(size, kMemory) {}
 
-  /// Drops the stored differences (an extrapolated point was rejected).
-  void forget() { m_stored = 0; }
+  /// Drops the stored differences (an extrapolated point was rejected). The next ones are stored
+  /// from the first column again: next() reads the first m_stored columns.
+  void forget() { m_stored = m_next = 0; }
   /// Drops the stored differences and the last residual (the map itself changed).
   void restart() {
-    m_stored = 0;
+    forget();
     m_fPrev.resize(0);
   }
   /// Records the residual f and value g of the last point; returns the next point and sets
