@@ -144,6 +144,25 @@ struct LbcSolver::Impl {
   /// simplex method over triangles of controls containing v, a valid bound at every pivot).
   double dualBound(const RowMatrix& U1, double mu) const;
 
+  /// The objective (15) of full weights W (#V×m), in the normalized mesh's units.
+  double objective(const Weights& W) const;
+
+  /// The iteration's start: harmonic coordinates (L_II W_I = −L_IB W_B) projected to the affine
+  /// set when `harmonic`, else H (Y = 0). n×m interior rows.
+  RowMatrix startingIterate(bool harmonic) const;
+
+  /// Final weights from the affine iterate Z (interior rows): the Dirichlet rows, then Z, its
+  /// rows with a negative entry replaced by the per-vertex QP's when `projectNonNegative` (thesis
+  /// 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1).
+  struct FinalWeights {
+    Weights W;
+    Index projected = 0, failures = 0;  // rows the QP changed; rows where it was not optimal
+    double maxProjection = 0.0;         // the largest change of a weight
+  };
+  FinalWeights finalWeights(const RowMatrix& Z, bool projectNonNegative) const;
+
+  struct Admm;
+
   /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
   void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
     const auto& t = T[std::size_t(s)];
@@ -299,22 +318,188 @@ LbcSolver::~LbcSolver() = default;
 
 const Weights& LbcSolver::boundaryWeights() const { return m_impl->Wb; }
 
-double LbcSolver::objective(const Weights& W) const {
-  const Impl& d = *m_impl;
-  if (W.rows() != d.nb + d.n || W.cols() != d.m) throw std::invalid_argument("LBC objective: W must be #V×m");
-  std::vector<double> part(std::size_t(d.nt), 0.0);
-  parallelFor(d.nt, [&](Index s) {
-    const auto& t = d.T[std::size_t(s)];
-    const auto& gr = d.g.gradient[std::size_t(s)];
+double LbcSolver::objective(const Weights& W) const { return m_impl->objective(W); }
+
+double LbcSolver::Impl::objective(const Weights& W) const {
+  if (W.rows() != nb + n || W.cols() != m) throw std::invalid_argument("LBC objective: W must be #V×m");
+  std::vector<double> part(std::size_t(nt), 0.0);
+  parallelFor(nt, [&](Index s) {
+    const auto& t = T[std::size_t(s)];
+    const auto& gr = g.gradient[std::size_t(s)];
     double e = 0.0;
-    for (Index i = 0; i < d.m; ++i) {
+    for (Index i = 0; i < m; ++i) {
       const Vec2 grad = gr[0] * W(t[0], i) + gr[1] * W(t[1], i) + gr[2] * W(t[2], i);
-      e += d.phi(s, i) * grad.norm();
+      e += phi(s, i) * grad.norm();
     }
-    part[std::size_t(s)] = d.g.area[std::size_t(s)] * e;
+    part[std::size_t(s)] = g.area[std::size_t(s)] * e;
   }, 256);
   return sum(part);
 }
+
+RowMatrix LbcSolver::Impl::startingIterate(bool harmonic) const {
+  RowMatrix Z = H;
+  if (harmonic && n > 0 && r > 0) {
+    RowMatrix start = -(Lib * Wb);
+    laplace.solveInPlace(start);
+    parallelForRange(n, 64, [&](Index begin, Index end) {
+      for (Index v = begin; v < end; ++v) projectRow(v, &start(v, 0), &Z(v, 0));
+    });
+  }
+  return Z;
+}
+
+LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, bool projectNonNegative) const {
+  FinalWeights out;
+  Weights& W = out.W;
+  W.resize(nb + n, m);
+  W.topRows(nb) = Wb;
+  W.bottomRows(n) = Z;
+  if (!projectNonNegative || n == 0) return out;
+  const ControlFrame frame(V.topRows(m));
+  std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
+  std::vector<double> moved(std::size_t(n), 0.0);
+  parallelFor(n, [&](Index v) {
+    const Eigen::RowVectorXd target = Z.row(v);
+    if (target.minCoeff() >= 0.0) return;
+    const Vec2 x = V.row(nb + v);
+    const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(target.data(), std::size_t(m)),
+                                     std::span<double>(&W(nb + v, 0), std::size_t(m)));
+    moved[std::size_t(v)] = (W.row(nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
+    changed[std::size_t(v)] = moved[std::size_t(v)] > 0.0;
+    failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
+  }, 64);
+  for (Index v = 0; v < n; ++v) {
+    out.projected += changed[std::size_t(v)];
+    out.failures += failed[std::size_t(v)];
+    out.maxProjection = std::max(out.maxProjection, moved[std::size_t(v)]);
+  }
+  return out;
+}
+
+/// The ADMM iteration of (15) in Douglas–Rachford form. Its state is v = x̃ + U (per triangle
+/// V1 = X̃ + U1, per vertex V2 = W̃ + U2): step 2 is the projection Z = P v onto the affine
+/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z, G = ∇[Wb; Z], U1 and U2 are
+/// kept for the residuals, the certificate and a change of μ; the residuals' per-triangle and
+/// per-vertex shares are kept for the caller's sums.
+struct LbcSolver::Impl::Admm {
+  const Impl& d;
+  const double alpha;  // relaxation
+  double mu;           // penalty
+  RowMatrix Z, G, U1, U2, V1, V2, Qm;
+  std::vector<double> primalT, dualT, primalV, dualV;
+
+  Admm(const Impl& solver, RowMatrix start, double relaxation, double penalty)
+      : d(solver), alpha(relaxation), mu(penalty), Z(std::move(start)), G(d.nt, 2 * d.m),
+        U1(RowMatrix::Zero(d.nt, 2 * d.m)), U2(RowMatrix::Zero(d.n, d.m)), V1(d.nt, 2 * d.m), V2(d.n, d.m), Qm(d.n, d.m),
+        primalT(std::size_t(d.nt)), dualT(primalT), primalV(std::size_t(d.n)), dualV(primalV) {
+    parallelFor(d.nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, d.m)); }, 256);
+  }
+
+  /// Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) and its next V1 = αX + (1 − α)G + U1;
+  /// returns a_s |X − G|² (the primal residual's share).
+  double shrink(Index s) {
+    const Index m = d.m;
+    const double* gs = &G(s, 0);
+    const double* us = &U1(s, 0);
+    const double* phis = &d.phi(s, 0);
+    double* vs = &V1(s, 0);
+    double p = 0.0;
+    for (Index i = 0; i < m; ++i) {
+      const double ax = gs[i] - us[i], ay = gs[m + i] - us[m + i];
+      const double len = std::sqrt(ax * ax + ay * ay), thr = phis[i] / mu;
+      const double f = len > thr ? 1.0 - thr / len : 0.0;
+      const double xx = f * ax, xy = f * ay;
+      vs[i] = alpha * xx + (1.0 - alpha) * gs[i] + us[i];
+      vs[m + i] = alpha * xy + (1.0 - alpha) * gs[m + i] + us[m + i];
+      p += (xx - gs[i]) * (xx - gs[i]) + (xy - gs[m + i]) * (xy - gs[m + i]);
+    }
+    return d.g.area[std::size_t(s)] * p;
+  }
+
+  /// Step 1 of interior vertex v (eq. 31: W = max(0, Z − U2)) and its next V2; returns m_v |W − Z|².
+  double clamp(Index v) {
+    double p = 0.0;
+    for (Index i = 0; i < d.m; ++i) {
+      const double z = Z(v, i), u = U2(v, i), w = std::max(0.0, z - u);
+      V2(v, i) = alpha * w + (1.0 - alpha) * z + u;
+      p += (w - z) * (w - z);
+    }
+    return d.g.vertexMass[std::size_t(d.nb + v)] * p;
+  }
+
+  /// Step 1 everywhere (at the start, and after μ changed).
+  void firstStep() {
+    parallelFor(d.nt, [&](Index s) { primalT[std::size_t(s)] = shrink(s); }, 256);
+    parallelFor(d.n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
+  }
+
+  /// Steps 2 and 3, then the next step 1; `parallel` or in one thread.
+  void iterate(bool parallel) {
+    const Index m = d.m, n = d.n, nt = d.nt;
+    auto grain = [&](Index count, Index g) { return parallel ? g : count; };
+    // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
+    // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
+    // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row.
+    parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
+      for (Index v = begin; v < end; ++v) {
+        const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
+        double* q = &Qm(v, 0);
+        for (Index i = 0; i < m; ++i) q[i] = mass * (V2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
+        for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
+          const auto [s, c] = d.adj[std::size_t(a)];
+          const Vec2 gr = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
+          const double* vs = &V1(s, 0);
+          for (Index i = 0; i < m; ++i) q[i] += gr.x() * vs[i] + gr.y() * vs[m + i];
+        }
+      }
+    });
+    d.system.solveInPlace(Qm, parallel);
+    // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
+    parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
+      std::vector<double> znew(static_cast<std::size_t>(m));
+      for (Index v = begin; v < end; ++v) {
+        d.projectRow(v, &Qm(v, 0), znew.data());
+        double q = 0.0;
+        for (Index i = 0; i < m; ++i) {
+          const double z = znew[std::size_t(i)];
+          U2(v, i) = V2(v, i) - z;
+          q += (z - Z(v, i)) * (z - Z(v, i));
+          Z(v, i) = z;
+        }
+        dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
+        primalV[std::size_t(v)] = clamp(v);
+      }
+    });
+    // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
+    parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
+      std::vector<double> buffer(std::size_t(2 * m));
+      double* nx = buffer.data();
+      double* ny = buffer.data() + m;
+      for (Index s = begin; s < end; ++s) {
+        d.gradientRow(Z, s, nx, ny);
+        double* gs = &G(s, 0);
+        double* us = &U1(s, 0);
+        const double* vs = &V1(s, 0);
+        double q = 0.0;  // (sums in index order; the loops below vectorize)
+        for (Index j = 0; j < 2 * m; ++j) q += (nx[j] - gs[j]) * (nx[j] - gs[j]);  // nx, ny are contiguous like a row of G
+        for (Index j = 0; j < 2 * m; ++j) {
+          us[j] = vs[j] - nx[j];
+          gs[j] = nx[j];
+        }
+        dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
+        primalT[std::size_t(s)] = shrink(s);
+      }
+    });
+  }
+
+  /// Residual balancing: μ ← factor·μ, the scaled multipliers U = λ/μ follow, step 1 is redone.
+  void scalePenalty(double factor) {
+    mu *= factor;
+    U1 /= factor;
+    U2 /= factor;
+    firstStep();
+  }
+};
 
 LbcResult LbcSolver::solve(const LbcOptions& options) const {
   const Impl& d = *m_impl;
@@ -327,171 +512,37 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     rep.status = LbcStatus::Failed;
     return res;
   }
-  const Index m = d.m, n = d.n, nt = d.nt;
-  const double alpha = options.relaxation;
+  Impl::Admm admm(d, d.startingIterate(options.harmonicStart), options.relaxation, options.penalty);
 
-  // Start: harmonic coordinates (L_II W_I = −L_IB W_B) projected to the affine set, or Y = 0.
-  RowMatrix Z = d.H;  // interior rows of the affine iterate Y M + H
-  if (options.harmonicStart && n > 0 && d.r > 0) {
-    RowMatrix harmonic = -(d.Lib * d.Wb);
-    d.laplace.solveInPlace(harmonic);
-    parallelForRange(n, 64, [&](Index begin, Index end) {
-      for (Index v = begin; v < end; ++v) d.projectRow(v, &harmonic(v, 0), &Z(v, 0));
-    });
-  }
-  RowMatrix G(nt, 2 * m);
-  parallelFor(nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, m)); }, 256);
-
-  // Final weights from the affine iterate Z: Dirichlet rows, and Z made non-negative by the
-  // per-vertex QP (thesis 4.1: the nearest w ≥ 0 with the same Cw = x, 1ᵀw = 1); their objective.
-  // Each call keeps in res.W (and the report) whichever has the lower objective: these weights or
-  // the ones already there. The projected iterate's objective does not fall monotonically (where
-  // Z dips below 0 varies over hundreds of iterations; on a person-shaped cage the objective
-  // swings by several tenths of a percent between certificate checks), and any non-negative
-  // barycentric candidate is as good an answer as its objective.
+  // Each call keeps in res.W (and the report) whichever has the lower objective: the final
+  // weights of the iterate Z or the ones already there. The projected iterate's objective does
+  // not fall monotonically (where Z dips below 0 varies over hundreds of iterations; on a
+  // person-shaped cage the objective swings by several tenths of a percent between certificate
+  // checks), and any non-negative barycentric candidate is as good an answer as its objective.
   auto finalize = [&](const RowMatrix& Z) {
-    Weights W(d.nb + n, m);
-    W.topRows(d.nb) = d.Wb;
-    W.bottomRows(n) = Z;
-    Index projected = 0, failures = 0;
-    double maxProjection = 0.0;
-    if (options.projectNonNegative && n > 0) {
-      const ControlFrame frame(d.V.topRows(m));
-      std::vector<unsigned char> changed(std::size_t(n), 0), failed(std::size_t(n), 0);
-      std::vector<double> moved(std::size_t(n), 0.0);
-      parallelFor(n, [&](Index v) {
-        const Eigen::RowVectorXd target = Z.row(v);
-        if (target.minCoeff() >= 0.0) return;
-        const Vec2 x = d.V.row(d.nb + v);
-        const SampleReport qp = sampleQp(frame, frame.normalize(x), std::span<const double>(target.data(), std::size_t(m)),
-                                         std::span<double>(&W(d.nb + v, 0), std::size_t(m)));
-        moved[std::size_t(v)] = (W.row(d.nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
-        changed[std::size_t(v)] = moved[std::size_t(v)] > 0.0;
-        failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
-      }, 64);
-      for (Index v = 0; v < n; ++v) {
-        projected += changed[std::size_t(v)];
-        failures += failed[std::size_t(v)];
-        maxProjection = std::max(maxProjection, moved[std::size_t(v)]);
-      }
-    }
-    const double value = objective(W);
+    Impl::FinalWeights f = d.finalWeights(Z, options.projectNonNegative);
+    const double value = d.objective(f.W);
     if (res.W.size() > 0 && !(value < rep.objective)) return;
-    res.W = std::move(W);
+    res.W = std::move(f.W);
     rep.objective = value;
-    rep.projectedVertices = projected;
-    rep.projectionFailures = failures;
-    rep.maxProjection = maxProjection;
+    rep.projectedVertices = f.projected;
+    rep.projectionFailures = f.failures;
+    rep.maxProjection = f.maxProjection;
   };
   const auto iterStart = std::chrono::steady_clock::now();
-  RowMatrix U1 = RowMatrix::Zero(nt, 2 * m), U2 = RowMatrix::Zero(n, m);
-  double mu = options.penalty;
   bool certified = false;  // rep.lowerBound and res.W are final
-  if (n > 0 && d.r > 0) {
-    // The iteration's state is v = x̃ + U (per triangle V1 = X̃ + U1, per vertex V2 = W̃ + U2):
-    // step 2 is the projection Z = P v onto the affine iterates, U = v − B Z, then step 1 from
-    // B Z − U and the next v (Douglas–Rachford form of ADMM). Z, G = ∇[Wb; Z], U1 and U2 are kept
-    // for the residuals, the certificate and a change of μ.
-    RowMatrix V1(nt, 2 * m), V2(n, m), Qm(n, m);
-    std::vector<double> primalT(static_cast<std::size_t>(nt)), dualT(primalT), primalV(static_cast<std::size_t>(n)), dualV(primalV);
-    const double norm = 1.0 / (double(m) * d.domainArea);
+  if (d.n > 0 && d.r > 0) {
+    const double norm = 1.0 / (double(d.m) * d.domainArea);
     int nextGapCheck = 0;
     rep.status = LbcStatus::NotConverged;
-    // Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) and its next V1 = αX + (1 − α)G + U1;
-    // returns a_s |X − G|² (the primal residual's share).
-    auto shrink = [&](Index s) {
-      const double* gs = &G(s, 0);
-      const double* us = &U1(s, 0);
-      const double* phis = &d.phi(s, 0);
-      double* vs = &V1(s, 0);
-      double p = 0.0;
-      for (Index i = 0; i < m; ++i) {
-        const double ax = gs[i] - us[i], ay = gs[m + i] - us[m + i];
-        const double len = std::sqrt(ax * ax + ay * ay), thr = phis[i] / mu;
-        const double f = len > thr ? 1.0 - thr / len : 0.0;
-        const double xx = f * ax, xy = f * ay;
-        vs[i] = alpha * xx + (1.0 - alpha) * gs[i] + us[i];
-        vs[m + i] = alpha * xy + (1.0 - alpha) * gs[m + i] + us[m + i];
-        p += (xx - gs[i]) * (xx - gs[i]) + (xy - gs[m + i]) * (xy - gs[m + i]);
-      }
-      return d.g.area[std::size_t(s)] * p;
-    };
-    // Step 1 of interior vertex v (eq. 31: W = max(0, Z − U2)) and its next V2; returns m_v |W − Z|².
-    auto clamp = [&](Index v) {
-      double p = 0.0;
-      for (Index i = 0; i < m; ++i) {
-        const double z = Z(v, i), u = U2(v, i), w = std::max(0.0, z - u);
-        V2(v, i) = alpha * w + (1.0 - alpha) * z + u;
-        p += (w - z) * (w - z);
-      }
-      return d.g.vertexMass[std::size_t(d.nb + v)] * p;
-    };
-    auto firstStep = [&] {
-      parallelFor(nt, [&](Index s) { primalT[std::size_t(s)] = shrink(s); }, 256);
-      parallelFor(n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
-    };
-    firstStep();
+    admm.firstStep();
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
-      const bool parallel = threads.parallel(k);
-      auto grain = [&](Index count, Index g) { return parallel ? g : count; };
-      // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
-      // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
-      // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row.
-      parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
-        for (Index v = begin; v < end; ++v) {
-          const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
-          double* q = &Qm(v, 0);
-          for (Index i = 0; i < m; ++i) q[i] = mass * (V2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
-          for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
-            const auto [s, c] = d.adj[std::size_t(a)];
-            const Vec2 gr = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
-            const double* vs = &V1(s, 0);
-            for (Index i = 0; i < m; ++i) q[i] += gr.x() * vs[i] + gr.y() * vs[m + i];
-          }
-        }
-      });
-      d.system.solveInPlace(Qm, parallel);
-      // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
-      parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
-        std::vector<double> znew(static_cast<std::size_t>(m));
-        for (Index v = begin; v < end; ++v) {
-          d.projectRow(v, &Qm(v, 0), znew.data());
-          double q = 0.0;
-          for (Index i = 0; i < m; ++i) {
-            const double z = znew[std::size_t(i)];
-            U2(v, i) = V2(v, i) - z;
-            q += (z - Z(v, i)) * (z - Z(v, i));
-            Z(v, i) = z;
-          }
-          dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
-          primalV[std::size_t(v)] = clamp(v);
-        }
-      });
-      // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
-      parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
-        std::vector<double> buffer(std::size_t(2 * m));
-        double* nx = buffer.data();
-        double* ny = buffer.data() + m;
-        for (Index s = begin; s < end; ++s) {
-          d.gradientRow(Z, s, nx, ny);
-          double* gs = &G(s, 0);
-          double* us = &U1(s, 0);
-          const double* vs = &V1(s, 0);
-          double q = 0.0;  // (sums in index order; the loops below vectorize)
-          for (Index j = 0; j < 2 * m; ++j) q += (nx[j] - gs[j]) * (nx[j] - gs[j]);  // nx, ny are contiguous like a row of G
-          for (Index j = 0; j < 2 * m; ++j) {
-            us[j] = vs[j] - nx[j];
-            gs[j] = nx[j];
-          }
-          dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
-          primalT[std::size_t(s)] = shrink(s);
-        }
-      });
+      admm.iterate(threads.parallel(k));
       rep.iterations = k;
-      rep.primalResidual = std::sqrt((sum(primalT) + sum(primalV)) * norm);
-      rep.dualResidual = mu * std::sqrt((sum(dualT) + sum(dualV)) * norm);
+      rep.primalResidual = std::sqrt((sum(admm.primalT) + sum(admm.primalV)) * norm);
+      rep.dualResidual = admm.mu * std::sqrt((sum(admm.dualT) + sum(admm.dualV)) * norm);
       threads.record(k, secondsSince(iterationStart));
       if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
         if (!(options.gapTolerance > 0.0)) {
@@ -500,8 +551,8 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         }
         // Certified stop: the returned weights' objective within gapTolerance of a lower bound.
         const auto tc = std::chrono::steady_clock::now();
-        finalize(Z);
-        rep.lowerBound = d.dualBound(U1, mu);
+        finalize(admm.Z);
+        rep.lowerBound = d.dualBound(admm.U1, admm.mu);
         rep.certifySeconds += secondsSince(tc);
         if (rep.objective - rep.lowerBound <= options.gapTolerance * std::abs(rep.lowerBound)) {
           rep.status = LbcStatus::Converged;
@@ -515,28 +566,20 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         rep.status = LbcStatus::Cancelled;
         break;
       }
-      // Residual balancing: μ changes, the scaled multipliers U = λ/μ follow, step 1 is redone.
-      if (options.adaptivePenalty) {
-        double factor = 1.0;
-        if (rep.primalResidual > 10.0 * rep.dualResidual) factor = 2.0;
-        else if (rep.dualResidual > 10.0 * rep.primalResidual) factor = 0.5;
-        if (factor != 1.0) {
-          mu *= factor;
-          U1 /= factor;
-          U2 /= factor;
-          firstStep();
-        }
+      if (options.adaptivePenalty) {  // residual balancing
+        if (rep.primalResidual > 10.0 * rep.dualResidual) admm.scalePenalty(2.0);
+        else if (rep.dualResidual > 10.0 * rep.primalResidual) admm.scalePenalty(0.5);
       }
     }
-    rep.penalty = mu;
+    rep.penalty = admm.mu;
   }
   rep.iterationSeconds = secondsSince(iterStart);
 
   if (!certified) {
-    finalize(Z);
+    finalize(admm.Z);
     if (options.certify || options.gapTolerance > 0.0) {
       const auto tc = std::chrono::steady_clock::now();
-      rep.lowerBound = d.dualBound(U1, mu);
+      rep.lowerBound = d.dualBound(admm.U1, admm.mu);
       rep.certifySeconds += secondsSince(tc);
     }
   }
