@@ -227,6 +227,80 @@ class SerialEigen {
   int m_before;
 };
 
+/// What pivot() did: `inner` rounds; `settled`: no infeasible pair was left; `failed`: Q_AA + εI
+/// could not be factorized.
+struct Pivoting {
+  bool failed = false, settled = false;
+  int inner = 0;
+};
+
+/// One proximal step's problem: min d(Λ) + ε/2 ‖Λ − Mu‖² over Λ ≥ 0, a linear complementarity
+/// problem with the positive definite Q + εI, by block principal pivoting (Júdice & Pires 1994):
+/// exchange every infeasible pair (the primal-dual active set step) while their number falls,
+/// else (after 3 tries) only one (Murty's rule, finite for positive definite matrices). At most 25
+/// rounds, and `rounds` (all of the solve's) stays within options.maxActiveSetRounds. `active`:
+/// the free pairs w·m + k, updated; Lambda (working rows × m) the multipliers of the last round.
+Pivoting pivot(const BoundDual& D, detail::PairSystem& pairs, const Eigen::MatrixXd& Mu, double eps, double scale,
+               const RigidityQpOptions& options, std::vector<Index>& active, Eigen::MatrixXd& Lambda, int& rounds,
+               RigidityQpReport& rep, double& stage, const detail::Tick& tick) {
+  const Index cw = Lambda.rows(), m = Lambda.cols();
+  const double tol = options.tolerance;
+  Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(cw, m);
+  Eigen::VectorXd rhs, lambda;
+  Eigen::MatrixXd QL, g;
+  pairs.setShift(eps);  // a new ε: Q_AA + εI factorized again
+  Index fewest = std::numeric_limits<Index>::max();
+  int backup = 3;
+  Pivoting out;
+  for (; out.inner < 25 && rounds < options.maxActiveSetRounds; ++out.inner) {
+    ++rounds;
+    stage = std::max(stage, 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds);
+    const Index a = Index(active.size());
+    Lambda.setZero();
+    free.setZero();
+    for (Index p : active) free(p / m, p % m) = 1;
+    if (a > 0 && a <= options.maxDensePairs) {  // Q_AA + εI: updated as pairs enter and leave (detail::PairSystem)
+      rhs.resize(a);
+      for (Index p = 0; p < a; ++p) {
+        const Index w = active[std::size_t(p)] / m, k = active[std::size_t(p)] % m;
+        rhs(p) = D.R()(w, k) + eps * Mu(w, k);
+      }
+      if (!pairs.solve(active, rhs, lambda)) {
+        out.failed = true;
+        return out;
+      }
+      for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)] / m, active[std::size_t(p)] % m) = lambda(p);
+    } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
+      rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, tick, Lambda);
+    }
+    QL = D.apply(Lambda);
+    g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
+    std::vector<Index> infeasible;
+    for (Index w = 0; w < cw; ++w)
+      for (Index k = 0; k < m; ++k)
+        if (free(w, k) ? scale * Lambda(w, k) < -1e-3 * tol : g(w, k) < -1e-3 * tol) infeasible.push_back(w * m + k);
+    tick();
+    if (infeasible.empty()) {
+      out.settled = true;
+      break;
+    }
+    if (Index(infeasible.size()) < fewest) {
+      fewest = Index(infeasible.size());
+      backup = 3;
+    } else if (backup > 0) {
+      --backup;
+    } else {
+      infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
+    }
+    for (Index p : infeasible) free(p / m, p % m) = !free(p / m, p % m);
+    active.clear();
+    for (Index w = 0; w < cw; ++w)
+      for (Index k = 0; k < m; ++k)
+        if (free(w, k)) active.push_back(w * m + k);
+  }
+  return out;
+}
+
 /// The bounds' dual d(Λ) over Λ ≥ 0 (BoundDual above) after one factorization of 2H with A
 /// through its Schur complement, by proximal point steps (docs/rigidity.md): each step minimizes
 /// d(Λ) + ε/2‖Λ − Λ_k‖², a linear complementarity problem with the positive definite Q + εI, by
@@ -296,7 +370,7 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
   const Eigen::MatrixXd S0 = (qp.Kc * Y0) * Zs.transpose();
   WorkingGram gram(qp.Kc, dense ? &denseSolver : nullptr, dense ? nullptr : &sparseSolver, tick);
 
-  Eigen::MatrixXd Lambda, Mu, QL, g;
+  Eigen::MatrixXd Lambda, Mu, QL;
   std::vector<Index> active;  // pairs (working row w, active control k) as w·m + k, ascending
   double scale = 0.0, epsRel = options.proximal, first = 0.0;
   int rounds = 0;
@@ -325,67 +399,15 @@ bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, Rigi
         if (D.R()(w, k) > tol) active.push_back(w * m + k);
     std::sort(active.begin(), active.end());
     detail::PairSystem pairs(D.Kq(), D.P(), epsRel * scale, tick);
-    Eigen::Matrix<char, Eigen::Dynamic, Eigen::Dynamic> free(cw, m);
-    Eigen::VectorXd rhs, lambda;
     done = false;
     while (!done && rounds < options.maxActiveSetRounds) {
-      // Inner: min d(Λ) + ε/2 ‖Λ − Mu‖² over Λ ≥ 0, a linear complementarity problem with the positive
-      // definite Q + εI, by block principal pivoting (Júdice & Pires 1994): exchange every infeasible
-      // pair (the primal-dual active set step) while their number falls, else (after 3 tries) only one
-      // (Murty's rule, finite for positive definite matrices).
-      const double eps = epsRel * scale;
-      pairs.setShift(eps);  // a new ε: Q_AA + εI factorized again
-      Index fewest = std::numeric_limits<Index>::max();
-      int backup = 3;
-      bool settled = false;
-      int inner = 0;
-      for (; inner < 25 && rounds < options.maxActiveSetRounds; ++inner) {
-        ++rounds;
-        stage = std::max(stage, 0.4 + 0.55 * double(rounds) / options.maxActiveSetRounds);
-        const Index a = Index(active.size());
-        Lambda.setZero();
-        free.setZero();
-        for (Index p : active) free(p / m, p % m) = 1;
-        if (a > 0 && a <= options.maxDensePairs) {  // Q_AA + εI: updated as pairs enter and leave (detail::PairSystem)
-          rhs.resize(a);
-          for (Index p = 0; p < a; ++p) {
-            const Index w = active[std::size_t(p)] / m, k = active[std::size_t(p)] % m;
-            rhs(p) = D.R()(w, k) + eps * Mu(w, k);
-          }
-          if (!pairs.solve(active, rhs, lambda)) return false;
-          for (Index p = 0; p < a; ++p) Lambda(active[std::size_t(p)] / m, active[std::size_t(p)] % m) = lambda(p);
-        } else if (a > 0) {  // too many pairs for a dense factorization: conjugate gradients on Q_AA + εI
-          rep.cgIterations += solveFree(D, free, D.R() + eps * Mu, eps, 1e-3 * tol, options.maxCgIterations, tick, Lambda);
-        }
-        QL = D.apply(Lambda);
-        g = QL - D.R() + eps * (Lambda - Mu);  // the inner problem's gradient
-        std::vector<Index> infeasible;
-        for (Index w = 0; w < cw; ++w)
-          for (Index k = 0; k < m; ++k)
-            if (free(w, k) ? scale * Lambda(w, k) < -1e-3 * tol : g(w, k) < -1e-3 * tol) infeasible.push_back(w * m + k);
-        tick();
-        if (infeasible.empty()) {
-          settled = true;
-          break;
-        }
-        if (Index(infeasible.size()) < fewest) {
-          fewest = Index(infeasible.size());
-          backup = 3;
-        } else if (backup > 0) {
-          --backup;
-        } else {
-          infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last infeasible pair only
-        }
-        for (Index p : infeasible) free(p / m, p % m) = !free(p / m, p % m);
-        active.clear();
-        for (Index w = 0; w < cw; ++w)
-          for (Index k = 0; k < m; ++k)
-            if (free(w, k)) active.push_back(w * m + k);
-      }
+      // Inner: the proximal step's complementarity problem (pivot).
+      const Pivoting pv = pivot(D, pairs, Mu, epsRel * scale, scale, options, active, Lambda, rounds, rep, stage, tick);
+      if (pv.failed) return false;
       // Not settled in 25 rounds: a larger ε (Q + εI nearer a diagonal, on which the exchanges settle);
       // settled at once: back toward the default (smaller ε, faster proximal steps).
-      if (!settled) epsRel = std::min(10.0 * epsRel, 1.0);
-      else if (inner <= 1) epsRel = std::max(0.1 * epsRel, options.proximal);
+      if (!pv.settled) epsRel = std::min(10.0 * epsRel, 1.0);
+      else if (pv.inner <= 1) epsRel = std::max(0.1 * epsRel, options.proximal);
       // Outer (proximal point): the unregularized KKT residual at the clamped multipliers.
       Lambda = Lambda.cwiseMax(0.0);
       QL = D.apply(Lambda);
