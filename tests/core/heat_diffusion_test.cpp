@@ -127,6 +127,9 @@ TEST(HeatDiffusion, ControlsAndEdgesKeepTheirFixedWeights) {
     }
   ASSERT_FALSE(rows.empty());
   EXPECT_LE(edgeLinearityError(W(rows, Eigen::all), cage.C, S.X(rows, Eigen::all), ends), 1e-14);
+  InitOptions lbc;
+  lbc.method = InitMethod::Lbc;  // solved on a mesh by the kc backend, never here
+  EXPECT_THROW(initialWeights(S, cage, K, lbc), std::invalid_argument);
 }
 
 TEST(HeatDiffusion, SteadyStateIsANonNegativePartitionOfUnity) {

@@ -146,6 +146,11 @@ TEST(LbcSolver, EveryTauGivesBarycentricWeights) {
     EXPECT_LE(rep, 1e-9) << int(tau);
     EXPECT_GE(r.W.minCoeff(), 0.0) << int(tau);
   }
+  const LbcSolver linear(mesh, LbcTau::Linear);
+  EXPECT_THROW(linear.solve(LbcOptions{}), std::invalid_argument) << "φ was built for another τ";
+  LbcOptions same;
+  same.tau = LbcTau::Linear;
+  EXPECT_EQ(linear.solve(same).report.status, LbcStatus::Converged);
   EXPECT_EQ(lbcTau(LbcTau::Square, 0.5), 0.25);
   EXPECT_EQ(lbcTau(LbcTau::Constant, 0.5), 1.0);
   EXPECT_EQ(lbcTau(LbcTau::Linear, 0.5), 0.5);

@@ -104,6 +104,7 @@ double lbcTau(LbcTau tau, double x) {
 
 struct LbcSolver::Impl {
   Index m = 0, r = 0, nb = 0, n = 0, nt = 0;  // controls, null-space dim, boundary, interior, triangles
+  LbcTau tau = LbcTau::Square;              // of φ
   Points V;                                 // pixel positions (for the final QP)
   Triangles T;
   TriangleGradients g;                      // of the normalized mesh (diameter 1)
@@ -224,6 +225,7 @@ double LbcSolver::Impl::dualBound(const RowMatrix& U1, double mu) const {
 
 LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique<Impl>()) {
   Impl& d = *m_impl;
+  d.tau = tau;
   d.m = mesh.controls;
   if (d.m < 3) throw std::invalid_argument("LBC: the cage needs at least 3 control points");
   if (mesh.status != CageMeshStatus::Ok || mesh.T.empty() || mesh.size() < d.m)
@@ -503,6 +505,7 @@ struct LbcSolver::Impl::Admm {
 
 LbcResult LbcSolver::solve(const LbcOptions& options) const {
   const Impl& d = *m_impl;
+  if (options.tau != d.tau) throw std::invalid_argument("LBC: options.tau differs from the tau the solver's weights phi were built with");
   const auto start = std::chrono::steady_clock::now();
   LbcResult res;
   LbcReport& rep = res.report;

@@ -209,6 +209,8 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
     throw std::invalid_argument("initial weights: K is " + std::to_string(K.rows()) + "×" + std::to_string(K.cols()) +
                                 " but there are " + std::to_string(n) + " samples");
   if (options.iterations < 0) throw std::invalid_argument("initial weights: iterations must be ≥ 0");
+  if (options.method == InitMethod::Lbc)
+    throw std::invalid_argument("initial weights: LBC targets are solved on a mesh of the cage (app's kc backend), not here");
   const Points& X = S.X;
   const Points& C = cage.C;
   double p = options.inverseDistanceP;

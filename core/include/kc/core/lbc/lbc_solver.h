@@ -44,7 +44,7 @@ struct LbcProgress {
 };
 
 struct LbcOptions {
-  LbcTau tau = LbcTau::Square;
+  LbcTau tau = LbcTau::Square;  ///< τ of φ (eq. 13); LbcSolver takes it at construction.
   /// Stopping rule: the primal and the dual residual (eq. 26–27), each as an area-weighted RMS
   /// per control function on the mesh scaled to bounding-box diameter 1, are ≤ tolerance. These
   /// are discretizations of L² norms of functions, so the rule does not loosen as the mesh is refined.
@@ -105,7 +105,8 @@ class LbcSolver {
   LbcSolver& operator=(const LbcSolver&) = delete;
 
   /// ADMM (Appendix B) with the area-weighted inner products described in lbc_solver.cpp;
-  /// returns #V×m weights. Bit-identical for any thread count.
+  /// returns #V×m weights. Bit-identical for any thread count. options.tau must be the τ the
+  /// solver was built with (φ is precomputed for it): std::invalid_argument otherwise.
   LbcResult solve(const LbcOptions& options = {}) const;
 
   /// The discrete objective Σ_s Σ_i φ_i^s a_s |∇_s w_i| (eq. 14) of #V×m weights W (normalized units).

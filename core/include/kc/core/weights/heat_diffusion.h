@@ -75,7 +75,8 @@ struct InitReport {
 /// samples from exterior and on-cage ones, so heat cannot leave at one wall of a notch and re-enter
 /// at the other. The steady state (iterations = 0, the default) is a partition of unity in [0, 1]
 /// reaching every sample; a few iterations leave most samples with row sums ≪ 1. S.X rows 0..m−1 are the
-/// controls; cage.C supplies the edge ends of (4.7). Throws std::invalid_argument on bad shapes.
+/// controls; cage.C supplies the edge ends of (4.7). Throws std::invalid_argument on bad shapes
+/// and for InitMethod::Lbc (solved by the caller on a mesh of the cage).
 Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix& K, const InitOptions& options,
                        InitReport* report = nullptr);
 
