@@ -200,7 +200,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
   s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;
-  s.outside = toString(outside);
+  s.outside = outside;
   files.set(sessionPath, app::sessionToJson(s));
 
   app::WarpExportReport er;

@@ -61,7 +61,7 @@ void runWarp(const WarpArgs& a) {
   const auto tLoad = std::chrono::steady_clock::now();
   const app::Session s = app::loadSession(a.session);
   const double loadMs = msSince(tLoad);
-  if (a.outside.empty() && !s.outside.empty()) parseName(s.outside, meshOptions.outside);  // validated on load
+  if (a.outside.empty() && s.outside) meshOptions.outside = *s.outside;
   meshOptions.spacing = a.meshSpacing ? *a.meshSpacing : app::warpMeshOptionsFor(s).spacing;
   const Index m = s.cage.size();
   if (a.heatmap >= m) throw app::InputError("--heatmap", "control point " + std::to_string(a.heatmap) +

@@ -124,7 +124,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
     j["rigidity"] = {{"samples", idx}, {"rho", rho}};
   }
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
-  if (!s.outside.empty()) j["outside"] = s.outside;
+  if (s.outside) j["outside"] = std::string(toString(*s.outside));
   const BindTimings& t = s.timings;
   j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                   {"optimize", t.optimize}, {"solve", t.solve},       {"total", t.total}};
@@ -370,7 +370,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
     OutsideMode mode;
     if (!j["outside"].is_string() || !parseName(j["outside"].get<std::string>(), mode))
       throw InputError(where, "outside must be one of " + nameList<OutsideMode>());
-    s.outside = j["outside"].get<std::string>();
+    s.outside = mode;
   }
   if (j.contains("timings") && j["timings"].is_object()) {
     const json& t = j["timings"];

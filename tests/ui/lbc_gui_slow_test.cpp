@@ -212,7 +212,7 @@ TEST(LbcGui, KeepOutsideReplacesMoveEverythingAtAnLbcBind) {
   bindLbc(gui, *s);
   EXPECT_EQ(s->outside, OutsideMode::Fixed);
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Fixed);
-  EXPECT_EQ(s->session->outside, "fixed");
+  EXPECT_EQ(s->session->outside, OutsideMode::Fixed);
 }
 
 TEST(LbcGui, KcOnLbcTargetsIsMoreLocalAndStillPaintable) {

@@ -32,7 +32,7 @@ std::unique_ptr<AppState> boundSquare(const std::string& backend = "kc", Outside
   p.spacing = 10.0;
   p.exterior = exterior;
   auto s = std::make_shared<app::Session>(app::bind(Cage::polygon(C), 256, 256, p));
-  s->outside = std::string(toString(outside));
+  s->outside = outside;
   installSession(*state, s, buildDisplayMesh(*s, app::warpMeshOptionsFor(*s, outside)));
   return state;
 }
@@ -72,7 +72,7 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
   EXPECT_GT(s->meshRevision, revision);
   EXPECT_TRUE(s->unsaved);
-  EXPECT_EQ(s->session->outside, "deform");
+  EXPECT_EQ(s->session->outside, OutsideMode::Deform);
   EXPECT_GT(cornerMove(*s, pose), 1.0) << "deform moves the picture's corners";
 
   // Back to pinned through the setter; a session opened later starts in the mode it saved.
@@ -81,9 +81,9 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Pinned);
   EXPECT_EQ(cornerMove(*s, pose), 0.0);
   app::Session& session = *s->session;
-  session.outside = "transparent";
+  session.outside = OutsideMode::Transparent;
   EXPECT_EQ(sessionOutsideMode(session), OutsideMode::Transparent);
-  session.outside.clear();
+  session.outside.reset();
   EXPECT_EQ(sessionOutsideMode(session), OutsideMode::Pinned);
 }
 
@@ -128,7 +128,7 @@ TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
   EXPECT_TRUE(s->capabilities.outsideCage);
   EXPECT_EQ(s->outside, OutsideMode::Deform);
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
-  EXPECT_EQ(s->session->outside, "deform");
+  EXPECT_EQ(s->session->outside, OutsideMode::Deform);
   ASSERT_EQ(s->pose.size(), 4u);
   EXPECT_EQ(s->pose[1].translate, Vec2(-12, 9)) << "the pose is kept";
   EXPECT_GT(cornerMove(*s, s->pose), 0.5) << "deform moves the picture's corners";

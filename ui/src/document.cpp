@@ -309,7 +309,7 @@ bool startSaveSession(AppState& state, const std::string& path, bool autosave) {
   auto s = std::move(state.session);
   // The job owns the session meanwhile: set the pose and the image path the file refers to.
   s->pose = state.pose;
-  s->outside = toString(state.outside);
+  s->outside = state.outside;
   const std::string storedImage = s->image;
   if (!state.imagePath.empty()) s->image = app::imagePathForSession(state.imagePath, path);
   const std::uint64_t poseRevision = state.poseRevision;

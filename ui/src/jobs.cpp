@@ -291,7 +291,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       auto s = std::make_shared<app::Session>(
           app::bind(cage, lines, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
       s->image = image;
-      s->outside = toString(meshOptions.outside);
+      s->outside = meshOptions.outside;
       if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
       return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
@@ -326,11 +326,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   return true;
 }
 
-OutsideMode sessionOutsideMode(const app::Session& session) {
-  OutsideMode mode = WarpMeshOptions{}.outside;
-  if (!session.outside.empty()) parseName(session.outside, mode);
-  return mode;
-}
+OutsideMode sessionOutsideMode(const app::Session& session) { return session.outside.value_or(WarpMeshOptions{}.outside); }
 
 bool bandNeedsFrameBind(const AppState& state) {
   if (!state.bound || !state.session || state.session->params.exterior != sampling::ExteriorExtent::Band) return false;
@@ -382,7 +378,7 @@ bool setOutsideMode(AppState& state, OutsideMode mode) {
       DisplayMesh display = buildDisplayMesh(*s, options);
       const double ms = msSince(t0);
       return [s, display, ms, mode = options.outside](AppState& st) {
-        s->outside = toString(mode);
+        s->outside = mode;
         takeBack(st, s, display.mesh, display.source);
         st.outside = mode;
         st.unsaved = true;

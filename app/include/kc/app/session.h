@@ -14,6 +14,7 @@
 #include "kc/core/kernel/interpolator.h"
 #include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/types.h"
+#include "kc/core/warp_mesh.h"
 #include "kc/core/weights/heat_diffusion.h"
 #include "kc/core/weights/optimizer.h"
 #include "kc/sampling/sampler.h"
@@ -127,9 +128,9 @@ struct Session {
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).
   std::string image;           ///< Image path as written in the file (may be empty).
-  /// The user's outside-the-cage choice ("pinned", "deform", "fixed", "transparent"; kc::OutsideMode
-  /// names), empty when none was made: warps then use WarpMeshOptions' default (pinned).
-  std::string outside;
+  /// The user's outside-the-cage choice, none when none was made: warps then use WarpMeshOptions'
+  /// default (pinned). In the file: the kc::OutsideMode name, or no key.
+  std::optional<OutsideMode> outside;
   /// Kernel coordinates on LBC targets (`--init lbc`, kc backend): the spacing of the LBC mesh the
   /// targets were solved on, which the warp mesh follows (warpMeshOptionsFor). Sessions written
   /// before the samples were made denser than that mesh read their sample spacing (their mesh was
