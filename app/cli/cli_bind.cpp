@@ -16,21 +16,31 @@
 namespace kc::cli {
 namespace {
 
+/// The defaults of every option: app::BindParams' own, except --exterior (band: as the GUI for
+/// the pinned, fixed and transparent outside modes; warp --outside deform needs --exterior frame).
+const app::BindParams kDefaults{};
+
+template <class E>
+std::string nameOf(E value) {
+  return std::string(toString(value));
+}
+
 struct BindArgs {
   std::string cage, image, size, output, structure;
-  double spacing = 6.0, sigma = 0.0, margin = -1.0;
-  std::string init = "heat-linear", method = "qp", interp = "exact", backend = "kc", sampler = "blue-noise";
-  std::string exterior = "band";
-  int heatIterations = 0;
-  bool linearEdges = false;
-  bool uniformSpacing = false;
-  double locality = 0.0;  // unscreened
-  double localitySpacings = app::kLocalitySpacings;
-  bool noGuardLobes = false;
+  double spacing = kDefaults.spacing, sigma = kDefaults.kc.sigma, margin = kDefaults.margin;
+  std::string init = nameOf(kDefaults.kc.init.method), method = nameOf(kDefaults.kc.method), interp = nameOf(kDefaults.kc.interp),
+              backend = kDefaults.backend, sampler = nameOf(kDefaults.sampler);
+  std::string exterior = nameOf(app::exteriorFor(WarpMeshOptions{}.outside));
+  int heatIterations = kDefaults.kc.init.iterations;
+  bool linearEdges = kDefaults.kc.linearEdges;
+  bool uniformSpacing = !kDefaults.graded;
+  double locality = kDefaults.kc.init.locality;
+  double localitySpacings = kDefaults.kc.localitySpacings;
+  bool noGuardLobes = !kDefaults.kc.guardLobes;
   CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
-  std::uint64_t seed = 1;
+  std::uint64_t seed = kDefaults.seed;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
-  std::string lbcTau = "square";
+  std::string lbcTau = nameOf(kDefaults.lbc.tau);
   double lbcTolerance = app::LbcParams{}.tolerance;
   int lbcMaxIterations = app::LbcParams{}.maxIterations;
 };

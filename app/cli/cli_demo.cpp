@@ -118,7 +118,9 @@ Image sideBySide(const Image& left, const Image& right, Rgba gap = {255, 255, 25
 /// session without structure.
 void runStructure(const Example& e, const app::Session& plain, const std::string& out, OutsideMode outside,
                   const std::function<std::string(const Image&)>& png, app::OutputBatch& files, std::string& report) {
-  app::Session s = app::bind(e.cage, e.structure, e.source.width, e.source.height, app::BindParams{});
+  app::BindParams params;
+  params.exterior = app::exteriorFor(outside);
+  app::Session s = app::bind(e.cage, e.structure, e.source.width, e.source.height, params);
   Pose moved = e.pose;
   for (HandlePose& h : moved) h.rotate = 0.0;
   Image halves[2];
@@ -196,7 +198,9 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   const Image& source = e.source;
 
   app::BindReport br;
-  app::Session s = app::bind(cage, source.width, source.height, app::BindParams{}, &br);
+  app::BindParams params;
+  params.exterior = app::exteriorFor(outside);
+  app::Session s = app::bind(cage, source.width, source.height, params, &br);
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
   s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;

@@ -203,6 +203,10 @@ BindCost estimateBindCost(const Cage& cage, const Structure& structure, int widt
   return costOf(cage, structure, width, height, effectiveBindParams(cage, structure, params));
 }
 
+sampling::ExteriorExtent exteriorFor(OutsideMode outside) {
+  return outside == OutsideMode::Deform ? sampling::ExteriorExtent::Frame : sampling::ExteriorExtent::Band;
+}
+
 double weightSpacing(const BindParams& params) {
   return params.backend == "kc" && params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
 }

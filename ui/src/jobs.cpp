@@ -177,17 +177,9 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.weightsReproducible = fromOptimizer;
 }
 
-namespace {
-/// How far a bind samples outside the cage for an outside mode: only Move everything uses the
-/// field's weights up to the picture's border.
-sampling::ExteriorExtent exteriorFor(OutsideMode outside) {
-  return outside == OutsideMode::Deform ? sampling::ExteriorExtent::Frame : sampling::ExteriorExtent::Band;
-}
-}  // namespace
-
 app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height) {
   app::BindParams params = state.bindParams;
-  params.exterior = exteriorFor(state.outside);
+  params.exterior = app::exteriorFor(state.outside);
   if (state.autoSpacing) {
     params.spacing = app::BindParams{}.spacing;  // the budget starts from the default, not the last choice
     params.spacing = app::automaticSpacing(cage, width, height, params);
@@ -198,7 +190,7 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
 const AppState::ShownSpacing& spacingPlan(AppState& state) {
   auto& shown = state.shownSpacing;
   app::BindParams p = state.bindParams;
-  p.exterior = exteriorFor(state.outside);
+  p.exterior = app::exteriorFor(state.outside);
   if (state.autoSpacing) p.spacing = 0.0;  // the slider's value is not used
   const auto sameRigid = [](const app::Structure& a, const app::Structure& b) {
     if (a.rigid.size() != b.rigid.size()) return false;

@@ -87,6 +87,10 @@ inline constexpr double kLbcTargetSampling = 0.5;
 /// costs more per pose).
 double weightSpacing(const BindParams& params);
 
+/// The exterior a bind needs for an outside mode: the whole frame for deform (the field's own
+/// weights everywhere), the band around the cage for the others.
+sampling::ExteriorExtent exteriorFor(OutsideMode outside);
+
 /// The spacing a bind uses when the user gives none, from the cage rather than the pixels:
 /// `params.spacing` (the 6 px default, the floor) while the estimated sample count of a band
 /// bind (estimateBindCost with ExteriorExtent::Band: the cage's bounding box grown by

@@ -62,7 +62,7 @@ struct LbcParams {
 };
 
 /// Parameters of one bind: the ones every backend shares, then each backend's own. Defaults are
-/// what `kcwarp-cli bind` uses.
+/// what `kcwarp-cli bind` uses, except `exterior` (see there).
 struct BindParams {
   std::string backend = "kc";
   double spacing = 6.0;    ///< h, pixels (sample spacing; a mesh backend's edge length).
@@ -70,8 +70,8 @@ struct BindParams {
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
   /// How far outside the cage the kc backend samples: the whole frame (what `--outside deform`
   /// needs; sessions written before the choice existed read Frame) or a band around the cage
-  /// (sampling::kExteriorBandSpacings·h; what `kcwarp-cli bind` and the GUI use unless asked for
-  /// the frame or the outside mode is deform). A band session has no weights far outside the
+  /// (sampling::kExteriorBandSpacings·h; what `kcwarp-cli bind`, the GUI and the demo use unless
+  /// the outside mode is deform: exteriorFor). A band session has no weights far outside the
   /// cage: sessionCapabilities() says so and warps refuse `deform` on it.
   sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Frame;
   std::uint64_t seed = 1;
