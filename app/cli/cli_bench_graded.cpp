@@ -161,10 +161,13 @@ Cage neckCage(double scale, double neck) {
 }  // namespace
 
 void benchGraded(const std::string& folder, int repeats) {
-  std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, defaults (automatic\n"
-              "spacing), median of %d binds; unity and reproduction: largest error on a 2 px grid inside the cage;\n"
-              "leak: largest |sum of the far side's weights| 1-3 px from the gap\n",
-              folder.c_str(), repeats);
+  // What `kcwarp-cli bind` and the GUI do by default: automatic spacing, the exterior band.
+  app::BindParams defaults;
+  defaults.exterior = app::exteriorFor(WarpMeshOptions{}.outside);
+  std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, kcwarp-cli bind's\n"
+              "defaults (automatic spacing, --exterior %s), median of %d binds; unity and reproduction: largest error\n"
+              "on a 2 px grid inside the cage; leak: largest |sum of the far side's weights| 1-3 px from the gap\n",
+              folder.c_str(), std::string(toString(defaults.exterior)).c_str(), repeats);
   std::printf("  %-4s %-14s %8s %8s %13s %9s %9s %8s %8s\n", "", "cage", "bind ms", "samples", "spacing px", "unity",
               "repro px", "leak", "/wide");
   for (const NarrowCase& c : narrowCases()) {
@@ -174,7 +177,7 @@ void benchGraded(const std::string& folder, int repeats) {
         const std::string path = (std::filesystem::path(folder) / (c.name + "-" + variant + ".cage.json")).string();
         const Cage cage = app::loadCage(path);
         const auto [w, h] = cageImageSize(path);
-        app::BindParams p;
+        app::BindParams p = defaults;
         p.backend = backend;
         Timed t = timedBind(cage, w, h, p, repeats);
         const bool narrow = std::string(variant) == "narrow";
@@ -188,8 +191,8 @@ void benchGraded(const std::string& folder, int repeats) {
   // 0.1 MP (the cage scaled by 1/11, its neck 0.73 px).
   std::printf("\n  one neck, 12 MP against 0.1 MP (kc, defaults):\n");
   const double big = 4000.0 / 330.0, small = big / 11.0;
-  const Timed t12 = timedBind(neckCage(big, 8.0), 4000, 3000, app::BindParams{}, repeats);
-  const Timed t01 = timedBind(neckCage(small, 8.0 / 11.0), 364, 273, app::BindParams{}, repeats);
+  const Timed t12 = timedBind(neckCage(big, 8.0), 4000, 3000, defaults, repeats);
+  const Timed t01 = timedBind(neckCage(small, 8.0 / 11.0), 364, 273, defaults, repeats);
   row("kc", "neck 0.1 MP", t01, t01.refused.empty() ? quality(t01.session, nullptr) : Quality{}, nullptr);
   row("kc", "neck 12 MP", t12, t12.refused.empty() ? quality(t12.session, nullptr) : Quality{}, &t01);
 }
