@@ -109,8 +109,8 @@ void runBind(const BindArgs& a) {
   app::Structure st;
   if (!a.structure.empty()) {
     st = app::loadStructure(a.structure);
-    if (const std::string missing = app::unsupportedStructure(st, app::backendFor(p.backend).capabilities()); !missing.empty())
-      throw app::InputError(a.structure, missing + " are not supported by the '" + p.backend + "' backend (use --backend kc)");
+    if (const std::string refusal = app::structureRefusal(st, app::backendFor(p.backend)); !refusal.empty())
+      throw app::InputError(a.structure, refusal);
     app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p));
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);

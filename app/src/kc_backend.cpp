@@ -303,6 +303,11 @@ std::string unsupportedStructure(const Structure& structure, const BackendCapabi
   return lines && rigid ? "lines and rigid regions" : lines ? "lines" : rigid ? "rigid regions" : "";
 }
 
+std::string structureRefusal(const Structure& structure, const Backend& backend) {
+  const std::string missing = unsupportedStructure(structure, backend.capabilities());
+  return missing.empty() ? missing : missing + " are not supported by the '" + std::string(backend.name()) + "' backend (use --backend kc)";
+}
+
 BackendCapabilities sessionCapabilities(const Session& s) {
   BackendCapabilities c = backendFor(s.params.backend).capabilities();
   if (s.W0.rows() == 0 && c.targets) {

@@ -323,8 +323,7 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     else checkCageScale(cage, kFeatureSamples * kMinSpacing, true);
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
       checkBindCost(costOf(cage, structure, width, height, params), params);
-    if (const std::string missing = unsupportedStructure(structure, b.capabilities()); !missing.empty())
-      throw std::invalid_argument(missing + " are not supported by the '" + std::string(b.name()) + "' backend (use --backend kc)");
+    if (const std::string refusal = structureRefusal(structure, b); !refusal.empty()) throw std::invalid_argument(refusal);
     validateLines(cage, structure.lines, params.spacing, gradedBind(params));
     if (params.kc.linearEdges && loopEdges(cage).size() != cageEdges(cage).size())
       throw std::invalid_argument("--linear-edges needs a cage without sticks (measured on the stick figure: the sticks' "

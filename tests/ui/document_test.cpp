@@ -1,5 +1,6 @@
 #include "kc/ui/document.h"
 
+#include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/recent_files.h"
+#include "kc/ui/shortcuts.h"
 #include "scene_image.h"
 #include "ui_fixture.h"
 
@@ -254,6 +256,34 @@ TEST(FileNames, SaveProposesThePicturesNameAndExportANewFile) {
   EXPECT_EQ(ui::proposedExportPath(*state), (dir / "portrait-warped-3.png").string());
   state->exportPath = (dir / "portrait-warped.png").string();  // the last export's file exists: a new one
   EXPECT_EQ(ui::proposedExportPath(*state), (dir / "portrait-warped-3.png").string());
+}
+
+TEST(FileNames, AReturnTappedBetweenTwoFramesAcceptsTheTypedPath) {
+  // ImGui 1.86 samples the keys once per frame: a Return that goes down and up between two frames
+  // (a slow frame) reaches the dialog only as a tap (AppState::tappedKeys).
+  HeadlessImGui gui;
+  auto state = boundState();
+  const auto dir = scratchDir("ui_return_tap");
+  const fs::path target = dir / "tapped.png";
+  ui::requestPath(*state, ui::PathPurpose::Export, target.string());
+  auto draw = [&] {
+    ui::handleShortcuts(*state);
+    ui::drawDialogs(*state);
+  };
+  gui.frame(draw);
+  gui.frame(draw);  // the path field has the keyboard
+  ASSERT_EQ(state->pathDialog, ui::PathPurpose::Export);
+  gui.frame(draw);
+  EXPECT_EQ(state->pathDialog, ui::PathPurpose::Export) << "no key, no choice";
+  state->tappedKeys = {{GLFW_KEY_ENTER, 0}};
+  gui.frame(draw);
+  EXPECT_EQ(state->pathDialog, ui::PathPurpose::None);
+  ui::pollWorker(*state);
+  for (int k = 0; k < 200 && !fs::exists(target); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ui::pollWorker(*state);
+  }
+  EXPECT_TRUE(fs::exists(target)) << "the export ran";
 }
 
 TEST(FileNames, TheFileDialogAsksBeforeSavingOverAFile) {

@@ -17,7 +17,8 @@ namespace kc::ui {
 
 void handleShortcuts(AppState& state) {
   const ImGuiIO& io = ImGui::GetIO();
-  const std::vector<std::pair<int, int>> tapped = std::exchange(state.tappedKeys, {});
+  state.frameTaps = std::exchange(state.tappedKeys, {});
+  const std::vector<std::pair<int, int>>& tapped = state.frameTaps;
   state.showOriginal = false;
   if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
   // A key counts when ImGui sees it go down this frame or when it was tapped since the last frame

@@ -1,6 +1,9 @@
 // The file dialogs (native when available, else the in-app browser), the unsaved-changes prompt
 // and the handling of dropped files.
+#include <GLFW/glfw3.h>
 #include <imgui.h>
+
+#include <algorithm>
 
 #include <cstring>
 #include <filesystem>
@@ -84,8 +87,11 @@ void browserDialog(AppState& state) {
   ImGui::EndChild();
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
   ImGui::SetNextItemWidth(-1);
-  const bool enter = ImGui::InputText("##path", buffer, sizeof buffer,
-                                      ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+  bool enter = ImGui::InputText("##path", buffer, sizeof buffer, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
+  // Return tapped between two frames (ImGui saw no key down) while the field has the keyboard.
+  enter = enter || (ImGui::IsItemActive() && std::any_of(state.frameTaps.begin(), state.frameTaps.end(), [](const auto& t) {
+                      return t.first == GLFW_KEY_ENTER || t.first == GLFW_KEY_KP_ENTER;
+                    }));
   tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
   state.pathDialogText = buffer;  // what the field holds now (the automation state reports it)
   if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)

@@ -79,5 +79,8 @@ BackendCapabilities sessionCapabilities(const Session& s);
 /// What of `structure` a backend with `caps` cannot keep: "lines", "rigid regions", "lines and rigid
 /// regions", or "" when it keeps all of it.
 std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps);
+/// The refusal of `structure` by `backend` ("lines are not supported by the 'lbc' backend (use
+/// --backend kc)"), or "" when the backend keeps all of it.
+std::string structureRefusal(const Structure& structure, const Backend& backend);
 
 }  // namespace kc::app

@@ -270,6 +270,9 @@ struct AppState {
   /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
   /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
   std::vector<std::pair<int, int>> tappedKeys;
+  /// This frame's taps (handleShortcuts moves tappedKeys here), for the widgets that act on a key
+  /// of their own: the file dialog's Return.
+  std::vector<std::pair<int, int>> frameTaps;
   /// Mouse presses, releases and moves since the last frame, in order (PointerInput). Filled only
   /// when `pointerQueued` (the window's callbacks); otherwise the canvas reads ImGui's mouse state.
   std::vector<PointerInput> pointerInputs;
