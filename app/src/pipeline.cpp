@@ -68,10 +68,9 @@ void checkCageScale(const Cage& cage, double spacing, bool graded = false) {
 }
 
 
-/// k of the LBC backend's mesh (SizingOptions::featureSamples): one triangle across a narrow place.
-/// The mesh never crosses a gap outside the cage, and across a narrow part of the interior the
-/// weights follow the cage edges' linear data; k = 2 meshed the person cage (legs 4 px apart) with
-/// 3,225 vertices and 7,180 ADMM iterations where k = 1 needed 1,612 and 4,267 (hMax 10.2 px).
+/// k of the LBC backend's mesh (SizingOptions::featureSamples): one triangle across a narrow part
+/// of the inside, where the weights follow the cage edges' linear data. The mesh covers the inside
+/// only, so a gap outside the cage (between two legs) does not refine it (SizingOptions::outsideGaps).
 constexpr double kLbcFeatureSamples = 1.0;
 /// g of the LBC backend's mesh (SizingOptions::gradation): the steepest grading the sizing field
 /// allows. The Delaunay mesher keeps its angle bound at any grading, and the ADMM solve's cost
@@ -101,6 +100,7 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   if (!backendFor(params.backend).capabilities().outsideCage) {
     o.featureSamples = kLbcFeatureSamples;
     o.gradation = kLbcGradation;
+    o.outsideGaps = false;
   }
   SizingField h = featureSizing(cage, extra, o);
   // Sharp outside corners sampled finer (guardLobes) where the interpolation is exact (the thesis's

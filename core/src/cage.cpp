@@ -337,12 +337,14 @@ bool insideCage(const Cage& cage, const Vec2& x) { return CageQueries(cage).insi
 
 bool segmentCrossesCage(const Cage& cage, const Vec2& a, const Vec2& b) { return CageQueries(cage).segmentCrosses(a, b); }
 
-double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) {
+Vec2 closestPointOnSegment(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 d = b - a;
   const double len2 = d.squaredNorm();
   const double t = len2 > 0.0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * d - p).norm();
+  return a + t * d;
 }
+
+double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b) { return (closestPointOnSegment(p, a, b) - p).norm(); }
 
 double segmentSegmentDistance(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   const double o1 = cross(b - a, c - a), o2 = cross(b - a, d - a), o3 = cross(d - c, a - c), o4 = cross(d - c, b - c);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -121,8 +122,9 @@ struct RawSeed {
 };
 
 /// Seeds where lfs < `below`: every half local size along each segment, and at vertices (their
-/// shortest incident segment).
-std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, double hMin) {
+/// shortest incident segment). With `outsideGaps`, a gap whose middle lies outside that cage does
+/// not count.
+std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, double hMin, const CageQueries* outsideGaps) {
   std::vector<RawSeed> seeds;
   if (g.E.empty() || !(below > 0.0)) return seeds;
   Cage fc;
@@ -144,15 +146,24 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, dou
     if (used[static_cast<std::size_t>(v)] && shortest[static_cast<std::size_t>(v)] < below)
       seeds.push_back({g.V.row(v), shortest[static_cast<std::size_t>(v)]});
 
-  // lfs at x on segment s: the nearest segment sharing no vertex with s, capped at R.
+  // At x on segment s: the distance to the nearest segment sharing no vertex with s (`all`), and
+  // the same over the gaps that count (`counted`: with outsideGaps, not those whose middle lies
+  // outside the cage), both capped at R.
+  struct Lfs {
+    double all, counted;
+  };
   auto lfs = [&](const Vec2& x, int s) {
     const auto& es = g.E[static_cast<std::size_t>(s)];
-    double best = R;
-    grid.forEachEdgeNear(x - Vec2::Constant(best), x + Vec2::Constant(best), [&](int t, const Vec2& a, const Vec2& b) {
+    Lfs best{R, R};
+    grid.forEachEdgeNear(x - Vec2::Constant(R), x + Vec2::Constant(R), [&](int t, const Vec2& a, const Vec2& b) {
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
       if (et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1]) return;
-      best = std::min(best, pointSegmentDistance(x, a, b));
+      const double d = pointSegmentDistance(x, a, b);
+      best.all = std::min(best.all, d);
+      if (d >= best.counted) return;
+      if (outsideGaps && !outsideGaps->inside(0.5 * (x + closestPointOnSegment(x, a, b)))) return;
+      best.counted = d;
     });
     return best;
   };
@@ -163,12 +174,13 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, dou
     double t = 0.0;
     for (;;) {
       const Vec2 x = A + (t / L) * (B - A);
-      const double l = lfs(x, static_cast<int>(s));
-      if (l < below) seeds.push_back({x, l});
+      const Lfs l = lfs(x, static_cast<int>(s));
+      if (l.counted < below) seeds.push_back({x, l.counted});
       if (t >= L) break;
-      // lfs is 1-Lipschitz along the segment: where it is far above `below` the walk can jump.
-      const double local = std::max(std::min(l, below) / k, hMin);
-      t = std::min(L, t + std::max(0.5 * local, l - below));
+      // The distance to every other segment is 1-Lipschitz along the segment: where it is far
+      // above `below` the walk can jump (`counted` may jump where a gap's middle crosses the cage).
+      const double local = std::max(std::min(l.counted, below) / k, hMin);
+      t = std::min(L, t + std::max(0.5 * local, l.all - below));
     }
   }
   return seeds;
@@ -328,7 +340,9 @@ SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extr
   for (const FeatureSegment& f : extra)
     if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
   const double k = o.featureSamples;
-  const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), k * o.hMax, k, o.hMin);
+  std::optional<CageQueries> inside;
+  if (!o.outsideGaps && cage.closed && cage.size() >= 3) inside.emplace(cage);
+  const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), k * o.hMax, k, o.hMin, inside ? &*inside : nullptr);
   Points P(static_cast<Index>(raw.size()), 2);
   Eigen::VectorXd H(static_cast<Index>(raw.size()));
   for (std::size_t i = 0; i < raw.size(); ++i) {

@@ -64,6 +64,23 @@ TEST(Sizing, SlitGetsHalfItsWidthAndGrowsAtMostByTheGradation) {
   EXPECT_NEAR(g.y(), (h(x + Vec2(0, e)) - h(x - Vec2(0, e))) / (2 * e), 1e-5);
 }
 
+TEST(Sizing, AGapOutsideTheCageCountsOnlyWithOutsideGaps) {
+  // The slit is a gap outside the cage: without outsideGaps its walls are as wide as the parts
+  // they bound (97.5 px, above k·hMax), and only the slit's 3 px bottom edge refines.
+  SizingOptions inner = options(10.0);
+  inner.outsideGaps = false;
+  const SizingField h = featureSizing(slit(3.0), {}, inner);
+  EXPECT_EQ(h(Vec2(148.5, 120)), 10.0);
+  EXPECT_NEAR(h(Vec2(148.5, 200)), 1.5, 1e-9);  // the short edge's end
+  // A narrow part of the inside (a neck 3 px wide) refines either way.
+  const Cage neck = polygon({{0, 0}, {100, 0}, {100, 48.5}, {200, 48.5}, {200, 0}, {300, 0}, {300, 100}, {200, 100},
+                             {200, 51.5}, {100, 51.5}, {100, 100}, {0, 100}});
+  const SizingField n = featureSizing(neck, {}, inner);
+  EXPECT_NEAR(n(Vec2(150, 48.5)), 1.5, 0.1);  // seeds every h/2 along the wall
+  EXPECT_NEAR(n(Vec2(150, 51.5)), 1.5, 0.1);
+  EXPECT_EQ(n(Vec2(150, 48.5)), featureSizing(neck, {}, options(10.0))(Vec2(150, 48.5)));
+}
+
 TEST(Sizing, ShortEdgeRefinesItsEnds) {
   // A 2 px edge (points 1 and 2) on a 100 px shape.
   const SizingField h = featureSizing(polygon({{0, 0}, {100, 0}, {100, 49}, {100.0, 51}, {100, 100}, {0, 100}}), {}, options(8.0));

@@ -87,6 +87,8 @@ class CageQueries {
   std::vector<std::array<int, 2>> m_edges, m_loops;
 };
 
+/// The point of the segment a–b nearest to p (a when a = b).
+Vec2 closestPointOnSegment(const Vec2& p, const Vec2& a, const Vec2& b);
 /// Distance from p to the segment a–b.
 double pointSegmentDistance(const Vec2& p, const Vec2& a, const Vec2& b);
 /// Distance between the segments a–b and c–d (0 when they properly cross).

@@ -56,6 +56,10 @@ struct SizingOptions {
   double hMin = 0.05;                    ///< Smallest spacing (pixels, > 0, ≤ hMax).
   double featureSamples = kFeatureSamples;
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
+  /// Whether a gap whose middle lies outside a closed cage (between two legs) is a narrow place.
+  /// false for a sampling of the cage's inside only (the LBC mesh): each wall of such a gap is
+  /// then as wide as the part it bounds.
+  bool outsideGaps = true;
 };
 
 /// A feature segment that is not a cage edge (a structure line, a rigid polygon's side).
@@ -119,7 +123,8 @@ class SizingField {
 /// shortest incident segment is shorter than k·hMax. Features that cross or touch (within 1e-9 of
 /// the cage's extent) are split there and share the point, so a crossing or a line ending on an
 /// edge is not a narrow place; adjacent segments (sharing an end) do not count for each other's
-/// lfs. Deterministic; expected O(n log n) in the number of segments plus O(seeds · neighbours).
+/// lfs; gaps outside the cage count only with options.outsideGaps. Deterministic; expected
+/// O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 
 /// Division of the segment a–b at the local spacing: parameters 0 = t_0 < … < t_n = 1 with
