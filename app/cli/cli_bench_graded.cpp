@@ -167,7 +167,7 @@ void benchGraded(const std::string& folder, int repeats) {
   std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, kcwarp-cli bind's\n"
               "defaults (automatic spacing, --exterior %s), median of %d binds; unity and reproduction: largest error\n"
               "on a 2 px grid inside the cage; leak: largest |sum of the far side's weights| 1-3 px from the gap\n",
-              folder.c_str(), std::string(toString(defaults.exterior)).c_str(), repeats);
+              folder.c_str(), nameOf(defaults.exterior).c_str(), repeats);
   std::printf("  %-4s %-14s %8s %8s %13s %9s %9s %8s %8s\n", "", "cage", "bind ms", "samples", "spacing px", "unity",
               "repro px", "leak", "/wide");
   for (const NarrowCase& c : narrowCases()) {

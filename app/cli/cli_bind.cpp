@@ -20,11 +20,6 @@ namespace {
 /// the pinned, fixed and transparent outside modes; warp --outside deform needs --exterior frame).
 const app::BindParams kDefaults{};
 
-template <class E>
-std::string nameOf(E value) {
-  return std::string(toString(value));
-}
-
 struct BindArgs {
   std::string cage, image, size, output, structure;
   double spacing = kDefaults.spacing, sigma = kDefaults.kc.sigma, margin = kDefaults.margin;

@@ -35,6 +35,12 @@ E parseOption(const std::string& text, const char* option) {
   return e;
 }
 
+/// The name of a named enum's value as a std::string (option defaults, printed tables).
+template <NamedEnum E>
+std::string nameOf(E value) {
+  return std::string(toString(value));
+}
+
 /// "W,H" → (W, H); InputError naming `option` when malformed or not positive.
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
 /// Width and height of an image file; InputError naming the file when it cannot be read.

@@ -257,7 +257,7 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
       dr.seconds * 1e3, rr.seconds * 1e3, long(dr.flippedTriangles), dr.flippedArea, dr.minJacobian, dr.maxJacobian);
   say(report, "      outside (%s): corners moved %.2f px, background 50 px from the cage moved mean %.2f max %.2f px, "
               "200 px mean %.2f max %.2f px, weights in [%.2f, %.2f], fold-overs outside %ld\n",
-      std::string(toString(outside)).c_str(), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
+      nameOf(outside).c_str(), om.cornerMax, om.bands[0].mean, om.bands[0].max, om.bands[1].mean, om.bands[1].max,
       om.minWeight, om.maxWeight, long(om.flippedOutside));
   say(report, "      heatmaps show w%ld (the control the pose moves most)\n", long(control));
   if (!e.structure.empty()) runStructure(e, s, out, outside, png, files, report);

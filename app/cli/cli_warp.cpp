@@ -137,7 +137,7 @@ void runWarp(const WarpArgs& a) {
 
   std::printf("mesh: %ld vertices, %ld triangles (spacing %.3g px, outside %s); weights at vertices %.1f ms\n",
               long(mesh.restVertices().rows()), long(mesh.triangles().size()), meshOptions.spacing,
-              std::string(toString(meshOptions.outside)).c_str(), bindMs);
+              nameOf(meshOptions.outside).c_str(), bindMs);
   std::printf("compact weights: %ld entries (%.2f per vertex, max %ld), %.1f KB vs dense %.1f KB\n", long(cw.nonZeros),
               cw.meanPerVertex, long(cw.maxPerVertex), cw.compactBytes / 1024.0, cw.denseBytes / 1024.0);
   std::printf("deform: %.3f ms; det J in [%.3g, %.3g]; flipped triangles: %ld (rest area %.1f px^2)\n",
