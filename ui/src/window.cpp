@@ -12,7 +12,9 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <thread>
+#include <utility>
 
 #include <unistd.h>
 
@@ -224,6 +226,7 @@ struct FramePacing {
 /// The --ready-file: the app's state (stateJson) rewritten atomically whenever it changes, from the
 /// first idle frame with a picture on.
 struct StateFile {
+  explicit StateFile(std::string file) : path(std::move(file)) {}
   std::string path, last;
   bool written = false;
 
@@ -257,7 +260,6 @@ int runWindow(const WindowOptions& o) {
   std::signal(SIGTERM, onSignal);
   std::signal(SIGINT, onSignal);
 
-  int exitCode = 0;
   {
     SignalWaker waker;  // ends (joined) before glfwTerminate
     auto state = std::make_unique<AppState>();
@@ -280,7 +282,7 @@ int runWindow(const WindowOptions& o) {
 
     FrameLog frameLog;
     FramePacing pacing;
-    StateFile stateFile{o.readyFile};
+    StateFile stateFile(o.readyFile);
     std::string title;
     int screenshots = 0;
     auto previous = std::chrono::steady_clock::now();
@@ -340,7 +342,7 @@ int runWindow(const WindowOptions& o) {
     removeInputCallbacks(window);
   }
   closeWindow(window);
-  return exitCode;
+  return 0;
 }
 
 }  // namespace kc::ui

@@ -28,7 +28,8 @@ WindowOptions parseWindowOptions(int argc, char** argv);
 /// One paragraph of usage text.
 const char* usageText();
 
-/// Opens the window and runs until closed. Returns the process exit code.
+/// Opens the window and runs until it is closed or the process gets SIGTERM or SIGINT (which keep
+/// the recovery copy). Returns the process exit code: 1 when the window cannot be opened, else 0.
 int runWindow(const WindowOptions& options);
 
 }  // namespace kc::ui
