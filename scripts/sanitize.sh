@@ -4,12 +4,13 @@
 # or failed assert fails the test that triggered it — then fuzzes every loader for SECONDS
 # (default 60) with the same build (scripts/fuzz.sh).
 #   bash scripts/sanitize.sh [SECONDS]        every core, sampling and app test not labelled slow
-#   bash scripts/sanitize.sh --short [SECONDS]   only the executables of KC_SANITIZED_SHORT_TESTS
-#                                                (tests/CMakeLists.txt): 8 minutes in one run here, fuzzers included
+#   bash scripts/sanitize.sh --short [SECONDS]   only the test files of KC_SANITIZED_SHORT_TESTS
+#                                                (tests/CMakeLists.txt; one executable,
+#                                                kc_sanitized_short_tests): 8 minutes in one run here, fuzzers included
 # Neither fits in CI next to the Release build and suite (scripts/test.sh runs the fuzzers only).
 # The whole set is slow: its tests summed 2,590 s in one run on a loaded machine (most
-# of it the LBC, rigidity, per-sample QP, stick-figure and sampling tests), and building its ~50
-# test executables under the sanitizers costs about as much again.
+# of it the LBC, rigidity, per-sample QP, stick-figure and sampling tests), and building its
+# test executables (core_tests, sampling_tests, app_tests) under the sanitizers costs about as much again.
 # Leak detection is off until a run shows the third-party libraries (OpenMP, GLPK, CLP) free of
 # leak reports.
 set -euo pipefail
@@ -23,10 +24,9 @@ export KC_SANITIZED_DIR=build-asan KC_SANITIZED_OPT=-O1
 export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1" UBSAN_OPTIONS="print_stacktrace=1"
 if [ "$short" = 1 ]; then
   bash scripts/sanitized_build.sh kc_sanitized_short_tests kc_fuzz_targets
-  tests=$(cat build-asan/tests/sanitized_short_tests.txt)  # written by tests/CMakeLists.txt
-  # One executable per core at a time; each prints its failures, and xargs fails when any failed.
-  printf '%s\n' $tests | xargs -P "$jobs" -I{} sh -c \
-    'if build-asan/tests/{} --gtest_brief=1 > build-asan/{}.log 2>&1; then echo "{}: passed (sanitized)"; else cat build-asan/{}.log; echo "{}: FAILED (sanitized)"; exit 1; fi'
+  # One GoogleTest shard per core; each prints its failures, and xargs fails when any failed.
+  seq 0 $((jobs - 1)) | GTEST_TOTAL_SHARDS="$jobs" xargs -P "$jobs" -I{} sh -c \
+    'if GTEST_SHARD_INDEX={} build-asan/tests/kc_sanitized_short_tests --gtest_brief=1 > build-asan/short-{}.log 2>&1; then echo "shard {}: passed (sanitized)"; else cat build-asan/short-{}.log; echo "shard {}: FAILED (sanitized)"; exit 1; fi'
 else
   bash scripts/sanitized_build.sh kc_fast_tests kc_fuzz_targets
   ctest --test-dir build-asan -L "^(core|sampling|app)$" -LE slow --output-on-failure -j"$jobs" --timeout 900
