@@ -5,7 +5,7 @@
 #   bash scripts/setup.sh --run   only what builds and runs kcwarp and kcwarp-cli (scripts/run.sh)
 set -euo pipefail
 run_packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ninja-build
   libeigen3-dev libopencv-dev libcgal-dev libsuitesparse-dev
   libpng-dev   # PNG read/write without loading OpenCV's ~140 codec libraries (app/src/png_codec.h)
   libjpeg-dev  # strict JPEG reading: truncated or corrupt data refused (app/src/jpeg_codec.h)
