@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Builds the given targets of a sanitized build of kcwarp: clang, Debug (asserts on) with
 # AddressSanitizer, UndefinedBehaviorSanitizer (any report is fatal) and libFuzzer's coverage,
-# without the GUI and benchmarks. One build serves the unit tests (target kc_fast_tests) and the
-# fuzz targets (kc_fuzz_targets), so the fuzzers exercise instrumented core, sampling and app code.
-# Used by scripts/sanitize.sh and scripts/fuzz.sh.
+# without the GUI and benchmarks. One build serves the unit tests (targets kc_fast_tests: core_tests,
+# sampling_tests, app_tests; kc_sanitized_short_tests) and the fuzz targets (kc_fuzz_targets), so
+# the fuzzers exercise instrumented core, sampling and app code. Used by scripts/sanitize.sh and
+# scripts/fuzz.sh.
 #   KC_SANITIZED_DIR   the build folder (default build-asan)
 #   KC_SANITIZED_OPT   the optimization flag (default -O1; scripts/fuzz.sh alone builds build-fuzz at
 #                      -O0, which compiles in about half the time: the fuzzers run only seconds)
