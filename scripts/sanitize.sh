@@ -6,7 +6,7 @@
 #   bash scripts/sanitize.sh [SECONDS]        every core, sampling and app test not labelled slow
 #   bash scripts/sanitize.sh --short [SECONDS]   only the test files of KC_SANITIZED_SHORT_TESTS
 #                                                (tests/CMakeLists.txt; one executable,
-#                                                kc_sanitized_short_tests): 8 minutes in one run here, fuzzers included
+#                                                kc_sanitized_short_tests), then the fuzzers
 # Neither fits in CI next to the Release build and suite (scripts/test.sh runs the fuzzers only).
 # The whole set is slow: its tests summed 2,590 s in one run on a loaded machine (most
 # of it the LBC, rigidity, per-sample QP, stick-figure and sampling tests), and building its

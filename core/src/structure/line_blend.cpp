@@ -17,6 +17,9 @@ double lineBlendReach(const Cage& cage, const StructureLine& l, double sigma) {
 void blendLineNeighbourhoods(const Cage& cage, std::span<const StructureLine> lines, const SampleSet& S, double sigma,
                              const CoordinateField& field, Weights& W) {
   const Weights W0 = W;  // every line's change is measured against the weights before any
+  // Per sample, over the lines whose neighbourhood holds it: Σ φ_k Δ_k, Σ φ_k and max φ_k.
+  Weights sum = Weights::Zero(W.rows(), W.cols());
+  Eigen::VectorXd phiSum = Eigen::VectorXd::Zero(W.rows()), phiMax = Eigen::VectorXd::Zero(W.rows());
   for (std::size_t k = 0; k < lines.size(); ++k) {
     const auto& idx = S.lines[k];
     const Vec2 a = lines[k].a, b = lines[k].b;
@@ -39,9 +42,16 @@ void blendLineNeighbourhoods(const Cage& cage, std::span<const StructureLine> li
       const Index i = near[q];
       const double d = (S.X.row(i) - P.row(static_cast<Index>(q))).norm() / R;
       const double phi = (1.0 - d * d) * (1.0 - d * d);
-      W.row(i) += phi * ((1.0 - t[q]) * wa + t[q] * wb - Wp.row(static_cast<Index>(q)));
+      sum.row(i) += phi * ((1.0 - t[q]) * wa + t[q] * wb - Wp.row(static_cast<Index>(q)));
+      phiSum(i) += phi;
+      phiMax(i) = std::max(phiMax(i), phi);
     }
   }
+  // One line: W_i += φ Δ. Near several (a crossing): their φ-weighted mean change, at the
+  // strongest φ — next to a crossing both lines ask for about the same change, which a plain sum
+  // would apply twice.
+  for (Index i = 0; i < W.rows(); ++i)
+    if (phiSum(i) > 0.0) W.row(i) += (phiMax(i) / phiSum(i)) * sum.row(i);
 }
 
 std::vector<Index> lineNeighbourhoodRows(const Cage& cage, std::span<const StructureLine> lines, const Points& X,

@@ -27,8 +27,11 @@ double lineBlendReach(const Cage& cage, const StructureLine& l, double sigma);
 /// nearest point on the line, d_i = |x_i − p_i| / R) gets
 ///   W_i += (1 − d_i²)² (ℓ_k(p_i) − w(p_i)),
 /// ℓ_k linear between the weights W holds on entry at line k's end samples (S.lines[k] front and
-/// back), w = `field` (the weights before the lines). ℓ(p) and w(p) both sum to 1 and reproduce p,
-/// so partition of unity and reproduction stay exact; control, edge and line samples are not
+/// back), w = `field` (the weights before the lines). A sample near several lines (a crossing) gets
+/// (max_k φ_k / Σ_k φ_k) Σ_k φ_k Δ_k, φ_k = (1 − d_k²)², Δ_k = ℓ_k(p_k) − w(p_k): their φ-weighted
+/// mean change at the strongest φ (a plain sum would apply a crossing's change twice). Each Δ_k
+/// sums to 0 and reproduces 0 (ℓ(p) and w(p) both sum to 1 and reproduce p), so partition of
+/// unity and reproduction stay exact; control, edge and line samples are not
 /// changed. W is #S×m; S.lines has one entry per line.
 void blendLineNeighbourhoods(const Cage& cage, std::span<const StructureLine> lines, const SampleSet& S, double sigma,
                              const CoordinateField& field, Weights& W);
