@@ -111,6 +111,24 @@ double contrast(const Image& shot, int x0, int y0, int x1, int y1) {
   return n ? std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n))) : 0.0;
 }
 
+TEST_F(GuiSession, OnAScreenSmallerThanTheWindowTheWindowFitsTheScreen) {
+  shutDown();
+  ASSERT_TRUE(startXvfb("1280x720x24")) << "Xvfb did not start";
+  startApp({std::string(KC_SOURCE_DIR) + "/images/star.png"});
+  const json s = waitFor([](const json& j) { return j.contains("window") && !j.value("busy", true); });
+  const int x = s["window"][0], y = s["window"][1], w = s["window"][2], h = s["window"][3];
+  EXPECT_GE(x, 0);
+  EXPECT_GE(y, 0);
+  EXPECT_LE(x + w, 1280) << "the default window is 1400 px wide";
+  EXPECT_LE(y + h, 720) << "the default window is 900 px high";
+  EXPECT_GE(w, 1000) << "it fills the screen's width";
+  // The framebuffer (the F12 screenshot) is the fitted window's, so the panels laid out against its
+  // right edge are on the screen.
+  const Image shot = app::loadImage(screenshot("small-screen.png").string());
+  EXPECT_EQ(shot.width, w);
+  EXPECT_EQ(shot.height, h);
+}
+
 TEST_F(GuiSession, BigPictureIsDrawnFromAScreenSizedTextureAndSharpWhenZoomedIn) {
   const Image picture = rampWithFineChecks();
   app::saveImage((dir / "wide.png").string(), picture);

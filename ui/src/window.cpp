@@ -110,6 +110,24 @@ double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_cl
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
 
+/// Shrinks the window to the primary monitor's work area when it does not fit there (the default
+/// 1400×900 on a 1366×768 laptop screen) and moves it inside, frame included; a window that fits
+/// is left as it is.
+void fitToWorkArea(GLFWwindow* window) {
+  GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+  if (!monitor) return;
+  int x = 0, y = 0, w = 0, h = 0;
+  glfwGetMonitorWorkarea(monitor, &x, &y, &w, &h);
+  if (w <= 0 || h <= 0) return;
+  int left = 0, top = 0, right = 0, bottom = 0, ww = 0, wh = 0;
+  glfwGetWindowFrameSize(window, &left, &top, &right, &bottom);
+  glfwGetWindowSize(window, &ww, &wh);
+  const int fitW = std::max(1, w - left - right), fitH = std::max(1, h - top - bottom);
+  if (ww <= fitW && wh <= fitH) return;
+  glfwSetWindowSize(window, std::min(ww, fitW), std::min(wh, fitH));
+  glfwSetWindowPos(window, x + left, y + top);
+}
+
 /// GLFW with an OpenGL 3.3 core window and ImGui on it; nullptr (after a message on stderr, GLFW
 /// terminated) when either cannot start.
 GLFWwindow* openWindow(const WindowOptions& o) {
@@ -128,6 +146,7 @@ GLFWwindow* openWindow(const WindowOptions& o) {
     glfwTerminate();
     return nullptr;
   }
+  fitToWorkArea(window);
   glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
   IMGUI_CHECKVERSION();
