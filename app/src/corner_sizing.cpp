@@ -31,7 +31,7 @@ void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double max
     const double sine = std::sqrt(std::max(0.0, 1.0 - cosine * cosine));
     for (const auto& [dir, length] : {std::pair<Vec2, double>{u / lu, lu}, std::pair<Vec2, double>{v / lv, lv}}) {
       for (double s = 0.0; s <= length;) {
-        const double h = std::clamp(s * sine / options.featureSamples, hLow, hMax);
+        const double h = std::clamp(s * sine / kSharpCornerSamples, hLow, hMax);
         if (h >= hMax) break;
         P.push_back(c + s * dir);
         H.push_back(h);

@@ -68,7 +68,7 @@ void checkCageScale(const Cage& cage, double spacing, bool graded = false) {
 }
 
 
-/// k of the LBC backend's mesh (SizingOptions::featureSamples): one triangle across a narrow part
+/// k of the LBC backend's mesh (SizingOptions::featureSamples, and narrowWidth): one triangle across a narrow part
 /// of the inside, where the weights follow the cage edges' linear data. The mesh covers the inside
 /// only, so a gap outside the cage (between two legs) does not refine it (SizingOptions::outsideGaps).
 constexpr double kLbcFeatureSamples = 1.0;
@@ -98,7 +98,7 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   o.hMax = params.spacing;
   o.hMin = std::min(kMinSpacing, params.spacing);
   if (!backendFor(params.backend).capabilities().outsideCage) {
-    o.featureSamples = kLbcFeatureSamples;
+    o.featureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
     o.gradation = kLbcGradation;
     o.outsideGaps = false;
   }
@@ -219,7 +219,7 @@ double automaticSpacing(const Cage& cage, int width, int height, const BindParam
     return std::max(params.spacing, std::ceil(h * 100.0) / 100.0);
   }
   // A feature narrower than a graded sampling resolves is refused by bind(): no spacing to find.
-  if (gradedBind(params) && std::isfinite(narrowestGap(cage, kFeatureSamples * kMinSpacing).distance)) return params.spacing;
+  if (gradedBind(params) && std::isfinite(narrowestGap(cage, kNarrowWidth * kMinSpacing).distance)) return params.spacing;
   if (params.kc.init.method == InitMethod::Lbc) {  // the LBC mesh at a plain bind's spacing, samples denser
     BindParams plain = params;
     plain.kc.init.method = InitMethod::HeatLinear;
@@ -318,9 +318,9 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     checkCommonParams(width, height, params);
     const Backend& b = backendFor(params.backend);
     // A graded sampling refines its narrow places down to kMinSpacing: narrower than
-    // kFeatureSamples·kMinSpacing is degenerate (points to merge, a gap to widen).
+    // kNarrowWidth·kMinSpacing is degenerate (points to merge, a gap to widen).
     if (!gradedBind(params)) checkCageScale(cage, params.spacing);
-    else checkCageScale(cage, kFeatureSamples * kMinSpacing, true);
+    else checkCageScale(cage, kNarrowWidth * kMinSpacing, true);
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
       checkBindCost(costOf(cage, structure, width, height, params), params);
     if (const std::string refusal = structureRefusal(structure, b); !refusal.empty()) throw std::invalid_argument(refusal);

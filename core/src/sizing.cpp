@@ -31,6 +31,7 @@ void closestParameters(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
 struct FeatureGraph {
   Points V;
   std::vector<std::array<int, 2>> E;
+  std::vector<char> extra;  // per edge: a piece of an extra segment (not a cage edge)
 };
 
 FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extra) {
@@ -105,12 +106,17 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
     auto& sp = splits[s];
     std::sort(sp.begin(), sp.end());
     int prev = ends[s][0];
+    const char isExtra = s >= cageE.size();
     for (const auto& [p, id] : sp) {
       if (id == prev) continue;
       g.E.push_back({prev, id});
+      g.extra.push_back(isExtra);
       prev = id;
     }
-    if (prev != ends[s][1]) g.E.push_back({prev, ends[s][1]});
+    if (prev != ends[s][1]) {
+      g.E.push_back({prev, ends[s][1]});
+      g.extra.push_back(isExtra);
+    }
   }
   return g;
 }
@@ -118,14 +124,25 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
 /// A raw seed: position and local feature size.
 struct RawSeed {
   Vec2 p;
-  double lfs;
+  double h;
 };
 
-/// Seeds where lfs < `below`: every half local size along each segment, and at vertices (their
-/// shortest incident segment). With `outsideGaps`, a gap whose middle lies outside that cage does
-/// not count.
-std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, double hMin, const CageQueries* outsideGaps) {
+/// The spacing at a place of width `width` between two features, one of them extra (a line, a
+/// rigid polygon's side) when `extra`: narrowSpacing with n = extraNarrowWidth then.
+double pairSpacing(double width, bool extra, const SizingOptions& o) {
+  if (!extra) return narrowSpacing(width, o);
+  SizingOptions e = o;
+  e.narrowWidth = o.extraNarrowWidth;
+  return narrowSpacing(width, e);
+}
+
+/// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along
+/// each segment, and at vertices (their shortest incident segment). With `outsideGaps`, a gap
+/// whose middle lies outside that cage does not count.
+std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, const CageQueries* outsideGaps) {
   std::vector<RawSeed> seeds;
+  // Widths at or above `below` leave hMax for either kind of pair.
+  const double below = std::max(o.narrowWidth, o.extraNarrowWidth) * o.hMax;
   if (g.E.empty() || !(below > 0.0)) return seeds;
   Cage fc;
   fc.C = g.V;
@@ -134,36 +151,41 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, dou
   const double R = 2.0 * below;
   const CageEdgeGrid grid(fc, R);
   std::vector<double> shortest(static_cast<std::size_t>(g.V.rows()), kInf);
-  std::vector<char> used(static_cast<std::size_t>(g.V.rows()), 0);
-  for (const auto& [a, b] : g.E) {
+  std::vector<char> used(static_cast<std::size_t>(g.V.rows()), 0), onExtra(static_cast<std::size_t>(g.V.rows()), 0);
+  for (std::size_t e = 0; e < g.E.size(); ++e) {
+    const auto [a, b] = g.E[e];
     const double len = (g.V.row(a) - g.V.row(b)).norm();
     for (int v : {a, b}) {
       shortest[static_cast<std::size_t>(v)] = std::min(shortest[static_cast<std::size_t>(v)], len);
       used[static_cast<std::size_t>(v)] = 1;
+      onExtra[static_cast<std::size_t>(v)] |= g.extra[e];
     }
   }
-  for (Index v = 0; v < g.V.rows(); ++v)
-    if (used[static_cast<std::size_t>(v)] && shortest[static_cast<std::size_t>(v)] < below)
-      seeds.push_back({g.V.row(v), shortest[static_cast<std::size_t>(v)]});
+  for (Index v = 0; v < g.V.rows(); ++v) {
+    const std::size_t u = static_cast<std::size_t>(v);
+    const double h = used[u] ? pairSpacing(shortest[u], onExtra[u] != 0, o) : o.hMax;
+    if (h < o.hMax) seeds.push_back({g.V.row(v), h});
+  }
 
   // At x on segment s: the distance to the nearest segment sharing no vertex with s (`all`), and
-  // the same over the gaps that count (`counted`: with outsideGaps, not those whose middle lies
-  // outside the cage), both capped at R.
+  // the spacing the gaps that count ask for (`h`: with outsideGaps, not those whose middle lies
+  // outside the cage), the smallest over the pairs within R.
   struct Lfs {
-    double all, counted;
+    double all, h;
   };
   auto lfs = [&](const Vec2& x, int s) {
     const auto& es = g.E[static_cast<std::size_t>(s)];
-    Lfs best{R, R};
+    Lfs best{R, o.hMax};
     grid.forEachEdgeNear(x - Vec2::Constant(R), x + Vec2::Constant(R), [&](int t, const Vec2& a, const Vec2& b) {
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
       if (et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1]) return;
       const double d = pointSegmentDistance(x, a, b);
       best.all = std::min(best.all, d);
-      if (d >= best.counted) return;
+      const double h = pairSpacing(d, g.extra[std::size_t(s)] || g.extra[std::size_t(t)], o);
+      if (h >= best.h) return;
       if (outsideGaps && !outsideGaps->inside(0.5 * (x + closestPointOnSegment(x, a, b)))) return;
-      best.counted = d;
+      best.h = h;
     });
     return best;
   };
@@ -175,12 +197,11 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, double below, double k, dou
     for (;;) {
       const Vec2 x = A + (t / L) * (B - A);
       const Lfs l = lfs(x, static_cast<int>(s));
-      if (l.counted < below) seeds.push_back({x, l.counted});
+      if (l.h < o.hMax) seeds.push_back({x, l.h});
       if (t >= L) break;
       // The distance to every other segment is 1-Lipschitz along the segment: where it is far
-      // above `below` the walk can jump (`counted` may jump where a gap's middle crosses the cage).
-      const double local = std::max(std::min(l.counted, below) / k, hMin);
-      t = std::min(L, t + std::max(0.5 * local, l.all - below));
+      // above `below` the walk can jump (the spacing may jump where a gap's middle crosses the cage).
+      t = std::min(L, t + std::max(0.5 * l.h, l.all - below));
     }
   }
   return seeds;
@@ -333,21 +354,26 @@ Eigen::VectorXd SizingField::at(const Points& X) const {
   return h;
 }
 
+double narrowSpacing(double width, const SizingOptions& o) {
+  return std::clamp(std::max(width / o.featureSamples, width - (o.narrowWidth - 1.0) * o.hMax), o.hMin, o.hMax);
+}
+
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
   if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
   if (!(o.hMin > 0.0) || o.hMin > o.hMax) throw std::invalid_argument("sizing: hMin must be in (0, hMax]");
   if (!(o.featureSamples > 0.0) || !std::isfinite(o.featureSamples)) throw std::invalid_argument("sizing: featureSamples must be positive");
   for (const FeatureSegment& f : extra)
     if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
-  const double k = o.featureSamples;
+  if (!(o.narrowWidth >= 1.0) || !std::isfinite(o.narrowWidth) || !(o.extraNarrowWidth >= 1.0) || !std::isfinite(o.extraNarrowWidth))
+    throw std::invalid_argument("sizing: narrowWidth and extraNarrowWidth must be at least 1");
   std::optional<CageQueries> inside;
   if (!o.outsideGaps && cage.closed && cage.size() >= 3) inside.emplace(cage);
-  const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), k * o.hMax, k, o.hMin, inside ? &*inside : nullptr);
+  const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), o, inside ? &*inside : nullptr);
   Points P(static_cast<Index>(raw.size()), 2);
   Eigen::VectorXd H(static_cast<Index>(raw.size()));
   for (std::size_t i = 0; i < raw.size(); ++i) {
     P.row(static_cast<Index>(i)) = raw[i].p.transpose();
-    H(static_cast<Index>(i)) = std::clamp(raw[i].lfs / k, o.hMin, o.hMax);
+    H(static_cast<Index>(i)) = raw[i].h;
   }
   return SizingField(o.hMax, o.gradation, P, H);
 }

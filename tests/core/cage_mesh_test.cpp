@@ -101,11 +101,12 @@ TEST(CageMesh, PointsTheMesherAddsOnTheCageAreRecorded) {
 
 TEST(CageMesh, ASizingFieldGradesTheMeshAtTheNarrowPlaceOnly) {
   // A square with a slit 3 px wide cut in from below: featureSizing refines along the slit
-  // (h = lfs / k = 1.5 px there) and leaves h = 10 px away from it.
+  // (h = lfs / k = 1.5 px there at k = 2) and leaves h = 10 px away from it.
   const Cage cage = test::slitCage();
   const Points& C = cage.C;
   SizingOptions so;
   so.hMax = 10.0;
+  so.featureSamples = 2.0;
   auto sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));
   ASSERT_TRUE(sizing->graded());
   EXPECT_NEAR(sizing->hMin(), 1.5, 1e-9);

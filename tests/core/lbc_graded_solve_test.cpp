@@ -18,7 +18,7 @@ TEST(LbcGradedSolve, ASlitCageIsCertifiedWithinAThousandthInBoundedIterations) {
   const Points& C = cage.C;
   SizingOptions so;
   so.hMax = 10.0;
-  so.featureSamples = 1.0;  // the LBC backend's: one triangle across a narrow place
+  so.featureSamples = so.narrowWidth = so.extraNarrowWidth = 1.0;  // the LBC backend's: one triangle across a narrow place
   CageMeshOptions mo;
   mo.spacing = so.hMax;
   mo.sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));

@@ -39,12 +39,12 @@ TEST(Sizing, CageWithoutNarrowPlaceIsUniform) {
   EXPECT_EQ(h(Vec2(-500, 3)), 8.0);
 }
 
-TEST(Sizing, SlitGetsHalfItsWidthAndGrowsAtMostByTheGradation) {
+TEST(Sizing, SlitGetsAQuarterOfItsWidthAndGrowsAtMostByTheGradation) {
   const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
   ASSERT_TRUE(h.graded());
-  // On the slit's walls lfs = 3: h = 3/k = 1.5.
-  EXPECT_NEAR(h(Vec2(148.5, 120)), 1.5, 0.1);
-  EXPECT_NEAR(h.hMin(), 1.5, 1e-9);
+  // On the slit's walls lfs = 3: h = 3/k = 0.75.
+  EXPECT_NEAR(h(Vec2(148.5, 120)), 0.75, 0.05);
+  EXPECT_NEAR(h.hMin(), 0.75, 1e-9);
   // Far from it, hMax.
   EXPECT_EQ(h(Vec2(60, 240)), 10.0);
   // |h(x) − h(y)| ≤ g |x − y| on random pairs (h is a minimum of g-Lipschitz cones).
@@ -71,21 +71,48 @@ TEST(Sizing, AGapOutsideTheCageCountsOnlyWithOutsideGaps) {
   inner.outsideGaps = false;
   const SizingField h = featureSizing(slit(3.0), {}, inner);
   EXPECT_EQ(h(Vec2(148.5, 120)), 10.0);
-  EXPECT_NEAR(h(Vec2(148.5, 200)), 1.5, 1e-9);  // the short edge's end
+  EXPECT_NEAR(h(Vec2(148.5, 200)), 0.75, 1e-9);  // the short edge's end
   // A narrow part of the inside (a neck 3 px wide) refines either way.
   const Cage neck = polygon({{0, 0}, {100, 0}, {100, 48.5}, {200, 48.5}, {200, 0}, {300, 0}, {300, 100}, {200, 100},
                              {200, 51.5}, {100, 51.5}, {100, 100}, {0, 100}});
   const SizingField n = featureSizing(neck, {}, inner);
-  EXPECT_NEAR(n(Vec2(150, 48.5)), 1.5, 0.1);  // seeds every h/2 along the wall
-  EXPECT_NEAR(n(Vec2(150, 51.5)), 1.5, 0.1);
+  EXPECT_NEAR(n(Vec2(150, 48.5)), 0.75, 0.05);  // seeds every h/2 along the wall
+  EXPECT_NEAR(n(Vec2(150, 51.5)), 0.75, 0.05);
   EXPECT_EQ(n(Vec2(150, 48.5)), featureSizing(neck, {}, options(10.0))(Vec2(150, 48.5)));
+}
+
+TEST(Sizing, NarrowPlacesGetAQuarterOfTheirWidthRampingToHMaxAtTwiceIt) {
+  const SizingOptions o = options(10.0);
+  EXPECT_DOUBLE_EQ(narrowSpacing(4.0, o), 1.0);             // w/k
+  EXPECT_DOUBLE_EQ(narrowSpacing(40.0 / 3.0, o), 10.0 / 3.0);  // where the ramp begins
+  EXPECT_DOUBLE_EQ(narrowSpacing(16.0, o), 6.0);            // w − (n − 1)·hMax
+  EXPECT_DOUBLE_EQ(narrowSpacing(20.0, o), 10.0);           // n·hMax: hMax
+  EXPECT_DOUBLE_EQ(narrowSpacing(35.0, o), 10.0);
+  EXPECT_DOUBLE_EQ(narrowSpacing(0.01, o), 0.05);           // hMin
+  // Continuous and non-decreasing in the width, with slope at most 1.
+  for (double w = 0.0; w < 30.0; w += 0.01) {
+    const double a = narrowSpacing(w, o), b = narrowSpacing(w + 0.01, o);
+    EXPECT_GE(b, a);
+    EXPECT_LE(b - a, 0.01 + 1e-12) << w;
+  }
+  // The LBC mesh's k = n = 1: the width itself.
+  SizingOptions lbc = o;
+  lbc.featureSamples = lbc.narrowWidth = 1.0;
+  EXPECT_DOUBLE_EQ(narrowSpacing(3.0, lbc), 3.0);
+  EXPECT_DOUBLE_EQ(narrowSpacing(12.0, lbc), 10.0);
+  // A slit narrower than n·hMax is a narrow place, on the ramp; a wider one is not.
+  const SizingField ramp = featureSizing(slit(19.0), {}, o);
+  ASSERT_TRUE(ramp.graded());
+  EXPECT_DOUBLE_EQ(ramp.hMin(), 9.0);  // every seed has lfs = 19
+  EXPECT_LE(ramp(Vec2(140.5, 120)), 9.0 + ramp.gradation() * 4.5);  // on the wall: a seed within h/2
+  EXPECT_FALSE(featureSizing(slit(21.0), {}, o).graded());
 }
 
 TEST(Sizing, ShortEdgeRefinesItsEnds) {
   // A 2 px edge (points 1 and 2) on a 100 px shape.
   const SizingField h = featureSizing(polygon({{0, 0}, {100, 0}, {100, 49}, {100.0, 51}, {100, 100}, {0, 100}}), {}, options(8.0));
   ASSERT_TRUE(h.graded());
-  EXPECT_NEAR(h(Vec2(100, 49)), 1.0, 1e-9);
+  EXPECT_NEAR(h(Vec2(100, 49)), 0.5, 1e-9);
   EXPECT_EQ(h(Vec2(10, 10)), 8.0);
 }
 
@@ -102,9 +129,25 @@ TEST(Sizing, LineEndingNearTheEdgeIsNarrow) {
   const std::vector<FeatureSegment> line{{{1, 100}, {80, 100}}};  // 1 px from the left side
   const SizingField h = featureSizing(square, line, options(8.0));
   ASSERT_TRUE(h.graded());
-  EXPECT_NEAR(h(Vec2(1, 100)), 0.5, 1e-9);
-  EXPECT_NEAR(h(Vec2(0, 100)), 0.5, 0.1);  // the nearest seed on the side lies within a step
+  EXPECT_NEAR(h(Vec2(1, 100)), 0.25, 1e-9);
+  EXPECT_NEAR(h(Vec2(0, 100)), 0.25, 0.05);  // the nearest seed on the side lies within a step
   EXPECT_EQ(h(Vec2(150, 150)), 8.0);
+}
+
+TEST(Sizing, ALineRefinesWithinFourSpacingsOfTheCageAGapWithinTwo) {
+  // A line 16 px from the left side (hMax 6: 2.7 spacings) gets a quarter of that, 4 px; a slit
+  // 16 px wide between cage edges is not narrow (kNarrowWidth·hMax = 12).
+  const Cage square = polygon({{0, 0}, {200, 0}, {200, 200}, {0, 200}});
+  const std::vector<FeatureSegment> line{{{16, 60}, {16, 140}}};
+  const SizingField h = featureSizing(square, line, options(6.0));
+  ASSERT_TRUE(h.graded());
+  EXPECT_NEAR(h.hMin(), 4.0, 1e-9);
+  EXPECT_NEAR(h(Vec2(16, 100)), 4.0, 0.3 * 2.0);  // a seed within h/2 along the line
+  EXPECT_EQ(h(Vec2(150, 100)), 6.0);
+  EXPECT_FALSE(featureSizing(slit(16.0), {}, options(6.0)).graded());
+  SizingOptions two = options(6.0);
+  two.extraNarrowWidth = kNarrowWidth;  // the lines' rule as the cage's: 16 px is not narrow
+  EXPECT_FALSE(featureSizing(square, line, two).graded());
 }
 
 TEST(Sizing, UniformDivisionIsTheEqualOne) {
@@ -129,7 +172,7 @@ TEST(Sizing, GradedDivisionFollowsTheLocalSpacing) {
 }
 
 TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
-  // Around a 3 px slit and a short edge: h̃ ≤ h, h̃ ≥ 0.55·h, h̃ = hMax far away, |∇h̃| within the
+  // Around a 3 px slit and a short edge: h̃ ≤ h, h̃ ≥ 0.5·h, h̃ = hMax far away, |∇h̃| within the
   // stated bound on random points, and the gradient agrees with finite differences.
   const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
   ASSERT_EQ(h.form(), SizingForm::Smooth);
@@ -143,7 +186,7 @@ TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
     Vec2 g;
     const double v = h.profile(x, &g);
     EXPECT_LE(v, h(x) + 1e-12);
-    EXPECT_GE(v, 0.55 * h(x));
+    EXPECT_GE(v, 0.5 * h(x));
     EXPECT_LE(g.norm(), bound + 1e-12);
     maxRatio = std::max(maxRatio, g.norm() / h.gradation());
     const double e = 1e-5;
@@ -179,6 +222,9 @@ TEST(Sizing, RejectsBadInput) {
   P << 0, 0;
   EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 6.0)), std::invalid_argument);
   EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, std::nan(""))), std::invalid_argument);
+  SizingOptions o = options(8.0);
+  o.narrowWidth = 0.5;
+  EXPECT_THROW(featureSizing(slit(3.0), {}, o), std::invalid_argument);
 }
 
 }  // namespace

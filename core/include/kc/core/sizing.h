@@ -2,8 +2,8 @@
 /// The sizing field of a graded sampling: the local sample spacing h(x), from the local feature
 /// size of the cage, its sticks, the structure lines and the rigid polygons.
 ///
-/// Seeds (p_i, h_i) lie along every feature where h_i = clamp(lfs(p_i) / k, hMin, hMax) is below
-/// hMax. lfs(p) is the distance from a point p of a feature to the nearest feature that does not
+/// Seeds (p_i, h_i) lie along every feature where h_i = narrowSpacing(lfs(p_i)) (about lfs/k) is
+/// below hMax. lfs(p) is the distance from a point p of a feature to the nearest feature that does not
 /// touch p's own (the other side of a gap, a nearby line, a point of a short edge's far end).
 ///
 /// The spacing (samplers, the LBC mesher, edge division):
@@ -15,7 +15,7 @@
 /// with ε_i = h_i/2, p = kSizingSoftness and τ the C² taper 1 − smootherstep from a = hMax to 2·hMax.
 /// h̃ is C² (h has kinks: ridges between cones, the clamp at hMax, the cone tips, and a width with
 /// kinks puts kinks into every weight along a structure line, which the lines' linear fit cannot
-/// remove). h̃ ≤ h, h̃ ≥ 0.6·h (about N^(−1/p) for N near-equal cones: 0.69 beside a long feature), and
+/// remove). h̃ ≤ h, h̃ ≥ 0.5·h (about N^(−1/p) for N near-equal cones), and
 /// |∇h̃| ≤ g·(1 + 1.875/p) (the cones' gradients in a convex combination plus the taper's slope).
 /// SizingForm::Min (binds without structure lines, sessions written before the profile): h̃ = h.
 /// Both equal hMax away from narrow places; a cage without one has no seeds: h ≡ h̃ ≡ hMax, the
@@ -32,11 +32,22 @@
 
 namespace kc {
 
-/// Samples across the narrowest place: a gap of width w (or an edge of length w) gets spacing w/k.
-/// k = 2 puts edge samples on both sides of a gap with one free sample between them, which keeps
-/// the kernel matrix as well conditioned as at a feature 2h wide in a uniform sampling (the
-/// narrowest a uniform bind resolved without warning).
-inline constexpr double kFeatureSamples = 2.0;
+/// A place is narrow where its width w (the local feature size, or an edge's length) is below
+/// kNarrowWidth·hMax: wider places keep hMax, so a cage without narrow places samples uniformly.
+/// 2 is the narrowest feature a uniform bind resolved without warning.
+inline constexpr double kNarrowWidth = 2.0;
+/// k, samples across a narrow place: a place of width w ≤ (4/3)·hMax gets spacing w/k, and
+/// between (4/3)·hMax and kNarrowWidth·hMax the spacing ramps to hMax (narrowSpacing). At k = 2 the
+/// kernel interpolant overshoots the weights' kink at the walls of a gap: 1–3 px inside a leg next
+/// to a 4 px gap the far side's controls weigh −0.03 in sum, beside a 3 px slit −0.04; at k = 4
+/// about −0.01 (`kcwarp-cli bench --graded`). The cost: about twice the samples along a narrow place.
+inline constexpr double kFeatureSamples = 4.0;
+/// kNarrowWidth for a place between a structure line or a rigid polygon's side and another
+/// feature: the field must be linear along a line, not only bounded across a gap. With n = 2,
+/// lines 2–4 spacings from the cage or from another line bend by up to 0.2 px under ±40 px
+/// translations of the controls; n = k refines every such place to a quarter of its width
+/// (`kcwarp-cli bench --lines --crossing`).
+inline constexpr double kExtraNarrowWidth = 4.0;
 /// g: how fast the spacing may grow away from a narrow place, |∇h| ≤ g. At 0.3 neighbouring
 /// samples differ in spacing by at most ~30%, so the inverse mean shift and the variable-width
 /// kernel see a locally uniform sampling; the sample count of the refinement around one narrow
@@ -54,7 +65,9 @@ enum class SizingForm { Smooth, Min };
 struct SizingOptions {
   double hMax = 6.0;                     ///< Spacing away from narrow places (pixels, > 0).
   double hMin = 0.05;                    ///< Smallest spacing (pixels, > 0, ≤ hMax).
-  double featureSamples = kFeatureSamples;
+  double featureSamples = kFeatureSamples;  ///< k (see kFeatureSamples).
+  double narrowWidth = kNarrowWidth;        ///< In units of hMax (see kNarrowWidth); ≥ 1.
+  double extraNarrowWidth = kExtraNarrowWidth;  ///< The same where a FeatureSegment is one side; ≥ 1.
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
   /// Whether a gap whose middle lies outside a closed cage (between two legs) is a narrow place.
   /// false for a sampling of the cage's inside only (the LBC mesh): each wall of such a gap is
@@ -118,9 +131,16 @@ class SizingField {
   std::vector<int> m_start, m_items;
 };
 
+/// The spacing of a narrow place of width w (pixels):
+///   clamp(max(w/k, w − (n − 1)·hMax), hMin, hMax),  k = featureSamples, n = narrowWidth,
+/// w/k where w ≤ hMax·(n − 1)/(1 − 1/k), rising with slope 1 to hMax at w = n·hMax (continuous;
+/// n = k gives w/k throughout).
+double narrowSpacing(double width, const SizingOptions& options);
+
 /// The sizing field of a cage and further features (structure lines, rigid polygons' sides):
-/// seeds every h_i/2 along each feature where lfs/k < hMax, and at every feature vertex whose
-/// shortest incident segment is shorter than k·hMax. Features that cross or touch (within 1e-9 of
+/// seeds every h_i/2 along each feature where h_i = narrowSpacing(lfs) < hMax, and at every
+/// feature vertex whose shortest incident segment is that short; lfs and the vertex's segment
+/// count with n = extraNarrowWidth where an extra segment is one side of the place. Features that cross or touch (within 1e-9 of
 /// the cage's extent) are split there and share the point, so a crossing or a line ending on an
 /// edge is not a narrow place; adjacent segments (sharing an end) do not count for each other's
 /// lfs; gaps outside the cage count only with options.outsideGaps. Deterministic; expected
