@@ -16,6 +16,9 @@ namespace {
 
 /// The graded relaxation's bound on the largest move at convergence, in tolerances (see the loop).
 constexpr double kGradedSlack = 3.0;
+/// The fraction of free samples that must move less than the tolerance when a graded relaxation
+/// stops (see the loop).
+constexpr double kGradedSettled = 0.95;
 /// The graded relaxation re-evaluates a sample's spacing after it moved this fraction of it.
 constexpr double kRelStale = 0.1;
 
@@ -220,12 +223,13 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
       report.converged = true;
       break;
     }
-    // Graded: a row of samples in a corridor one sample wide (a narrow gap) drifts along it for
-    // O(n²) iterations after everything else has settled; the graded relaxation stops when 99% of
-    // the free samples move less than the tolerance and none more than kGradedSlack times it.
+    // Graded: rows of samples in a corridor a few samples wide (a narrow gap) drift along it for
+    // O(n²) iterations after everything else has settled; the graded relaxation stops when 95% of
+    // the free samples move less than the tolerance and none more than kGradedSlack times it: the
+    // drift no longer changes the sampling's separation or fill (in units of h(x)).
     if (sizing && largest < kGradedSlack * tolerance) {
       std::vector<double> sorted(moved);
-      const auto q = sorted.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(sorted.size() - 1));
+      const auto q = sorted.begin() + static_cast<std::ptrdiff_t>(kGradedSettled * static_cast<double>(sorted.size() - 1));
       std::nth_element(sorted.begin(), q, sorted.end());
       if (*q < tolerance) {
         report.converged = true;
