@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 
+#include "kc/app/file_io.h"
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
 #include "kc/sampling/sampler.h"
@@ -119,11 +121,11 @@ TEST(GradedLines, MeetingLinesShareASampleInAGradedSampling) {
 /// 20 random ±40 px translations of every control, with unity and reproduction along them.
 /// Returns the number of fit points of the lines' linear fit over the number that the largest
 /// kernel width needs (Σ length / (fitSpacing·σ)).
-double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int size) {
+double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int width, int height) {
   Structure st;
   st.lines = lines;
   BindReport r;
-  const Session s = app::bind(cage, st, size, size, BindParams{}, &r);
+  const Session s = app::bind(cage, st, width, height, BindParams{}, &r);
   EXPECT_TRUE(s.params.graded);  // graded (a sizing field only where some place is narrow)
   const LineFigures f = measureLines(s, st.lines, 20, 40.0);
   std::printf("%ld samples, bind %.2f s (lines %.2f s, %ld fit points), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
@@ -139,18 +141,30 @@ double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& 
 TEST(GradedLinesSlow, CrossingLinesBindAndStayStraight) {
   // An X (a window frame) and a T from its crossing: refused by a uniform bind.
   const double fitShare =
-      expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}}, 300);
+      expectStraightGraded(square(20, 20, 280, 280), {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}, {{150, 150}, {150, 260}}},300, 300);
   // The fit is dense only near the crossing, where the width is small (0.03 px): at most 4× the
   // fit points that the largest width needs (the smallest width everywhere needed 180×).
   EXPECT_LE(fitShare, 4.0);
 }
 
+TEST(GradedLinesSlow, RandomCrossingLinesInTheStarStayStraight) {
+  // The first four sets of `kcwarp-cli bench --lines --crossing` (seeds 1000 + set, the bench's
+  // picture: the star's extent and 20 px): lines that pass a few px from the star's inside corners
+  // and from each other between their crossings.
+  const Cage star = loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json");
+  const int w = int(std::ceil(star.C.col(0).maxCoeff() + 20.0)), h = int(std::ceil(star.C.col(1).maxCoeff() + 20.0));
+  for (std::uint64_t set = 0; set < 4; ++set) {
+    SCOPED_TRACE(set);
+    expectStraightGraded(star, randomLines(star, 3, 100.0, 150.0, BindParams{}.spacing, 1000 + set, RandomLineLayout::Crossing), w, h);
+  }
+}
+
 TEST(GradedLines, ALineEndingOnePixelFromTheEdgeStaysStraight) {
-  expectStraightGraded(square(20, 20, 280, 280), {{{80, 150}, {279, 150}}}, 300);
+  expectStraightGraded(square(20, 20, 280, 280), {{{80, 150}, {279, 150}}},300, 300);
 }
 
 TEST(GradedLines, ALineEndingOnTheEdgeStaysStraight) {
-  expectStraightGraded(square(20, 20, 280, 280), {{{280, 240}, {200, 240}}, {{80, 60}, {180, 20}}}, 300);
+  expectStraightGraded(square(20, 20, 280, 280), {{{280, 240}, {200, 240}}, {{80, 60}, {180, 20}}},300, 300);
 }
 
 TEST(GradedLinesSlow, LinesNearANarrowPlaceStayStraight) {
@@ -158,7 +172,7 @@ TEST(GradedLinesSlow, LinesNearANarrowPlaceStayStraight) {
   // varies along the lines (the narrow place refines it), which the smooth profile keeps kink-free.
   Points C(8, 2);
   C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
-  expectStraightGraded(Cage::polygon(C), {{{146.5, 70}, {146.5, 230}}, {{153.5, 70}, {153.5, 230}}, {{60, 225}, {240, 225}}}, 300);
+  expectStraightGraded(Cage::polygon(C), {{{146.5, 70}, {146.5, 230}}, {{153.5, 70}, {153.5, 230}}, {{60, 225}, {240, 225}}},300, 300);
 }
 
 TEST(GradedLines, EffectiveParamsAreWhatTheBindUses) {
