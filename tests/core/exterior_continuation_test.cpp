@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -147,6 +148,29 @@ TEST(ExteriorContinuation, LeavesNarrowGapsAndFarRowsAlone) {
     EXPECT_LT(q.distance(x), ExteriorContinuationOptions{}.bandSpacings * h) << "row " << i;
     EXPECT_FALSE(x.x() > 40 && x.x() < 60 && x.y() > 10 && x.y() < 60) << "row " << i << " in the notch";
   }
+}
+
+TEST(ExteriorContinuation, ContinuesInAWideOutsideWedge) {
+  // The right side bends inward by 14° at (85, 50), an outside wedge of 166°. Samples in it, about
+  // 3 px from both edges, which lie on the same side of them (no gap), are continued like any
+  // other within the band (a notch, whose walls face each other: LeavesNarrowGapsAndFarRowsAlone).
+  Points C(5, 2);
+  C << 10, 10, 90, 10, 85, 50, 90, 90, 10, 90;
+  const Cage cage = Cage::polygon(C);
+  const double h = 10.0;
+  SampleSet S = gridSamples(cage, h, -20, -20, 120, 120);
+  const Index first = S.size();
+  const std::vector<Vec2> wedge{{88.0, 50.0}, {88.3, 47.0}, {88.3, 53.0}};
+  S.X.conservativeResize(first + Index(wedge.size()), 2);
+  S.edge.conservativeResize(first + Index(wedge.size()), 2);
+  for (std::size_t k = 0; k < wedge.size(); ++k) {
+    S.X.row(first + Index(k)) = wedge[k].transpose();
+    S.edge.row(first + Index(k)) << -1, -1;
+    S.kind.push_back(SampleKind::Exterior);
+  }
+  const ExteriorContinuation c(S, cage, h, nullptr);
+  for (Index i = first; i < S.size(); ++i)
+    EXPECT_TRUE(std::binary_search(c.rows().begin(), c.rows().end(), i)) << "row " << i << " at " << S.X.row(i);
 }
 
 TEST(ExteriorContinuation, SubsetsAndThreadCountsGiveTheSameRows) {

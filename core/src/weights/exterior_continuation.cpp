@@ -14,17 +14,24 @@
 
 namespace kc {
 namespace {
+/// Seen from x, nearest points of two walls less than 60° apart lie on one side of it: the walls
+/// of an outside wedge opening wider than 120° (cos 60° = 0.5), which is no gap.
+constexpr double kOneSideCosine = 0.5;
 
 /// The nearest point to x on the loop edges within `radius` (its edge, ends and parameter), and
 /// the width of the gap x lies in: the distance to the nearest point of a stick or of any other
-/// loop edge seen across the outside (the midpoint of the way there is outside the cage), except an edge whose
-/// nearest point is a corner it shares with the first (outside a convex corner both edges are
-/// nearest there; in a wedge the other edge's nearest point lies along it).
+/// loop edge seen across the outside (the midpoint of the way there is outside the cage), except
+/// an edge whose nearest point is a corner it shares with the first (outside a convex corner both
+/// are nearest there), and one whose nearest point lies on the same side of x as the first's (less
+/// than 60° apart, seen from x) with nothing of the cage between: the walls of a wide, nearly
+/// flat outside wedge, such as where a leg's side turns out to the toe. Walls facing each other
+/// across a gap or a wedge narrower than 120° lie farther apart round x.
 struct Nearest {
   double distance = std::numeric_limits<double>::infinity();
   double other = std::numeric_limits<double>::infinity();
   int edge = -1, a = -1, b = -1;
   double t = 0.0;
+  Vec2 point = Vec2::Zero();  // the nearest point
 };
 
 Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop,
@@ -46,6 +53,7 @@ Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<
       n.a = edges[static_cast<std::size_t>(e)][0];
       n.b = edges[static_cast<std::size_t>(e)][1];
       n.t = t;
+      n.point = a + t * (b - a);
     }
   });
   if (n.edge < 0) return n;
@@ -55,8 +63,13 @@ Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<
     const double d = closest(a, b, t);
     const int corner = t == 0.0 ? edges[static_cast<std::size_t>(e)][0] : t == 1.0 ? edges[static_cast<std::size_t>(e)][1] : -1;
     if (corner >= 0 && (corner == n.a || corner == n.b)) return;
-    // A stick (an edge on no loop) always bounds the gap; a loop edge only seen across the outside.
-    if (!(d < n.other) || (onLoop[static_cast<std::size_t>(e)] && cage.inside(0.5 * (x + a + t * (b - a))))) return;
+    // A stick (an edge on no loop) always bounds the gap; a loop edge only seen across the outside,
+    // and not when it lies on the same side of x as the first, in plain view.
+    if (!(d < n.other)) return;
+    const Vec2 q = a + t * (b - a);
+    if (onLoop[static_cast<std::size_t>(e)] &&
+        (cage.inside(0.5 * (x + q)) || ((q - x).normalized().dot((n.point - x).normalized()) >= kOneSideCosine && !cage.segmentCrosses(x, q))))
+      return;
     n.other = d;
   });
   return n;
