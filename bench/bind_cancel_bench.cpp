@@ -77,7 +77,7 @@ double cancelLatency(const Cage& cage, int w, int h, double at) {
   bool cancelled = false;
   try {
     app::bind(cage, w, h, app::BindParams{}, nullptr, [&](const char*, double) { return !cancel.load(); });
-  } catch (const app::BindCancelled&) {
+  } catch (const Cancelled&) {
     cancelled = true;
   }
   const auto returned = Clock::now();

@@ -46,7 +46,7 @@ LinearityReport applyLines(Session& s, KernelField& field);
 /// Rigid regions in a kernel session (docs/rigidity.md), after the lines: kc::makeRigid with
 /// s.rigidity, holding controls and line samples. Does nothing without a positive ρ.
 /// Throws std::invalid_argument when s.rigidity does not have one entry per sample. `progress`
-/// (optional) is the QP's (RigidityQpOptions::progress: false cancels with RigidityQpCancelled).
+/// (optional) is the QP's (RigidityQpOptions::progress: false cancels with kc::Cancelled).
 RigidityReport applyRigidity(Session& s, KernelField& field, const std::function<bool(double)>& progress = {});
 /// Gives rows `rows` of s.W their unconstrained weights again (per-sample optimization from W0
 /// with the session's method; lines re-applied when there are lines) and re-solves the field's

@@ -84,7 +84,7 @@ RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const Rigidi
   double shown = 0.0;  // the bar never goes back (the solver's own estimate may)
   auto tell = [&](const char* stage, double f) { return !progress || progress(stage, shown = std::max(shown, f)); };
   auto step = [&](const char* stage, double f) {
-    if (!tell(stage, f)) throw RigidityQpCancelled();
+    if (!tell(stage, f)) throw Cancelled();
   };
   const RowMatrix W = s.W;
   const std::vector<double> stored = s.rigidity;
@@ -98,11 +98,11 @@ RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const Rigidi
     u.columns.insert(u.columns.end(), u.report.columns.begin(), u.report.columns.end());
     std::sort(u.columns.begin(), u.columns.end());
     u.columns.erase(std::unique(u.columns.begin(), u.columns.end()), u.columns.end());
-  } catch (const RigidityQpCancelled&) {  // put the session back as it was
+  } catch (const Cancelled&) {  // put the session back as it was
     s.W = W;
     s.rigidity = stored;
     field->update(s.W);
-    throw RigidityCancelled();
+    throw;
   }
   u.rows = std::move(rows);
   u.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -67,7 +67,7 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
     const double worst = std::max(p.primalResidual, p.dualResidual);
     const double byResidual = std::log(std::max(worst, lbc.tolerance)) / std::log(lbc.tolerance);
     const double f = shown = std::clamp(std::max({shown, byResidual, double(p.iteration) / lbc.maxIterations}), 0.0, 1.0);
-    step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws BindCancelled to stop
+    step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws kc::Cancelled to stop
     return true;
   };
   step("LBC iterations", kStageStart[2]);

@@ -343,10 +343,10 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
   // The backend throws std::invalid_argument for parameters it rejects (documented in backend.h).
   asUserInput("bind", [&] {
     backend.bind(s, r, [&](const char* stage, double f) {
-      if (progress && !progress(stage, f)) throw BindCancelled();
+      if (progress && !progress(stage, f)) throw Cancelled();
     });
   });
-  if (progress && !progress("done", 1.0)) throw BindCancelled();
+  if (progress && !progress("done", 1.0)) throw Cancelled();
   r.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   s.timings = {r.sampling.seconds, r.factor.assembleSeconds, r.factor.factorSeconds, r.init.seconds,
                r.optimize.seconds,  r.solveSeconds,           r.totalSeconds};

@@ -70,7 +70,7 @@ TEST(LbcBackend, CancelStopsTheAdmmIterationsAtTheNextReport) {
     if (++reports == 3) cancelled = true;  // the first report is the stage's start, before the loop
     return !cancelled;
   };
-  EXPECT_THROW(bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, progress), BindCancelled);
+  EXPECT_THROW(bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, progress), Cancelled);
   EXPECT_TRUE(cancelled);
   EXPECT_EQ(afterCancel, 0) << "no report after the cancel: the bind stopped at once";
   EXPECT_FALSE(done);

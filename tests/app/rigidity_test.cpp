@@ -105,7 +105,7 @@ TEST(RigidRegionsApp, ProgressAndCancel) {
   for (int stopAt : {1, 3}) {
     Session c = sessionFromJson(sessionToJson(plain), "copy");
     int calls = 0;
-    EXPECT_THROW(setRigidity(c, rho, [&](const char*, double) { return ++calls < stopAt; }), RigidityCancelled);
+    EXPECT_THROW(setRigidity(c, rho, [&](const char*, double) { return ++calls < stopAt; }), Cancelled);
     EXPECT_EQ(calls, stopAt);
     EXPECT_EQ(c.W, plain.W);
     EXPECT_EQ(c.rigidity, plain.rigidity);

@@ -222,7 +222,7 @@ TEST(RigidityQp, SplittingHearsCancel) {
     EXPECT_LE(f, 1.0);
     return ++calls < 3;
   };
-  EXPECT_THROW(solveRigidityQp(qp, o), RigidityQpCancelled);
+  EXPECT_THROW(solveRigidityQp(qp, o), Cancelled);
   EXPECT_EQ(calls, 3);
 }
 

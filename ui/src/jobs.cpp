@@ -284,7 +284,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
           app::bind(cage, lines, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
       s->image = image;
       s->outside = meshOptions.outside;
-      if (!ctx.progress("warp mesh", 0.92)) throw app::BindCancelled();
+      if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
       return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
         if (keepPoseAndHistory) {
@@ -300,7 +300,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
         if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
         for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
       };
-    } catch (const app::BindCancelled&) {
+    } catch (const Cancelled&) {
       return cancelled;
     } catch (const std::exception& e) {
       const std::string text = "Bind failed: " + failureText(e, "", "this cage at this spacing needs more memory than is free; "

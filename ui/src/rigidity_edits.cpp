@@ -149,7 +149,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
       app::RigidityUpdate u;
       try {
         u = app::setRigidity(*s, rho, [&ctx](const char* stage, double f) { return ctx.progress(stage, 0.05 + 0.75 * f); });
-      } catch (const app::RigidityCancelled&) {  // setRigidity put the session back
+      } catch (const Cancelled&) {  // setRigidity put the session back
         return strokeTakenBack(s, source);
       }
       auto edit = std::make_shared<RigidityEdit>();

@@ -9,7 +9,7 @@ namespace kc::detail {
 
 Tick progressTick(const std::function<bool(double)>& progress, const double& stage) {
   return [&progress, &stage] {
-    if (progress && !progress(std::clamp(stage, 0.0, 1.0))) throw RigidityQpCancelled();
+    if (progress && !progress(std::clamp(stage, 0.0, 1.0))) throw Cancelled();
   };
 }
 

@@ -23,7 +23,7 @@ namespace kc::detail {
 using Tick = std::function<void()>;
 
 /// The solvers' Tick: reports `stage` (read at each call, clamped to [0, 1]) to `progress` when it
-/// is set, and throws RigidityQpCancelled when it returns false.
+/// is set, and throws kc::Cancelled when it returns false.
 Tick progressTick(const std::function<bool(double)>& progress, const double& stage);
 
 /// A = L Lᵀ in place for a symmetric positive definite A (n×n; the lower triangle is read, L is

@@ -315,7 +315,7 @@ Pivoting pivot(const BoundDual& D, detail::PairSystem& pairs, const Eigen::Matri
 /// equality-constrained optimum Y0 violates, then those the primal of the dual's solution violates
 /// — so that Kq's columns are formed only for rows that may bind. Returns false when it does not
 /// converge within maxActiveSetRounds (the caller falls back to the splitting path); throws
-/// RigidityQpCancelled when options.progress asks to stop.
+/// kc::Cancelled when options.progress asks to stop.
 bool solveActiveSet(const RigidityQp& qp, const RigidityQpOptions& options, RigidityQpReport& rep, RowMatrix& dU) {
   const SerialEigen serial;
   const Index n = qp.H.rows(), c = qp.Kc.rows();

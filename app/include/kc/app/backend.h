@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "kc/core/cancel.h"
 #include "kc/app/session.h"
 #include "kc/core/structure/linear_along.h"
 #include "kc/core/structure/rigidity.h"
@@ -29,13 +30,7 @@ struct BindReport {
   double totalSeconds = 0.0;
 };
 
-/// Thrown by bind() when its progress callback asked to cancel.
-class BindCancelled : public std::exception {
- public:
-  const char* what() const noexcept override { return "bind cancelled"; }
-};
-
-/// Announces a bind stage (name, fraction in [0, 1]); throws BindCancelled when asked to stop.
+/// Announces a bind stage (name, fraction in [0, 1]); throws kc::Cancelled when asked to stop.
 using BindStep = std::function<void(const char* stage, double fraction)>;
 
 /// What a backend's sessions can do. A missing capability comes with the reason the GUI shows.
@@ -57,7 +52,7 @@ class Backend {
   virtual BackendCapabilities capabilities() const = 0;
   /// Fills everything of `s` a bind computes: samples, σ, W0 (when the backend has targets), W, the
   /// field and s.reports. s.cage, s.params and the image size are set; `step` reports progress
-  /// (and throws BindCancelled). Throws std::invalid_argument for parameters the backend rejects.
+  /// (and throws kc::Cancelled). Throws std::invalid_argument for parameters the backend rejects.
   virtual void bind(Session& s, BindReport& report, const BindStep& step) const = 0;
   /// Rebuilds s.field from what a session file holds (samples, W, params, the field block already
   /// parsed into s.field when it was self-contained). Throws InputError-worthy

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "kc/core/cancel.h"
 #include "kc/app/session.h"
 #include "kc/core/structure/rigidity.h"
 
@@ -23,12 +24,6 @@ struct RigidityUpdate {
 /// Progress of setRigidity: stage name and fraction in [0, 1]; return false to cancel.
 using RigidityProgress = std::function<bool(const char* stage, double fraction)>;
 
-/// Thrown by setRigidity when its progress callback asked to cancel; the session is as it was.
-class RigidityCancelled : public std::exception {
- public:
-  const char* what() const noexcept override { return "rigidity cancelled"; }
-};
-
 /// Sets the per-sample rigidity of a bound kernel session and re-solves only around it:
 /// `rho` (#S entries, each in [0, 1]; 0 = not rigid) replaces session.rigidity; the samples
 /// within (reach + 5)σ of a sample whose old or new ρ is positive get their unconstrained weights
@@ -39,7 +34,7 @@ class RigidityCancelled : public std::exception {
 /// `progress` (optional) hears the stages ("restoring the unconstrained weights", "rigidity
 /// solve", "field") with the share done, between steps of at most ~0.1 s on a 2,000-sample region;
 /// when it returns false the session's weights, rigidity and field are put back and
-/// RigidityCancelled is thrown.
+/// kc::Cancelled is thrown.
 /// Throws std::invalid_argument when the session is not a bound kernel session with target
 /// weights (weights.initial), or rho has the wrong size or a value outside [0, 1].
 RigidityUpdate setRigidity(Session& session, std::span<const double> rho, const RigidityProgress& progress = {});
