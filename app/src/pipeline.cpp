@@ -68,8 +68,9 @@ void checkCageScale(const Cage& cage, double spacing, bool graded = false) {
 }
 
 
-/// k of the LBC backend's mesh (SizingOptions::featureSamples, and narrowWidth): one triangle across a narrow part
-/// of the inside, where the weights follow the cage edges' linear data. The mesh covers the inside
+/// k and n of the LBC backend's mesh (SizingOptions::featureSamples, narrowWidth and
+/// extraNarrowWidth): one triangle across a narrow part of the inside, where the weights follow
+/// the cage edges' linear data. The mesh covers the inside
 /// only, so a gap outside the cage (between two legs) does not refine it (SizingOptions::outsideGaps).
 constexpr double kLbcFeatureSamples = 1.0;
 /// g of the LBC backend's mesh (SizingOptions::gradation): the steepest grading the sizing field

@@ -121,19 +121,21 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
   return g;
 }
 
-/// A raw seed: position and local feature size.
+/// A raw seed: position and spacing.
 struct RawSeed {
   Vec2 p;
   double h;
 };
 
+/// narrowSpacing with n = `narrowWidth`.
+double spacingOfWidth(double width, double narrowWidth, const SizingOptions& o) {
+  return std::clamp(std::max(width / o.featureSamples, width - (narrowWidth - 1.0) * o.hMax), o.hMin, o.hMax);
+}
+
 /// The spacing at a place of width `width` between two features, one of them extra (a line, a
 /// rigid polygon's side) when `extra`: narrowSpacing with n = extraNarrowWidth then.
 double pairSpacing(double width, bool extra, const SizingOptions& o) {
-  if (!extra) return narrowSpacing(width, o);
-  SizingOptions e = o;
-  e.narrowWidth = o.extraNarrowWidth;
-  return narrowSpacing(width, e);
+  return spacingOfWidth(width, extra ? o.extraNarrowWidth : o.narrowWidth, o);
 }
 
 /// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along
@@ -354,9 +356,7 @@ Eigen::VectorXd SizingField::at(const Points& X) const {
   return h;
 }
 
-double narrowSpacing(double width, const SizingOptions& o) {
-  return std::clamp(std::max(width / o.featureSamples, width - (o.narrowWidth - 1.0) * o.hMax), o.hMin, o.hMax);
-}
+double narrowSpacing(double width, const SizingOptions& o) { return spacingOfWidth(width, o.narrowWidth, o); }
 
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
   if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");

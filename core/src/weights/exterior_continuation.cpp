@@ -67,9 +67,11 @@ Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<
     // and not when it lies on the same side of x as the first, in plain view.
     if (!(d < n.other)) return;
     const Vec2 q = a + t * (b - a);
-    if (onLoop[static_cast<std::size_t>(e)] &&
-        (cage.inside(0.5 * (x + q)) || ((q - x).normalized().dot((n.point - x).normalized()) >= kOneSideCosine && !cage.segmentCrosses(x, q))))
-      return;
+    if (onLoop[static_cast<std::size_t>(e)]) {
+      if (cage.inside(0.5 * (x + q))) return;
+      const bool sameSide = (q - x).normalized().dot((n.point - x).normalized()) >= kOneSideCosine;
+      if (sameSide && !cage.segmentCrosses(x, q)) return;
+    }
     n.other = d;
   });
   return n;

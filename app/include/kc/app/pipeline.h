@@ -44,7 +44,7 @@ bool gradedSampling(const BindParams& params);
 BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params);
 /// The sizing field of a graded bind (gradedSampling): featureSizing of the cage, the structure
 /// lines and the rigid polygons' sides with hMax = params.spacing and hMin = kMinSpacing (the LBC
-/// backend's mesh with k = 1, one triangle across a narrow place: SizingOptions::featureSamples and narrowWidth);
+/// backend's mesh with k = n = 1, one triangle across a narrow place: SizingOptions);
 /// null for a uniform bind or a cage without a narrow place (h ≡ spacing). `params` are the
 /// bind's own (effectiveBindParams): with the requested ones, lines the uniform rules accept
 /// would get a sizing field the bind does not use.

@@ -39,8 +39,9 @@ inline constexpr double kNarrowWidth = 2.0;
 /// k, samples across a narrow place: a place of width w ≤ (4/3)·hMax gets spacing w/k, and
 /// between (4/3)·hMax and kNarrowWidth·hMax the spacing ramps to hMax (narrowSpacing). At k = 2 the
 /// kernel interpolant overshoots the weights' kink at the walls of a gap: 1–3 px inside a leg next
-/// to a 4 px gap the far side's controls weigh −0.03 in sum, beside a 3 px slit −0.04; at k = 4
-/// about −0.01 (`kcwarp-cli bench --graded`). The cost: about twice the samples along a narrow place.
+/// to a 4 px gap the far side's controls weigh up to 0.026 in sum, beside a 3 px slit 0.038; at
+/// k = 4, 0.011 and 0.014 (`kcwarp-cli bench --graded`). The cost: about twice the samples along a
+/// narrow place.
 inline constexpr double kFeatureSamples = 4.0;
 /// kNarrowWidth for a place between a structure line or a rigid polygon's side and another
 /// feature: the field must be linear along a line, not only bounded across a gap. With n = 2,
@@ -140,9 +141,10 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// The sizing field of a cage and further features (structure lines, rigid polygons' sides):
 /// seeds every h_i/2 along each feature where h_i = narrowSpacing(lfs) < hMax, and at every
 /// feature vertex whose shortest incident segment is that short; lfs and the vertex's segment
-/// count with n = extraNarrowWidth where an extra segment is one side of the place. Features that cross or touch (within 1e-9 of
-/// the cage's extent) are split there and share the point, so a crossing or a line ending on an
-/// edge is not a narrow place; adjacent segments (sharing an end) do not count for each other's
+/// count with n = extraNarrowWidth where an extra segment is one side of the place (at a vertex:
+/// any incident one). Features that cross or touch (within 1e-9 of the cage's extent) are split
+/// there and share the point, so a crossing or a line ending on an edge is not a narrow place;
+/// adjacent segments (sharing an end) do not count for each other's
 /// lfs; gaps outside the cage count only with options.outsideGaps. Deterministic; expected
 /// O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
