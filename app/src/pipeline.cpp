@@ -68,8 +68,8 @@ void checkCageScale(const Cage& cage, double spacing, bool graded = false) {
 }
 
 
-/// k and n of the LBC backend's mesh (SizingOptions::featureSamples, narrowWidth and
-/// extraNarrowWidth): one triangle across a narrow part of the inside, where the weights follow
+/// k and n of the LBC backend's mesh (SizingOptions::featureSamples, extraFeatureSamples,
+/// narrowWidth and extraNarrowWidth): one triangle across a narrow part of the inside, where the weights follow
 /// the cage edges' linear data. The mesh covers the inside
 /// only, so a gap outside the cage (between two legs) does not refine it (SizingOptions::outsideGaps).
 constexpr double kLbcFeatureSamples = 1.0;
@@ -99,7 +99,7 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   o.hMax = params.spacing;
   o.hMin = std::min(kMinSpacing, params.spacing);
   if (!backendFor(params.backend).capabilities().outsideCage) {
-    o.featureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
+    o.featureSamples = o.extraFeatureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
     o.gradation = kLbcGradation;
     o.outsideGaps = false;
   }

@@ -127,15 +127,16 @@ struct RawSeed {
   double h;
 };
 
-/// narrowSpacing with n = `narrowWidth`.
-double spacingOfWidth(double width, double narrowWidth, const SizingOptions& o) {
-  return std::clamp(std::max(width / o.featureSamples, width - (narrowWidth - 1.0) * o.hMax), o.hMin, o.hMax);
+/// narrowSpacing with k and n given.
+double spacingOfWidth(double width, double k, double narrowWidth, const SizingOptions& o) {
+  return std::clamp(std::max(width / k, width - (narrowWidth - 1.0) * o.hMax), o.hMin, o.hMax);
 }
 
 /// The spacing at a place of width `width` between two features, one of them extra (a line, a
-/// rigid polygon's side) when `extra`: narrowSpacing with n = extraNarrowWidth then.
+/// rigid polygon's side) when `extra`: narrowSpacing with k = extraFeatureSamples and
+/// n = extraNarrowWidth then.
 double pairSpacing(double width, bool extra, const SizingOptions& o) {
-  return spacingOfWidth(width, extra ? o.extraNarrowWidth : o.narrowWidth, o);
+  return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : spacingOfWidth(width, o.featureSamples, o.narrowWidth, o);
 }
 
 /// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along
@@ -356,12 +357,13 @@ Eigen::VectorXd SizingField::at(const Points& X) const {
   return h;
 }
 
-double narrowSpacing(double width, const SizingOptions& o) { return spacingOfWidth(width, o.narrowWidth, o); }
+double narrowSpacing(double width, const SizingOptions& o) { return spacingOfWidth(width, o.featureSamples, o.narrowWidth, o); }
 
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
   if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
   if (!(o.hMin > 0.0) || o.hMin > o.hMax) throw std::invalid_argument("sizing: hMin must be in (0, hMax]");
-  if (!(o.featureSamples > 0.0) || !std::isfinite(o.featureSamples)) throw std::invalid_argument("sizing: featureSamples must be positive");
+  if (!(o.featureSamples > 0.0) || !std::isfinite(o.featureSamples) || !(o.extraFeatureSamples > 0.0) || !std::isfinite(o.extraFeatureSamples))
+    throw std::invalid_argument("sizing: featureSamples and extraFeatureSamples must be positive");
   for (const FeatureSegment& f : extra)
     if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
   if (!(o.narrowWidth >= 1.0) || !std::isfinite(o.narrowWidth) || !(o.extraNarrowWidth >= 1.0) || !std::isfinite(o.extraNarrowWidth))

@@ -1,6 +1,6 @@
 // The exterior rows continued from the inside (ExteriorContinuation): exact partition of unity and
-// reproduction, linear weights continued unchanged, gaps and far rows left alone, subsets and
-// thread counts giving the same rows.
+// reproduction, linear weights continued unchanged, gaps and far rows left alone, refined gaps
+// blending their two walls, subsets and thread counts giving the same rows.
 
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kc/core/parallel.h"
+#include "kc/core/sizing.h"
 #include "kc/core/weights/exterior_continuation.h"
 #include "kc/core/weights/optimizer.h"
 
@@ -171,6 +172,50 @@ TEST(ExteriorContinuation, ContinuesInAWideOutsideWedge) {
   const ExteriorContinuation c(S, cage, h, nullptr);
   for (Index i = first; i < S.size(); ++i)
     EXPECT_TRUE(std::binary_search(c.rows().begin(), c.rows().end(), i)) << "row " << i << " at " << S.X.row(i);
+}
+
+TEST(ExteriorContinuation, ARefinedGapBlendsItsTwoWallsAndNextToAWallContinuesThatWallAlone) {
+  // The U's notch (x in 40..60, open at the top, 50 px deep) is narrow for hMax = 24 (20 px <
+  // kNarrowWidth·hMax): the sizing refines it (h = 20/k), and its exterior rows, left alone by a
+  // uniform sampling (LeavesNarrowGapsAndFarRowsAlone), blend the reflections of both walls.
+  const Cage cage = uCage();
+  SizingOptions so;
+  so.hMax = 24.0;
+  const SizingField sizing = featureSizing(cage, {}, so);
+  ASSERT_TRUE(sizing.graded());
+  ASSERT_LT(sizing(Vec2(50, 30)), 0.5 * so.hMax);
+  const SampleSet S = gridSamples(cage, 2.5, -10, -10, 110, 110);
+  const ExteriorContinuation c(S, cage, so.hMax, &sizing);
+  const CageQueries q(cage);
+  auto inNotch = [](const Vec2& x) { return x.x() > 40 && x.x() < 60 && x.y() > 15 && x.y() < 35; };
+  std::vector<Index> notch;
+  for (Index i = 0; i < S.size(); ++i)
+    if (S.kind[std::size_t(i)] == SampleKind::Exterior && inNotch(S.X.row(i))) notch.push_back(i);
+  ASSERT_GT(notch.size(), 40u);
+  for (Index i : notch) EXPECT_TRUE(std::binary_search(c.rows().begin(), c.rows().end(), i)) << "row " << i << " at " << S.X.row(i);
+  Weights W = randomExactRows(S, cage, 5);
+  Weights changed = W;
+  // Change the rows of the notch's left side (x < 40): rows next to the right wall (within a fifth
+  // of the gap) read none of them; rows in the middle read both sides.
+  for (Index i = 0; i < S.size(); ++i)
+    if (S.kind[std::size_t(i)] != SampleKind::Exterior && S.X(i, 0) < 40) changed.row(i).array() += 0.1 * double(i % 7);
+  c.apply(W);
+  c.apply(changed);
+  EXPECT_LE(worstUnity(W, c.rows()), 1e-12);
+  EXPECT_LE(worstReproduction(W, cage.C, S.X, c.rows()), 1e-10);
+  int nearRight = 0, middle = 0;
+  for (Index i : notch) {
+    const double x = S.X(i, 0), diff = (changed.row(i) - W.row(i)).cwiseAbs().maxCoeff();
+    if (x > 56.5) {
+      ++nearRight;
+      EXPECT_EQ(diff, 0.0) << "row " << i << " at " << S.X.row(i);
+    } else if (std::abs(x - 50.0) < 2.0) {
+      ++middle;
+      EXPECT_GT(diff, 1e-3) << "row " << i << " at " << S.X.row(i);
+    }
+  }
+  EXPECT_GT(nearRight, 5);
+  EXPECT_GT(middle, 5);
 }
 
 TEST(ExteriorContinuation, SubsetsAndThreadCountsGiveTheSameRows) {

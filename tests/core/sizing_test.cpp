@@ -39,12 +39,12 @@ TEST(Sizing, CageWithoutNarrowPlaceIsUniform) {
   EXPECT_EQ(h(Vec2(-500, 3)), 8.0);
 }
 
-TEST(Sizing, SlitGetsAQuarterOfItsWidthAndGrowsAtMostByTheGradation) {
+TEST(Sizing, SlitGetsItsWidthOverKAndGrowsAtMostByTheGradation) {
   const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
   ASSERT_TRUE(h.graded());
-  // On the slit's walls lfs = 3: h = 3/k = 0.75.
-  EXPECT_NEAR(h(Vec2(148.5, 120)), 0.75, 0.05);
-  EXPECT_NEAR(h.hMin(), 0.75, 1e-9);
+  // On the slit's walls lfs = 3: h = 3/k.
+  EXPECT_NEAR(h(Vec2(148.5, 120)), 3.0 / kFeatureSamples, 0.05);
+  EXPECT_NEAR(h.hMin(), 3.0 / kFeatureSamples, 1e-9);
   // Far from it, hMax.
   EXPECT_EQ(h(Vec2(60, 240)), 10.0);
   // |h(x) − h(y)| ≤ g |x − y| on random pairs (h is a minimum of g-Lipschitz cones).
@@ -71,20 +71,21 @@ TEST(Sizing, AGapOutsideTheCageCountsOnlyWithOutsideGaps) {
   inner.outsideGaps = false;
   const SizingField h = featureSizing(slit(3.0), {}, inner);
   EXPECT_EQ(h(Vec2(148.5, 120)), 10.0);
-  EXPECT_NEAR(h(Vec2(148.5, 200)), 0.75, 1e-9);  // the short edge's end
+  EXPECT_NEAR(h(Vec2(148.5, 200)), 3.0 / kFeatureSamples, 1e-9);  // the short edge's end
   // A narrow part of the inside (a neck 3 px wide) refines either way.
   const Cage neck = polygon({{0, 0}, {100, 0}, {100, 48.5}, {200, 48.5}, {200, 0}, {300, 0}, {300, 100}, {200, 100},
                              {200, 51.5}, {100, 51.5}, {100, 100}, {0, 100}});
   const SizingField n = featureSizing(neck, {}, inner);
-  EXPECT_NEAR(n(Vec2(150, 48.5)), 0.75, 0.05);  // seeds every h/2 along the wall
-  EXPECT_NEAR(n(Vec2(150, 51.5)), 0.75, 0.05);
+  EXPECT_NEAR(n(Vec2(150, 48.5)), 3.0 / kFeatureSamples, 0.05);  // seeds every h/2 along the wall
+  EXPECT_NEAR(n(Vec2(150, 51.5)), 3.0 / kFeatureSamples, 0.05);
   EXPECT_EQ(n(Vec2(150, 48.5)), featureSizing(neck, {}, options(10.0))(Vec2(150, 48.5)));
 }
 
-TEST(Sizing, NarrowPlacesGetAQuarterOfTheirWidthRampingToHMaxAtTwiceIt) {
+TEST(Sizing, NarrowPlacesGetTheirWidthOverKRampingToHMaxAtTwiceIt) {
   const SizingOptions o = options(10.0);
-  EXPECT_DOUBLE_EQ(narrowSpacing(4.0, o), 1.0);             // w/k
-  EXPECT_DOUBLE_EQ(narrowSpacing(40.0 / 3.0, o), 10.0 / 3.0);  // where the ramp begins
+  const double k = kFeatureSamples, rampStart = 10.0 / (1.0 - 1.0 / k);
+  EXPECT_DOUBLE_EQ(narrowSpacing(4.0, o), 4.0 / k);              // w/k
+  EXPECT_DOUBLE_EQ(narrowSpacing(rampStart, o), rampStart / k);  // where the ramp begins
   EXPECT_DOUBLE_EQ(narrowSpacing(16.0, o), 6.0);            // w − (n − 1)·hMax
   EXPECT_DOUBLE_EQ(narrowSpacing(20.0, o), 10.0);           // n·hMax: hMax
   EXPECT_DOUBLE_EQ(narrowSpacing(35.0, o), 10.0);
@@ -112,7 +113,7 @@ TEST(Sizing, ShortEdgeRefinesItsEnds) {
   // A 2 px edge (points 1 and 2) on a 100 px shape.
   const SizingField h = featureSizing(polygon({{0, 0}, {100, 0}, {100, 49}, {100.0, 51}, {100, 100}, {0, 100}}), {}, options(8.0));
   ASSERT_TRUE(h.graded());
-  EXPECT_NEAR(h(Vec2(100, 49)), 0.5, 1e-9);
+  EXPECT_NEAR(h(Vec2(100, 49)), 2.0 / kFeatureSamples, 1e-9);
   EXPECT_EQ(h(Vec2(10, 10)), 8.0);
 }
 

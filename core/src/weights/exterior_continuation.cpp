@@ -17,6 +17,9 @@ namespace {
 /// Seen from x, nearest points of two walls less than 60° apart lie on one side of it: the walls
 /// of an outside wedge opening wider than 120° (cos 60° = 0.5), which is no gap.
 constexpr double kOneSideCosine = 0.5;
+/// In the two-sided blend of a refined gap, the fraction of the gap's width next to each wall
+/// that continues that wall alone (see the header).
+constexpr double kGapWall = 0.2;
 
 /// The nearest point to x on the loop edges within `radius` (its edge, ends and parameter), and
 /// the width of the gap x lies in: the distance to the nearest point of a stick or of any other
@@ -32,6 +35,9 @@ struct Nearest {
   int edge = -1, a = -1, b = -1;
   double t = 0.0;
   Vec2 point = Vec2::Zero();  // the nearest point
+  // The other side when it is a loop edge (the far wall of a gap): its ends and parameter.
+  int otherA = -1, otherB = -1;
+  double otherT = 0.0;
 };
 
 Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop,
@@ -67,12 +73,16 @@ Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<
     // and not when it lies on the same side of x as the first, in plain view.
     if (!(d < n.other)) return;
     const Vec2 q = a + t * (b - a);
-    if (onLoop[static_cast<std::size_t>(e)]) {
+    const bool loop = onLoop[static_cast<std::size_t>(e)] != 0;
+    if (loop) {
       if (cage.inside(0.5 * (x + q))) return;
       const bool sameSide = (q - x).normalized().dot((n.point - x).normalized()) >= kOneSideCosine;
       if (sameSide && !cage.segmentCrosses(x, q)) return;
     }
     n.other = d;
+    n.otherA = loop ? edges[static_cast<std::size_t>(e)][0] : -1;
+    n.otherB = loop ? edges[static_cast<std::size_t>(e)][1] : -1;
+    n.otherT = t;
   });
   return n;
 }
@@ -140,27 +150,47 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     const Vec2 x = S.X.row(i).transpose();
     const double band = options.bandSpacings * h(x);
     const Nearest p = nearestLoopPoint(edgeGrid, edges, onLoop, queries, x, 2.0 * band);
-    if (!(p.distance < band) || !(p.distance > 0.0)) return;
-    const Vec2 onEdge = (1.0 - p.t) * cage.C.row(p.a).transpose() + p.t * cage.C.row(p.b).transpose();
-    const Vec2 m = 2.0 * onEdge - x;
-    if (!queries.inside(m)) return;
-    Term& term = terms[static_cast<std::size_t>(k)];
-    double radius = options.fitSpacings * h(m);
-    bool ok = false;
-    for (int grow = 0; grow < 4 && !ok; ++grow, radius *= 1.5) ok = fitAt(grid, Y, inside, m, radius, term.fitRows, term.fit);
-    if (!ok) return;
-    // α: 1 at the cage, 0 at the band's edge; and 0 in a gap narrower than the band (the other
-    // side's inside is as near as this one's: continuing either side would steepen the gap).
+    if (p.edge < 0 || !(p.distance > 0.0)) return;
     auto smoothstep = [](double u) {
       u = std::clamp(u, 0.0, 1.0);
       return u * u * (3.0 - 2.0 * u);
     };
+    // α: 1 at the cage, 0 at the band's edge; and 0 in a gap narrower than the band (the other
+    // side's inside is as near as this one's: continuing either side would steepen the gap).
+    const double width = p.distance + p.other;
+    const double alpha = (1.0 - smoothstep(p.distance / band)) * smoothstep(width / band - 1.0);
+    // γ: the share of the two-sided blend, in a refined gap between two loop walls (see the header).
+    const double refined = sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * h(x) / sizing->hMax() - 1.0) : 0.0;
+    double gamma = p.otherA >= 0 ? refined * (1.0 - smoothstep(width / band - 2.0)) : 0.0;
+    if (!(alpha > 0.0) && !(gamma > 0.0)) return;
+    // The odd reflection of the inside through the wall point (1 − t)·c_a + t·c_b, or false
+    // when its mirror falls outside the cage or the fit there fails.
+    auto reflect = [&](int a, int b, double t, Reflection& r) {
+      const Vec2 onEdge = (1.0 - t) * cage.C.row(a).transpose() + t * cage.C.row(b).transpose();
+      const Vec2 m = 2.0 * onEdge - x;
+      if (!queries.inside(m)) return false;
+      double radius = options.fitSpacings * h(m);
+      bool ok = false;
+      for (int grow = 0; grow < 4 && !ok; ++grow, radius *= 1.5) ok = fitAt(grid, Y, inside, m, radius, r.fitRows, r.fit);
+      r.a = a;
+      r.b = b;
+      r.t = t;
+      return ok;
+    };
+    Reflection nearSide, farSide;
+    if (!reflect(p.a, p.b, p.t, nearSide)) return;
+    if (gamma > 0.0 && !reflect(p.otherA, p.otherB, p.otherT, farSide)) gamma = 0.0;
+    const double s = smoothstep((p.distance / width - kGapWall) / (1.0 - 2.0 * kGapWall));  // the far side's share
+    Term& term = terms[static_cast<std::size_t>(k)];
     term.row = i;
-    term.alpha = (1.0 - smoothstep(p.distance / band)) * smoothstep((p.distance + p.other) / band - 1.0);
-    if (!(term.alpha > 0.0)) return;
-    term.a = p.a;
-    term.b = p.b;
-    term.t = p.t;
+    nearSide.c = gamma * (1.0 - s) + (1.0 - gamma) * alpha;
+    term.keep = (1.0 - gamma) * (1.0 - alpha);
+    if (!(nearSide.c > 0.0)) return;
+    term.reflections.push_back(std::move(nearSide));
+    if (gamma > 0.0) {
+      farSide.c = gamma * s;
+      term.reflections.push_back(std::move(farSide));
+    }
     used[static_cast<std::size_t>(k)] = 1;
   });
   for (std::size_t k = 0; k < terms.size(); ++k)
@@ -170,19 +200,28 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     }
 }
 
-std::vector<Index> ExteriorContinuation::sources(std::size_t k) const { return m_terms[k].fitRows; }
+std::vector<Index> ExteriorContinuation::sources(std::size_t k) const {
+  std::vector<Index> rows;
+  for (const Reflection& r : m_terms[k].reflections) rows.insert(rows.end(), r.fitRows.begin(), r.fitRows.end());
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  return rows;
+}
 
 namespace {
 
-/// Row term.row of W: α·(2λ(p) − ŵ(m)) + (1 − α)·(its optimized row).
+/// Row term.row of W: Σ_r c_r·(2λ(p_r) − ŵ(m_r)) + keep·(its optimized row).
 template <class Term>
 void continueRow(const Term& term, Weights& W) {
-  Eigen::RowVectorXd reflected = Eigen::RowVectorXd::Zero(W.cols());
-  for (std::size_t j = 0; j < term.fitRows.size(); ++j) reflected.noalias() -= term.fit[j] * W.row(term.fitRows[j]);
-  reflected(term.a) += 2.0 * (1.0 - term.t);
-  reflected(term.b) += 2.0 * term.t;
-  auto row = W.row(term.row);
-  row = term.alpha * reflected + (1.0 - term.alpha) * row;
+  Eigen::RowVectorXd sum = term.keep * W.row(term.row);
+  for (const auto& r : term.reflections) {
+    Eigen::RowVectorXd reflected = Eigen::RowVectorXd::Zero(W.cols());
+    for (std::size_t j = 0; j < r.fitRows.size(); ++j) reflected.noalias() -= r.fit[j] * W.row(r.fitRows[j]);
+    reflected(r.a) += 2.0 * (1.0 - r.t);
+    reflected(r.b) += 2.0 * r.t;
+    sum += r.c * reflected;
+  }
+  W.row(term.row) = sum;
 }
 
 }  // namespace

@@ -36,18 +36,22 @@ namespace kc {
 /// kNarrowWidth·hMax: wider places keep hMax, so a cage without narrow places samples uniformly.
 /// 2 is the narrowest feature a uniform bind resolved without warning.
 inline constexpr double kNarrowWidth = 2.0;
-/// k, samples across a narrow place: a place of width w ≤ (4/3)·hMax gets spacing w/k, and
-/// between (4/3)·hMax and kNarrowWidth·hMax the spacing ramps to hMax (narrowSpacing). At k = 2 the
+/// k, samples across a narrow place between cage edges: a place of width w ≤ hMax/(1 − 1/k)
+/// gets spacing w/k, and up to kNarrowWidth·hMax the spacing ramps to hMax (narrowSpacing). The
 /// kernel interpolant overshoots the weights' kink at the walls of a gap: 1–3 px inside a leg next
-/// to a 4 px gap the far side's controls weigh up to 0.026 in sum, beside a 3 px slit 0.038; at
-/// k = 4, 0.011 and 0.014 (`kcwarp-cli bench --graded`). The cost: about twice the samples along a
-/// narrow place.
-inline constexpr double kFeatureSamples = 4.0;
+/// to a 4 px gap the far side's controls weigh up to 0.026 in sum at k = 2, beside a 3 px slit
+/// 0.038. With the exterior continuation's two-sided blend in the gap (exterior_continuation.h),
+/// k = 3.5 leaves 0.014 and 0.007, k = 4 0.006 and 0.003 with a tenth more samples, k = 3 0.028
+/// and 0.021 (`kcwarp-cli bench --graded`).
+inline constexpr double kFeatureSamples = 3.5;
+/// k where a structure line or a rigid polygon's side is one side of the place (see
+/// kExtraNarrowWidth): such a place is refined to a quarter of its width.
+inline constexpr double kExtraFeatureSamples = 4.0;
 /// kNarrowWidth for a place between a structure line or a rigid polygon's side and another
 /// feature: the field must be linear along a line, not only bounded across a gap. With n = 2,
 /// lines 2–4 spacings from the cage or from another line bend by up to 0.2 px under ±40 px
-/// translations of the controls; n = k refines every such place to a quarter of its width
-/// (`kcwarp-cli bench --lines --crossing`).
+/// translations of the controls; n = kExtraFeatureSamples refines every such place to a quarter
+/// of its width (`kcwarp-cli bench --lines --crossing`).
 inline constexpr double kExtraNarrowWidth = 4.0;
 /// g: how fast the spacing may grow away from a narrow place, |∇h| ≤ g. At 0.3 neighbouring
 /// samples differ in spacing by at most ~30%, so the inverse mean shift and the variable-width
@@ -67,6 +71,7 @@ struct SizingOptions {
   double hMax = 6.0;                     ///< Spacing away from narrow places (pixels, > 0).
   double hMin = 0.05;                    ///< Smallest spacing (pixels, > 0, ≤ hMax).
   double featureSamples = kFeatureSamples;  ///< k (see kFeatureSamples).
+  double extraFeatureSamples = kExtraFeatureSamples;  ///< k where a FeatureSegment is one side.
   double narrowWidth = kNarrowWidth;        ///< In units of hMax (see kNarrowWidth); ≥ 1.
   double extraNarrowWidth = kExtraNarrowWidth;  ///< The same where a FeatureSegment is one side; ≥ 1.
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
@@ -132,10 +137,11 @@ class SizingField {
   std::vector<int> m_start, m_items;
 };
 
-/// The spacing of a narrow place of width w (pixels):
+/// The spacing of a narrow place of width w (pixels) between cage edges:
 ///   clamp(max(w/k, w − (n − 1)·hMax), hMin, hMax),  k = featureSamples, n = narrowWidth,
 /// w/k where w ≤ hMax·(n − 1)/(1 − 1/k), rising with slope 1 to hMax at w = n·hMax (continuous;
-/// n = k gives w/k throughout).
+/// n = k gives w/k throughout). Where an extra segment is one side, k = extraFeatureSamples and
+/// n = extraNarrowWidth.
 double narrowSpacing(double width, const SizingOptions& options);
 
 /// The sizing field of a cage and further features (structure lines, rigid polygons' sides):
