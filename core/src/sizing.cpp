@@ -136,7 +136,7 @@ double spacingOfWidth(double width, double k, double narrowWidth, const SizingOp
 /// rigid polygon's side) when `extra`: narrowSpacing with k = extraFeatureSamples and
 /// n = extraNarrowWidth then.
 double pairSpacing(double width, bool extra, const SizingOptions& o) {
-  return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : spacingOfWidth(width, o.featureSamples, o.narrowWidth, o);
+  return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : narrowSpacing(width, o);
 }
 
 /// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along

@@ -225,7 +225,8 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // measured (2026-12-03; the person's and the hand's lobes 2026-12-04), times 1.05: their lobes and
 // extra area sit between limbs and fingers, where the Euclidean kernel reaches across the gap
 // outside. Their deepest weights depend a little on where the samples fall (kcwarp-cli bind --seed
-// 1 to 5): the person −0.057 to −0.059 (at the armpit), the hand −0.056 to −0.080. Unscreened targets without the lobe
+// 1 to 5, then kcwarp-cli stats): the person −0.054 to −0.074 (at the armpit), the hand −0.042 to
+// −0.053. Unscreened targets without the lobe
 // guard (the default before) moved 1.7×, 2.0×, 1.7× and 1.8× LBC's area on the first four, with
 // lobes −0.010, −0.135, −0.134, −0.087.
 struct LocalityCase {

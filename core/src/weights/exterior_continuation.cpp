@@ -148,7 +148,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
   parallelFor(static_cast<Index>(exterior.size()), [&](Index k) {
     const Index i = exterior[static_cast<std::size_t>(k)];
     const Vec2 x = S.X.row(i).transpose();
-    const double band = options.bandSpacings * h(x);
+    const double hx = h(x), band = options.bandSpacings * hx;
     const Nearest p = nearestLoopPoint(edgeGrid, edges, onLoop, queries, x, 2.0 * band);
     if (p.edge < 0 || !(p.distance > 0.0)) return;
     auto smoothstep = [](double u) {
@@ -160,7 +160,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     const double width = p.distance + p.other;
     const double alpha = (1.0 - smoothstep(p.distance / band)) * smoothstep(width / band - 1.0);
     // γ: the share of the two-sided blend, in a refined gap between two loop walls (see the header).
-    const double refined = sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * h(x) / sizing->hMax() - 1.0) : 0.0;
+    const double refined = sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * hx / sizing->hMax() - 1.0) : 0.0;
     double gamma = p.otherA >= 0 ? refined * (1.0 - smoothstep(width / band - 2.0)) : 0.0;
     if (!(alpha > 0.0) && !(gamma > 0.0)) return;
     // The odd reflection of the inside through the wall point (1 − t)·c_a + t·c_b, or false
