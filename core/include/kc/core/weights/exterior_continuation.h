@@ -23,9 +23,10 @@
 /// side into a narrow gap would steepen the weights across it, and a stick's linear weights are
 /// the data next to it.
 ///
-/// A gap the graded sampling refined (between two loop walls, where the spacing h(x) is below
-/// hMax) is sampled finely enough to hold both sides: there the row blends the two walls'
-/// reflections R (this side, at distance d) and R′ (the other side, at d′),
+/// A gap or a narrow outside wedge between two loop walls where the graded sampling refined the
+/// spacing h(x) below hMax (a narrow place, or near a sharp corner's seeds) is sampled finely
+/// enough to hold both sides: there the row blends the two walls' reflections R (this side, at
+/// distance d) and R′ (the other side, at d′),
 ///   w(x) = γ·((1 − s)·R + s·R′) + (1 − γ)·(the single-side rule above),
 ///   s = smoothstep((u − 0.2)/0.6),  u = d/(d + d′) ∈ [0, 1/2],
 /// γ = ρ·(1 − smoothstep((d + d′)/band − 2)), ρ = 1 − smoothstep(2h(x)/hMax − 1) (1 up to
