@@ -21,6 +21,10 @@ constexpr double kGradedSlack = 3.0;
 constexpr double kGradedSettled = 0.95;
 /// The graded relaxation re-evaluates a sample's spacing after it moved this fraction of it.
 constexpr double kRelStale = 0.1;
+/// The neighbour lists are rebuilt when a free sample has moved this fraction of its spacing, or
+/// its spacing has grown by this fraction, since they were built (see the loop).
+constexpr double kListMove = 0.15;
+constexpr double kListGrowth = 0.05;
 
 /// X plus, for a periodic domain, copies of the samples near a side shifted by the period, so
 /// that plain neighbour queries see the torus. ghostOf maps each row to its original sample.
@@ -92,12 +96,13 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   // Sample k (relative spacing rk) meets j within c·sqrt((rk² + rj²)/2) (c = radius/h), and
   // rj ≤ min(1, rk + g·d/h): the reach in units of h is the root of
   // d²(1 − c²g²/2) − c²g·rk·d − c²rk² = 0, or c·sqrt((rk² + 1)/2) where rj reaches 1 first.
+  // With cc = L·c in place of c: the reach of the neighbour lists below (L = listReach).
   const double c = radius / h, g = sizing ? sizing->gradation() : 0.0;
-  if (sizing && c * c * g * g / 2.0 >= 0.9) throw std::invalid_argument("inverse mean shift: gradation too large for the relaxation's reach");
-  auto reach = [&](double rk) {
-    const double a = 1.0 - c * c * g * g / 2.0, b = c * c * g * rk;
-    const double root = (b + std::sqrt(b * b + 4.0 * a * c * c * rk * rk)) / (2.0 * a);
-    return std::min(root, c * std::sqrt(0.5 * (rk * rk + 1.0)));
+  auto reach = [&](double rk, double cc) {
+    const double a = 1.0 - cc * cc * g * g / 2.0, b = cc * cc * g * rk;
+    const double bound = cc * std::sqrt(0.5 * (rk * rk + 1.0));
+    if (a < 0.1) return bound;
+    return std::min(bound, (b + std::sqrt(b * b + 4.0 * a * cc * cc * rk * rk)) / (2.0 * a));
   };
 
   std::optional<CageEdgeGrid> locator;
@@ -126,13 +131,20 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
     return region.periodic || !locator || locator->segmentClear(from, to, clearance * scale);
   };
 
+  // Off the torus, each free sample keeps a neighbour list: the samples j within L·radius·h_kj/h
+  // of it when the lists were built, L = listReach. A pair interacts while d < radius·h_kj/h; it
+  // was listed if, since the build, neither sample moved more than kListMove of its spacing then
+  // and no spacing grew by more than kListGrowth: d_then ≤ d + kListMove·(h_k + h_j) ≤
+  // (c·(1 + kListGrowth) + 2·kListMove)·h_kj, c = radius/h, and L is that bound over c.
+  const double listReach = 1.0 + kListGrowth + 2.0 * kListMove / c;
+  const bool lists = !region.periodic;
+  std::vector<std::vector<Index>> neighbours(lists ? static_cast<std::size_t>(nFree) : 0);
+  Points listAt;                // positions when the lists were built
+  std::vector<double> listRel;  // spacings when the lists were built (free samples, / h)
+  std::vector<unsigned char> stale(static_cast<std::size_t>(nFree));
+  if (!sizing) rel.assign(static_cast<std::size_t>(n), 1.0);  // uniform: h_k = h everywhere
+
   for (int it = 0; it < options.maxIterations; ++it) {
-    if (region.periodic) {
-      withGhosts(X, region.domain, radius, Y, ghostOf);
-      grid.build(Y, 0.5 * radius);
-    } else {
-      grid.build(X, 0.5 * radius);
-    }
     if (sizing) {
       // h(x) is g-Lipschitz: re-evaluated only where a sample has moved more than kRelStale of its
       // spacing since, which changes h there by at most g·kRelStale (3% at g = 0.3).
@@ -150,25 +162,54 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         }, 256);
       }
     }
+    if (region.periodic) {
+      withGhosts(X, region.domain, radius, Y, ghostOf);
+      grid.build(Y, 0.5 * radius);
+    } else {
+      bool rebuild = it == 0;
+      if (!rebuild) {
+        parallelFor(nFree, [&](Index f) {
+          const Index k = firstFree + f;
+          const double r0 = listRel[static_cast<std::size_t>(f)], limit = kListMove * r0 * h;
+          stale[static_cast<std::size_t>(f)] = (X.row(k) - listAt.row(k)).squaredNorm() > limit * limit ||
+                                               rel[static_cast<std::size_t>(k)] > (1.0 + kListGrowth) * r0;
+        }, 1024);
+        rebuild = std::find(stale.begin(), stale.end(), 1) != stale.end();
+      }
+      if (rebuild) {
+        grid.build(X, 0.5 * radius);
+        listAt = X;
+        listRel.assign(rel.begin() + firstFree, rel.end());
+        parallelFor(nFree, [&](Index f) {
+          const Index k = firstFree + f;
+          const Vec2 xk = X.row(k);
+          const double rk = rel[static_cast<std::size_t>(k)], limit2 = listReach * listReach * radius * radius;
+          std::vector<Index>& list = neighbours[static_cast<std::size_t>(f)];
+          list.clear();
+          grid.forEachWithin(xk, h * reach(rk, listReach * c), [&](Index j, double d2) {
+            const double rj = rel[static_cast<std::size_t>(j)];
+            if (j != k && d2 < limit2 * 0.5 * (rk * rk + rj * rj)) list.push_back(j);
+          });
+        }, 256);
+      }
+    }
     parallelFor(nFree, [&](Index f) {
       const Index k = firstFree + f;
       const Vec2 xk = X.row(k);
-      const double rk = sizing ? rel[static_cast<std::size_t>(k)] : 1.0;  // local spacing / h
+      const double rk = rel[static_cast<std::size_t>(k)];  // local spacing / h
       Vec2 force = Vec2::Zero();
-      if (sizing) {  // the pair's bandwidth s·h_kj/h, h_kj² = (h_k² + h_j²)/2
+      if (lists) {  // the pair's bandwidth s·h_kj/h, h_kj² = (h_k² + h_j²)/2
         const double rk2 = rk * rk;
-        grid.forEachWithin(xk, h * reach(rk), [&](Index j, double d2) {
-          if (j == k) return;
+        for (const Index j : neighbours[static_cast<std::size_t>(f)]) {
+          const Vec2 d = xk - Vec2(X.row(j));
           const double rj = rel[static_cast<std::size_t>(j)];
-          const double pair2 = 0.5 * (rk2 + rj * rj);  // (h_kj / h)²
-          if (d2 >= radius * radius * pair2) return;
-          force += (xk - Vec2(X.row(j))) * shiftedGaussian(d2 / pair2);
-        });
+          const double pair2 = 0.5 * (rk2 + rj * rj), d2 = d.squaredNorm();  // (h_kj / h)²
+          if (d2 < radius * radius * pair2) force += d * shiftedGaussian(d2 / pair2);
+        }
       } else {
         grid.forEachWithin(xk, radius, [&](Index j, double d2) {
           if (j == k) return;
-          const Vec2 xj = region.periodic ? Vec2(Y.row(j)) : Vec2(X.row(j));
-          force += (xk - xj) * shiftedGaussian(d2);
+          force += (xk - Vec2(Y.row(j))) * shiftedGaussian(d2);
         });
       }
       Vec2 step = gain * force;  // (6.4)

@@ -57,8 +57,10 @@ struct RelaxRegion {
 
 /// Relaxes rows [firstFree, #X) of X (#X×2) by inverse mean shift (6.4):
 ///   x_k ← x_k + λ Σ_j (x_k − x_j) / s² · G_s(x_k − x_j),  G_s(d) = exp(−|d|² / 2s²),
-/// summing over all samples j within r = cutoff·s (found through a SpatialGrid, O(n) per
-/// iteration), with G_s(d) − G_s(r) in place of G_s so the sum is continuous at the cut-off;
+/// summing over all samples j within r = cutoff·s, with G_s(d) − G_s(r) in place of G_s so the
+/// sum is continuous at the cut-off. Neighbours come from a SpatialGrid (O(n) per iteration); off
+/// the torus, each free sample keeps a list of the samples within about 1.2 r of it, rebuilt from
+/// the grid only after some sample has moved 0.15 of its spacing (or its spacing grew 5%) since;
 /// rows [0, firstFree) are fixed. Jacobi updates (new positions from old ones, each sample
 /// writing its own row): bit-identical for any thread count. Stops when the largest move falls
 /// below tolerance·h or after maxIterations.
