@@ -188,6 +188,19 @@ TEST_F(BadInput, SessionSigmaFarTooWide) {
   expectRefused("stats --session bad.kcw.json", "sigma");
 }
 
+TEST_F(BadInput, APictureOrBinaryFileGivenAsJsonIsNamedAsSuch) {
+  fs::copy_file(fs::path(KC_SOURCE_DIR) / "images" / "star.png", m_dir / "star.png");
+  expectRefused("stats --session star.png", "star.png: this file is a PNG image, not JSON text");
+  expectRefused("bind --cage star.png --size 96,96 -o out.kcw.json", "star.png: this file is a PNG image, not JSON text");
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+  writeText(m_dir / "photo.json", std::string("\xff\xd8\xff\xe0\0\x10JFIF", 10));
+  expectRefused("warp --session s.kcw.json --pose photo.json -o W.png --image none.png", "photo.json: this file is a JPEG image");
+  writeText(m_dir / "zeros.json", std::string("{\"version\": 1,\0\0\0", 16));
+  expectRefused("bind --cage zeros.json --size 96,96 -o out.kcw.json", "zeros.json: this file is binary data, not JSON text");
+  EXPECT_FALSE(fs::exists(m_dir / "W.png"));
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
 TEST_F(BadInput, SessionNanLiteral) {
   std::string text = session().dump();
   const std::string key = "\"sigma\":";

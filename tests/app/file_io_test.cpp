@@ -216,10 +216,14 @@ TEST(Errors, MessagesAreOneShortLineWhateverTheInputHolds) {
   EXPECT_TRUE(contains(unterminated, path + ": malformed JSON at byte 100057, near '...AAAAAAAAAAAAAAAAAAAAAAAA'")) << unterminated;
   EXPECT_TRUE(contains(unterminated, "missing closing quote")) << unterminated;
   EXPECT_TRUE(contains(unterminated, "(the file looks truncated)")) << unterminated;
-  // A binary file: its bytes quoted as \xNN.
+  // A picture is named as one; other bytes that are not text are quoted as \xNN.
   writeText(path, std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16) + std::string(50000, '\x7f'));
+  const std::string picture = inputError([&] { loadCage(path); });
+  EXPECT_TRUE(contains(picture, path + ": this file is a PNG image, not JSON text")) << picture;
+  EXPECT_EQ(picture.find('\n'), std::string::npos);
+  writeText(path, std::string("\x01\x02\x7f" "junk") + std::string(50000, '\x7f'));
   const std::string binary = inputError([&] { loadCage(path); });
-  EXPECT_TRUE(contains(binary, "malformed JSON at byte 0, near '\\x89PNG\\x0d\\x0a\\x1a\\x0a...'")) << binary;
+  EXPECT_TRUE(contains(binary, "malformed JSON at byte 0, near '\\x01\\x02\\x7fjunk")) << binary;
   EXPECT_EQ(binary.find('\n'), std::string::npos);
   // A value quoted from a file is cut.
   writeText(path, "{\"version\": 1, \"points\": [[0,0],[10,0],[0,10]], \"edges\": [[0, " + std::string(5000, '9') + "]]}");

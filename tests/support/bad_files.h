@@ -110,7 +110,7 @@ inline std::vector<BadFile> writeBadFiles(const std::filesystem::path& dir, cons
   add("nan_literal.kcw.json", nan, "malformed JSON");
   const std::string whole = session.dump(1);
   add("truncated.kcw.json", whole.substr(0, whole.size() / 2), "the file looks truncated");
-  add("picture.kcw.json", png, "malformed JSON at byte 0");
+  add("picture.kcw.json", png, "this file is a PNG image, not JSON text");
   std::string huge = R"({"version": 1, "cage": {"points": [[16,16],[80,16],[80,80],[16,80]]}, "junk": [)";
   huge.reserve(huge.size() + 160'000'010);
   for (int i = 0; i < 40'000'000; ++i) huge += "0,0,";
