@@ -82,6 +82,21 @@ TEST(RigidRegionsApp, Fig637SetUpKeepsPropertiesAndFarWeights) {
   EXPECT_LE((s.W - plain.W).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// The figure's rigid octagon from its structure file, without the lines: a graded bind samples it
+// at the spacing of the plain bind. Its sides meet only at their ends, so no corner is a narrow
+// place (each corner was refined to the smallest spacing once, and the rigidity QP went dense).
+TEST(RigidRegionsApp, ARigidPolygonDoesNotRefineItsCorners) {
+  const Cage cage = loadCage(kImages + "/figure.cage.json");
+  Structure st = loadStructure(kImages + "/figure.structure.json");
+  st.lines.clear();
+  ASSERT_EQ(st.rigid.size(), 1u);
+  const Session plain = bind(cage, 320, 400, BindParams{}), rigid = bind(cage, st, 320, 400, BindParams{});
+  std::printf("%ld samples without the octagon, %ld with; smallest spacing %.3g px\n", long(plain.samples.size()),
+              long(rigid.samples.size()), rigid.sizing ? rigid.sizing->hMin() : rigid.params.spacing);
+  EXPECT_LE(rigid.samples.size(), plain.samples.size() + plain.samples.size() / 10);
+  if (rigid.sizing) EXPECT_GE(rigid.sizing->hMin(), 0.25 * rigid.params.spacing);
+}
+
 TEST(RigidRegionsApp, ProgressAndCancel) {
   const Session plain = bindStar();
   const StarLegSetup leg = starLegSetup(plain.cage);
