@@ -68,7 +68,9 @@ bool bmp(const Reader& r, ImageHeader& h, std::string& problem) {
     h.height = r.le16(20);
     return true;
   }
-  if (info < 40 || !r.has(18, 8)) return fail(problem, "truncated or malformed BMP header");
+  // The DIB header sizes of BITMAPINFOHEADER (40) and its successors (52, 56, 64 for OS/2 2.x, 108, 124).
+  if ((info != 40 && info != 52 && info != 56 && info != 64 && info != 108 && info != 124) || !r.has(18, 8))
+    return fail(problem, "truncated or malformed BMP header");
   h.width = static_cast<std::int32_t>(r.le32(18));
   const std::int64_t height = static_cast<std::int32_t>(r.le32(22));
   h.height = height < 0 ? -height : height;  // negative: rows stored top-down

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "kc/app/errors.h"
+#include "kc/app/image_header.h"
 #include "kc/app/limits.h"
 #include "kc/app/text.h"
 
@@ -70,16 +71,12 @@ class ParseCost final : public nlohmann::json_sax<json> {
 /// Texts this short cannot need kMaxJsonParseBytes parsed (at most ~100 bytes of DOM per byte).
 constexpr std::size_t kParseScanFrom = 4 * kMiB;
 
-/// What a file that is not text starts as, by its first bytes: "a PNG image" and the other
-/// picture formats by their signatures, "binary data" for a zero byte among the first 4 KiB (JSON
-/// text never holds one), "" otherwise.
+/// What a file that is not JSON text is, by its bytes: "a PNG image" (any picture whose header
+/// kcwarp reads, readImageHeader), "binary data" for a zero byte among the first 4 KiB (JSON text
+/// never holds one), "" otherwise.
 std::string binaryKind(std::string_view text) {
-  const auto starts = [&](std::string_view magic) { return text.substr(0, magic.size()) == magic; };
-  if (starts("\x89PNG")) return "a PNG image";
-  if (starts("\xff\xd8\xff")) return "a JPEG image";
-  if (starts("GIF8")) return "a GIF image";
-  if (starts(std::string_view("II*\0", 4)) || starts(std::string_view("MM\0*", 4))) return "a TIFF image";
-  if (starts("RIFF") && text.size() >= 12 && text.substr(8, 4) == "WEBP") return "a WebP image";
+  ImageHeader header;
+  if (std::string problem; readImageHeader(text, header, problem)) return "a " + header.format + " image";
   if (text.substr(0, 4096).find('\0') != std::string_view::npos) return "binary data";
   return "";
 }

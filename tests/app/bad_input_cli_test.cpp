@@ -193,8 +193,10 @@ TEST_F(BadInput, APictureOrBinaryFileGivenAsJsonIsNamedAsSuch) {
   expectRefused("stats --session star.png", "star.png: this file is a PNG image, not JSON text");
   expectRefused("bind --cage star.png --size 96,96 -o out.kcw.json", "star.png: this file is a PNG image, not JSON text");
   EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
-  writeText(m_dir / "photo.json", std::string("\xff\xd8\xff\xe0\0\x10JFIF", 10));
+  fs::copy_file(fs::path(KC_SOURCE_DIR) / "tests" / "fuzz" / "corpus" / "image_header" / "seed.jpg", m_dir / "photo.json");
   expectRefused("warp --session s.kcw.json --pose photo.json -o W.png --image none.png", "photo.json: this file is a JPEG image");
+  writeText(m_dir / "bmw.json", "BMW 320i: not JSON, not a picture");  // a picture's signature alone does not make one
+  expectRefused("bind --cage bmw.json --size 96,96 -o out.kcw.json", "bmw.json: malformed JSON at byte 0");
   writeText(m_dir / "zeros.json", std::string("{\"version\": 1,\0\0\0", 16));
   expectRefused("bind --cage zeros.json --size 96,96 -o out.kcw.json", "zeros.json: this file is binary data, not JSON text");
   EXPECT_FALSE(fs::exists(m_dir / "W.png"));
