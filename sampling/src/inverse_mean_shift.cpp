@@ -93,17 +93,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   const SizingField* sizing = options.sizing && options.sizing->graded() ? options.sizing : nullptr;
   std::vector<double> rel;
   Points relAt;  // where each rel was evaluated
-  // Sample k (relative spacing rk) meets j within c·sqrt((rk² + rj²)/2) (c = radius/h), and
-  // rj ≤ min(1, rk + g·d/h): the reach in units of h is the root of
-  // d²(1 − c²g²/2) − c²g·rk·d − c²rk² = 0, or c·sqrt((rk² + 1)/2) where rj reaches 1 first.
-  // With cc = L·c in place of c: the reach of the neighbour lists below (L = listReach).
   const double c = radius / h, g = sizing ? sizing->gradation() : 0.0;
-  auto reach = [&](double rk, double cc) {
-    const double a = 1.0 - cc * cc * g * g / 2.0, b = cc * cc * g * rk;
-    const double bound = cc * std::sqrt(0.5 * (rk * rk + 1.0));
-    if (a < 0.1) return bound;
-    return std::min(bound, (b + std::sqrt(b * b + 4.0 * a * cc * cc * rk * rk)) / (2.0 * a));
-  };
 
   std::optional<CageEdgeGrid> locator;
   if (region.cage && region.cage->size() >= 2 && !region.periodic) locator.emplace(*region.cage, std::max(h, radius));
@@ -136,7 +126,16 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   // was listed if, since the build, neither sample moved more than kListMove of its spacing then
   // and no spacing grew by more than kListGrowth: d_then ≤ d + kListMove·(h_k + h_j) ≤
   // (c·(1 + kListGrowth) + 2·kListMove)·h_kj, c = radius/h, and L is that bound over c.
-  const double listReach = 1.0 + kListGrowth + 2.0 * kListMove / c;
+  const double listReach = 1.0 + kListGrowth + 2.0 * kListMove / c, cl = listReach * c;
+  // The list of sample k (relative spacing rk) holds the j within cl·sqrt((rk² + rj²)/2) of it, and
+  // rj ≤ min(1, rk + g·d/h): the grid query's radius in units of h is the root of
+  // d²(1 − cl²g²/2) − cl²g·rk·d − cl²rk² = 0, or cl·sqrt((rk² + 1)/2) where rj reaches 1 first.
+  auto reach = [&](double rk) {
+    const double a = 1.0 - cl * cl * g * g / 2.0, b = cl * cl * g * rk;
+    const double bound = cl * std::sqrt(0.5 * (rk * rk + 1.0));
+    if (a < 0.1) return bound;  // a steep gradation: the root grows without bound
+    return std::min(bound, (b + std::sqrt(b * b + 4.0 * a * cl * cl * rk * rk)) / (2.0 * a));
+  };
   const bool lists = !region.periodic;
   std::vector<std::vector<Index>> neighbours(lists ? static_cast<std::size_t>(nFree) : 0);
   Points listAt;                // positions when the lists were built
@@ -183,10 +182,10 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         parallelFor(nFree, [&](Index f) {
           const Index k = firstFree + f;
           const Vec2 xk = X.row(k);
-          const double rk = rel[static_cast<std::size_t>(k)], limit2 = listReach * listReach * radius * radius;
+          const double rk = rel[static_cast<std::size_t>(k)], limit2 = cl * cl * h * h;
           std::vector<Index>& list = neighbours[static_cast<std::size_t>(f)];
           list.clear();
-          grid.forEachWithin(xk, h * reach(rk, listReach * c), [&](Index j, double d2) {
+          grid.forEachWithin(xk, h * reach(rk), [&](Index j, double d2) {
             const double rj = rel[static_cast<std::size_t>(j)];
             if (j != k && d2 < limit2 * 0.5 * (rk * rk + rj * rj)) list.push_back(j);
           });
