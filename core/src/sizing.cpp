@@ -32,7 +32,6 @@ struct FeatureGraph {
   Points V;
   std::vector<std::array<int, 2>> E;
   std::vector<char> extra;  // per edge: a piece of an extra segment (not a cage edge)
-  std::vector<char> interior;  // per vertex: a point inside some segment where another crosses or ends on it
 };
 
 FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extra) {
@@ -64,7 +63,7 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
   // Splits: (parameter, vertex id) per segment. Ends that meet another segment's end or split
   // point are merged into it (union-find `root`): the segments then share that vertex.
   std::vector<std::vector<std::pair<double, int>>> splits(seg.size());
-  std::vector<int> parent(verts.size()), interiorAt;  // interiorAt: vertices inside a segment
+  std::vector<int> parent(verts.size());
   for (std::size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
   auto root = [&](int v) {
     while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)];
@@ -94,10 +93,7 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
       const double len = (seg[S][1] - seg[S][0]).norm();
       if (p * len <= eps) parent[static_cast<std::size_t>(e0)] = id;
       else if ((1.0 - p) * len <= eps) parent[static_cast<std::size_t>(e1)] = id;
-      else {
-        splits[S].emplace_back(p, id);
-        interiorAt.push_back(id);
-      }
+      else splits[S].emplace_back(p, id);
     }
   };
   if (n > 0) {
@@ -118,8 +114,6 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
   FeatureGraph g;
   g.V.resize(static_cast<Index>(verts.size()), 2);
   for (std::size_t i = 0; i < verts.size(); ++i) g.V.row(static_cast<Index>(i)) = verts[i].transpose();
-  g.interior.assign(verts.size(), 0);
-  for (const int v : interiorAt) g.interior[static_cast<std::size_t>(root(v))] = 1;
   for (std::size_t s = 0; s < seg.size(); ++s) {
     auto& sp = splits[s];
     std::sort(sp.begin(), sp.end());
@@ -202,21 +196,8 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
     grid.forEachEdgeNear(x - Vec2::Constant(R), x + Vec2::Constant(R), [&](int t, const Vec2& a, const Vec2& b) {
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
-      const int shared = et[0] == es[0] || et[0] == es[1] ? et[0] : et[1] == es[0] || et[1] == es[1] ? et[1] : -1;
-      double d = pointSegmentDistance(x, a, b);
-      if (shared >= 0) {
-        // Segments that meet where one crosses or ends on the other (not at a corner of both)
-        // bound a wedge of opening θ, r·sin θ wide at distance r from the apex (d = r·sin θ at x).
-        // An acute one with an extra segment on a side is a narrow place of width
-        // max(r, hMax)·tan θ: the shared sample holds the apex, and an open wedge (θ ≥ 90°) is
-        // never narrow.
-        if (!g.interior[std::size_t(shared)] || !(g.extra[std::size_t(s)] || g.extra[std::size_t(t)])) return;
-        const Vec2 apex = g.V.row(shared);
-        const Vec2 u = Vec2(g.V.row(es[0] == shared ? es[1] : es[0])) - apex, v = Vec2(g.V.row(et[0] == shared ? et[1] : et[0])) - apex;
-        const double cosine = u.dot(v) / (u.norm() * v.norm());
-        if (!(cosine > 0.0)) return;  // open, or a zero-length piece
-        d = std::max(d, o.hMax * std::sqrt(std::max(0.0, 1.0 - cosine * cosine))) / cosine;
-      }
+      if (et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1]) return;
+      const double d = pointSegmentDistance(x, a, b);
       best.all = std::min(best.all, d);
       const double h = pairSpacing(d, g.extra[std::size_t(s)] || g.extra[std::size_t(t)], o);
       if (h >= best.h) return;

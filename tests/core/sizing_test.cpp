@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include "kc/core/sizing.h"
@@ -126,33 +125,13 @@ TEST(Sizing, CrossingLinesAndALineEndingOnTheEdgeAreNotNarrow) {
   EXPECT_FALSE(h.graded()) << h.seeds().rows() << " seeds, smallest " << h.hMin();
 }
 
-// Two lines crossing at 10° bound two thin wedges: at distance r from the apex they are
-// max(r, hMax)·tan 10° wide, a quarter of that the spacing (k = 4 beside a line). A thin rigid
-// triangle's sides meet only at their ends: no wedge and no narrow place.
-TEST(Sizing, AShallowCrossingIsRefinedAlongItsArmsARigidCornerIsNot) {
+// A thin rigid triangle: its sides meet only at their ends, so no pair of them is a narrow place
+// (each corner was once refined to hMin through a zero-length piece where the ends met).
+TEST(Sizing, ARigidTriangleWithASharpCornerIsNotNarrow) {
   const Cage square = polygon({{0, 0}, {400, 0}, {400, 400}, {0, 400}});
-  const double hMax = 8.0, t = std::tan(10.0 * std::numbers::pi / 180.0);
-  const Vec2 apex(200, 200), u(std::cos(10.0 * std::numbers::pi / 180.0), std::sin(10.0 * std::numbers::pi / 180.0));
-  const std::vector<FeatureSegment> x{{{100, 200}, {300, 200}}, {apex - 100.0 * u, apex + 100.0 * u}};
-  const SizingField h = featureSizing(square, x, options(hMax));
-  ASSERT_TRUE(h.graded());
-  EXPECT_NEAR(h.hMin(), hMax * t / 4.0, 1e-9);            // within hMax of the apex
-  EXPECT_NEAR(h(Vec2(203, 200)), hMax * t / 4.0, 0.05);
-  EXPECT_NEAR(h(Vec2(230, 200)), 30.0 * t / 4.0, 0.2);    // 1.32, seeds every h/2 along the arm
-  EXPECT_NEAR(h(Vec2(170, 200)), 30.0 * t / 4.0, 0.2);    // the opposite wedge alike
-  EXPECT_LT(h(Vec2(230, 200)), h(Vec2(260, 200)));
-  EXPECT_EQ(h(Vec2(200, 300)), hMax);                     // across the open wedges, far from the arms
-  // The same lines at 60°: wedges max(r, 8)·√3 wide, refined only near the apex (3.46 px).
-  const Vec2 v(0.5, std::sqrt(0.75));
-  const std::vector<FeatureSegment> open{{{100, 200}, {300, 200}}, {apex - 100.0 * v, apex + 100.0 * v}};
-  const SizingField h60 = featureSizing(square, open, options(hMax));
-  ASSERT_TRUE(h60.graded());
-  EXPECT_NEAR(h60.hMin(), hMax * std::sqrt(3.0) / 4.0, 1e-9);
-  EXPECT_EQ(h60(Vec2(290, 200)), hMax);
-  // A rigid triangle with a 20° corner: its sides meet only at their ends.
   const Vec2 c(100, 300), a = c + 150.0 * Vec2(std::cos(0.1745), std::sin(0.1745)), b = c + 150.0 * Vec2(std::cos(-0.1745), std::sin(-0.1745));
   const std::vector<FeatureSegment> triangle{{c, a}, {a, b}, {b, c}};
-  EXPECT_FALSE(featureSizing(square, triangle, options(hMax)).graded());
+  EXPECT_FALSE(featureSizing(square, triangle, options(8.0)).graded());
 }
 
 TEST(Sizing, LineEndingNearTheEdgeIsNarrow) {

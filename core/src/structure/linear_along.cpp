@@ -124,17 +124,10 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const Vec2 a = segments[s].a, b = segments[s].b;
     const double sigma = segmentMax[s], radius = options.reach * segmentMax[s];
-    // A graded width: sample j is a node within 2·reach of its pair width with the segment's
-    // point nearest to it, √((σ(q)² + σ_j²)/2), as well: where the width is small (a crossing), the
-    // fine samples a few of their widths from the line, not all within reach·σmax.
-    auto nodeReach = [&](Index j) {
-      const double sq = kernel.widthAt(closestPointOnSegment(X.row(j), a, b)), sj = widthX(j);
-      return 2.0 * options.reach * std::sqrt(0.5 * (sq * sq + sj * sj));
-    };
     std::vector<Index> nodes, held, onLine, own, others, loose;  // onLine: held samples on the segment (fit, not held)
     for (Index j = 0; j < n; ++j) {
       const double d = pointSegmentDistance(X.row(j), a, b);
-      if (d <= radius && (!kernel.variable() || d <= nodeReach(j))) nodes.push_back(j);
+      if (d <= radius) nodes.push_back(j);
       if (d > radius + theta) continue;
       if (keep[std::size_t(j)]) (d <= 1e-9 * (1.0 + X.row(j).cwiseAbs().maxCoeff()) ? onLine : held).push_back(j);
       else if (options.freeWeight > 0.0) loose.push_back(j);

@@ -150,11 +150,8 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// count with n = extraNarrowWidth where an extra segment is one side of the place (at a vertex:
 /// any incident one). Features that cross or touch (within 1e-9 of the cage's extent) are split
 /// there and share the point, so a crossing or a line ending on an edge is not a narrow place;
-/// adjacent segments (sharing an end) do not count for each other's lfs, except across an acute
-/// wedge of opening θ < 90° at a point where one crosses or ends inside the other and one of them
-/// is extra: at distance r from that apex the wedge is a place of width max(r, hMax)·tan θ (a
-/// shallow crossing of two lines is refined along its arms; the apex itself is their shared
-/// sample). Gaps outside the cage count only with options.outsideGaps. Deterministic; expected
+/// adjacent segments (sharing an end, also where ends of two features meet) do not count for each
+/// other's lfs. Gaps outside the cage count only with options.outsideGaps. Deterministic; expected
 /// O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 

@@ -40,9 +40,8 @@ struct LinearityReport {
 
 /// Post-processes W (#S×m, the field's data weights) so that `field` is linear along every
 /// segment, then re-solves the field (field.update(W)). Segment by segment, the kernel
-/// coefficients ΔU of the samples N within reach·σ of the segment (σ its largest width; for a
-/// graded width also within 2·reach·√((σ(q)² + σ_j²)/2) of it, q the segment's point nearest to
-/// sample j) solve, in the least-norm sense (complete orthogonal decomposition),
+/// coefficients ΔU of the samples N within reach·σ of the segment solve, in the least-norm
+/// sense (complete orthogonal decomposition),
 ///   k(F_s, X_N) ΔU = −(w(F_s) − linear(F_s))   at the fit points F_s of the segment, spaced by
 ///                         fitSpacing·σ(p) (dense only where a graded width is small) and weighted
 ///                         by √(σ(p)/σ_min) (the quadrature of the misfit along the segment),
