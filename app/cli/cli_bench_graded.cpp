@@ -12,6 +12,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -56,7 +57,7 @@ struct Quality {
 
 /// Partition of unity and reproduction on a 2-px grid inside the cage; the largest |Σ far weights|
 /// at the leak probes (1, 1.5, …, 3 px from the wall).
-Quality quality(const app::Session& s, const LeakProbe* probe) {
+Quality measure(const app::Session& s, const LeakProbe* probe) {
   Quality q;
   const CageQueries inside(s.cage);
   std::vector<Vec2> pts;
@@ -91,44 +92,67 @@ Quality quality(const app::Session& s, const LeakProbe* probe) {
 }
 
 struct Timed {
-  double seconds = 0.0;
+  double seconds = 0.0;  // median over the runs
+  std::vector<double> runs;
   Index samples = 0;
   double hMin = 0.0, hMax = 0.0;
   app::Session session;
   std::string refused;
 };
 
-Timed timedBind(const Cage& cage, int w, int h, const app::BindParams& params, int repeats) {
-  Timed t;
-  std::vector<double> runs;
-  for (int r = 0; r < repeats; ++r) {
-    try {
-      app::BindParams p = params;
-      p.spacing = app::automaticSpacing(cage, w, h, p);
-      const auto t0 = std::chrono::steady_clock::now();
-      t.session = app::bind(cage, w, h, p);
-      runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      t.samples = t.session.samples.size();
-      t.hMax = p.spacing;
-      t.hMin = t.session.sizing ? t.session.sizing->hMin() : p.spacing;
-    } catch (const std::exception& e) {
-      t.refused = e.what();
-      return t;
-    }
+/// One more default bind of `cage` (automatic spacing), its wall time appended to t.runs; a refusal
+/// is kept in t.refused and stops further runs.
+void bindOnce(Timed& t, const Cage& cage, int w, int h, const app::BindParams& params) {
+  if (!t.refused.empty()) return;
+  try {
+    app::BindParams p = params;
+    p.spacing = app::automaticSpacing(cage, w, h, p);
+    const auto t0 = std::chrono::steady_clock::now();
+    t.session = app::bind(cage, w, h, p);
+    t.runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    t.samples = t.session.samples.size();
+    t.hMax = p.spacing;
+    t.hMin = t.session.sizing ? t.session.sizing->hMin() : p.spacing;
+  } catch (const std::exception& e) {
+    t.refused = e.what();
   }
-  std::sort(runs.begin(), runs.end());
-  t.seconds = runs[runs.size() / 2];
-  return t;
 }
 
-void row(const char* backend, const std::string& name, const Timed& t, const Quality& q, const Timed* wide) {
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Bindable {
+  Cage cage;
+  int w = 0, h = 0;
+};
+
+/// `repeats` binds of each, alternating (a, b, a, b, …), so that each b runs right after its a; the
+/// ratio is the median over the pairs of b's time / a's (a change of the machine's load between
+/// pairs cancels in it). Both Timed hold their median time.
+double timedPair(const Bindable& a, const Bindable& b, const app::BindParams& params, int repeats, Timed& ta, Timed& tb) {
+  for (int r = 0; r < repeats; ++r) {
+    bindOnce(ta, a.cage, a.w, a.h, params);
+    bindOnce(tb, b.cage, b.w, b.h, params);
+  }
+  ta.seconds = median(ta.runs);
+  tb.seconds = median(tb.runs);
+  if (!ta.refused.empty() || !tb.refused.empty()) return 0.0;
+  std::vector<double> ratios;
+  for (std::size_t k = 0; k < ta.runs.size(); ++k) ratios.push_back(tb.runs[k] / ta.runs[k]);
+  return median(ratios);
+}
+
+/// ratio ≤ 0: no ratio column.
+void row(const char* backend, const std::string& name, const Timed& t, const Quality& q, double ratio) {
   if (!t.refused.empty()) {
     std::printf("  %-4s %-14s refused: %.100s\n", backend, name.c_str(), t.refused.c_str());
     return;
   }
   std::printf("  %-4s %-14s %8.0f %8ld %6.2f-%-6.2f %9.1e %9.1e %8.4f", backend, name.c_str(), 1e3 * t.seconds,
               static_cast<long>(t.samples), t.hMin, t.hMax, q.unity, q.reproduction, q.leak);
-  if (wide && wide->refused.empty()) std::printf(" %7.2fx", t.seconds / wide->seconds);
+  if (ratio > 0.0) std::printf(" %7.2fx", ratio);
   std::printf("\n");
 }
 
@@ -165,36 +189,39 @@ void benchGraded(const std::string& folder, int repeats) {
   app::BindParams defaults;
   defaults.exterior = app::exteriorFor(WarpMeshOptions{}.outside);
   std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, kcwarp-cli bind's\n"
-              "defaults (automatic spacing, --exterior %s), median of %d binds; unity and reproduction: largest error\n"
+              "defaults (automatic spacing, --exterior %s), median of %d binds, wide and narrow alternating (/wide:\n"
+              "the median of the paired ratios); unity and reproduction: largest error\n"
               "on a 2 px grid inside the cage; leak: largest |sum of the far side's weights| 1-3 px from the gap\n",
               folder.c_str(), nameOf(defaults.exterior).c_str(), repeats);
   std::printf("  %-4s %-14s %8s %8s %13s %9s %9s %8s %8s\n", "", "cage", "bind ms", "samples", "spacing px", "unity",
               "repro px", "leak", "/wide");
   for (const NarrowCase& c : narrowCases()) {
+    Bindable wide, narrow;
+    for (auto [variant, b] : {std::pair<const char*, Bindable*>{"wide", &wide}, {"narrow", &narrow}}) {
+      const std::string path = (std::filesystem::path(folder) / (c.name + "-" + variant + ".cage.json")).string();
+      b->cage = app::loadCage(path);
+      std::tie(b->w, b->h) = cageImageSize(path);
+    }
     for (const char* backend : {"kc", "lbc"}) {
-      Timed wide;
-      for (const char* variant : {"wide", "narrow"}) {
-        const std::string path = (std::filesystem::path(folder) / (c.name + "-" + variant + ".cage.json")).string();
-        const Cage cage = app::loadCage(path);
-        const auto [w, h] = cageImageSize(path);
-        app::BindParams p = defaults;
-        p.backend = backend;
-        Timed t = timedBind(cage, w, h, p, repeats);
-        const bool narrow = std::string(variant) == "narrow";
-        const Quality q = t.refused.empty() ? quality(t.session, c.leak ? (narrow ? &c.narrow : &c.wide) : nullptr) : Quality{};
-        row(backend, c.name + "-" + variant, t, q, narrow ? &wide : nullptr);
-        if (!narrow) wide = std::move(t);
-      }
+      app::BindParams p = defaults;
+      p.backend = backend;
+      Timed tw, tn;
+      const double ratio = timedPair(wide, narrow, p, repeats, tw, tn);
+      auto quality = [&](const Timed& t, const LeakProbe& probe) {
+        return t.refused.empty() ? measure(t.session, c.leak ? &probe : nullptr) : Quality{};
+      };
+      row(backend, c.name + "-wide", tw, quality(tw, c.wide), 0.0);
+      row(backend, c.name + "-narrow", tn, quality(tn, c.narrow), ratio);
     }
   }
   // One 8 px neck on a 12 MP picture (4000 x 3000, the cage filling it) against the same scene at
   // 0.1 MP (the cage scaled by 1/11, its neck 0.73 px).
   std::printf("\n  one neck, 12 MP against 0.1 MP (kc, defaults):\n");
   const double big = 4000.0 / 330.0, small = big / 11.0;
-  const Timed t12 = timedBind(neckCage(big, 8.0), 4000, 3000, defaults, repeats);
-  const Timed t01 = timedBind(neckCage(small, 8.0 / 11.0), 364, 273, defaults, repeats);
-  row("kc", "neck 0.1 MP", t01, t01.refused.empty() ? quality(t01.session, nullptr) : Quality{}, nullptr);
-  row("kc", "neck 12 MP", t12, t12.refused.empty() ? quality(t12.session, nullptr) : Quality{}, &t01);
+  Timed t01, t12;
+  const double ratio = timedPair({neckCage(small, 8.0 / 11.0), 364, 273}, {neckCage(big, 8.0), 4000, 3000}, defaults, repeats, t01, t12);
+  row("kc", "neck 0.1 MP", t01, t01.refused.empty() ? measure(t01.session, nullptr) : Quality{}, 0.0);
+  row("kc", "neck 12 MP", t12, t12.refused.empty() ? measure(t12.session, nullptr) : Quality{}, ratio);
 }
 
 }  // namespace kc::cli
