@@ -38,20 +38,18 @@ namespace kc {
 inline constexpr double kNarrowWidth = 2.0;
 /// k, samples across a narrow place between cage edges: a place of width w ≤ hMax/(1 − 1/k)
 /// gets spacing w/k, and up to kNarrowWidth·hMax the spacing ramps to hMax (narrowSpacing). The
-/// kernel interpolant overshoots the weights' kink at the walls of a gap: 1–3 px inside a leg next
-/// to a 4 px gap the far side's controls weigh up to 0.026 in sum at k = 2, beside a 3 px slit
-/// 0.038. With the exterior continuation's two-sided blend in the gap (exterior_continuation.h),
-/// k = 3.5 leaves 0.014 and 0.007, k = 4 0.006 and 0.003 with a tenth more samples, k = 3 0.028
-/// and 0.021 (`kcwarp-cli bench --graded`).
+/// kernel interpolant overshoots the weights' kink at the walls of a gap, so the controls across a
+/// gap keep a small weight just inside it; k bounds that leak (with the exterior continuation's
+/// two-sided blend in the gap, exterior_continuation.h). The leak against k:
+/// docs/notes/measured-constants.md.
 inline constexpr double kFeatureSamples = 3.5;
 /// k where a structure line or a rigid polygon's side is one side of the place (see
 /// kExtraNarrowWidth): such a place is refined to a quarter of its width.
 inline constexpr double kExtraFeatureSamples = 4.0;
 /// kNarrowWidth for a place between a structure line or a rigid polygon's side and another
-/// feature: the field must be linear along a line, not only bounded across a gap. With n = 2,
-/// lines 2–4 spacings from the cage or from another line bend by up to 0.2 px under ±40 px
-/// translations of the controls; n = kExtraFeatureSamples refines every such place to a quarter
-/// of its width (`kcwarp-cli bench --lines --crossing`).
+/// feature: the field must be linear along a line, not only bounded across a gap, and a line a few
+/// spacings from the cage or another line bends unless the place between them is refined;
+/// n = kExtraFeatureSamples refines every such place to a quarter of its width.
 inline constexpr double kExtraNarrowWidth = 4.0;
 /// g: how fast the spacing may grow away from a narrow place, |∇h| ≤ g. At 0.3 neighbouring
 /// samples differ in spacing by at most ~30%, so the inverse mean shift and the variable-width
@@ -59,9 +57,8 @@ inline constexpr double kExtraNarrowWidth = 4.0;
 /// place grows like (2π/g²)·ln(hMax/h_i), about 70 samples per factor e of refinement.
 inline constexpr double kSizingGradation = 0.3;
 /// p of the smooth profile: the soft minimum blends cones within about 1/p of each other (a
-/// ridge is rounded over about a/(p·g) ≈ 0.4·h either side). Smaller p is smoother and lies
-/// further below h: on random lines in the bundled star (±40 px translations) p = 6, 8, 16 left
-/// them bent by 0.021, 0.032, 0.055 px.
+/// ridge is rounded over about a/(p·g) ≈ 0.4·h either side). Smaller p is smoother (straighter
+/// structure lines) and lies further below h (more samples).
 inline constexpr double kSizingSoftness = 8.0;
 
 /// The profile the kernel width follows (see above).
