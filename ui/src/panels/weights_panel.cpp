@@ -42,10 +42,12 @@ void colorBar(const AppState& state) {
                       "picture %.1f px or more.", app::kDragWeight, app::kDragPixels, app::kVisibleShift);
   }
   const double mid = r.log ? std::sqrt(r.low * r.high) : 0.5 * (r.low + r.high);
+  // Round-off (an LBC weight of −2.6e-17) is labelled 0, not as a number a person must decode.
+  auto label = [](char (&out)[32], double v) { std::snprintf(out, sizeof out, "%.3g", std::abs(v) < 1e-12 ? 0.0 : v); };
   char lo[32], md[32], hi[32];
-  std::snprintf(lo, sizeof lo, "%.3g", r.low);
-  std::snprintf(md, sizeof md, "%.3g", mid);
-  std::snprintf(hi, sizeof hi, "%.3g", r.high);
+  label(lo, r.low);
+  label(md, mid);
+  label(hi, r.high);
   const float x0 = ImGui::GetCursorPosX();
   ImGui::TextUnformatted(lo);
   ImGui::SameLine(x0 + width * 0.5f - ImGui::CalcTextSize(md).x * 0.5f);
