@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <span>
 
 #include "cli_run.h"
 #include "kc/app/line_metrics.h"
@@ -97,39 +98,71 @@ TEST(LineTool, ClickAtBothEndsDrawsALine) {
   EXPECT_EQ(s->session->structure.lines.size(), 1u);
 }
 
+/// Draws each case's line after line 0 and expects it refused with its reason: no new line, no
+/// re-bind, no undo entry.
+struct Refusal {
+  Vec2 a, b;
+  const char* reason;
+};
+void expectRefused(AppState& s, std::span<const Refusal> cases) {
+  const app::Session* bound = s.session.get();
+  const std::size_t undoCount = s.undo.undoCount();
+  for (const Refusal& c : cases) {
+    drawLine(s, c.a, c.b);
+    EXPECT_EQ(s.lines.lines.size(), 1u);
+    ASSERT_FALSE(s.messages.empty());
+    EXPECT_TRUE(s.messages.back().error);
+    EXPECT_NE(s.messages.back().text.find("Line refused: "), std::string::npos) << s.messages.back().text;
+    EXPECT_NE(s.messages.back().text.find(c.reason), std::string::npos) << s.messages.back().text;
+  }
+  EXPECT_EQ(s.session.get(), bound) << "a refused line does not re-bind";
+  EXPECT_EQ(s.undo.undoCount(), undoCount) << "nor is it recorded";
+}
+
 TEST(LineTool, InvalidLinesAreRefusedWithTheReason) {
+  // A graded bind (the default) refuses only a line that leaves the cage or overlaps another.
   auto s = lineState();
   drawLine(*s, Vec2(60, 70), Vec2(190, 110));
   ASSERT_EQ(s->lines.lines.size(), 1u);
-  const app::Session* bound = s->session.get();
-  const std::size_t undoCount = s->undo.undoCount();
-  struct Case {
-    Vec2 a, b;
-    const char* reason;
+  const Refusal graded[] = {
+      {Vec2(-30, 200), Vec2(120, 200), "cage"},         // outside the cage, crossing its edge
+      {Vec2(255, 130), Vec2(125, 90), "overlaps line 0"},  // line 0 extended to the cage, over its second half
   };
-  const Case cases[] = {
-      {Vec2(100, 40), Vec2(140, 150), "crosses line 0"},             // crossing the first line
-      {Vec2(-30, 200), Vec2(120, 200), "cage"},                      // outside the cage, crossing its edge
-      {Vec2(60, 220), Vec2(100, 221), "shorter than"},               // too short (40 px < 3 spacings)
-      {Vec2(60, 245), Vec2(200, 245), "cage edge"},                  // closer than a spacing to the cage
+  expectRefused(*s, graded);
+  // A uniform one (--uniform-spacing) keeps lines a spacing from the cage and from each other.
+  auto u = lineState();
+  u->bindParams.graded = false;
+  drawLine(*u, Vec2(60, 70), Vec2(190, 110));
+  ASSERT_EQ(u->lines.lines.size(), 1u) << lastMessage(*u);
+  const Refusal uniform[] = {
+      {Vec2(100, 40), Vec2(140, 150), "crosses line 0"},  // crossing the first line
+      {Vec2(-30, 200), Vec2(120, 200), "cage"},           // outside the cage, crossing its edge
+      {Vec2(60, 220), Vec2(100, 221), "shorter than"},    // too short (40 px < 3 spacings)
+      {Vec2(60, 245), Vec2(200, 245), "cage edge"},       // closer than a spacing to the cage
   };
-  for (const Case& c : cases) {
-    drawLine(*s, c.a, c.b);
-    EXPECT_EQ(s->lines.lines.size(), 1u);
-    ASSERT_FALSE(s->messages.empty());
-    EXPECT_TRUE(s->messages.back().error);
-    EXPECT_NE(s->messages.back().text.find("Line refused: "), std::string::npos) << s->messages.back().text;
-    EXPECT_NE(s->messages.back().text.find(c.reason), std::string::npos) << s->messages.back().text;
-  }
-  EXPECT_EQ(s->session.get(), bound) << "a refused line does not re-bind";
-  EXPECT_EQ(s->undo.undoCount(), undoCount) << "nor is it recorded";
+  expectRefused(*u, uniform);
   // The reason is the CLI's: the same structure through kcwarp-cli bind --structure names the same problem.
-  EXPECT_EQ(linesProblem(*s, [&] {
-              app::Structure st = s->lines;
+  EXPECT_EQ(linesProblem(*u, [&] {
+              app::Structure st = u->lines;
               st.lines.push_back({Vec2(100, 40), Vec2(140, 150), -1});
               return st;
             }()),
             "line 1: the line crosses line 0");
+}
+
+TEST(LineTool, AGradedBindTakesCrossingLinesAndALineEndingAtTheCage) {
+  // What a person draws (issue: structure on graded samplings): an X, and a line that runs up to
+  // 1 px from the cage's edge. Both are bound as drawn and stay straight.
+  auto s = lineState();
+  drawLine(*s, Vec2(60, 70), Vec2(190, 110));
+  drawLine(*s, Vec2(100, 40), Vec2(140, 150));  // crosses line 0
+  drawLine(*s, Vec2(60, 200), Vec2(254, 200));  // ends 1 px from the cage's right edge (x = 255)
+  ASSERT_EQ(s->lines.lines.size(), 3u) << lastMessage(*s);
+  ASSERT_TRUE(s->session);
+  EXPECT_EQ(s->session->structure.lines.size(), 3u);
+  EXPECT_EQ(s->boundLines.size(), 3u);
+  const app::LineFigures f = app::measureLines(*s->session, s->session->structure.lines, 20);
+  EXPECT_LT(f.deviation, 0.1);
 }
 
 TEST(LineTool, ParallelGroupDeleteUndoRedo) {
@@ -292,7 +325,7 @@ TEST(LineTool, LinesDrawnBeforeTheBindAreBoundWithTheCage) {
   drawLine(*s, Vec2(60, 70), Vec2(190, 110));
   ASSERT_EQ(s->lines.lines.size(), 1u) << lastMessage(*s);
   EXPECT_FALSE(s->bound) << "no bind before the user asks for one";
-  drawLine(*s, Vec2(100, 40), Vec2(140, 150));  // crosses it: refused against the draft cage too
+  drawLine(*s, Vec2(-30, 200), Vec2(120, 200));  // leaves the cage: refused against the draft cage too
   EXPECT_EQ(s->lines.lines.size(), 1u);
   ASSERT_TRUE(startBind(*s));
   finish(*s);

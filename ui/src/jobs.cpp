@@ -286,7 +286,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       s->outside = meshOptions.outside;
       if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
+      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous, graded = params.graded](AppState& st) {
         if (keepPoseAndHistory) {
           installKeepingPose(st, s, display);
         } else if (previous) {
@@ -295,6 +295,9 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
           installSession(st, s, display, true);
           st.tool = Tool::Pose;
         }
+        // The session holds the parameters it was bound with: lines the uniform rules accept are
+        // sampled uniformly (app::effectiveBindParams). The next bind is asked for as this one was.
+        st.bindParams.graded = graded;
         st.unsaved = st.unsaved || markUnsaved;
         postMessage(st, bindSummary(*s), false);
         if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);

@@ -4,6 +4,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "kc/app/pipeline.h"
 #include "kc/core/structure/lines.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
@@ -25,9 +26,11 @@ std::string linesProblem(const AppState& state, const app::Structure& lines) {
   if (!shownCapabilities(state).lines)
     return "lines are kept straight by KC weights only (choose KC in the Bind panel)";
   if (!state.cageValid) return "the cage must be closed and valid first (" + state.cageStatus + ")";
-  const double h = bindParamsFor(state, state.cage, state.source.width, state.source.height).spacing;
+  const app::BindParams params = bindParamsFor(state, state.cage, state.source.width, state.source.height);
   try {
-    validateLines(state.cage, lines.lines, h);  // the check of kcwarp-cli bind --structure
+    // The check of kcwarp-cli bind --structure: a graded bind takes lines that cross, meet, run
+    // close to the cage or end on it; a uniform one (--uniform-spacing) keeps them a spacing apart.
+    validateLines(state.cage, lines.lines, params.spacing, app::gradedSampling(params));
   } catch (const std::invalid_argument& e) {
     return std::regex_replace(e.what(), std::regex(R"(lines\[(\d+)\])"), "line $1");
   }

@@ -16,7 +16,8 @@ int pickLine(const app::Structure& lines, const Vec2& p, double radius);
 
 /// Why `lines` cannot be bound over the draft cage (empty when they can): the backend has no
 /// lines, the cage is not a valid closed cage, or kc::validateLines refuses them at the spacing of
-/// the next bind (bindParamsFor). Lines are named "line k", as the Lines panel lists them.
+/// the next bind (bindParamsFor; a graded bind with its rules: lines may cross, meet and run close
+/// to or end on the cage). Lines are named "line k", as the Lines panel lists them.
 std::string linesProblem(const AppState& state, const app::Structure& lines);
 
 /// Makes `lines` the document's lines: refused with the reason as an error message when
