@@ -298,8 +298,9 @@ const Backend& backendFor(std::string_view name) {
 
 std::vector<std::string_view> backendNames() { return {"kc", "lbc"}; }
 
-std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps) {
-  const bool lines = !structure.lines.empty() && !caps.lines, rigid = !structure.rigid.empty() && !caps.rigidity;
+std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps, bool paintedRigidity) {
+  const bool lines = !structure.lines.empty() && !caps.lines;
+  const bool rigid = (!structure.rigid.empty() || paintedRigidity) && !caps.rigidity;
   return lines && rigid ? "lines and rigid regions" : lines ? "lines" : rigid ? "rigid regions" : "";
 }
 

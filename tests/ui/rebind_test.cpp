@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "kc/ui/frame.h"
+#include "kc/ui/line_edits.h"
+#include "kc/ui/rebind.h"
+#include "kc/ui/rigidity_edits.h"
 #include "ui_fixture.h"
 
 namespace kc::ui {
@@ -147,6 +150,54 @@ TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   gui.clickLabel(*s, "Next bind", draw);
   EXPECT_GT(s->reports.lbcMesh, 0);
   EXPECT_EQ(s->bindParams.backend, "lbc");
+}
+
+TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem) {
+  // LBC keeps no lines straight and no parts rigid: Bind names them first, binds without them, and
+  // the KC bind with them is one click back (found trying it: "Bind failed: ... (use --backend kc)",
+  // then, for painted rigidity, "Cannot change the rigidity" after the LBC bind).
+  test::HeadlessImGui gui;
+  auto s = test::boundState(16.0);
+  app::Structure lines;
+  lines.lines.push_back({Vec2(60, 70), Vec2(190, 110), -1});
+  ASSERT_TRUE(editLines(*s, lines, "line"));
+  s->worker.waitFinished();
+  pollWorker(*s);
+  ASSERT_EQ(s->session->structure.lines.size(), 1u) << (s->messages.empty() ? "" : s->messages.back().text);
+  std::vector<double> rho(static_cast<std::size_t>(s->session->samples.size()), 0.0);
+  for (Index k = 0; k < s->session->samples.size(); ++k)
+    if ((s->session->samples.X.row(k) - Vec2(180, 180).transpose()).norm() < 30.0) rho[static_cast<std::size_t>(k)] = 1.0;
+  startRigidity(*s, rho, "rigid", true);  // a part painted rigid
+  s->worker.waitFinished();
+  pollWorker(*s);
+  ASSERT_TRUE(anyRigid(s->rigidity));
+  const auto kc = s->session;
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  gui.clickLabel(*s, "LBC", draw);
+  EXPECT_TRUE(structureLeftOut(*s).find("LBC cannot keep lines and rigid regions") != std::string::npos) << structureLeftOut(*s);
+  EXPECT_FALSE(requestBind(*s));
+  ASSERT_TRUE(s->unsavedPrompt.has_value());
+  EXPECT_NE(s->unsavedPrompt->question.find("binds without your lines"), std::string::npos) << s->unsavedPrompt->question;
+  EXPECT_EQ(s->session, kc) << "nothing changes until the question is answered";
+  auto action = std::move(s->unsavedPrompt->run);
+  s->unsavedPrompt.reset();
+  action(*s);
+  s->worker.waitFinished();
+  pollWorker(*s);
+  ASSERT_NE(s->session, kc) << (s->messages.empty() ? "" : s->messages.back().text);
+  EXPECT_GT(s->reports.lbcMesh, 0);
+  EXPECT_TRUE(s->session->structure.lines.empty());
+  for (const auto& m : s->messages) {  // nothing refused after the person said yes
+    EXPECT_FALSE(m.error) << m.text;
+    EXPECT_EQ(m.text.find("Cannot"), std::string::npos) << m.text;
+  }
+  gui.frame(draw);
+  gui.clickLabel(*s, "Previous bind", draw);
+  EXPECT_EQ(s->session, kc);
+  EXPECT_EQ(s->lines.lines.size(), 1u) << "the lines come back with the KC bind";
+  EXPECT_TRUE(anyRigid(s->rigidity)) << "and the rigid part";
+  EXPECT_EQ(s->bindParams.backend, "kc");
 }
 
 }  // namespace

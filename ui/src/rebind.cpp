@@ -3,10 +3,12 @@
 #include "kc/ui/rebind.h"
 
 #include <algorithm>
+#include <cctype>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "kc/app/backend.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/rigidity_edits.h"
@@ -24,7 +26,8 @@ namespace detail {
 
 void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vector<double>& oldRigidity, double oldSpacing,
                      const app::Session& s) {
-  if (!anyRigid(oldRigidity)) return;
+  // A backend without rigidity (LBC) starts without it; requestBind said so before the bind.
+  if (!anyRigid(oldRigidity) || !app::backendFor(s.params.backend).capabilities().rigidity) return;
   std::vector<double> rho = carryRigidity(oldSamples, oldRigidity, s.samples, s.rigidity, std::max(oldSpacing, s.params.spacing));
   if (rho != s.rigidity) startRigidity(st, std::move(rho), "rigidity after the bind", /*record=*/false);
 }
@@ -78,8 +81,22 @@ std::vector<std::string> strokesLostByRebind(const AppState& state) {
   return strokes;
 }
 
+std::string structureLeftOut(const AppState& state) {
+  const app::Backend& backend = app::backendFor(state.bindParams.backend);
+  // Rigid parts painted with the rigidity brush count as rigid regions: they do not carry over either.
+  const bool painted = state.bound && anyRigid(state.rigidity);
+  const std::string missing = app::unsupportedStructure(state.lines, backend.capabilities(), painted);
+  if (missing.empty()) return "";
+  std::string name(backend.name());
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  return name + " cannot keep " + missing + ": it binds without your " + missing + ". They stay with the present bind, " +
+         "one click away afterwards (Previous bind).";
+}
+
 bool requestBind(AppState& state) {
-  if (const std::string question = rebindQuestion(state); !question.empty()) {
+  std::string question = structureLeftOut(state);
+  if (const std::string strokes = rebindQuestion(state); !strokes.empty()) question += (question.empty() ? "" : " ") + strokes;
+  if (!question.empty()) {
     state.unsavedPrompt = PendingAction{"Bind again", [](AppState& st) { startBind(st); }, question};
     return false;
   }

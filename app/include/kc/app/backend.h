@@ -72,8 +72,9 @@ std::vector<std::string_view> backendNames();
 /// weights.initial → no targets, painting or method switches).
 BackendCapabilities sessionCapabilities(const Session& s);
 /// What of `structure` a backend with `caps` cannot keep: "lines", "rigid regions", "lines and rigid
-/// regions", or "" when it keeps all of it.
-std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps);
+/// regions", or "" when it keeps all of it. `paintedRigidity`: rigid parts held besides the
+/// structure's regions (the GUI's rigidity brush) count as rigid regions.
+std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps, bool paintedRigidity = false);
 /// The refusal of `structure` by `backend` ("lines are not supported by the 'lbc' backend (use
 /// --backend kc)"), or "" when the backend keeps all of it.
 std::string structureRefusal(const Structure& structure, const Backend& backend);

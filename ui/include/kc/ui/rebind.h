@@ -12,10 +12,16 @@
 namespace kc::ui {
 
 /// Bind as the user asks for it (Bind button, Ctrl+B, a loaded cage): when the present weights
-/// hold paint strokes a new bind cannot carry over (strokesLostByRebind), a question names them
+/// hold paint strokes a new bind cannot carry over (strokesLostByRebind), or the chosen backend
+/// cannot keep the document's lines or rigid regions (structureLeftOut), a question names them
 /// first (AppState::unsavedPrompt with a question: "Bind again" or Cancel); else startBind.
 /// Returns true when the bind started.
 bool requestBind(AppState& state);
+
+/// The sentence for the question before a bind whose backend cannot keep the document's lines
+/// or rigid regions (app::unsupportedStructure; startBind binds without them, and the present
+/// bind keeps them); empty when there are none or the backend keeps them.
+std::string structureLeftOut(const AppState& state);
 
 /// Labels of the paint strokes in the present weights ("paint w3"), oldest first: the weight
 /// edits on the undo stack since the newest bind. A new bind computes the weights anew from the
