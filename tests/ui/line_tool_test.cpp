@@ -274,6 +274,12 @@ TEST(LineTool, LinesTravelWithTheSession) {
   EXPECT_TRUE(sameLines(t->lines, s->lines)) << lastMessage(*t);
   EXPECT_EQ(t->boundLines.size(), 2u);
   EXPECT_EQ(t->lines.groups, std::vector<std::string>{"pair"});
+  // Those lines were far enough from everything to be bound uniformly; the reopened document still
+  // takes a line crossing one of them (a graded bind's rule).
+  EXPECT_FALSE(t->session->params.graded);
+  selectTool(*t, Tool::Lines);
+  drawLine(*t, Vec2(100, 40), Vec2(140, 150));
+  EXPECT_EQ(t->lines.lines.size(), 3u) << lastMessage(*t);
 }
 
 TEST(LinesPanel, WidgetsSayWhatTheyDoAndMakeParallelGroups) {
