@@ -165,6 +165,21 @@ TEST(LineTool, AGradedBindTakesCrossingLinesAndALineEndingAtTheCage) {
   EXPECT_LT(f.deviation, 0.1);
 }
 
+TEST(LineTool, AnEndDrawnALittlePastTheOutlineEndsOnIt) {
+  auto s = lineState();  // the cage is the picture's border, x = 255 on the right
+  drawLine(*s, Vec2(60, 200), Vec2(259, 200));  // 4 px past it (the pick radius is 6)
+  ASSERT_EQ(s->lines.lines.size(), 1u) << lastMessage(*s);
+  EXPECT_NEAR(s->lines.lines[0].b.x(), 255.0, 1e-9);
+  EXPECT_NEAR(s->lines.lines[0].b.y(), 200.0, 1e-9);
+  EXPECT_TRUE(s->lines.lines[0].a.isApprox(Vec2(60, 200))) << "the end inside stays where it was drawn";
+  ASSERT_TRUE(s->session);
+  EXPECT_LT(app::measureLines(*s->session, s->session->structure.lines, 20).deviation, 0.1);
+  // Further past the outline the line is refused as drawn.
+  drawLine(*s, Vec2(60, 100), Vec2(275, 100));
+  EXPECT_EQ(s->lines.lines.size(), 1u);
+  EXPECT_NE(lastMessage(*s).find("not inside the cage"), std::string::npos) << lastMessage(*s);
+}
+
 TEST(LineTool, ParallelGroupDeleteUndoRedo) {
   auto s = lineState();
   drawLine(*s, Vec2(50, 60), Vec2(200, 90));

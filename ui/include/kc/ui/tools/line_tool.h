@@ -2,7 +2,8 @@
 /// Line tool (thesis 5.3): draws the structure lines kept straight and parallel. Press and drag
 /// on the picture draws a line from the press to the release; a click without dragging starts a
 /// line and a second click ends it. A click on a line selects it (Shift adds or removes it), a
-/// right-click on a line deletes it. Every change goes through editLines (line_edits.h): it is
+/// right-click on a line deletes it. An end drawn a little past the cage's outline (within the
+/// pick radius) is moved back onto it. Every change goes through editLines (line_edits.h): it is
 /// validated against the cage (refused with the reason), recorded for undo, and re-binds.
 
 #include "kc/core/types.h"
@@ -31,6 +32,7 @@ class LineTool {
   bool m_drawing = false;
   bool m_pressed = false;
   bool m_startedByPress = false;  ///< This press started the line (its release may end it).
+  double m_pickRadius = 8.0;      ///< The press's pick radius (image pixels): how far an end may overshoot the cage.
   Vec2 m_start = Vec2::Zero();
 };
 
