@@ -246,6 +246,44 @@ TEST(CageTool, ClicksBuildAndCloseAPolygon) {
   EXPECT_EQ(s.cage.size(), 4);
 }
 
+TEST(CageTool, AClickBesideAPointAcrossANarrowGapAddsAPoint) {
+  // A cage drawn round two legs 3 px apart: the points of the second leg's inner side fall within
+  // the pick radius (here 6 px) of the first leg's. Clicked, they are added; dragged, the point
+  // under the press moves as before; a click on a point itself only selects it.
+  AppState s;
+  Cage open;
+  open.closed = false;
+  setDraftCage(s, open);
+  auto click = [&](const Vec2& p) {
+    s.cageTool.press(s, at(p.x(), p.y()));
+    s.cageTool.release(s, at(p.x(), p.y()));
+  };
+  for (const Vec2& p : {Vec2(10, 10), Vec2(60, 10), Vec2(60, 100), Vec2(40, 100), Vec2(40, 30)}) click(p);
+  ASSERT_EQ(s.cage.size(), 5);
+  click(Vec2(37, 30));  // 3 px from point 4, across the gap
+  click(Vec2(37, 100));
+  ASSERT_EQ(s.cage.size(), 7) << "both sides of the gap are drawn";
+  EXPECT_TRUE(s.cage.C.row(5).transpose().isApprox(Vec2(37, 30)));
+  EXPECT_TRUE(s.cage.C.row(4).transpose().isApprox(Vec2(40, 30))) << "the point beside it did not move";
+  click(Vec2(10, 100));
+  click(Vec2(10.5, 10.5));  // the first point closes it
+  EXPECT_TRUE(s.cage.closed);
+  EXPECT_TRUE(s.cageValid) << s.cageStatus;
+  EXPECT_EQ(s.cage.size(), 8);
+  // Open again to check the other two cases.
+  Cage again;
+  again.closed = false;
+  setDraftCage(s, again);
+  for (const Vec2& p : {Vec2(10, 10), Vec2(60, 10), Vec2(60, 100)}) click(p);
+  click(Vec2(60.5, 10));  // on point 1 itself: selects it, adds nothing
+  EXPECT_EQ(s.cage.size(), 3);
+  s.cageTool.press(s, at(62, 10));  // beside point 1, then dragged: moves it
+  s.cageTool.drag(s, at(72, 20));
+  s.cageTool.release(s, at(72, 20));
+  EXPECT_EQ(s.cage.size(), 3);
+  EXPECT_TRUE(s.cage.C.row(1).transpose().isApprox(Vec2(70, 20)));
+}
+
 TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {
   AppState s;
   Points C(4, 2);

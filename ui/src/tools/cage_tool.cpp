@@ -1,6 +1,7 @@
 #include "kc/ui/tools/cage_tool.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "kc/ui/app_state.h"
 #include "kc/ui/edits.h"
@@ -78,6 +79,11 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
     m_before = state.cage;
     m_grab = e.position - state.cage.C.row(hit).transpose();
     m_moved = false;
+    // Drawing a cage round a narrow gap puts the next point within the pick radius of one across
+    // the gap: a click there (not a drag, not on the point itself) adds it (see release).
+    m_clickSlop = 0.25 * e.pickRadius;
+    m_addOnClick = !state.cage.closed && !graph && hit != 0 && m_grab.norm() >= m_clickSlop;
+    m_pressAt = e.position;
     return;
   }
   if (graph) return;
@@ -109,6 +115,15 @@ void CageTool::drag(AppState& state, const PointerEvent& e) {
 
 void CageTool::release(AppState& state, const PointerEvent& e) {
   if (m_dragging < 0) return;
+  if (std::exchange(m_addOnClick, false) && (e.position - m_pressAt).norm() < m_clickSlop) {
+    setDraftCage(state, m_before);  // the pressed point stays where it was
+    const Cage before = state.cage;
+    setDraftCage(state, cageWithInserted(state.cage, state.cage.size(), m_pressAt));
+    commitCage(state, before, "add cage point");
+    m_selected = state.cage.size() - 1;
+    m_dragging = -1;
+    return;
+  }
   drag(state, e);
   if (m_moved && !(m_before.C.rows() == state.cage.C.rows() && m_before.C == state.cage.C)) commitCage(state, m_before, "move cage point");
   m_dragging = -1;
@@ -117,6 +132,7 @@ void CageTool::release(AppState& state, const PointerEvent& e) {
 void CageTool::cancel(AppState& state) {
   if (m_dragging >= 0 && m_moved) setDraftCage(state, m_before);
   m_dragging = -1;
+  m_addOnClick = false;
 }
 
 void CageTool::deleteSelected(AppState& state) {

@@ -1,7 +1,9 @@
 #pragma once
 /// Cage tool: click on empty canvas to add a point (while the polygon is open), click the first
 /// point to close it, click near an edge of a closed cage to insert a point, drag a point to move
-/// it, right-click a point (or Delete) to remove it. Each edit is one undo entry; the draft cage
+/// it, right-click a point (or Delete) to remove it. While the polygon is open, a click (no drag)
+/// within the pick radius of a point other than the first, but not on it, adds a point too: the
+/// other side of a gap a few pixels wide can be drawn without zooming in. Each edit is one undo entry; the draft cage
 /// is validated after every change (AppState::cageStatus).
 
 #include "kc/core/cage.h"
@@ -30,6 +32,9 @@ class CageTool {
   bool m_moved = false;
   Vec2 m_grab = Vec2::Zero();
   Cage m_before;
+  bool m_addOnClick = false;      ///< This press on a point adds a point at m_pressAt if it is not dragged.
+  Vec2 m_pressAt = Vec2::Zero();
+  double m_clickSlop = 0.0;       ///< How far (image pixels) a click may move and stay a click.
 };
 
 /// The draft cage after removing point i (a closed cage stays a closed polygon).
