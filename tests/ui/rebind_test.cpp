@@ -200,5 +200,27 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   EXPECT_EQ(s->bindParams.backend, "kc");
 }
 
+TEST(Rebind, BeforeTheFirstBindLbcWithLinesIsRefusedAndTheLinesStay) {
+  // Nothing would keep the lines: Bind says what to do instead of dropping them.
+  auto s = std::make_unique<AppState>();
+  s->worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  s->source = app::loadImage(dir + "checker.png");
+  s->autoSpacing = false;
+  s->bindParams.spacing = 16.0;
+  setDraftCage(*s, app::loadCage(dir + "checker.cage.json"));
+  app::Structure lines;
+  lines.lines.push_back({Vec2(60, 70), Vec2(190, 110), -1});
+  ASSERT_TRUE(editLines(*s, lines, "line"));
+  s->bindParams.backend = "lbc";
+  EXPECT_FALSE(requestBind(*s));
+  EXPECT_FALSE(s->bound);
+  EXPECT_FALSE(s->unsavedPrompt.has_value());
+  ASSERT_FALSE(s->messages.empty());
+  EXPECT_TRUE(s->messages.back().error);
+  EXPECT_EQ(s->messages.back().text, "LBC cannot keep lines: choose KC in the Bind panel, or remove them first.");
+  EXPECT_EQ(s->lines.lines.size(), 1u);
+}
+
 }  // namespace
 }  // namespace kc::ui

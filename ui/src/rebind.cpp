@@ -89,11 +89,19 @@ std::string structureLeftOut(const AppState& state) {
   if (missing.empty()) return "";
   std::string name(backend.name());
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+  if (!state.bound)  // no bind to keep them: the person decides
+    return name + " cannot keep " + missing + ": choose KC in the Bind panel, or remove them first";
   return name + " cannot keep " + missing + ": it binds without your " + missing + ". They stay with the present bind, " +
          "one click away afterwards (Previous bind).";
 }
 
 bool requestBind(AppState& state) {
+  if (!state.bound) {
+    if (const std::string refusal = structureLeftOut(state); !refusal.empty()) {
+      postMessage(state, refusal + ".", true);
+      return false;
+    }
+  }
   std::string question = structureLeftOut(state);
   if (const std::string strokes = rebindQuestion(state); !strokes.empty()) question += (question.empty() ? "" : " ") + strokes;
   if (!question.empty()) {

@@ -16,7 +16,7 @@ Vec2 endOnTheCage(const Cage& cage, const Vec2& a, const Vec2& b, double reach) 
   if (!insideCage(cage, a) || insideCage(cage, b)) return b;
   const Vec2 d = b - a;
   double first = 1.0;  // the smallest t in (0, 1] where a + t·d meets an edge
-  for (const auto& [i, j] : cageEdges(cage)) {
+  for (const auto& [i, j] : loopEdges(cage)) {  // the outline (sticks lie inside)
     const Vec2 p = cage.C.row(i).transpose(), e = Vec2(cage.C.row(j).transpose()) - p;
     const double den = d.x() * e.y() - d.y() * e.x();
     if (den == 0.0) continue;  // parallel

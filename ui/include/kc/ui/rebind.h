@@ -15,12 +15,14 @@ namespace kc::ui {
 /// hold paint strokes a new bind cannot carry over (strokesLostByRebind), or the chosen backend
 /// cannot keep the document's lines or rigid regions (structureLeftOut), a question names them
 /// first (AppState::unsavedPrompt with a question: "Bind again" or Cancel); else startBind.
-/// Returns true when the bind started.
+/// Before the first bind, lines or rigid regions the backend cannot keep refuse the bind (an
+/// error message says so). Returns true when the bind started.
 bool requestBind(AppState& state);
 
 /// The sentence for the question before a bind whose backend cannot keep the document's lines
 /// or rigid regions (app::unsupportedStructure; startBind binds without them, and the present
-/// bind keeps them); empty when there are none or the backend keeps them.
+/// bind keeps them); before the first bind, the refusal requestBind shows instead (nothing would
+/// keep them); empty when there are none or the backend keeps them.
 std::string structureLeftOut(const AppState& state);
 
 /// Labels of the paint strokes in the present weights ("paint w3"), oldest first: the weight
