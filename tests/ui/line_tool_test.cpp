@@ -333,13 +333,7 @@ namespace kc::ui {
 namespace {
 
 TEST(LineTool, LinesDrawnBeforeTheBindAreBoundWithTheCage) {
-  auto s = std::make_unique<AppState>();
-  s->worker.setSynchronous(true);
-  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
-  s->source = app::loadImage(dir + "checker.png");
-  s->autoSpacing = false;
-  s->bindParams.spacing = kSpacing;
-  setDraftCage(*s, app::loadCage(dir + "checker.cage.json"));
+  auto s = test::unboundChecker(kSpacing);
   ASSERT_TRUE(s->cageValid);
   selectTool(*s, Tool::Lines);
   ASSERT_EQ(s->tool, Tool::Lines);

@@ -202,13 +202,7 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
 
 TEST(Rebind, BeforeTheFirstBindLbcWithLinesIsRefusedAndTheLinesStay) {
   // Nothing would keep the lines: Bind says what to do instead of dropping them.
-  auto s = std::make_unique<AppState>();
-  s->worker.setSynchronous(true);
-  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
-  s->source = app::loadImage(dir + "checker.png");
-  s->autoSpacing = false;
-  s->bindParams.spacing = 16.0;
-  setDraftCage(*s, app::loadCage(dir + "checker.cage.json"));
+  auto s = test::unboundChecker(16.0);
   app::Structure lines;
   lines.lines.push_back({Vec2(60, 70), Vec2(190, 110), -1});
   ASSERT_TRUE(editLines(*s, lines, "line"));

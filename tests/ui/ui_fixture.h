@@ -54,6 +54,19 @@ inline std::unique_ptr<ui::AppState> boundState(double spacing = 10.0) {
   return state;
 }
 
+/// images/checker.png with its cage drawn and not bound (the draft cage); jobs run inline, binds
+/// at a fixed `spacing`.
+inline std::unique_ptr<ui::AppState> unboundChecker(double spacing) {
+  auto s = std::make_unique<ui::AppState>();
+  s->worker.setSynchronous(true);
+  const std::string dir = std::string(KC_SOURCE_DIR) + "/images/";
+  s->source = app::loadImage(dir + "checker.png");
+  s->autoSpacing = false;
+  s->bindParams.spacing = spacing;
+  ui::setDraftCage(*s, app::loadCage(dir + "checker.cage.json"));
+  return s;
+}
+
 /// A new document on a generated 400×300 picture with a background (scene_image.h), in the cage
 /// tool with an empty cage; jobs run inline, binds at a fixed 10 px spacing.
 inline std::unique_ptr<ui::AppState> newPicture() {
