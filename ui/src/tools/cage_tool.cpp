@@ -17,6 +17,14 @@ Cage withPoints(const Points& C, bool closed) {
   return c;
 }
 
+/// Inserts p before index i of the draft cage, as one undo entry; returns i.
+Index addPoint(AppState& state, Index i, const Vec2& p) {
+  const Cage before = state.cage;
+  setDraftCage(state, cageWithInserted(state.cage, i, p));
+  commitCage(state, before, "add cage point");
+  return i;
+}
+
 }  // namespace
 
 Cage cageWithout(const Cage& cage, Index i) {
@@ -87,17 +95,13 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
     return;
   }
   if (graph) return;
-  const Cage before = state.cage;
   if (!state.cage.closed) {
-    setDraftCage(state, cageWithInserted(state.cage, state.cage.size(), e.position));
-    m_selected = state.cage.size() - 1;
+    m_selected = addPoint(state, state.cage.size(), e.position);
   } else {
     const Index k = nearestEdge(state.cage, e.position, 2.0 * e.pickRadius);
     if (k < 0) return;
-    setDraftCage(state, cageWithInserted(state.cage, k + 1, e.position));
-    m_selected = k + 1;
+    m_selected = addPoint(state, k + 1, e.position);
   }
-  commitCage(state, before, "add cage point");
   // Let the user keep dragging the point just added.
   m_dragging = m_selected;
   m_before = state.cage;
@@ -117,10 +121,7 @@ void CageTool::release(AppState& state, const PointerEvent& e) {
   if (m_dragging < 0) return;
   if (std::exchange(m_addOnClick, false) && (e.position - m_pressAt).norm() < m_clickSlop) {
     setDraftCage(state, m_before);  // the pressed point stays where it was
-    const Cage before = state.cage;
-    setDraftCage(state, cageWithInserted(state.cage, state.cage.size(), m_pressAt));
-    commitCage(state, before, "add cage point");
-    m_selected = state.cage.size() - 1;
+    m_selected = addPoint(state, state.cage.size(), m_pressAt);
     m_dragging = -1;
     return;
   }
