@@ -129,11 +129,12 @@ TEST(LineTool, InvalidLinesAreRefusedWithTheReason) {
       {Vec2(255, 130), Vec2(125, 90), "overlaps line 0"},  // line 0 extended to the cage, over its second half
   };
   expectRefused(*s, graded);
-  // A uniform one (--uniform-spacing) keeps lines a spacing from the cage and from each other.
+  // A uniform one (--uniform-spacing) keeps lines a spacing from the cage and from each other. (A
+  // bound document with lines asks for graded binds again, installSession: set it after line 0.)
   auto u = lineState();
-  u->bindParams.graded = false;
   drawLine(*u, Vec2(60, 70), Vec2(190, 110));
   ASSERT_EQ(u->lines.lines.size(), 1u) << lastMessage(*u);
+  u->bindParams.graded = false;
   const Refusal uniform[] = {
       {Vec2(100, 40), Vec2(140, 150), "crosses line 0"},  // crossing the first line
       {Vec2(-30, 200), Vec2(120, 200), "cage"},           // outside the cage, crossing its edge

@@ -197,6 +197,10 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   EXPECT_EQ(s->session, kc);
   EXPECT_EQ(s->lines.lines.size(), 1u) << "the lines come back with the KC bind";
   EXPECT_TRUE(anyRigid(s->rigidity)) << "and the rigid part";
+  // That KC bind sampled its one line uniformly; a line crossing it is still taken (graded rules).
+  app::Structure crossing = s->lines;
+  crossing.lines.push_back({Vec2(100, 40), Vec2(140, 150), -1});
+  EXPECT_TRUE(editLines(*s, crossing, "line")) << (s->messages.empty() ? "" : s->messages.back().text);
   EXPECT_EQ(s->bindParams.backend, "kc");
 }
 

@@ -240,10 +240,6 @@ bool startOpenSession(AppState& state, const std::string& path) {
         ++st.sourceRevision;
         st.imagePath = imagePath.empty() ? std::string() : fs::absolute(imagePath).string();
         installSession(st, s, display);
-        // Lines the uniform rules accept are bound uniformly (app::effectiveBindParams), so a
-        // session with lines and a uniform sampling was most likely asked for graded: the line
-        // tool and the next bind keep the graded rules (a new line may cross or end on the cage).
-        if (!s->structure.lines.empty()) st.bindParams.graded = true;
         st.sessionPath = path;
         st.unsaved = false;
         st.tool = Tool::Pose;

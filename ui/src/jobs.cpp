@@ -155,6 +155,10 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   if (state.tool == Tool::Rigid && !rigidityProblem(state).empty()) state.tool = Tool::Pose;
   state.reports = s.reports;
   state.bindParams = s.params;
+  // Lines the uniform rules accept are sampled uniformly (app::effectiveBindParams), and the session
+  // records that; the GUI asks for graded binds, so the line tool and the next bind keep the graded
+  // rules (a new line may cross another or end on the cage).
+  if (!s.structure.lines.empty()) state.bindParams.graded = true;
   state.lines = s.structure;
   state.lineSelection.clear();
   refreshBoundLines(state, s);
@@ -290,7 +294,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       s->outside = meshOptions.outside;
       if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous, graded = params.graded](AppState& st) {
+      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
         if (keepPoseAndHistory) {
           installKeepingPose(st, s, display);
         } else if (previous) {
@@ -299,9 +303,6 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
           installSession(st, s, display, true);
           st.tool = Tool::Pose;
         }
-        // The session holds the parameters it was bound with: lines the uniform rules accept are
-        // sampled uniformly (app::effectiveBindParams). The next bind is asked for as this one was.
-        st.bindParams.graded = graded;
         st.unsaved = st.unsaved || markUnsaved;
         postMessage(st, bindSummary(*s), false);
         if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
