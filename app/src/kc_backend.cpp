@@ -304,6 +304,12 @@ std::string unsupportedStructure(const Structure& structure, const BackendCapabi
   return lines && rigid ? "lines and rigid regions" : lines ? "lines" : rigid ? "rigid regions" : "";
 }
 
+Structure keptStructure(Structure structure, const BackendCapabilities& caps) {
+  if (!caps.lines) structure.lines.clear(), structure.groups.clear();
+  if (!caps.rigidity) structure.rigid.clear();
+  return structure;
+}
+
 std::string structureRefusal(const Structure& structure, const Backend& backend) {
   const std::string missing = unsupportedStructure(structure, backend.capabilities());
   return missing.empty() ? missing : missing + " are not supported by the '" + std::string(backend.name()) + "' backend (use --backend kc)";

@@ -252,10 +252,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const int w = state.source.width, h = state.source.height;
   const app::BindParams params = bindParamsFor(state, cage, w, h);
   // What the backend cannot keep is left out (requestBind asked first); the present bind keeps it.
-  app::Structure lines = state.lines;
-  const app::BackendCapabilities caps = app::backendFor(params.backend).capabilities();
-  if (!caps.lines) lines.lines.clear(), lines.groups.clear();
-  if (!caps.rigidity) lines.rigid.clear();
+  const app::Structure lines = app::keptStructure(state.lines, app::backendFor(params.backend).capabilities());
   const app::Structure boundLines = previous ? previous->structure : app::Structure{};
   const std::string narrow =
       params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing, app::effectiveBindParams(cage, lines, params)) : "";

@@ -75,6 +75,8 @@ BackendCapabilities sessionCapabilities(const Session& s);
 /// regions", or "" when it keeps all of it. `paintedRigidity`: rigid parts held besides the
 /// structure's regions (the GUI's rigidity brush) count as rigid regions.
 std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps, bool paintedRigidity = false);
+/// `structure` without what a backend with `caps` cannot keep (its lines and groups, its rigid regions).
+Structure keptStructure(Structure structure, const BackendCapabilities& caps);
 /// The refusal of `structure` by `backend` ("lines are not supported by the 'lbc' backend (use
 /// --backend kc)"), or "" when the backend keeps all of it.
 std::string structureRefusal(const Structure& structure, const Backend& backend);
