@@ -144,6 +144,9 @@ double timedPair(const Bindable& a, const Bindable& b, const app::BindParams& pa
   return median(ratios);
 }
 
+/// measure() of a bind that was not refused.
+Quality measured(const Timed& t, const LeakProbe* probe) { return t.refused.empty() ? measure(t.session, probe) : Quality{}; }
+
 /// ratio ≤ 0: no ratio column.
 void row(const char* backend, const std::string& name, const Timed& t, const Quality& q, double ratio) {
   if (!t.refused.empty()) {
@@ -207,11 +210,8 @@ void benchGraded(const std::string& folder, int repeats) {
       p.backend = backend;
       Timed tw, tn;
       const double ratio = timedPair(wide, narrow, p, repeats, tw, tn);
-      auto quality = [&](const Timed& t, const LeakProbe& probe) {
-        return t.refused.empty() ? measure(t.session, c.leak ? &probe : nullptr) : Quality{};
-      };
-      row(backend, c.name + "-wide", tw, quality(tw, c.wide), 0.0);
-      row(backend, c.name + "-narrow", tn, quality(tn, c.narrow), ratio);
+      row(backend, c.name + "-wide", tw, measured(tw, c.leak ? &c.wide : nullptr), 0.0);
+      row(backend, c.name + "-narrow", tn, measured(tn, c.leak ? &c.narrow : nullptr), ratio);
     }
   }
   // One 8 px neck on a 12 MP picture (4000 x 3000, the cage filling it) against the same scene at
@@ -220,8 +220,8 @@ void benchGraded(const std::string& folder, int repeats) {
   const double big = 4000.0 / 330.0, small = big / 11.0;
   Timed t01, t12;
   const double ratio = timedPair({neckCage(small, 8.0 / 11.0), 364, 273}, {neckCage(big, 8.0), 4000, 3000}, defaults, repeats, t01, t12);
-  row("kc", "neck 0.1 MP", t01, t01.refused.empty() ? measure(t01.session, nullptr) : Quality{}, 0.0);
-  row("kc", "neck 12 MP", t12, t12.refused.empty() ? measure(t12.session, nullptr) : Quality{}, ratio);
+  row("kc", "neck 0.1 MP", t01, measured(t01, nullptr), 0.0);
+  row("kc", "neck 12 MP", t12, measured(t12, nullptr), ratio);
 }
 
 }  // namespace kc::cli
