@@ -216,7 +216,7 @@ TEST(Rebind, BeforeTheFirstBindLbcWithLinesIsRefusedAndTheLinesStay) {
   EXPECT_FALSE(s->unsavedPrompt.has_value());
   ASSERT_FALSE(s->messages.empty());
   EXPECT_TRUE(s->messages.back().error);
-  EXPECT_EQ(s->messages.back().text, "LBC cannot keep lines: choose KC in the Bind panel, or remove them first.");
+  EXPECT_EQ(s->messages.back().text, "LBC cannot keep lines: choose KC to bind with them; to bind LBC, delete them first (with KC chosen).");
   EXPECT_EQ(s->lines.lines.size(), 1u);
 }
 

@@ -97,7 +97,7 @@ std::string structureLeftOut(const AppState& state) {
   if (missing.empty()) return "";
   const std::string name = backendLabel(backend.name());
   if (!state.bound)  // no bind to keep them: the person decides
-    return name + " cannot keep " + missing + ": choose KC in the Bind panel, or remove them first";
+    return name + " cannot keep " + missing + ": choose KC to bind with them; to bind LBC, delete them first (with KC chosen)";
   return name + " cannot keep " + missing + ": it binds without your " + missing + ". They stay with the present bind, " +
          "one click away afterwards (Previous bind).";
 }
