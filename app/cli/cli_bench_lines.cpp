@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "cli_common.h"
@@ -34,6 +35,8 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
   std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %7s %11s %10s\n", "set", "bend px", "without px", "angle deg", "without",
               "bind ms", "plain ms", "ratio", "cpu", "iterations", "unity");
   double worstDev = 0.0, worstAngle = 0.0, worstRatio = 0.0, worstUnity = 0.0, worstRepro = 0.0;
+  int worstSet = -1;
+  std::string worstLines;
   double sumRatio = 0.0, sumCpu = 0.0, sumSamplingLines = 0.0, sumSamplingPlain = 0.0, sumTotalLines = 0.0, sumTotalPlain = 0.0;
   for (int set = 0; set < sets; ++set) {
     app::Structure st;
@@ -65,6 +68,16 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
     std::printf("  %4d %14.3g %14.3g %12.3g %12.3g %10.1f %10.1f %7.2f %7.2f %11s %10.2g\n", set, with.deviation, without.deviation,
                 with.angle, without.angle, 1e3 * tLines[tLines.size() / 2], 1e3 * tPlain[tPlain.size() / 2], ratio, cpuRatio,
                 iterations, with.unity);
+    if (with.deviation > worstDev) {  // the worst set as a --structure file, to reproduce it with kcwarp-cli bind
+      worstSet = set;
+      worstLines.clear();
+      for (const StructureLine& l : st.lines) {
+        char e[160];
+        std::snprintf(e, sizeof e, "%s{\"points\": [[%.17g, %.17g], [%.17g, %.17g]]}", worstLines.empty() ? "" : ", ", l.a.x(), l.a.y(),
+                      l.b.x(), l.b.y());
+        worstLines += e;
+      }
+    }
     worstDev = std::max(worstDev, with.deviation);
     worstAngle = std::max(worstAngle, with.angle);
     worstRatio = std::max(worstRatio, ratio);
@@ -74,6 +87,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
   std::printf("  worst: bend %.3g px (goal 0.1), parallel angle %.3g deg (goal 0.05), bind time x%.2f (goal 1.2),\n"
               "         partition of unity %.2g, reproduction %.2g px on the lines\n",
               worstDev, worstAngle, worstRatio, worstUnity, worstRepro);
+  if (worstSet >= 0) std::printf("  the most bent set, %d, as a --structure file: {\"version\": 1, \"lines\": [%s]}\n", worstSet, worstLines.c_str());
   std::printf("  mean over the sets: bind time x%.2f (wall), x%.2f (CPU); the last runs' sampling took %.0f%% of the lines'\n"
               "         extra wall time (sampling %.0f ms against %.0f ms, whole bind %.0f ms against %.0f ms, summed over the sets)\n",
               sumRatio / sets, sumCpu / sets,
