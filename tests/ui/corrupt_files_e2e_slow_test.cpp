@@ -46,8 +46,8 @@ class CorruptFiles : public GuiSession {
     const json before = state();
     focusApp();
     key("ctrl+o");
-    waitFor([](const json& j) { return j.value("file_dialog", false); }, 20);
-    pause(600);  // the path field takes the keyboard focus in the dialog's first frames
+    // The path field takes the keyboard in the dialog's first frames.
+    waitFor([](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); }, 20);
     // Typed again when a key was lost on the way (xdotool under a loaded X server).
     for (int attempt = 0; attempt < 3; ++attempt) {
       xdo("key --delay 20 ctrl+a");
@@ -56,7 +56,6 @@ class CorruptFiles : public GuiSession {
       waitUntil([&](const json& j) { return j.value("file_dialog_text", "") == file.string(); }, 10, typed);
       if (typed) break;
     }
-    pause(300);
     key("Return");
     json s = waitFor(
         [&](const json& j) {

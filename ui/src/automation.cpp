@@ -76,6 +76,7 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["weights_fingerprint"] = fingerprint;
   j["file_dialog"] = state.pathDialog != PathPurpose::None;
   j["file_dialog_text"] = state.pathDialog != PathPurpose::None ? state.pathDialogText : std::string();
+  j["file_dialog_focused"] = state.pathDialog != PathPurpose::None && state.pathDialogFocused;
   j["image_path"] = state.imagePath;
   j["image_size"] = {state.source.width, state.source.height};
   j["session_path"] = state.sessionPath;

@@ -94,6 +94,7 @@ void browserDialog(AppState& state) {
                     }));
   tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
   state.pathDialogText = buffer;  // what the field holds now (the automation state reports it)
+  state.pathDialogFocused = ImGui::IsItemActive();
   if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)
     chosen = buffer;
   ImGui::SameLine();

@@ -259,6 +259,7 @@ struct AppState {
   Vec2 mouseImage = Vec2::Zero();          ///< Mouse position in image pixels (status bar, brush ring).
   PathPurpose pathDialog = PathPurpose::None;
   std::string pathDialogText;
+  bool pathDialogFocused = false;          ///< The dialog's path field has the keyboard (typing goes there).
   /// The in-app file dialog asks before saving over this file, which exists (empty: not asking).
   std::string replacePath;
   bool nativeDialogs = false;              ///< Use zenity/kdialog when installed (the window sets it).
