@@ -28,13 +28,6 @@ const LinearityOptions kEdgeLinearity = [] {
   return o;
 }();
 
-/// Structure lines: a second sweep, in which lines that cross or meet settle each other's fit.
-const LinearityOptions kLineLinearity = [] {
-  LinearityOptions o;
-  o.sweeps = 2;
-  return o;
-}();
-
 }  // namespace
 
 LinearityReport applyLines(Session& s, KernelField& field) {
@@ -73,7 +66,7 @@ LinearityReport applyLines(Session& s, KernelField& field) {
     const auto [a, b] = ends[k];
     segments.push_back({s.samples.X.row(a).transpose(), s.samples.X.row(b).transpose(), s.W.row(a), s.W.row(b)});
   }
-  LinearityReport r = makeLinearAlong(field, segments, keep, s.W, kLineLinearity);
+  LinearityReport r = makeLinearAlong(field, segments, keep, s.W);
   r.seconds += edgeReport.seconds;
   r.adjusted += edgeReport.adjusted;
   r.changedRows += edgeReport.changedRows;

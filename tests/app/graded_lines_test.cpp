@@ -160,19 +160,6 @@ TEST(GradedLinesSlow, RandomCrossingLinesInTheStarStayStraight) {
   }
 }
 
-TEST(GradedLinesSlow, RandomCrossingLinesInTheFigureStayStraight) {
-  // Sets 0, 13 and 15 of `kcwarp-cli bench --lines --crossing --cage images/figure.cage.json`: three
-  // lines whose crossings lie 3-5 px apart (a small triangle), where the fits of the lines meet. They
-  // bent 0.14, 0.11 and 0.15 px while each line's fit was done once and the soft hold of the
-  // samples around a line weighed the same per sample however fine the sampling.
-  const Cage figure = loadCage(std::string(KC_SOURCE_DIR) + "/images/figure.cage.json");
-  const int w = int(std::ceil(figure.C.col(0).maxCoeff() + 20.0)), h = int(std::ceil(figure.C.col(1).maxCoeff() + 20.0));
-  for (const std::uint64_t set : {0, 13, 15}) {
-    SCOPED_TRACE(set);
-    expectStraightGraded(figure, randomLines(figure, 3, 100.0, 150.0, BindParams{}.spacing, 1000 + set, RandomLineLayout::Crossing), w, h);
-  }
-}
-
 TEST(GradedLinesSlow, AShallowCrossingStaysStraight) {
   // Two lines crossing at 10°: 5 px from the crossing they run 0.9 px apart.
   const double t = std::tan(10.0 * std::numbers::pi / 180.0);

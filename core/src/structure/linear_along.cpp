@@ -120,30 +120,8 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     if (keep[std::size_t(i)]) keptRows.push_back(i);
   const Weights kept = W(keptRows, Eigen::all);
   std::vector<char> changed(static_cast<std::size_t>(n), 0), adjusted(static_cast<std::size_t>(n), 0);
-  // A later sweep re-fits only the segments whose fit points a segment that meets them (lines that
-  // cross or share an end, the edges at a corner) has moved since their own fit, to a misfit above
-  // options.refitAbove: where they meet, each fit holds the other's fit points, and the first fit
-  // of a pair leaves what the second moves.
-  std::vector<char> disturbed(segments.size(), 1);
-  std::vector<std::vector<char>> meets(segments.size(), std::vector<char>(segments.size(), 0));
-  if (options.sweeps > 1)
-    for (std::size_t s = 0; s < segments.size(); ++s)
-      for (std::size_t t = 0; t < s; ++t) {
-        const LinearSegment &u = segments[s], &v = segments[t];
-        const double scale = 1.0 + std::max({u.a.cwiseAbs().maxCoeff(), u.b.cwiseAbs().maxCoeff(), v.a.cwiseAbs().maxCoeff(),
-                                             v.b.cwiseAbs().maxCoeff()});
-        meets[s][t] = meets[t][s] = segmentSegmentDistance(u.a, u.b, v.a, v.b) <= 1e-9 * scale;
-      }
   for (int sweep = 0; sweep < std::max(1, options.sweeps); ++sweep)
   for (std::size_t s = 0; s < segments.size(); ++s) {
-    if (!disturbed[s]) continue;
-    if (sweep > 0) {
-      double misfit = 0.0;
-      for (Index q = 0; q < total; ++q)
-        if (owner[std::size_t(q)] == s) misfit = std::max(misfit, e.row(q).cwiseAbs().maxCoeff());
-      if (misfit <= options.refitAbove) continue;
-    }
-    disturbed[s] = 0;
     const Vec2 a = segments[s].a, b = segments[s].b;
     const double sigma = segmentMax[s], radius = options.reach * segmentMax[s];
     std::vector<Index> nodes, held, onLine, own, others, loose;  // onLine: held samples on the segment (fit, not held)
@@ -180,9 +158,7 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     const double w = options.holdWeight;
     for (Index i : held) kernelRow(r++, X.row(i), widthX(i), w);
     for (Index q : others) kernelRow(r++, F.row(q), widthF(q), w * fitWeight(q));
-    // Each sample stands for an area ∝ σ(x_i)²: weighted by σ(x_i)/σ, the soft rows hold as much
-    // per unit area where the sampling is refined (near a crossing) as elsewhere.
-    for (Index i : loose) kernelRow(r++, X.row(i), widthX(i), options.freeWeight * widthX(i) / kernel.sigma);
+    for (Index i : loose) kernelRow(r++, X.row(i), widthX(i), options.freeWeight);
     if (exact) {
       for (Index c = 0; c < cols; ++c) {
         A(r, c) = w;
@@ -211,15 +187,10 @@ LinearityReport makeLinearAlong(KernelField& field, std::span<const LinearSegmen
     }
     for (Index q = 0; q < total; ++q) {
       if (pointSegmentDistance(F.row(q), a, b) > radius + theta) continue;
-      bool moved = false;
       for (Index c = 0; c < cols; ++c) {
         const double kc = k(F.row(q), widthF(q), nodes[std::size_t(c)]);
-        if (kc != 0.0) {
-          e.row(q) += kc * dU.row(c);
-          moved = true;
-        }
+        if (kc != 0.0) e.row(q) += kc * dU.row(c);
       }
-      if (moved && meets[s][owner[std::size_t(q)]]) disturbed[owner[std::size_t(q)]] = 1;
     }
     for (Index j : nodes) adjusted[std::size_t(j)] = 1;
   }

@@ -21,17 +21,12 @@ struct LinearityOptions {
   double fitSpacing = 0.25;  ///< Fit points along a segment about every fitSpacing·σ(p), σ(p) the kernel's width there.
   double reach = 2.5;        ///< Samples within reach·σ of a segment are adjusted (σ: the largest width along it).
   double rankTolerance = 1e-6;   ///< Relative pivot threshold of the least-norm fit (larger: smaller changes, looser fit).
-  int sweeps = 1;                ///< Passes over the segments. A later pass re-fits a segment whose fit points a
-                                 ///< segment that meets it (lines that cross or share an end, the edges at a cage's
-                                 ///< corner) moved since its own fit, when its misfit there is above refitAbove.
-  double refitAbove = 2.5e-4;    ///< A later pass leaves a segment whose largest misfit |w(F) − linear(F)| is at most
-                                 ///< this (a weight; the first fit leaves about 1e-4 where nothing conflicts).
+  int sweeps = 1;                ///< Passes over all segments (a second pass settles what later segments
+                                 ///< moved at the fit points of earlier ones, as at the corners of a cage).
   double holdWeight = 1.0;       ///< Weight of the side conditions (held samples, other lines, PᵀΔU = 0) against the fit
                                  ///< (larger weights make the COD drop fit directions: 10 gave a 40× looser fit on the star).
   double freeWeight = 0.003;     ///< Weight of k(x_i, X_N) ΔU ≈ 0 at the samples that are not held but within the change's
-                                 ///< reach, times σ(x_i)/σ (graded: the same hold per unit area where the sampling is
-                                 ///< refined): keeps their weights near the optimized ones (0: only the least-norm ΔU
-                                 ///< limits them).
+                                 ///< reach: keeps their weights near the optimized ones (0: only the least-norm ΔU limits them).
 };
 
 struct LinearityReport {
@@ -54,7 +49,7 @@ struct LinearityReport {
 ///                         line samples: Lagrange and the other lines' weights stay as they are),
 ///   k(F_t, X_N) ΔU = 0   at the fit points of every other segment t within that reach,
 ///   [1 x y]_Nᵀ ΔU = 0    (exact mode: the polynomial side condition PᵀU = 0 of 1.9 / 6.2),
-///   k(x_i, X_N) ΔU ≈ 0   softly (weight freeWeight·σ(x_i)/σ) at the other samples within the change's reach,
+///   k(x_i, X_N) ΔU ≈ 0   softly (weight freeWeight) at the other samples within the change's reach,
 /// and W += K(·, N) ΔU. The field's coefficients become U + ΔU with B unchanged: every change is
 /// a sum of kernels within reach·σ + θ of the segment (weights farther away are untouched), and
 /// since each row of ΔU is a combination of rows w(F) − linear(F), which satisfy 1ᵀe = 0 and
