@@ -17,10 +17,12 @@
 #include "cli_run.h"
 #include "kc/app/backend.h"
 #include "kc/app/errors.h"
+#include "kc/app/export.h"
 #include "kc/app/file_io.h"
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
 #include "kc/app/structure.h"
+#include "kc/core/deform.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::app {
@@ -148,6 +150,31 @@ TEST(StructureLinesSlow, ALongLineNearTheCageEdgeLeavesNoRingingAroundIt) {
   EXPECT_LE(WG.maxCoeff(), 1.1);
   EXPECT_LE(f.deviation, 0.1);
   EXPECT_LE((WG.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
+}
+
+TEST(StructureLinesSlow, ALineEndingNearAConcaveCornerDoesNotFoldUnderADrag) {
+  // Drawn in the window on a 548x342 photo: a 15-point cage over a player's torso, an X of lines
+  // across it and a line along the lettering that ends 22 px from a concave corner of the cage; then
+  // the corner below that one dragged 33 px to the right and the top-left point 30 px up and left.
+  // A line fit that held the samples around the lines more loosely folded 6 triangles at the end of
+  // the lettering line here (det J down to -0.52).
+  Points C(15, 2), P(15, 2);
+  C << 160, 118, 205, 105, 260, 110, 300, 122, 312, 150, 292, 162, 302, 215, 332, 238, 342, 266, 300, 276, 255, 271, 225, 262,
+      220, 240, 190, 185, 175, 142;
+  P = C;
+  P.row(0) << 139.94, 94.8;
+  P.row(6) << 335.23, 204.97;
+  const Cage cage = Cage::polygon(C);
+  Structure st;
+  st.lines = {StructureLine{Vec2(204.4, 127.74), Vec2(284.66, 225.55)}, StructureLine{Vec2(221.96, 231.82), Vec2(279.64, 129.62)},
+              StructureLine{Vec2(211.93, 159.71), Vec2(269.61, 159.71)}};
+  const Session s = bind(cage, st, 548, 342, BindParams{});
+  WarpMesh mesh = buildWarpMesh(s, warpMeshOptionsFor(s));
+  const DeformReport r = mesh.deform(poseFromPositions(C, P));
+  std::printf("lettering line by a concave corner: %ld flipped triangles, smallest det J %.3f, bend %.3g px\n", long(r.flippedTriangles),
+              r.minJacobian, measure(s, st.lines, 20).deviation);
+  EXPECT_EQ(r.flippedTriangles, 0);
+  EXPECT_GT(r.minJacobian, 0.0);
 }
 
 TEST(StructureLines, ParallelCouplingKeepsUnityAndReproductionOnRandomProblems) {
