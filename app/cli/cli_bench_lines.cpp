@@ -16,6 +16,7 @@
 #include "kc/app/file_io.h"
 #include "kc/app/line_metrics.h"
 #include "kc/app/pipeline.h"
+#include "kc/app/structure.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::cli {
@@ -70,13 +71,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
                 iterations, with.unity);
     if (with.deviation > worstDev) {  // the worst set as a --structure file, to reproduce it with kcwarp-cli bind
       worstSet = set;
-      worstLines.clear();
-      for (const StructureLine& l : st.lines) {
-        char e[160];
-        std::snprintf(e, sizeof e, "%s{\"points\": [[%.17g, %.17g], [%.17g, %.17g]]}", worstLines.empty() ? "" : ", ", l.a.x(), l.a.y(),
-                      l.b.x(), l.b.y());
-        worstLines += e;
-      }
+      worstLines = app::structureToJson(st);
     }
     worstDev = std::max(worstDev, with.deviation);
     worstAngle = std::max(worstAngle, with.angle);
@@ -87,7 +82,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
   std::printf("  worst: bend %.3g px (goal 0.1), parallel angle %.3g deg (goal 0.05), bind time x%.2f (goal 1.2),\n"
               "         partition of unity %.2g, reproduction %.2g px on the lines\n",
               worstDev, worstAngle, worstRatio, worstUnity, worstRepro);
-  if (worstSet >= 0) std::printf("  the most bent set, %d, as a --structure file: {\"version\": 1, \"lines\": [%s]}\n", worstSet, worstLines.c_str());
+  if (worstSet >= 0) std::printf("  the most bent set, %d, as a --structure file: %s", worstSet, worstLines.c_str());
   std::printf("  mean over the sets: bind time x%.2f (wall), x%.2f (CPU); the last runs' sampling took %.0f%% of the lines'\n"
               "         extra wall time (sampling %.0f ms against %.0f ms, whole bind %.0f ms against %.0f ms, summed over the sets)\n",
               sumRatio / sets, sumCpu / sets,

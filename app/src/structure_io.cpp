@@ -91,6 +91,14 @@ json rigidToJson(const Structure& st) {
 
 }  // namespace detail
 
+std::string structureToJson(const Structure& structure) {
+  detail::json lines = detail::json::array();
+  for (std::size_t k = 0; k < structure.lines.size(); ++k) lines.push_back(detail::lineToJson(structure, k));
+  detail::json j = {{"version", 1}, {"lines", lines}};
+  if (!structure.rigid.empty()) j["rigid"] = detail::rigidToJson(structure);
+  return j.dump() + "\n";
+}
+
 Structure structureFromJson(const std::string& text, const std::string& where) {
   const detail::json j = detail::parseJson(text, where);
   detail::checkVersion(j, where);

@@ -177,6 +177,29 @@ TEST(StructureLinesSlow, ALineEndingNearAConcaveCornerDoesNotFoldUnderADrag) {
   EXPECT_GT(r.minJacobian, 0.0);
 }
 
+TEST(StructureLines, AStructureWrittenAsJsonReadsBackTheSame) {
+  Structure st;
+  st.groups = {"rails"};
+  st.lines = {StructureLine{Vec2(1.0 / 3.0, 2), Vec2(40, 2), 0}, StructureLine{Vec2(1, 9), Vec2(40, 9.125), 0},
+              StructureLine{Vec2(5, 5), Vec2(6, 30), -1}};
+  RigidRegion r;
+  r.polygon.resize(3, 2);
+  r.polygon << 10, 10, 20, 10, 15, 18;
+  r.strength = 0.5;
+  st.rigid = {r};
+  const Structure back = structureFromJson(structureToJson(st), "test");
+  ASSERT_EQ(back.lines.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(back.lines[k].a, st.lines[k].a);
+    EXPECT_EQ(back.lines[k].b, st.lines[k].b);
+    EXPECT_EQ(back.lines[k].group >= 0, st.lines[k].group >= 0);
+  }
+  EXPECT_EQ(back.lines[0].group, back.lines[1].group);
+  ASSERT_EQ(back.rigid.size(), 1u);
+  EXPECT_EQ(back.rigid[0].polygon, r.polygon);
+  EXPECT_EQ(back.rigid[0].strength, 0.5);
+}
+
 TEST(StructureLines, ParallelCouplingKeepsUnityAndReproductionOnRandomProblems) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0.0, 100.0);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 
+#include "kc/app/text.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/export.h"
 #include "kc/app/pipeline.h"
@@ -524,8 +525,7 @@ bool startMethod(AppState& state, Method method, bool record) {
   std::function<void(AppState&)> done = [record, entry, method](AppState& st) {
     st.weightsReproducible = true;
     char text[160];
-    std::string name(app::toString(method));
-    for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const std::string name = app::upperCase(std::string(app::toString(method)));
     std::snprintf(text, sizeof text, "Method %s: the weights of all %ld samples re-optimized in %.0f ms.", name.c_str(),
                   long(st.session->samples.size()), st.timings.reoptimizeMs);
     postMessage(st, text, false);

@@ -3,13 +3,12 @@
 #include "kc/ui/rebind.h"
 
 #include <algorithm>
-#include <cctype>
 #include <memory>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "kc/app/backend.h"
+#include "kc/app/text.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
 #include "kc/ui/rigidity_edits.h"
@@ -17,13 +16,6 @@
 
 namespace kc::ui {
 namespace {
-
-/// A backend's name as the GUI shows it ("KC", "LBC").
-std::string backendLabel(std::string_view name) {
-  std::string label(name);
-  std::transform(label.begin(), label.end(), label.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-  return label;
-}
 
 /// Binds kept on the undo stack (BindEdit): each holds a session with its weights and display mesh.
 constexpr std::size_t kKeptBinds = 4;
@@ -95,7 +87,7 @@ std::string structureLeftOut(const AppState& state) {
   const bool painted = state.bound && anyRigid(state.rigidity);
   const std::string missing = app::unsupportedStructure(state.lines, backend.capabilities(), painted);
   if (missing.empty()) return "";
-  const std::string name = backendLabel(backend.name());
+  const std::string name = app::upperCase(std::string(backend.name()));
   if (!state.bound)  // no bind to keep them: the person decides
     return name + " cannot keep " + missing + ": choose KC to bind with them; to bind LBC, delete them first (with KC chosen)";
   return name + " cannot keep " + missing + ": it binds without your " + missing + ". They stay with the present bind, " +
@@ -144,7 +136,7 @@ bool swapBoundDocument(AppState& state, const BindEdit& edit) {
   selectTool(state, tool);
   const app::Session& b = *state.session;
   postMessage(state, b.reports.lbcMesh > 0 ? "Back to the LBC bind (" + std::to_string(b.reports.lbcMesh) + " mesh vertices)."
-                                           : "Back to the " + backendLabel(b.params.backend) + " bind (" +
+                                           : "Back to the " + app::upperCase(b.params.backend) + " bind (" +
                                                  std::to_string(b.samples.size()) + " samples).",
               false);
   return true;

@@ -25,6 +25,9 @@ struct Structure {
 /// entry without a `polygon` of ≥ 3 finite points or with a `strength` that is not a number in
 /// [0, 1] (default 1). Geometry against a cage is checked by checkStructure.
 Structure structureFromJson(const std::string& text, const std::string& where);
+/// A structure file's text (the lines with their parallel groups, the rigid regions); structureFromJson
+/// reads it back.
+std::string structureToJson(const Structure& structure);
 /// Reads and parses a structure file (file size limit as for cages).
 Structure loadStructure(const std::string& path);
 /// Checks the lines against the cage at spacing h (kc::validateLines: inside the cage, not
