@@ -1,6 +1,7 @@
 // kcwarp-cli bench --lines: straight and parallel lines on a cage, by default the
 // bundled star — random lines of 100–150 px inside it, random translations of every control by up
-// to ±40 px; deviation from straight, parallel-group angle, bind time with and without lines.
+// to ±40 px; deviation from straight, parallel-group angle, folds of the warp inside the cage under
+// the same poses, bind time; each with and without lines.
 // kcwarp-cli bench --edges: the bundled examples bound with and without --linear-edges; linearity
 // along the edges, negative lobes, Lagrange, bind time.
 
@@ -32,12 +33,14 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
               cagePath.c_str(), sets, crossing ? "each after the first crossing an earlier one; graded binds" : "one parallel pair",
               repeats);
   std::printf("  (ratio: bind wall time with lines / without; cpu: the same in process CPU time, steadier on a shared\n"
-              "   machine; iterations: the blue-noise relaxation's, with / without lines)\n");
-  std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %7s %11s %10s\n", "set", "bend px", "without px", "angle deg", "without",
-              "bind ms", "plain ms", "ratio", "cpu", "iterations", "unity");
+              "   machine; iterations: the blue-noise relaxation's, with / without lines; folds: of the warp inside the cage\n"
+              "   (--outside fixed) under the same 50 poses, poses that fold / flipped triangles, with lines and without)\n");
+  std::printf("  %4s %14s %14s %12s %12s %10s %10s %7s %7s %11s %10s %15s %15s\n", "set", "bend px", "without px", "angle deg", "without",
+              "bind ms", "plain ms", "ratio", "cpu", "iterations", "unity", "folds", "without");
   double worstDev = 0.0, worstAngle = 0.0, worstRatio = 0.0, worstUnity = 0.0, worstRepro = 0.0;
   int worstSet = -1;
   std::string worstLines;
+  Index sumFlipped = 0, sumPlainFlipped = 0;
   double sumRatio = 0.0, sumCpu = 0.0, sumSamplingLines = 0.0, sumSamplingPlain = 0.0, sumTotalLines = 0.0, sumTotalPlain = 0.0;
   for (int set = 0; set < sets; ++set) {
     app::Structure st;
@@ -62,13 +65,19 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
     sumSamplingLines += lined.timings.sampling, sumSamplingPlain += plain.timings.sampling;
     sumTotalLines += lined.timings.total, sumTotalPlain += plain.timings.total;
     const app::LineFigures with = app::measureLines(lined, st.lines, 50), without = app::measureLines(plain, st.lines, 50);
+    const app::FoldFigures folds = app::measureFolds(lined, 50), plainFolds = app::measureFolds(plain, 50);
+    sumFlipped += folds.flipped;
+    sumPlainFlipped += plainFolds.flipped;
     const double ratio = tLines[tLines.size() / 2] / tPlain[tPlain.size() / 2];
     sumRatio += ratio;
     char iterations[32];
     std::snprintf(iterations, sizeof iterations, "%d / %d", lined.reports.sampling.iterations, plain.reports.sampling.iterations);
-    std::printf("  %4d %14.3g %14.3g %12.3g %12.3g %10.1f %10.1f %7.2f %7.2f %11s %10.2g\n", set, with.deviation, without.deviation,
+    char foldText[2][32];
+    std::snprintf(foldText[0], sizeof foldText[0], "%d / %ld", folds.foldedPoses, long(folds.flipped));
+    std::snprintf(foldText[1], sizeof foldText[1], "%d / %ld", plainFolds.foldedPoses, long(plainFolds.flipped));
+    std::printf("  %4d %14.3g %14.3g %12.3g %12.3g %10.1f %10.1f %7.2f %7.2f %11s %10.2g %15s %15s\n", set, with.deviation, without.deviation,
                 with.angle, without.angle, 1e3 * tLines[tLines.size() / 2], 1e3 * tPlain[tPlain.size() / 2], ratio, cpuRatio,
-                iterations, with.unity);
+                iterations, with.unity, foldText[0], foldText[1]);
     if (with.deviation > worstDev) {  // the worst set as a --structure file, to reproduce it with kcwarp-cli bind
       worstSet = set;
       worstLines = app::structureToJson(st);
@@ -82,6 +91,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
   std::printf("  worst: bend %.3g px (goal 0.1), parallel angle %.3g deg (goal 0.05), bind time x%.2f (goal 1.2),\n"
               "         partition of unity %.2g, reproduction %.2g px on the lines\n",
               worstDev, worstAngle, worstRatio, worstUnity, worstRepro);
+  std::printf("  flipped triangles over all sets and poses: %ld with lines, %ld without\n", long(sumFlipped), long(sumPlainFlipped));
   if (worstSet >= 0) std::printf("  the most bent set, %d, as a --structure file: %s", worstSet, worstLines.c_str());
   std::printf("  mean over the sets: bind time x%.2f (wall), x%.2f (CPU); the last runs' sampling took %.0f%% of the lines'\n"
               "         extra wall time (sampling %.0f ms against %.0f ms, whole bind %.0f ms against %.0f ms, summed over the sets)\n",

@@ -9,9 +9,12 @@
 #include <stdexcept>
 
 #include "backends.h"
+#include "kc/app/export.h"
 #include "kc/app/line_metrics.h"
+#include "kc/core/deform.h"
 #include "kc/core/structure/line_blend.h"
 #include "kc/core/structure/lines.h"
+#include "kc/core/warp_mesh.h"
 
 namespace kc::app {
 namespace {
@@ -78,12 +81,37 @@ LinearityReport applyLines(Session& s, KernelField& field) {
 
 namespace kc::app {
 
+std::vector<Points> randomTranslations(Index m, int trials, double maxTranslation, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-maxTranslation, maxTranslation);
+  std::vector<Points> poses;
+  for (int t = 0; t < trials; ++t) {
+    Points T(m, 2);
+    for (Index i = 0; i < m; ++i) T.row(i) << u(rng), u(rng);
+    poses.push_back(std::move(T));
+  }
+  return poses;
+}
+
+FoldFigures measureFolds(const Session& s, int trials, double maxTranslation, std::uint64_t seed) {
+  if (!s.hasField()) throw std::invalid_argument("measureFolds: the session has no field");
+  FoldFigures f;
+  WarpMesh mesh = buildWarpMesh(s, warpMeshOptionsFor(s, OutsideMode::Fixed));  // the inside alone: no background repair
+  f.minJacobian = 1.0;
+  for (const Points& T : randomTranslations(s.cage.size(), trials, maxTranslation, seed)) {
+    const DeformReport r = mesh.deform(poseFromPositions(s.cage.C, s.cage.C + T));
+    ++f.poses;
+    f.foldedPoses += r.flippedTriangles > 0;
+    f.flipped += r.flippedTriangles;
+    f.minJacobian = std::min(f.minJacobian, r.minJacobian);
+  }
+  return f;
+}
+
 LineFigures measureLines(const Session& s, const std::vector<StructureLine>& lines, int trials, double maxTranslation,
                          std::uint64_t seed) {
   LineFigures f;
   if (!s.hasField()) throw std::invalid_argument("measureLines: the session has no field");
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-maxTranslation, maxTranslation);
   constexpr Index kPoints = 301;
   std::vector<Points> P;
   std::vector<Weights> W;
@@ -98,9 +126,7 @@ LineFigures measureLines(const Session& s, const std::vector<StructureLine>& lin
     f.reproduction = std::max(f.reproduction, (W.back() * s.cage.C - Q).cwiseAbs().maxCoeff());
     P.push_back(std::move(Q));
   }
-  for (int t = 0; t < trials; ++t) {
-    Points T(s.cage.size(), 2);
-    for (Index i = 0; i < T.rows(); ++i) T.row(i) << u(rng), u(rng);
+  for (const Points& T : randomTranslations(s.cage.size(), trials, maxTranslation, seed)) {
     std::vector<Vec2> dirs(lines.size());
     for (std::size_t k = 0; k < lines.size(); ++k) f.deviation = std::max(f.deviation, translatedLineDeviation(P[k], W[k], T, &dirs[k]));
     for (std::size_t k = 0; k < lines.size(); ++k)

@@ -177,6 +177,33 @@ TEST(StructureLinesSlow, ALineEndingNearAConcaveCornerDoesNotFoldUnderADrag) {
   EXPECT_GT(r.minJacobian, 0.0);
 }
 
+TEST(StructureLines, FoldsAreCountedOverTheLineMeasuresPoses) {
+  // measureFolds deforms the session's warp mesh by the poses measureLines uses: none at the rest
+  // pose, some when every control of the star is thrown 150 px about.
+  const Cage cage = loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json");
+  BindParams p;
+  p.spacing = 12.0;
+  const Session s = bind(cage, 320, 320, p);
+  const FoldFigures rest = measureFolds(s, 3, 0.0);
+  EXPECT_EQ(rest.poses, 3);
+  EXPECT_EQ(rest.foldedPoses, 0);
+  EXPECT_EQ(rest.flipped, 0);
+  EXPECT_NEAR(rest.minJacobian, 1.0, 1e-9);
+  const FoldFigures wild = measureFolds(s, 4, 150.0);
+  EXPECT_EQ(wild.poses, 4);
+  EXPECT_GT(wild.foldedPoses, 0);
+  EXPECT_GE(wild.flipped, wild.foldedPoses);
+  EXPECT_LE(wild.minJacobian, 0.0);
+  // The same seed draws the same poses, each control moved by at most the given amount.
+  const std::vector<Points> a = randomTranslations(cage.size(), 4, 150.0, 7), b = randomTranslations(cage.size(), 4, 150.0, 7);
+  ASSERT_EQ(a.size(), 4u);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k], b[k]);
+    EXPECT_LE(a[k].cwiseAbs().maxCoeff(), 150.0);
+  }
+  EXPECT_NE(a[0], a[1]);
+}
+
 TEST(StructureLines, AStructureWrittenAsJsonReadsBackTheSame) {
   Structure st;
   st.groups = {"rails"};
