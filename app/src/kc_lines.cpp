@@ -100,7 +100,6 @@ FoldFigures measureFolds(const Session& s, int trials, double maxTranslation, st
   f.minJacobian = 1.0;
   for (const Points& T : randomTranslations(s.cage.size(), trials, maxTranslation, seed)) {
     const DeformReport r = mesh.deform(poseFromPositions(s.cage.C, s.cage.C + T));
-    ++f.poses;
     f.foldedPoses += r.flippedTriangles > 0;
     f.flipped += r.flippedTriangles;
     f.minJacobian = std::min(f.minJacobian, r.minJacobian);

@@ -1,15 +1,14 @@
 #include "kc/ui/jobs.h"
 
 #include <chrono>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 
-#include "kc/app/text.h"
 #include "kc/app/diagnostics.h"
 #include "kc/app/export.h"
 #include "kc/app/pipeline.h"
+#include "kc/app/text.h"
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/line_edits.h"

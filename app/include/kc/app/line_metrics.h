@@ -20,7 +20,6 @@ struct LineFigures {
 /// Folds of the session's warp inside the cage (the mesh of `kcwarp-cli warp --outside fixed`) over the same
 /// random poses as measureLines with the same trials, maxTranslation and seed.
 struct FoldFigures {
-  int poses = 0;          ///< poses measured
   int foldedPoses = 0;       ///< poses with at least one flipped triangle (DeformReport::flippedTriangles > 0)
   Index flipped = 0;         ///< flipped triangles, summed over the poses
   double minJacobian = 0.0;  ///< smallest det J over the poses (DeformReport::minJacobian)
@@ -30,6 +29,8 @@ struct FoldFigures {
 /// and y (seeded): m×2 translations each. measureLines and measureFolds draw them.
 std::vector<Points> randomTranslations(Index m, int trials, double maxTranslation, std::uint64_t seed);
 
+/// FoldFigures over `trials` poses of randomTranslations; throws std::invalid_argument when the
+/// session has no field.
 FoldFigures measureFolds(const Session& session, int trials, double maxTranslation = 40.0, std::uint64_t seed = 7);
 
 /// Evaluates the session's field at 301 points along each line (rest), then for `trials` random
