@@ -106,7 +106,7 @@ void runBind(const BindArgs& a) {
     st = app::loadStructure(a.structure);
     if (const std::string refusal = app::structureRefusal(st, app::backendFor(p.backend)); !refusal.empty())
       throw app::InputError(a.structure, refusal);
-    app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p));
+    app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p) || app::exactLines(p));
   }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);

@@ -35,13 +35,20 @@ struct LbcBind {
 /// Structure lines and cage edges in a kernel session (thesis 5.3.3), after the per-sample
 /// optimization: with params.kc.linearEdges, first post-processes the samples near each edge of the
 /// cage's loops so that the field is linear along it from one control's Lagrange weights to the
-/// other's (4.7); then couples the base points (the line ends) of parallel groups (5.11), blends the
-/// neighbourhoods toward the lines (kc::blendLineNeighbourhoods), sets the intermediate line samples'
-/// weights linear between them (5.6), re-solves `field` and post-processes the neighbouring samples
-/// so that the field is linear along each whole line (makeLinearAlong). `field` must hold s.W on
-/// entry (the weights before the lines). Does nothing without lines and linear edges. Returns the
-/// post-processing's report (lines and edges together).
+/// other's (4.7). Then, with params.kc.exactLines, installs the field's line correction
+/// (installLineCorrection; report: the largest L1 misfit of the weights from linear along the lines
+/// before and after it; the samples keep their weights). Without it (sampled lines), couples the base
+/// points (the line ends) of parallel groups (5.11), blends the neighbourhoods toward the lines
+/// (kc::blendLineNeighbourhoods), sets the intermediate line samples' weights linear between them
+/// (5.6), re-solves `field` and post-processes the neighbouring samples so that the field is linear
+/// along each whole line (makeLinearAlong). `field` must hold s.W on entry (the weights before the
+/// lines). Does nothing without lines and linear edges. Returns the post-processing's report (lines
+/// and edges together).
 LinearityReport applyLines(Session& s, KernelField& field);
+
+/// Sets (params.kc.exactLines and lines) or removes the line correction of a kernel session's
+/// field: kc::LineCorrection for s.cage, s.structure.lines, their contacts and s.sigma.
+void installLineCorrection(const Session& s, KernelField& field);
 
 /// Rigid regions in a kernel session (docs/rigidity.md), after the lines: kc::makeRigid with
 /// s.rigidity, holding controls and line samples. Does nothing without a positive ρ.

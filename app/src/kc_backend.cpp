@@ -132,7 +132,7 @@ class KcBackend final : public Backend {
     step("sampling", 0.0);
     sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
     so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
-    so.lines = s.structure.lines;
+    if (!exactLines(params)) so.lines = s.structure.lines;  // exact lines: the field's correction, not samples
     so.sizing = s.sizing = bindSizing(s.cage, s.structure, params);
     so.gradedLines = gradedSampling(params);
     s.samples = sampling::sample(s.cage, so, &r.sampling);
@@ -155,9 +155,9 @@ class KcBackend final : public Backend {
     step("initial weights", kStageStart[2]);
     InitOptions init = kc.init;
     if (init.method == InitMethod::Lbc) init.method = InitMethod::HeatLinear;  // the exterior; the inside follows
-    // Screened (local) targets, except with structure lines: their linear fit bends where the
-    // targets fall off steeply (a line by a narrow place: 0.11 px screened, 0.06 px unscreened).
-    if (kc.localitySpacings > 0.0 && s.structure.lines.empty()) init.locality = localityLength(s.cage, params.spacing, kc.localitySpacings);
+    // Screened (local) targets, except with structure lines made linear through the samples: their
+    // linear fit bends where the targets fall off steeply (the exact correction does not).
+    if (kc.localitySpacings > 0.0 && (s.structure.lines.empty() || kc.exactLines)) init.locality = localityLength(s.cage, params.spacing, kc.localitySpacings);
     s.W0 = initialWeights(s.samples, s.cage, K, init, &r.init);
     if (kc.init.method == InitMethod::Lbc) {
       t0 = std::chrono::steady_clock::now();
@@ -211,13 +211,16 @@ class KcBackend final : public Backend {
     // Coefficients stored with the session (restored by the loader, K not factorized) are kept
     // when they give the stored weights back at the samples; else the field is solved anew.
     if (const auto* stored = dynamic_cast<const KernelField*>(s.field.get());
-        stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s))
+        stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s)) {
+      installLineCorrection(s, *dynamic_cast<KernelField*>(s.field.get()));
       return;
+    }
     auto field = std::make_unique<KernelField>();
     const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing, s.sizing), s.params.kc.interp);
     if (r.status != FactorStatus::Ok)
       throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
     field->update(s.W);
+    installLineCorrection(s, *field);
     s.field = std::move(field);
   }
 
@@ -240,7 +243,7 @@ class KcBackend final : public Backend {
     // With lines, the samples near them are re-derived from W0 too, so that the lines' blend and
     // post-processing start again from the optimizer's weights (as at the bind), not from their
     // own earlier result.
-    if (!whole && !s.structure.lines.empty()) {
+    if (!whole && !s.structure.lines.empty() && !s.params.kc.exactLines) {
       const std::vector<Index> near = lineNeighbourhoodRows(s.cage, s.structure.lines, s.samples.X, s.sigma);
       rows.insert(rows.end(), near.begin(), near.end());
       std::sort(rows.begin(), rows.end());
@@ -263,7 +266,8 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < rows.size() && !whole && !changed; ++k) changed = s.W(rows[k], c) != before(static_cast<Index>(k), c);
       if (changed) columns.push_back(c);
     }
-    if (!s.structure.lines.empty() || s.params.kc.linearEdges || rigid) {  // lines and edges made linear again, then rigidity
+    const bool sampledLines = !s.structure.lines.empty() && !s.params.kc.exactLines;  // the correction follows new weights itself
+    if (sampledLines || s.params.kc.linearEdges || rigid) {  // lines and edges made linear again, then rigidity
       if (!kernel) throw std::invalid_argument("this session's field cannot keep its lines and edges linear or its regions rigid");
       kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
       if (!s.structure.lines.empty() || s.params.kc.linearEdges) applyLines(s, *kernel);

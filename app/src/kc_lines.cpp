@@ -1,6 +1,8 @@
 // Structure lines in the kernel backend (thesis 5.3.3).
 
 #include <array>
+#include <chrono>
+#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,6 +14,7 @@
 #include "kc/app/export.h"
 #include "kc/app/line_metrics.h"
 #include "kc/core/deform.h"
+#include "kc/core/field/line_correction.h"
 #include "kc/core/structure/line_blend.h"
 #include "kc/core/structure/lines.h"
 #include "kc/core/warp_mesh.h"
@@ -31,15 +34,42 @@ const LinearityOptions kEdgeLinearity = [] {
   return o;
 }();
 
+/// The largest L1 distance of the field's weights from linear between the ends, over 101 points
+/// along each line.
+double lineMisfit(const KernelField& field, std::span<const StructureLine> lines) {
+  constexpr Index kPoints = 101;
+  double worst = 0.0;
+  for (const StructureLine& l : lines) {
+    Points Q(kPoints, 2);
+    for (Index k = 0; k < kPoints; ++k) {
+      const double t = double(k) / double(kPoints - 1);
+      Q.row(k) = ((1.0 - t) * l.a + t * l.b).transpose();
+    }
+    const Weights W = field.weightsAt(Q);
+    for (Index k = 0; k < kPoints; ++k) {
+      const double t = double(k) / double(kPoints - 1);
+      worst = std::max(worst, (W.row(k) - (1.0 - t) * W.row(0) - t * W.row(kPoints - 1)).cwiseAbs().sum());
+    }
+  }
+  return worst;
+}
+
 }  // namespace
+
+void installLineCorrection(const Session& s, KernelField& field) {
+  if (!s.params.kc.exactLines || s.structure.lines.empty()) {
+    field.setLineCorrection(nullptr);
+    return;
+  }
+  const std::vector<StructureLine>& lines = s.structure.lines;
+  field.setLineCorrection(std::make_shared<LineCorrection>(s.cage, lines, lineContacts(lines), s.sigma));
+}
 
 LinearityReport applyLines(Session& s, KernelField& field) {
   const std::vector<StructureLine>& lines = s.structure.lines;
   const bool edges = s.params.kc.linearEdges;
+  field.setLineCorrection(nullptr);  // the post-processing reads the field of the weights alone
   if (lines.empty() && !edges) return {};
-  if (s.samples.lines.size() != lines.size())
-    throw std::invalid_argument("the session has " + std::to_string(lines.size()) + " lines but samples for " +
-                                std::to_string(s.samples.lines.size()));
   std::vector<char> keep(static_cast<std::size_t>(s.samples.size()), 0);
   for (Index i = 0; i < s.samples.size(); ++i) {
     const SampleKind k = s.samples.kind[static_cast<std::size_t>(i)];
@@ -55,6 +85,18 @@ LinearityReport applyLines(Session& s, KernelField& field) {
     edgeReport = makeLinearAlong(field, segments, keep, s.W, kEdgeLinearity);  // leaves field holding s.W
   }
   if (lines.empty()) return edgeReport;
+  if (s.params.kc.exactLines) {  // field holds s.W: the correction is all there is to do
+    const auto t0 = std::chrono::steady_clock::now();
+    LinearityReport r = edgeReport;
+    r.before = lineMisfit(field, lines);
+    installLineCorrection(s, field);
+    r.after = lineMisfit(field, lines);
+    r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+  if (s.samples.lines.size() != lines.size())
+    throw std::invalid_argument("the session has " + std::to_string(lines.size()) + " lines but samples for " +
+                                std::to_string(s.samples.lines.size()));
   std::vector<std::array<Index, 2>> ends;
   for (const auto& idx : s.samples.lines) ends.push_back({idx.front(), idx.back()});
   coupleParallelLines(s.cage.C, lines, ends, s.W);

@@ -38,7 +38,7 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
   const Index m = s.W.cols();
   std::vector<Index> rows(rowsIn.begin(), rowsIn.end());
   const bool lines = !s.structure.lines.empty() || s.params.kc.linearEdges;
-  if (!s.structure.lines.empty()) {  // the lines' neighbourhoods start again from the optimizer's weights, as at the bind
+  if (!s.structure.lines.empty() && !s.params.kc.exactLines) {  // the lines' neighbourhoods start again from the optimizer's weights, as at the bind
     const std::vector<Index> near = lineNeighbourhoodRows(s.cage, s.structure.lines, s.samples.X, s.sigma);
     rows.insert(rows.end(), near.begin(), near.end());
     std::sort(rows.begin(), rows.end());

@@ -89,10 +89,16 @@ bool gradedBind(const BindParams& p) {
 
 bool gradedSampling(const BindParams& params) { return gradedBind(params); }
 
+bool exactLines(const BindParams& params) {
+  return params.kc.exactLines && backendFor(params.backend).capabilities().outsideCage;
+}
+
 std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params) {
   if (!gradedBind(params)) return nullptr;
   std::vector<FeatureSegment> extra;
-  for (const StructureLine& l : structure.lines) extra.push_back({l.a, l.b});
+  const bool sampledLines = !structure.lines.empty() && !exactLines(params);
+  if (sampledLines)
+    for (const StructureLine& l : structure.lines) extra.push_back({l.a, l.b});
   for (const RigidRegion& r : structure.rigid)
     for (Index i = 0; i < r.polygon.rows(); ++i) extra.push_back({r.polygon.row(i), r.polygon.row((i + 1) % r.polygon.rows())});
   SizingOptions o;
@@ -115,13 +121,13 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   // The kernel width follows the smooth profile where structure lines need it (a width with kinks
   // bends them: 0.55 px on random lines in the star, 0.03 px smooth); elsewhere the spacing itself,
   // which keeps the weights more local (person legs 4 px apart: 0.018 across the gap, 0.034 smooth).
-  const SizingForm form = structure.lines.empty() ? SizingForm::Min : SizingForm::Smooth;
+  const SizingForm form = sampledLines ? SizingForm::Smooth : SizingForm::Min;
   return std::make_shared<SizingField>(h.hMax(), h.gradation(), h.seeds(), h.sizes(), form);
 }
 
 BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params) {
   BindParams p = params;
-  if (structure.lines.empty() || !gradedBind(p) || !backendFor(p.backend).capabilities().outsideCage) return p;
+  if (structure.lines.empty() || !gradedBind(p) || !backendFor(p.backend).capabilities().outsideCage || exactLines(p)) return p;
   try {
     checkCageScale(cage, p.spacing);
     validateLines(cage, structure.lines, p.spacing, false);
@@ -325,7 +331,7 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     if (b.capabilities().outsideCage)  // the sample-cost estimate is for backends that sample the whole image
       checkBindCost(costOf(cage, structure, width, height, params), params);
     if (const std::string refusal = structureRefusal(structure, b); !refusal.empty()) throw std::invalid_argument(refusal);
-    validateLines(cage, structure.lines, params.spacing, gradedBind(params));
+    validateLines(cage, structure.lines, params.spacing, gradedBind(params) || exactLines(params));
     if (params.kc.linearEdges && loopEdges(cage).size() != cageEdges(cage).size())
       throw std::invalid_argument("--linear-edges needs a cage without sticks (measured on the stick figure: the sticks' "
                                   "linearity went from 0.031 to 0.089 and the head's lobe from -0.05 to -0.83)");

@@ -88,6 +88,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"linear_edges", p.kc.linearEdges},
                  {"locality_spacings", p.kc.localitySpacings},
                  {"guard_lobes", p.kc.guardLobes},
+                 {"exact_lines", p.kc.exactLines},
                  {"backend", p.backend},
                  {"sampler", std::string(toString(p.sampler))},
                  {"margin", p.margin},
@@ -212,6 +213,11 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
     if (!params["guard_lobes"].is_boolean()) throw InputError(where, "params.guard_lobes must be true or false");
     p.kc.guardLobes = params["guard_lobes"].get<bool>();
   }
+  p.kc.exactLines = false;  // sessions written before the option: lines made linear through the samples
+  if (params.contains("exact_lines")) {
+    if (!params["exact_lines"].is_boolean()) throw InputError(where, "params.exact_lines must be true or false");
+    p.kc.exactLines = params["exact_lines"].get<bool>();
+  }
   p.kc.method = parseEnum(params, "method", Method::QP, where);
   p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, where);
   p.kc.linearEdges = false;  // sessions written before the option: their edges were not post-processed
@@ -275,6 +281,7 @@ void samplesFromJson(const json& j, Session& s, const std::string& where) {
     s.structure = detail::parseStructureLines(j["lines"], where, "lines");
     for (std::size_t k = 0; k < s.structure.lines.size(); ++k) {
       const std::string f = "lines[" + std::to_string(k) + "].samples";
+      if (s.params.kc.exactLines && !j["lines"][k].contains("samples")) continue;  // the field's correction: no line samples
       const json& idx = detail::require(j["lines"][k], "samples", where);
       if (!idx.is_array() || idx.size() < 2) throw InputError(where, f + " must list the line's sample indices (at least two)");
       std::vector<Index> v;

@@ -171,7 +171,10 @@ TEST(GradedConformance, SessionsKeepTheWidthProfile) {
   EXPECT_EQ(app::bind(Cage::polygon(C), 300, 300, BindParams{}).sizing->form(), SizingForm::Min);  // no lines
   Structure st;
   st.lines = {{{146.5, 70}, {146.5, 230}}};
-  const Session s = app::bind(Cage::polygon(C), st, 300, 300, BindParams{});
+  EXPECT_EQ(app::bind(Cage::polygon(C), st, 300, 300, BindParams{}).sizing->form(), SizingForm::Min);  // exact lines: not sampled
+  BindParams sampled;  // lines made linear through their samples (sessions written before the exact correction)
+  sampled.kc.exactLines = false;
+  const Session s = app::bind(Cage::polygon(C), st, 300, 300, sampled);
   ASSERT_TRUE(s.sizing);
   EXPECT_EQ(s.sizing->form(), SizingForm::Smooth);
   const std::string text = sessionToJson(s);

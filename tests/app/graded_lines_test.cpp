@@ -189,6 +189,7 @@ TEST(GradedLines, EffectiveParamsAreWhatTheBindUses) {
   const Cage cage = square(20, 20, 280, 280);
   BindParams requested;
   requested.spacing = 8.0;
+  requested.kc.exactLines = false;  // lines made linear through their samples
   ASSERT_TRUE(gradedSampling(requested));
   Structure beside, crossing;
   beside.lines = {{{80, 32}, {220, 32}}};
@@ -222,6 +223,16 @@ TEST(GradedLines, EffectiveParamsAreWhatTheBindUses) {
   BindParams lbc = requested;
   lbc.backend = "lbc";
   EXPECT_TRUE(effectiveBindParams(cage, beside, lbc).graded);
+  // Exact lines (the default) are not part of the sampling: the parameters as given, and the
+  // crossing lines leave the square's one spacing.
+  BindParams exact = requested;
+  exact.kc.exactLines = true;
+  ASSERT_TRUE(exactLines(exact));
+  EXPECT_TRUE(effectiveBindParams(cage, beside, exact).graded);
+  EXPECT_FALSE(bindSizing(cage, crossing, exact));
+  const Session e = app::bind(cage, crossing, 300, 300, exact);
+  EXPECT_FALSE(e.sizing);
+  EXPECT_TRUE(e.samples.lines.empty());
 }
 
 TEST(GradedLines, UniformBindStillRefusesThem) {
@@ -230,12 +241,18 @@ TEST(GradedLines, UniformBindStillRefusesThem) {
   st.lines = {{{80, 80}, {220, 220}}, {{80, 220}, {220, 80}}};
   BindParams p;
   p.graded = false;
+  p.kc.exactLines = false;  // lines made linear through their samples
   try {
     app::bind(cage, st, 300, 300, p);
     FAIL() << "crossing lines bound uniformly";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("crosses lines[0]"), std::string::npos) << e.what();
   }
+  // Exact lines are not sampled: a uniform bind takes them, and they stay straight.
+  p.kc.exactLines = true;
+  const Session s = app::bind(cage, st, 300, 300, p);
+  EXPECT_FALSE(s.params.graded);
+  EXPECT_LE(measureLines(s, st.lines, 10).deviation, 1e-9);
 }
 
 }  // namespace

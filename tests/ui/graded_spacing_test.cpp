@@ -59,7 +59,7 @@ TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
 /// Binds the draft cage with `lines` at spacing 8 and checks that the plan shown before the bind is
 /// what the bind used: the spacing, the smallest spacing of its sizing field and its grading.
 /// Returns the plan.
-AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines) {
+AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bool exactLines = false) {
   auto s = test::newPicture();
   Points C(4, 2);
   C << 100, 50, 300, 50, 300, 250, 100, 250;  // no narrow place
@@ -67,6 +67,7 @@ AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines) {
   EXPECT_TRUE(s->cageValid) << s->cageStatus;
   s->autoSpacing = false;
   s->bindParams.spacing = 8.0;
+  s->bindParams.kc.exactLines = exactLines;
   s->lines.lines = std::move(lines);
   const AppState::ShownSpacing plan = spacingPlan(*s);
   EXPECT_TRUE(startBind(*s, true, false));
@@ -97,6 +98,14 @@ TEST(GradedSpacing, CrossingLinesShowTheGradedRange) {
   const AppState::ShownSpacing plan =
       expectPlanIsTheBinds({{{150, 62}, {250, 62}}, {{150, 100}, {250, 200}}, {{150, 200}, {250, 100}}});
   EXPECT_LT(plan.minSpacing, plan.spacing);
+}
+
+TEST(GradedSpacing, ExactLinesKeepTheCagesSpacing) {
+  // Lines kept straight by the field's correction (the default) are not sampled: the same crossing
+  // lines leave the square's one spacing, and the plan says so.
+  const AppState::ShownSpacing plan =
+      expectPlanIsTheBinds({{{150, 62}, {250, 62}}, {{150, 100}, {250, 200}}, {{150, 200}, {250, 100}}}, true);
+  EXPECT_EQ(plan.minSpacing, plan.spacing);
 }
 
 TEST(GradedSpacing, ThePlanFollowsTheSliderWhenAutoSpacingIsOff) {

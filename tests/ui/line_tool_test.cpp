@@ -72,16 +72,16 @@ TEST(LineTool, DrawingALineRebindsWithItAndKeepsThePose) {
   ASSERT_TRUE(s->session);
   EXPECT_NE(s->session.get(), before) << "adding a line re-binds";
   ASSERT_EQ(s->session->structure.lines.size(), 1u);
-  ASSERT_EQ(s->session->samples.lines.size(), 1u);
+  EXPECT_TRUE(s->session->samples.lines.empty()) << "exact lines are kept straight by the field, not by samples";
   EXPECT_TRUE(s->session->structure.lines[0].a.isApprox(Vec2(60, 70)));
   EXPECT_EQ(s->boundLines.size(), 1u);
   EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(-20, 15))) << "the pose survives the re-bind";
   EXPECT_EQ(s->tool, Tool::Lines);
   EXPECT_EQ(s->lineSelection, std::vector<int>{0});
   EXPECT_TRUE(s->unsaved);
-  // The bound line stays straight under random translations of the controls (≤ 0.1 px).
+  // The bound line stays straight under random translations of the controls (to round-off).
   const app::LineFigures f = app::measureLines(*s->session, s->session->structure.lines, 20);
-  EXPECT_LT(f.deviation, 0.1);
+  EXPECT_LT(f.deviation, 1e-9);
   // The same line without the structure bends (the check above can fail).
   const app::LineFigures bare = app::measureLines(*test::boundState(kSpacing)->session, s->session->structure.lines, 20);
   EXPECT_GT(bare.deviation, 10.0 * std::max(f.deviation, 1e-3));
@@ -129,12 +129,14 @@ TEST(LineTool, InvalidLinesAreRefusedWithTheReason) {
       {Vec2(255, 130), Vec2(125, 90), "overlaps line 0"},  // line 0 extended to the cage, over its second half
   };
   expectRefused(*s, graded);
-  // A uniform one (--uniform-spacing) keeps lines a spacing from the cage and from each other. (A
-  // bound document with lines asks for graded binds again, installSession: set it after line 0.)
+  // A uniform one (--uniform-spacing) that makes lines linear through their samples (a session
+  // written before the exact correction) keeps lines a spacing from the cage and from each other.
+  // (A bound document with lines asks for graded, exact binds again, installSession: set it after line 0.)
   auto u = lineState();
   drawLine(*u, Vec2(60, 70), Vec2(190, 110));
   ASSERT_EQ(u->lines.lines.size(), 1u) << lastMessage(*u);
   u->bindParams.graded = false;
+  u->bindParams.kc.exactLines = false;
   const Refusal uniform[] = {
       {Vec2(100, 40), Vec2(140, 150), "crosses line 0"},  // crossing the first line
       {Vec2(-30, 200), Vec2(120, 200), "cage"},           // outside the cage, crossing its edge
@@ -290,9 +292,9 @@ TEST(LineTool, LinesTravelWithTheSession) {
   EXPECT_TRUE(sameLines(t->lines, s->lines)) << lastMessage(*t);
   EXPECT_EQ(t->boundLines.size(), 2u);
   EXPECT_EQ(t->lines.groups, std::vector<std::string>{"pair"});
-  // Those lines were far enough from everything to be bound uniformly; the reopened document still
-  // takes a line crossing one of them (a graded bind's rule).
-  EXPECT_FALSE(t->session->params.graded);
+  // Those lines are kept straight by the field (not sampled); the reopened document takes a line
+  // crossing one of them.
+  EXPECT_TRUE(t->session->params.kc.exactLines);
   selectTool(*t, Tool::Lines);
   drawLine(*t, Vec2(100, 40), Vec2(140, 150));
   EXPECT_EQ(t->lines.lines.size(), 3u) << lastMessage(*t);

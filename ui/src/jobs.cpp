@@ -157,8 +157,10 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.bindParams = s.params;
   // Lines the uniform rules accept are sampled uniformly (app::effectiveBindParams), and the session
   // records that; the GUI asks for graded binds, so the line tool and the next bind keep the graded
-  // rules (a new line may cross another or end on the cage).
+  // rules (a new line may cross another or end on the cage). The next bind keeps lines straight by
+  // the field's exact correction, also for a session bound before it.
   if (!s.structure.lines.empty()) state.bindParams.graded = true;
+  state.bindParams.kc.exactLines = true;
   state.lines = s.structure;
   state.lineSelection.clear();
   refreshBoundLines(state, s);

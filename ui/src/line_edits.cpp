@@ -30,7 +30,7 @@ std::string linesProblem(const AppState& state, const app::Structure& lines) {
   try {
     // The check of kcwarp-cli bind --structure: a graded bind takes lines that cross, meet, run
     // close to the cage or end on it; a uniform one (--uniform-spacing) keeps them a spacing apart.
-    validateLines(state.cage, lines.lines, params.spacing, app::gradedSampling(params));
+    validateLines(state.cage, lines.lines, params.spacing, app::gradedSampling(params) || app::exactLines(params));
   } catch (const std::invalid_argument& e) {
     return std::regex_replace(e.what(), std::regex(R"(lines\[(\d+)\])"), "line $1");
   }
@@ -145,6 +145,17 @@ bool deleteSelectedLines(AppState& state) {
 
 void refreshBoundLines(AppState& state, const app::Session& s) {
   state.boundLines.clear();
+  if (s.params.kc.exactLines && s.hasField()) {  // the field is linear along each line: its ends draw it
+    for (const StructureLine& l : s.structure.lines) {
+      AppState::BoundLine b;
+      b.X.resize(2, 2);
+      b.X << l.a.transpose(), l.b.transpose();
+      b.W = s.field->weightsAt(b.X);
+      b.group = l.group;
+      state.boundLines.push_back(std::move(b));
+    }
+    return;
+  }
   if (s.samples.lines.size() != s.structure.lines.size() || s.W.rows() != s.samples.size()) return;
   for (std::size_t k = 0; k < s.structure.lines.size(); ++k) {
     const auto& idx = s.samples.lines[k];

@@ -41,10 +41,17 @@ void KernelField::update(const Weights& W, std::span<const Index> columns) {
     m_interp.solveColumns(W, columns, m_coef);
 }
 
-Weights KernelField::weightsAt(const Points& P) const { return m_interp.evaluate(m_coef, P); }
+Weights KernelField::weightsAt(const Points& P) const {
+  Weights W = m_interp.evaluate(m_coef, P);
+  if (m_lines) m_lines->correctWeights(P, W, [&](const Points& Q) { return m_interp.evaluate(m_coef, Q); });
+  return W;
+}
 
 void KernelField::gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const {
   m_interp.evaluateGradient(m_coef, P, dWdx, dWdy);
+  if (m_lines)
+    m_lines->correctGradients(P, dWdx, dWdy, [&](const Points& Q) { return m_interp.evaluate(m_coef, Q); },
+                              [&](const Points& Q, Weights& Gx, Weights& Gy) { m_interp.evaluateGradient(m_coef, Q, Gx, Gy); });
 }
 
 RowMatrix KernelField::coefficientColumns(std::span<const Index> columns) const {
@@ -97,14 +104,26 @@ SparseRowMatrix withPolynomial(const SparseRowMatrix& R, Poly&& poly, Value&& va
 
 SparseRowMatrix KernelField::evaluationOperator(const Points& P) const {
   if (!m_interp.evaluable()) throw std::logic_error("kernel field: evaluationOperator() without a successful compute()");
+  if (!m_lines) return baseEvaluation(P);
+  return m_lines->evaluation(P, baseEvaluation(P), [&](const Points& Q) { return baseEvaluation(Q); });
+}
+
+void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
+  if (!m_interp.evaluable()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
+  baseGradients(P, Ex, Ey);
+  if (m_lines)
+    m_lines->gradients(P, Ex, Ey, [&](const Points& Q) { return baseEvaluation(Q); },
+                       [&](const Points& Q, SparseRowMatrix& Gx, SparseRowMatrix& Gy) { baseGradients(Q, Gx, Gy); });
+}
+
+SparseRowMatrix KernelField::baseEvaluation(const Points& P) const {
   const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
   return withPolynomial(
       R, [&](Index p) { return std::vector<std::pair<Index, double>>{{0, 1.0}, {1, P(p, 0)}, {2, P(p, 1)}}; },
       [](Index, Index, double v) { return v; });
 }
 
-void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
-  if (!m_interp.evaluable()) throw std::logic_error("kernel field: gradientOperators() without a successful compute()");
+void KernelField::baseGradients(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
   if (m_interp.kernel().variable()) {  // the Gibbs kernel's gradient (kernelGradientRows)
     SparseRowMatrix Gx, Gy;
     kernelGradientRows(m_interp.samples(), P, m_interp.kernel(), Gx, Gy);

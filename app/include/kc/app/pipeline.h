@@ -29,6 +29,11 @@ sampling::SamplingOptions samplingOptions(int width, int height, const BindParam
 /// samples the picture (kc), blue noise; the LBC backend grades its mesh of the cage interior.
 /// Such a bind refuses no narrow place of the cage or its lines.
 bool gradedSampling(const BindParams& params);
+/// True when a bind with `params` keeps structure lines straight by the field's exact correction
+/// (KcParams::exactLines on a backend that samples the picture): the lines are then not part of the
+/// sampling (no line samples, no refinement around them), and only lines that leave the cage or
+/// overlap another are refused (validateLines' graded rules).
+bool exactLines(const BindParams& params);
 /// The parameters a bind of `cage` with `structure` really uses (bind(), the Bind panel's planned
 /// spacing and the cost estimate all go through it): `params`, with `graded` off where the bind
 /// samples uniformly although a graded sampling was asked for — structure lines on the kc backend
@@ -40,10 +45,10 @@ bool gradedSampling(const BindParams& params);
 /// samples outside the cage (LBC), `params` as given. The sampling of the result is graded when
 /// gradedSampling(result), with the sizing field bindSizing(cage, structure, result); its kernel
 /// width follows SizingForm::Smooth with lines, SizingForm::Min without. Throws
-/// std::invalid_argument for an unknown backend.
+/// std::invalid_argument for an unknown backend. With exactLines(params), `params` as given.
 BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params);
 /// The sizing field of a graded bind (gradedSampling): featureSizing of the cage, the structure
-/// lines and the rigid polygons' sides with hMax = params.spacing and hMin = kMinSpacing (the LBC
+/// lines (not with exactLines) and the rigid polygons' sides with hMax = params.spacing and hMin = kMinSpacing (the LBC
 /// backend's mesh with k = n = 1, one triangle across a narrow place: SizingOptions);
 /// null for a uniform bind or a cage without a narrow place (h ≡ spacing). `params` are the
 /// bind's own (effectiveBindParams): with the requested ones, lines the uniform rules accept

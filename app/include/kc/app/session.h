@@ -51,6 +51,11 @@ struct KcParams {
   /// linearEdges, whose post-processing sets the field next to the edges itself. Sessions written
   /// before the option (no `params.guard_lobes`) read false.
   bool guardLobes = true;
+  /// Structure lines kept straight by the field's exact correction (LineCorrection: the weights
+  /// along a line are linear to round-off, and the samples keep their optimized weights); false:
+  /// the samples near the lines are post-processed (thesis 5.3.3: blend and linear fit). Sessions
+  /// written before the option (no `params.exact_lines`) read false.
+  bool exactLines = true;
 };
 
 /// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is

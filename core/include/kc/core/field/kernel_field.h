@@ -4,7 +4,10 @@
 /// the three polynomial terms [1 x y] (nodes 0..2; zero coefficients in Thesis mode) followed by
 /// the #S samples (nodes 3..3+#S−1), and Coef = [B; U] ((3+#S)×m).
 
+#include <memory>
+
 #include "kc/core/field/field.h"
+#include "kc/core/field/line_correction.h"
 #include "kc/core/kernel/interpolator.h"
 
 namespace kc {
@@ -49,17 +52,29 @@ class KernelField final : public CoordinateField {
   /// Throws std::logic_error when the factorization failed.
   void update(const Weights& W, std::span<const Index> columns = {}) override;
 
-  /// KernelInterpolator::evaluate (6.3) — the same bits as the interpolator path.
+  /// KernelInterpolator::evaluate (6.3) — the same bits as the interpolator path; with a line
+  /// correction, then LineCorrection::correctWeights.
   Weights weightsAt(const Points& P) const override;
-  /// KernelInterpolator::evaluateGradient (3.41–3.43).
+  /// KernelInterpolator::evaluateGradient (3.41–3.43); with a line correction, then
+  /// LineCorrection::correctGradients.
   void gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const override;
+
+  /// Keeps structure lines straight (LineCorrection): every evaluation — operators, weightsAt,
+  /// gradientsAt — is of the corrected field w̃ once set; null removes it. The data weights W and
+  /// the coefficients are the uncorrected field's (the correction is applied on evaluation).
+  void setLineCorrection(std::shared_ptr<const LineCorrection> correction) { m_lines = std::move(correction); }
+  const LineCorrection* lineCorrection() const { return m_lines.get(); }
 
   const KernelInterpolator& interpolator() const { return m_interp; }
   const KernelCoefficients& kernelCoefficients() const { return m_coef; }
 
  private:
+  SparseRowMatrix baseEvaluation(const Points& P) const;
+  void baseGradients(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const;
+
   KernelInterpolator m_interp;
   KernelCoefficients m_coef;
+  std::shared_ptr<const LineCorrection> m_lines;
 };
 
 }  // namespace kc
