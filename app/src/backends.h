@@ -47,7 +47,8 @@ struct LbcBind {
 LinearityReport applyLines(Session& s, KernelField& field);
 
 /// Sets (params.kc.exactLines and lines) or removes the line correction of a kernel session's
-/// field: kc::LineCorrection for s.cage, s.structure.lines, their contacts and s.sigma.
+/// field: kc::LineCorrection for s.cage, s.structure.lines, their contacts and s.sigma, with the
+/// structure's rigid polygons (strength > 0) as barriers.
 void installLineCorrection(const Session& s, KernelField& field);
 
 /// Rigid regions in a kernel session (docs/rigidity.md), after the lines: kc::makeRigid with

@@ -1,11 +1,11 @@
 // Structure lines in the kernel backend (thesis 5.3.3).
 
+#include <algorithm>
 #include <array>
 #include <chrono>
-#include <memory>
-#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -17,6 +17,7 @@
 #include "kc/core/field/line_correction.h"
 #include "kc/core/structure/line_blend.h"
 #include "kc/core/structure/lines.h"
+#include "kc/core/structure/rigidity.h"
 #include "kc/core/warp_mesh.h"
 
 namespace kc::app {
@@ -62,7 +63,10 @@ void installLineCorrection(const Session& s, KernelField& field) {
     return;
   }
   const std::vector<StructureLine>& lines = s.structure.lines;
-  field.setLineCorrection(std::make_shared<LineCorrection>(s.cage, lines, lineContacts(lines), s.sigma));
+  std::vector<Points> rigid;  // the rigid regions keep the weights the rigidity QP gives them
+  for (const RigidRegion& r : s.structure.rigid)
+    if (r.strength > 0.0) rigid.push_back(r.polygon);
+  field.setLineCorrection(std::make_shared<LineCorrection>(s.cage, lines, lineContacts(lines), s.sigma, rigid));
 }
 
 LinearityReport applyLines(Session& s, KernelField& field) {

@@ -23,6 +23,7 @@
 #include "kc/app/pipeline.h"
 #include "kc/app/structure.h"
 #include "kc/core/deform.h"
+#include "kc/core/field/kernel_field.h"
 #include "kc/core/structure/lines.h"
 
 namespace kc::app {
@@ -155,6 +156,33 @@ TEST(StructureLinesSlow, APaintedStrokeKeepsExactLinesStraight) {
   EXPECT_LE(f.deviation, 1e-9);
   EXPECT_LE(f.unity, 1e-9);
   EXPECT_LE(f.reproduction, 1e-9);
+}
+
+TEST(StructureLinesSlow, ALineAlongARigidRegionLeavesTheRegionAsTheRigidityMadeIt) {
+  // The figure's rigid octagon (its head) with a line 2.6 px below its bottom side and one across it:
+  // inside the octagon the field is the one the rigidity QP made (the correction stops at its sides,
+  // as at the cage), and the line beside it is straight to round-off.
+  const Cage cage = loadCage(std::string(KC_SOURCE_DIR) + "/images/figure.cage.json");
+  Structure st = loadStructure(std::string(KC_SOURCE_DIR) + "/images/figure.structure.json");
+  ASSERT_EQ(st.rigid.size(), 1u);
+  const StructureLine beside{Vec2(140, 110), Vec2(180, 110)};
+  st.lines.push_back(beside);
+  st.lines.push_back({Vec2(120, 60), Vec2(200, 90)});
+  Session s = bind(cage, st, 320, 400, BindParams{});
+  const Points inside = gridInside(Cage::polygon(st.rigid[0].polygon), 45, 191, 2);
+  ASSERT_GT(inside.rows(), 50);
+  const Weights corrected = s.field->weightsAt(inside);
+  auto* kernel = dynamic_cast<KernelField*>(s.field.get());
+  ASSERT_TRUE(kernel && kernel->lineCorrection());
+  const std::shared_ptr<const LineCorrection> correction = kernel->lineCorrection();
+  kernel->setLineCorrection(nullptr);
+  const Weights plain = kernel->weightsAt(inside);
+  EXPECT_TRUE(corrected == plain) << "the correction reached into the rigid region";
+  const Weights plainBeside = kernel->weightsAt(along(beside, 41));
+  kernel->setLineCorrection(correction);
+  EXPECT_LE(measure(s, {beside}, 20).deviation, 1e-9);
+  EXPECT_GT(measure(s, {beside}, 20).deviation + (s.field->weightsAt(along(beside, 41)) - plainBeside).cwiseAbs().maxCoeff(), 1e-4)
+      << "the line beside the region needed no correction: the check above cannot fail";
 }
 
 TEST(StructureLinesSlow, ALongLineNearTheCageEdgeLeavesNoRingingAroundIt) {

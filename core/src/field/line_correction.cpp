@@ -80,10 +80,14 @@ std::vector<std::pair<Index, double>> rowOf(const SparseRowMatrix& M, Index r) {
 }  // namespace
 
 LineCorrection::LineCorrection(const Cage& cage, std::span<const StructureLine> lines, std::span<const LineContact> contacts,
-                               double sigma)
+                               double sigma, std::span<const Points> barriers)
     : m_cage(cage), m_edges(loopEdges(cage)) {
   if (!hasInterior(cage) || m_edges.empty()) throw std::invalid_argument("line correction: the cage has no interior");
   if (!(sigma > 0.0) || !std::isfinite(sigma)) throw std::invalid_argument("line correction: sigma must be positive");
+  for (const Points& P : barriers) {
+    if (P.rows() < 3 || P.cols() != 2) throw std::invalid_argument("line correction: a barrier needs at least 3 points");
+    m_barriers.push_back(Cage::polygon(P));
+  }
   const Index n = static_cast<Index>(lines.size());
   for (Index k = 0; k < n; ++k) {
     const StructureLine& l = lines[static_cast<std::size_t>(k)];
@@ -199,15 +203,23 @@ bool LineCorrection::gammas(const Vec2& x, std::vector<double>& gamma, std::vect
     gpsi.push_back(-2.0 * s / r2 * 2.0 * v);
   }
   if (near.empty() || !insideCage(m_cage, x)) return false;
-  double A = 0.0;  // Σ_edges |x − edge|⁻²
+  for (const Cage& b : m_barriers)
+    if (insideCage(b, x)) return false;
+  double A = 0.0;  // Σ_edges |x − edge|⁻² over the cage and the barriers
   Vec2 gA = Vec2::Zero();
-  for (const auto& [i, j] : m_edges) {
-    const Vec2 v = x - closestPointOnSegment(x, m_cage.C.row(i).transpose(), m_cage.C.row(j).transpose());
+  auto addEdge = [&](const Vec2& a, const Vec2& b) {
+    const Vec2 v = x - closestPointOnSegment(x, a, b);
     const double e = v.squaredNorm();
-    if (e == 0.0) return false;  // on the cage: no correction
+    if (e == 0.0) return false;  // on the cage or a barrier: no correction
     A += 1.0 / e;
     gA -= 2.0 * v / (e * e);
-  }
+    return true;
+  };
+  for (const auto& [i, j] : m_edges)
+    if (!addEdge(m_cage.C.row(i).transpose(), m_cage.C.row(j).transpose())) return false;
+  for (const Cage& b : m_barriers)
+    for (Index i = 0; i < b.size(); ++i)
+      if (!addEdge(b.C.row(i).transpose(), b.C.row((i + 1) % b.size()).transpose())) return false;
   const double D = 1.0 / A;
   const Vec2 gD = -gA / (A * A);
   // γ_k = (ψ_k/d_k²) / (Σ_j ψ_j/d_j² + 1/D), multiplied through by D·Π_j d_j² (finite on a line):

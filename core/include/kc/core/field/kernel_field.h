@@ -63,7 +63,7 @@ class KernelField final : public CoordinateField {
   /// gradientsAt — is of the corrected field w̃ once set; null removes it. The data weights W and
   /// the coefficients are the uncorrected field's (the correction is applied on evaluation).
   void setLineCorrection(std::shared_ptr<const LineCorrection> correction) { m_lines = std::move(correction); }
-  const LineCorrection* lineCorrection() const { return m_lines.get(); }
+  std::shared_ptr<const LineCorrection> lineCorrection() const { return m_lines; }
 
   const KernelInterpolator& interpolator() const { return m_interp; }
   const KernelCoefficients& kernelCoefficients() const { return m_coef; }

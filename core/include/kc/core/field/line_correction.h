@@ -18,11 +18,14 @@
 ///
 /// The blend (Shepard's inverse-distance weights, with the cage as a site of zero correction):
 ///   γ_k = (ψ_k / d_k²) / (Σ_j ψ_j / d_j² + 1 / D),   ψ_k = (1 − d_k² / R_k²)² for d_k < R_k, else 0,
-/// d_k = |x − f_k|, D = 1 / Σ_edges |x − edge|⁻² (a smooth stand-in for the squared distance to the
-/// cage), R_k = max(kLineCorrectionLength · |b_k − a_k|, kLineCorrectionSigmas · σ); γ = 0 outside
-/// the cage. On line k γ_k = 1 and the others 0: w̃ = ℓ_k, linear along the line (straight under
-/// any pose) to round-off. On the cage every γ is 0: the cage's boundary weights (Lagrange
-/// property, linear edges) are the field's own. γ is C¹ and fades within R_k of each line.
+/// d_k = |x − f_k|, D = 1 / Σ_edges |x − edge|⁻² over the cage's loop edges and the sides of the
+/// barrier polygons (a smooth stand-in for the squared distance to them), R_k = max(kLineCorrectionLength
+/// · |b_k − a_k|, kLineCorrectionSigmas · σ); γ = 0 outside the cage and inside a barrier (the rigid
+/// regions, whose weights the rigidity QP made). On line k γ_k = 1 and the others 0: w̃ = ℓ_k,
+/// linear along the line (straight under any pose) to round-off, except where the line runs inside
+/// a barrier. On the cage and the barriers every γ is 0: the cage's boundary weights (Lagrange
+/// property, linear edges) and the rigid regions' are the field's own. γ is C¹ and fades within R_k
+/// of each line.
 ///
 /// Each e_k sums to 0 and reproduces 0 (w(f) and ℓ(t) both sum to 1 and reproduce f, the coupling
 /// keeps that), so partition of unity and reproduction carry over exactly. w̃ is linear in the
@@ -56,9 +59,11 @@ class LineCorrection {
   using Gradients = std::function<void(const Points&, SparseRowMatrix&, SparseRowMatrix&)>;
 
   /// Lines inside the closed cage (validateLines; StructureLine::group ≥ 0 joins a parallel
-  /// group), σ the field's largest kernel width (pixels), contacts = lineContacts(lines). Throws
-  /// std::invalid_argument for an open cage, a line of zero length, or σ ≤ 0.
-  LineCorrection(const Cage& cage, std::span<const StructureLine> lines, std::span<const LineContact> contacts, double sigma);
+  /// group), σ the field's largest kernel width (pixels), contacts = lineContacts(lines), barriers
+  /// closed polygons (#n×2 each, n ≥ 3) left uncorrected. Throws std::invalid_argument for an open
+  /// cage, a line of zero length, σ ≤ 0, or a barrier of fewer than 3 points.
+  LineCorrection(const Cage& cage, std::span<const StructureLine> lines, std::span<const LineContact> contacts, double sigma,
+                 std::span<const Points> barriers = {});
 
   /// Base weights and gradients of the field at points (#P×m; dWdx, dWdy #P×m).
   using EvaluateWeights = std::function<Weights(const Points&)>;
@@ -103,6 +108,7 @@ class LineCorrection {
 
   Cage m_cage;
   std::vector<std::array<int, 2>> m_edges;  // the cage's loop edges
+  std::vector<Cage> m_barriers;
   std::vector<Vec2> m_a, m_b;
   std::vector<double> m_reach;
   Points m_sources;            // the ends a_0, b_0, a_1, …, then p_l, q_l of the grouped lines
