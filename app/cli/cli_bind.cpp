@@ -136,7 +136,10 @@ void runBind(const BindArgs& a) {
                 static_cast<long>(r.rigidity.nodes), static_cast<long>(r.rigidity.controls), r.rigidity.solver.iterations,
                 r.rigidity.solver.method != RigidityQpMethod::ActiveSet ? "ADMM iterations" : "active-set rounds",
                 r.rigidity.solver.converged ? "" : ", NOT converged", r.rigidity.seconds);
-  if (!st.lines.empty())
+  if (!st.lines.empty() && s.params.kc.exactLines)
+    std::printf("lines: %zu, kept straight by the field's correction: weights linear along them to %.2e (%.2e without it, %.3f s)\n",
+                st.lines.size(), r.lines.after, r.lines.before, r.lines.seconds);
+  else if (!st.lines.empty())
     std::printf("lines: %zu, field linear along them to %.2e (was %.2e; %ld samples adjusted, %.3f s)\n", st.lines.size(),
                 r.lines.after, r.lines.before, static_cast<long>(r.lines.adjusted), r.lines.seconds);
   std::printf("time: sampling %.3f s, kernel %.3f s, factor %.3f s, init %.3f s, optimize %.3f s, solve %.3f s, total %.3f s\n",
