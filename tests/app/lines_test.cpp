@@ -110,26 +110,30 @@ TEST(StructureLinesSlow, SessionKeepsTheLinesAndTheirWeights) {
 
 TEST(StructureLinesSlow, ReoptimizingSamplesNearALineGivesTheBindsWeightsBack) {
   // A brush stroke re-optimizes a subset of samples; with unchanged targets the session must come
-  // back to the bind's weights, also next to a line (the neighbourhood blend starts again from the
-  // optimizer's weights, not from its own earlier result).
+  // back to the bind's weights, also next to a line: with exact lines (the field's correction follows
+  // the weights), and with sampled lines, as sessions written before them repaint (the neighbourhood
+  // blend starts again from the optimizer's weights, not from its own earlier result).
   const Cage cage = starCage();
-  BindParams p;
   Structure st;
-  st.lines = randomLines(cage, 2, 100.0, 130.0, p.spacing, 5);
-  Session s = bind(cage, st, 320, 320, p);
-  const Weights W = s.W;
-  const Vec2 mid = 0.5 * (st.lines[0].a + st.lines[0].b);
-  std::vector<Index> subset;
-  for (Index i = 0; i < s.samples.size(); ++i)
-    if ((s.samples.X.row(i).transpose() - mid).norm() < 15.0 && s.samples.kind[std::size_t(i)] == SampleKind::Interior)
-      subset.push_back(i);
-  ASSERT_GT(subset.size(), 5u);
-  const auto t0 = std::chrono::steady_clock::now();
-  reoptimize(s, s.params.kc.method, subset);
-  std::printf("re-optimizing %zu samples next to a line: %.1f ms (%ld samples, 2 lines)\n", subset.size(),
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), long(s.samples.size()));
-  EXPECT_LE((s.W - W).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_LE(measure(s, st.lines, 5).deviation, 0.1);
+  st.lines = randomLines(cage, 2, 100.0, 130.0, BindParams{}.spacing, 5);
+  for (const bool exact : {true, false}) {
+    BindParams p;
+    p.kc.exactLines = exact;
+    Session s = bind(cage, st, 320, 320, p);
+    const Weights W = s.W;
+    const Vec2 mid = 0.5 * (st.lines[0].a + st.lines[0].b);
+    std::vector<Index> subset;
+    for (Index i = 0; i < s.samples.size(); ++i)
+      if ((s.samples.X.row(i).transpose() - mid).norm() < 15.0 && s.samples.kind[std::size_t(i)] == SampleKind::Interior)
+        subset.push_back(i);
+    ASSERT_GT(subset.size(), 5u);
+    const auto t0 = std::chrono::steady_clock::now();
+    reoptimize(s, s.params.kc.method, subset);
+    std::printf("re-optimizing %zu samples next to a line (exact %d): %.1f ms (%ld samples, 2 lines)\n", subset.size(), int(exact),
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), long(s.samples.size()));
+    EXPECT_LE((s.W - W).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LE(measure(s, st.lines, 5).deviation, exact ? 1e-9 : 0.1);
+  }
 }
 
 TEST(StructureLinesSlow, APaintedStrokeKeepsExactLinesStraight) {
