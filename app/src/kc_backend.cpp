@@ -210,9 +210,9 @@ class KcBackend final : public Backend {
   void rebuildField(Session& s) const override {
     // Coefficients stored with the session (restored by the loader, K not factorized) are kept
     // when they give the stored weights back at the samples; else the field is solved anew.
-    if (const auto* stored = dynamic_cast<const KernelField*>(s.field.get());
+    if (auto* stored = dynamic_cast<KernelField*>(s.field.get());
         stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s)) {
-      installLineCorrection(s, *dynamic_cast<KernelField*>(s.field.get()));
+      installLineCorrection(s, *stored);
       return;
     }
     auto field = std::make_unique<KernelField>();

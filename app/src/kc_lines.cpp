@@ -41,12 +41,7 @@ double lineMisfit(const KernelField& field, std::span<const StructureLine> lines
   constexpr Index kPoints = 101;
   double worst = 0.0;
   for (const StructureLine& l : lines) {
-    Points Q(kPoints, 2);
-    for (Index k = 0; k < kPoints; ++k) {
-      const double t = double(k) / double(kPoints - 1);
-      Q.row(k) = ((1.0 - t) * l.a + t * l.b).transpose();
-    }
-    const Weights W = field.weightsAt(Q);
+    const Weights W = field.weightsAt(lineSamplePoints(l, l.length() / double(kPoints - 1)));
     for (Index k = 0; k < kPoints; ++k) {
       const double t = double(k) / double(kPoints - 1);
       worst = std::max(worst, (W.row(k) - (1.0 - t) * W.row(0) - t * W.row(kPoints - 1)).cwiseAbs().sum());
