@@ -65,11 +65,17 @@ std::uint64_t splitmix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+/// A leaf of the graded start is split while its side exceeds kLeafSpacings·√cellArea·h(centre),
+/// so a leaf expects 1 to 4 samples: every leaf of a narrow corridor gets at least one. With
+/// leaves of one sample or less, a corridor a few samples wide starts with runs of empty leaves,
+/// and the relaxation spreads its samples along it over O(n²) iterations.
+constexpr double kLeafSpacings = 2.0;
+
 /// Visits the cells of the graded start: root cells of side c0 = √cellArea·hMax over `rect`
 /// (those meeting `keep` when given), each split into four while its side exceeds
-/// √cellArea·h(centre); f(cell rectangle, probability, id) for every leaf, the probability
-/// side² / (cellArea·h(centre)²) ≤ 1 of its one sample, so the expected density is 1/(cellArea·h²).
-/// Leaves below a side of hMin·√cellArea/2 are not split further.
+/// kLeafSpacings·√cellArea·h(centre); f(cell rectangle, expected count, id) for every leaf, the
+/// expected count side² / (cellArea·h(centre)²) of its samples, so the expected density is
+/// 1/(cellArea·h²). Leaves below a side of hMin·√cellArea/2 are not split further.
 template <class F>
 void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, const Rect* keep, F&& f) {
   const double root = std::sqrt(cellArea);
@@ -80,7 +86,7 @@ void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, c
     const Vec2 centre(0.5 * (cell.x0 + cell.x1), 0.5 * (cell.y0 + cell.y1));
     const double hc = sizing(centre);
     const double side = std::max(cell.width(), cell.height());
-    if (side > root * hc && side > floorSide) {
+    if (side > kLeafSpacings * root * hc && side > floorSide) {
       const double xm = centre.x(), ym = centre.y();
       const std::uint64_t child = splitmix(id);
       self(self, {cell.x0, cell.y0, xm, ym}, child + 1);
@@ -89,7 +95,7 @@ void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, c
       self(self, {xm, ym, cell.x1, cell.y1}, child + 4);
       return;
     }
-    f(cell, std::min(1.0, cell.area() / (cellArea * hc * hc)), id);
+    f(cell, cell.area() / (cellArea * hc * hc), id);
   };
   for (Index j = 0; j < g.ny; ++j)
     for (Index i = 0; i < g.nx; ++i) {
@@ -129,25 +135,25 @@ Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizi
   const CageEdgeGrid locator(obstacles ? *obstacles : cage, sizing.hMax());
   const CageQueries queries(cage);
   std::vector<Vec2> inside, outside;
-  // Cells whose probability is below 1 (the refined ones) keep a sample when the running sum of
-  // their probabilities, in the quadtree's order, passes a whole number: the count over any run of
-  // neighbouring cells is then within one of its expectation (no Poisson clumps and holes for the
-  // relaxation to smooth out). The sum starts at a random offset; positions are random per cell.
+  // A leaf gets as many samples as the running sum of the expected counts, in the quadtree's order,
+  // passes whole numbers: the count over any run of neighbouring leaves is then within one of its
+  // expectation (no Poisson clumps and holes for the relaxation to smooth out). The sum starts at a
+  // random offset; positions are random in the leaf.
   double carry = static_cast<double>(splitmix(seed) >> 11) * 0x1.0p-53;
   gradedCells(anchored ? *cellGrid : domain, sizing, cellArea, anchored ? &domain : nullptr,
-              [&](const Rect& cell, double probability, std::uint64_t id) {
+              [&](const Rect& cell, double expected, std::uint64_t id) {
                 const std::uint64_t base = splitmix(seed ^ splitmix(id));
                 auto draw = [&](std::uint64_t k) { return static_cast<double>(splitmix(base + k) >> 11) * 0x1.0p-53; };
-                if (probability < 1.0) {
-                  carry += probability;
-                  if (carry < 1.0) return;
-                  carry -= 1.0;
+                carry += expected;
+                const int count = static_cast<int>(carry);
+                carry -= count;
+                for (int m = 0; m < count; ++m) {
+                  const Vec2 p(cell.x0 + draw(1 + 2 * m) * cell.width(), cell.y0 + draw(2 + 2 * m) * cell.height());
+                  const double minDistance = 0.5 * sizing(p);
+                  if (domain.insideDistance(p) < minDistance) continue;
+                  if (locator.distance(p, minDistance) < minDistance) continue;
+                  (queries.inside(p) ? inside : outside).push_back(p);
                 }
-                const Vec2 p(cell.x0 + draw(1) * cell.width(), cell.y0 + draw(2) * cell.height());
-                const double minDistance = 0.5 * sizing(p);
-                if (domain.insideDistance(p) < minDistance) return;
-                if (locator.distance(p, minDistance) < minDistance) return;
-                (queries.inside(p) ? inside : outside).push_back(p);
               });
   interiorCount = static_cast<Index>(inside.size());
   inside.insert(inside.end(), outside.begin(), outside.end());

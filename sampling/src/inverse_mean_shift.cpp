@@ -25,6 +25,9 @@ constexpr double kRelStale = 0.1;
 /// its spacing has grown by this fraction, since they were built (see the loop).
 constexpr double kListMove = 0.15;
 constexpr double kListGrowth = 0.05;
+/// How far (in the sample's spacings) a free sample's distance to the cage is measured when its
+/// neighbour list is built (see the move's clearance test).
+constexpr double kWallReach = 2.0;
 
 /// X plus, for a periodic domain, copies of the samples near a side shifted by the period, so
 /// that plain neighbour queries see the torus. ghostOf maps each row to its original sample.
@@ -141,6 +144,10 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   Points listAt;                // positions when the lists were built
   std::vector<double> listRel;  // spacings when the lists were built (free samples, / h)
   std::vector<unsigned char> stale(static_cast<std::size_t>(nFree));
+  // Off the torus, each free sample's distance to the cage where its list was built (up to
+  // kWallReach of its spacing): a move whose segment stays farther from there than that distance
+  // less the clearance (triangle inequality) is clear without querying the cage's edges.
+  std::vector<double> wallAt(lists && locator ? static_cast<std::size_t>(nFree) : 0);
   if (!sizing) rel.assign(static_cast<std::size_t>(n), 1.0);  // uniform: h_k = h everywhere
 
   for (int it = 0; it < options.maxIterations; ++it) {
@@ -184,6 +191,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
           const Vec2 xk = X.row(k);
           const double rk = rel[static_cast<std::size_t>(k)], limit2 = cl * cl * h * h;
           std::vector<Index>& list = neighbours[static_cast<std::size_t>(f)];
+          if (!wallAt.empty()) wallAt[static_cast<std::size_t>(f)] = locator->distance(xk, kWallReach * rk * h);
           list.clear();
           grid.forEachWithin(xk, h * reach(rk), [&](Index j, double d2) {
             const double rj = rel[static_cast<std::size_t>(j)];
@@ -224,7 +232,9 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         step = to - xk;
       }
       unsigned char refused = 0;
-      if (!allowed(xk, to, rk)) {
+      const bool farFromCage = !wallAt.empty() && wallAt[static_cast<std::size_t>(f)] - (xk - Vec2(listAt.row(k))).norm() -
+                                                      step.norm() > clearance * rk * (1.0 + 1e-9);
+      if (!farFromCage && !allowed(xk, to, rk)) {
         to = xk + 0.5 * step;  // one retry with half the step, then stay
         if (!allowed(xk, to, rk)) {
           to = xk;

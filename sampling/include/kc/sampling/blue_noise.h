@@ -43,11 +43,11 @@ double gradedCountEstimate(const Rect& domain, const SizingField& sizing, double
 
 /// Random start for the free samples of a graded sampling: cells of side √cellArea·hMax over
 /// `domain` (or over `cellGrid`, keeping those meeting `domain`), split into four while larger than
-/// √cellArea·h(centre), each leaf worth side²/(cellArea·h(centre)²) ≤ 1 samples: a leaf worth 1
-/// holds one uniformly placed sample, the others one each time the running sum of their worth (in
-/// the quadtree's order, from a random offset) passes a whole number, so the density is
-/// 1/(cellArea·h(x)²) without clumps; samples closer than h(p)/2 to the obstacles or the domain's
-/// boundary are dropped. Positions are drawn per cell (seed and cell). Rows: interior first.
+/// 2·√cellArea·h(centre), each leaf worth side²/(cellArea·h(centre)²) samples (up to 4): a leaf
+/// holds one uniformly placed sample each time the running sum of the leaves' worth (in the
+/// quadtree's order, from a random offset) passes a whole number, so the density is
+/// 1/(cellArea·h(x)²) without clumps or empty runs; samples closer than h(p)/2 to the obstacles or
+/// the domain's boundary are dropped. Positions are drawn per cell (seed and cell). Rows: interior first.
 Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizing, double cellArea, std::uint64_t seed,
                    Index& interiorCount, const Cage* obstacles = nullptr, const Rect* cellGrid = nullptr);
 
