@@ -66,7 +66,7 @@ std::uint64_t splitmix(std::uint64_t x) {
 }
 
 /// A leaf of the graded start is split while its side exceeds kLeafSpacings·√cellArea·h(centre),
-/// so a leaf expects 1 to 4 samples: every leaf of a narrow corridor gets at least one. With
+/// so a leaf expects about 1 to 4 samples: every leaf of a narrow corridor gets at least one. With
 /// leaves of one sample or less, a corridor a few samples wide starts with runs of empty leaves,
 /// and the relaxation spreads its samples along it over O(n²) iterations.
 constexpr double kLeafSpacings = 2.0;

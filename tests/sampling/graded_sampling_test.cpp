@@ -72,7 +72,7 @@ TEST(GradedSampling, FollowsTheLocalSpacing) {
   }
 }
 
-TEST(GradedSampling, ANarrowCorridorSettlesAsFastAsTheRest) {
+TEST(GradedSampling, ANarrowCorridorSettlesWithoutALongDrift) {
   // The start puts at least one sample in every leaf of its quadtree, so the 3 px slit (a corridor
   // about 3.5 samples wide and 150 px long) starts without empty runs, which its samples would
   // otherwise spread along it over O(n²) iterations (seeds 1-5: 132-164 iterations with leaves of
