@@ -136,7 +136,7 @@ void runBind(const BindArgs& a) {
                 static_cast<long>(r.rigidity.nodes), static_cast<long>(r.rigidity.controls), r.rigidity.solver.iterations,
                 r.rigidity.solver.method != RigidityQpMethod::ActiveSet ? "ADMM iterations" : "active-set rounds",
                 r.rigidity.solver.converged ? "" : ", NOT converged", r.rigidity.seconds);
-  if (!st.lines.empty() && s.params.kc.exactLines)
+  if (!st.lines.empty() && app::exactLines(s.params))
     std::printf("lines: %zu, kept straight by the field's correction: weights linear along them to %.2e (%.2e without it, %.3f s)\n",
                 st.lines.size(), r.lines.after, r.lines.before, r.lines.seconds);
   else if (!st.lines.empty())

@@ -42,9 +42,10 @@ double lineMisfit(const KernelField& field, std::span<const StructureLine> lines
   double worst = 0.0;
   for (const StructureLine& l : lines) {
     const Weights W = field.weightsAt(lineSamplePoints(l, l.length() / double(kPoints - 1)));
-    for (Index k = 0; k < kPoints; ++k) {
-      const double t = double(k) / double(kPoints - 1);
-      worst = std::max(worst, (W.row(k) - (1.0 - t) * W.row(0) - t * W.row(kPoints - 1)).cwiseAbs().sum());
+    const Index last = W.rows() - 1;
+    for (Index k = 0; k <= last; ++k) {
+      const double t = double(k) / double(last);
+      worst = std::max(worst, (W.row(k) - (1.0 - t) * W.row(0) - t * W.row(last)).cwiseAbs().sum());
     }
   }
   return worst;
@@ -156,11 +157,7 @@ LineFigures measureLines(const Session& s, const std::vector<StructureLine>& lin
   std::vector<Points> P;
   std::vector<Weights> W;
   for (const StructureLine& l : lines) {
-    Points Q(kPoints, 2);
-    for (Index k = 0; k < kPoints; ++k) {
-      const double t = double(k) / double(kPoints - 1);
-      Q.row(k) = ((1.0 - t) * l.a + t * l.b).transpose();
-    }
+    Points Q = lineSamplePoints(l, l.length() / double(kPoints - 1));
     W.push_back(s.field->weightsAt(Q));
     f.unity = std::max(f.unity, (W.back().rowwise().sum().array() - 1.0).abs().maxCoeff());
     f.reproduction = std::max(f.reproduction, (W.back() * s.cage.C - Q).cwiseAbs().maxCoeff());

@@ -182,11 +182,10 @@ TEST(StructureLinesSlow, ALineAlongARigidRegionLeavesTheRegionAsTheRigidityMadeI
   kernel->setLineCorrection(nullptr);
   const Weights plain = kernel->weightsAt(inside);
   EXPECT_TRUE(corrected == plain) << "the correction reached into the rigid region";
-  const Weights plainBeside = kernel->weightsAt(along(beside, 41));
+  const double plainBend = measure(s, {beside}, 20).deviation;
   kernel->setLineCorrection(correction);
   EXPECT_LE(measure(s, {beside}, 20).deviation, 1e-9);
-  EXPECT_GT(measure(s, {beside}, 20).deviation + (s.field->weightsAt(along(beside, 41)) - plainBeside).cwiseAbs().maxCoeff(), 1e-4)
-      << "the line beside the region needed no correction: the check above cannot fail";
+  EXPECT_GT(plainBend, 1e-3) << "the line beside the region is straight without the correction: the check above cannot fail";
 }
 
 TEST(StructureLinesSlow, ALongLineNearTheCageEdgeLeavesNoRingingAroundIt) {

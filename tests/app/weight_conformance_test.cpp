@@ -226,7 +226,7 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // and extra area sit between limbs and fingers, where the Euclidean kernel reaches across the gap
 // outside. The deepest weight on the 2-px grid depends on where the samples fall against the grid
 // (kcwarp-cli bind --seed 1 to 12, then kcwarp-cli stats): the person −0.049 to −0.111 (at the
-// armpit, where a 1-px grid finds −0.12 to −0.13 for every seed tried), the hand −0.041 to −0.061.
+// armpit, where a 1-px grid finds −0.12 to −0.13 for seeds 1 and 4 alike), the hand −0.041 to −0.061.
 // Unscreened targets without the lobe
 // guard (the default before) moved 1.7×, 2.0×, 1.7× and 1.8× LBC's area on the first four, with
 // lobes −0.010, −0.135, −0.134, −0.087.
