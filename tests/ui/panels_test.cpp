@@ -270,6 +270,27 @@ TEST(BindPanel, AutoSpacingFollowsThePictureAndTheSliderWinsWhenOff) {
   EXPECT_DOUBLE_EQ(bindParamsFor(state, cageOver(4000, 3000), 4000, 3000).spacing, 3.5);
 }
 
+/// The locality length shown next to "Local targets" is the one Bind's screened targets will use:
+/// app::localityLength at the automatic spacing, not at the slider's (greyed) value.
+TEST(BindPanel, LocalityShownIsTheBindsUnderAutoSpacing) {
+  AppState state;
+  state.worker.setSynchronous(true);
+  state.source = test::sceneImage(2000, 1500);
+  Points C(4, 2);  // a long, thin strip: 1.5 spacings, not its depth, sets the length
+  C << 200, 700, 1800, 700, 1800, 740, 200, 740;
+  const Cage cage = Cage::polygon(C);
+  setDraftCage(state, cage);
+  ASSERT_TRUE(state.autoSpacing && state.cageValid);
+  ASSERT_EQ(state.bindParams.spacing, 6.0);
+  const double h = bindParamsFor(state, cage, 2000, 1500).spacing;
+  ASSERT_GT(h, 7.0) << "the automatic spacing must differ from the slider's for this test to mean anything";
+  const double used = app::localityLength(cage, h, state.bindParams.kc.localitySpacings);
+  EXPECT_NE(used, app::localityLength(cage, 6.0, state.bindParams.kc.localitySpacings));
+  EXPECT_DOUBLE_EQ(spacingPlan(state).locality, used);
+  state.bindParams.kc.localitySpacings = 3.0;  // a change of the setting is seen at once
+  EXPECT_DOUBLE_EQ(spacingPlan(state).locality, app::localityLength(cage, h, 3.0));
+}
+
 /// The spacing shown next to "Auto spacing" is the one Bind will use: switching Initialization to
 /// LBC (whose kernel samples lie at half a plain bind's spacing) changes it at once.
 TEST(BindPanel, AutoSpacingShownFollowsTheInitialization) {

@@ -170,9 +170,11 @@ void drawBindPanel(AppState& state) {
     ImGui::TextDisabled("%s", spacingRange(plan.minSpacing, plan.spacing).c_str());
     tooltip(plannedSpacingTip(plan, lbc).c_str());
   }
+  // What the next bind uses: the automatic spacing under Auto spacing, else the slider's.
+  const double bindSpacing = state.autoSpacing && planned ? spacingPlan(state).spacing : p.spacing;
   ImGui::BeginDisabled(state.autoSpacing);
   // Greyed under Auto spacing, the slider shows the spacing the bind will use, not the last one set.
-  float spacing = static_cast<float>(state.autoSpacing && planned ? spacingPlan(state).spacing : p.spacing);
+  float spacing = static_cast<float>(bindSpacing);
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
   ImGui::EndDisabled();
   std::string tip = state.autoSpacing ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
@@ -207,9 +209,7 @@ void drawBindPanel(AppState& state) {
     p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   if (autoSigma) {
-    // From the spacing the bind will use (the automatic one when Auto spacing is on).
-    const double h = state.autoSpacing && !state.source.empty() && state.cageValid ? spacingPlan(state).spacing : p.spacing;
-    ImGui::TextDisabled("about %.2f px", app::automaticSigma(h));
+    ImGui::TextDisabled("about %.2f px", app::automaticSigma(bindSpacing));
     tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
             "Where the samples lie closer (narrow places), sigma is smaller in proportion.");
   } else {
@@ -240,19 +240,8 @@ void drawBindPanel(AppState& state) {
     }
     if (screened) {
       ImGui::SameLine();
-      // In spacings (follows the spacing, the default) or, once edited, in pixels.
-      const double spacing = std::max(p.spacing, 1e-9);
-      // The cage's depth decides it in a deep shape: measured again only when the cage or spacing changes.
-      static Points lastCage;
-      static double lastSpacing = -1.0, lastSpacings = -1.0, lastLength = 0.0;
-      if (p.kc.localitySpacings > 0.0 &&
-          (spacing != lastSpacing || p.kc.localitySpacings != lastSpacings || lastCage.rows() != state.cage.C.rows() || lastCage != state.cage.C)) {
-        lastCage = state.cage.C;
-        lastSpacing = spacing;
-        lastSpacings = p.kc.localitySpacings;
-        lastLength = app::localityLength(state.cage, spacing, p.kc.localitySpacings);
-      }
-      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? lastLength
+      // In spacings (follows the spacing the bind will use, the default) or, once edited, in pixels.
+      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? spacingPlan(state).locality
                                           : p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C)
                                                                     : p.kc.init.locality);
       ImGui::SetNextItemWidth(100);
@@ -261,7 +250,7 @@ void drawBindPanel(AppState& state) {
         p.kc.localitySpacings = 0.0;
       }
       tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings, more in a deep shape "
-              "with few points. Binds with structure lines keep smooth influences.");
+              "with few points.");
     }
   }
   enumCombo("Interpolation", p.kc.interp, interps,
