@@ -1,5 +1,7 @@
 #include "dense_blas.h"
 
+#include "blas_threads.h"
+
 #include <algorithm>
 #include <cstddef>
 #include <limits>
@@ -31,6 +33,7 @@ int lead(Eigen::Index stride, Eigen::Index rows) { return narrow(std::max<Eigen:
 }  // namespace
 
 bool cholesky(Eigen::Ref<Eigen::MatrixXd> A) {
+  detail::serialBlas();
   const int n = narrow(A.rows()), lda = lead(A.outerStride(), A.rows());
   if (n == 0) return true;
   int info = 0;
@@ -39,6 +42,7 @@ bool cholesky(Eigen::Ref<Eigen::MatrixXd> A) {
 }
 
 void solveLower(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::Ref<Eigen::MatrixXd> B, bool transpose) {
+  detail::serialBlas();
   const int m = narrow(B.rows()), n = narrow(B.cols());
   if (m == 0 || n == 0) return;
   const int lda = lead(L.outerStride(), L.rows()), ldb = lead(B.outerStride(), B.rows());
@@ -47,6 +51,7 @@ void solveLower(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::Ref<Eigen::Ma
 }
 
 void solveLowerTransposeRight(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen::Ref<Eigen::MatrixXd> B) {
+  detail::serialBlas();
   const int m = narrow(B.rows()), n = narrow(B.cols());
   if (m == 0 || n == 0) return;
   const int lda = lead(L.outerStride(), L.rows()), ldb = lead(B.outerStride(), B.rows());
@@ -55,6 +60,7 @@ void solveLowerTransposeRight(const Eigen::Ref<const Eigen::MatrixXd>& L, Eigen:
 }
 
 void rankUpdateLower(Eigen::Ref<Eigen::MatrixXd> C, const Eigen::Ref<const Eigen::MatrixXd>& A, double alpha, double beta, bool transposeA) {
+  detail::serialBlas();
   const int n = narrow(C.rows()), k = narrow(transposeA ? A.rows() : A.cols());
   if (n == 0) return;
   const int lda = lead(A.outerStride(), A.rows()), ldc = lead(C.outerStride(), C.rows());
@@ -63,6 +69,7 @@ void rankUpdateLower(Eigen::Ref<Eigen::MatrixXd> C, const Eigen::Ref<const Eigen
 
 void multiply(Eigen::Ref<Eigen::MatrixXd> C, const Eigen::Ref<const Eigen::MatrixXd>& A, bool transposeA,
               const Eigen::Ref<const Eigen::MatrixXd>& B, bool transposeB, double alpha, double beta) {
+  detail::serialBlas();
   const int m = narrow(C.rows()), n = narrow(C.cols()), k = narrow(transposeA ? A.rows() : A.cols());
   if (m == 0 || n == 0) return;
   const int lda = lead(A.outerStride(), A.rows()), ldb = lead(B.outerStride(), B.rows()), ldc = lead(C.outerStride(), C.rows());

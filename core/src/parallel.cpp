@@ -2,13 +2,23 @@
 
 #include <omp.h>
 
+#include "blas_threads.h"
+
 #include <algorithm>
 #include <exception>
 #include <vector>
 
+// OpenBLAS's thread count, when the BLAS loaded is OpenBLAS (weak: null otherwise).
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+extern "C" int openblas_get_num_threads() __attribute__((weak));
+
 namespace kc {
 namespace {
 int g_threads = 0;  // 0 = OpenMP default
+}
+
+void detail::serialBlas() {
+  if (openblas_set_num_threads && openblas_get_num_threads && openblas_get_num_threads() != 1) openblas_set_num_threads(1);
 }
 
 int threadCount() { return g_threads > 0 ? g_threads : omp_get_max_threads(); }

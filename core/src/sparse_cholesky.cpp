@@ -99,6 +99,7 @@ void PermutedCholesky::release() {
 }
 
 void PermutedCholesky::compute(SparseMatrix&& A) {
+  serialBlas();
   release();
   m_outOfMemory = false;
   cholmod_common& c = m_cholmod->common;

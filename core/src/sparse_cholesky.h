@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "blas_threads.h"
 #include "kc/core/kernel/kernel_matrix.h"
 
 namespace kc::detail {
@@ -19,6 +20,7 @@ class SupernodalCholesky : public Eigen::CholmodSupernodalLLT<SparseMatrix> {
   /// of memory) leaves info() != Success and outOfMemory() true instead of dereferencing a null
   /// factor; CHOLMOD prints nothing (failures are reported, STYLE.md "Errors").
   SupernodalCholesky& compute(const SparseMatrix& K) {
+    serialBlas();
     cholmod().print = 0;
     m_outOfMemory = false;
     analyzePattern(K);

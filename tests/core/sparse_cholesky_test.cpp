@@ -8,6 +8,10 @@
 #include "kc/core/kernel/kernel_matrix.h"
 #include "point_problems.h"
 
+// OpenBLAS's thread count, when the BLAS loaded is OpenBLAS (weak: null otherwise).
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+extern "C" int openblas_get_num_threads() __attribute__((weak));
+
 namespace kc {
 namespace {
 
@@ -62,6 +66,15 @@ TEST(PermutedCholesky, ReleaseFreesTheFactor) {
   llt.release();
   EXPECT_FALSE(llt.ok());
   EXPECT_EQ(llt.pivotRatio(), 0.0);
+}
+
+TEST(PermutedCholesky, RunsAThreadedOpenBlasOnOneThread) {
+  if (!openblas_set_num_threads || !openblas_get_num_threads) GTEST_SKIP() << "the BLAS loaded is not OpenBLAS";
+  openblas_set_num_threads(2);  // as OpenBLAS starts on a 2-core machine without OMP_NUM_THREADS
+  PermutedCholesky llt;
+  llt.compute(kernelMatrix());
+  ASSERT_TRUE(llt.ok());
+  EXPECT_EQ(openblas_get_num_threads(), 1) << "idle OpenBLAS workers would spin beside parallelFor's threads";
 }
 
 }  // namespace
