@@ -75,6 +75,12 @@ void runBind(const BindArgs& a) {
   p.lbc.tolerance = a.lbcTolerance;
   p.lbc.maxIterations = a.lbcMaxIterations;
   app::asUserInput("--backend", [&] { app::backendFor(p.backend); });
+  app::Structure st;  // read before anything is printed: a bad file stops the bind with its one message
+  if (!a.structure.empty()) {
+    st = app::loadStructure(a.structure);
+    if (const std::string refusal = app::structureRefusal(st, app::backendFor(p.backend)); !refusal.empty())
+      throw app::InputError(a.structure, refusal);
+  }
   if (a.spacingOption && a.spacingOption->count() == 0) {
     p.spacing = app::automaticSpacing(cage, w, h, p);
     if (p.kc.init.method == InitMethod::Lbc && p.backend == "kc")
@@ -101,13 +107,8 @@ void runBind(const BindArgs& a) {
       if (f >= 1.0) std::fprintf(stderr, "\n");
       return true;
     };
-  app::Structure st;
-  if (!a.structure.empty()) {
-    st = app::loadStructure(a.structure);
-    if (const std::string refusal = app::structureRefusal(st, app::backendFor(p.backend)); !refusal.empty())
-      throw app::InputError(a.structure, refusal);
+  if (!a.structure.empty())
     app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p) || app::exactLines(p));
-  }
   app::Session s = app::bind(cage, st, w, h, p, &r, progress);
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
   app::releaseFactorization(s);  // not needed to save: the save's text then never meets the factor in memory

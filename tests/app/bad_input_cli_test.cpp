@@ -203,6 +203,19 @@ TEST_F(BadInput, APictureOrBinaryFileGivenAsJsonIsNamedAsSuch) {
   EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
 }
 
+TEST_F(BadInput, ABadStructureFileStopsTheBindBeforeItPrintsAnything) {
+  // A cage large enough that the spacing is automatic and worth a line of its own on a good bind.
+  writeText(m_dir / "big.json", R"({"version": 1, "points": [[100,100],[3900,100],[3900,3900],[100,3900]], "closed": true})");
+  writeText(m_dir / "lines.json", R"({"version": 1, "lines": [[[500, 500], [2000, )");
+  const Timed good = runTimed("bind --cage big.json --size 4000,4000 -o good.kcw.json", m_dir);
+  ASSERT_EQ(good.r.code, 0) << good.r.err;
+  ASSERT_TRUE(contains(good.r.out, "spacing: automatic")) << good.r.out;
+  expectRefused("bind --cage big.json --size 4000,4000 --structure lines.json -o out.kcw.json", "lines.json: malformed JSON");
+  const Timed bad = runTimed("bind --cage big.json --size 4000,4000 --structure lines.json -o out.kcw.json", m_dir);
+  EXPECT_EQ(bad.r.out, "") << "stdout of a refused bind";
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
 TEST_F(BadInput, SessionNanLiteral) {
   std::string text = session().dump();
   const std::string key = "\"sigma\":";
