@@ -3,11 +3,15 @@
 // backend. Clicks land on widgets found by their visible label, as a person finds them.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <thread>
 
 #include <imgui_internal.h>
 
+#include "cli_run.h"
 #include "kc/ui/document.h"
 #include "kc/ui/frame.h"
 #include "kc/ui/jobs.h"
@@ -48,6 +52,43 @@ TEST(Window, NewcomerDrawsACageClicksBindAndPoses) {
   EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(30, -20), 1.0)) << s->pose[1].translate.transpose();
   EXPECT_EQ(s->undo.undoCount(), 1u);
   EXPECT_GT(s->deformReport.seconds, 0.0) << "the picture was not re-deformed";
+}
+
+TEST(FileMenu, ExportPngDoesWhatCtrlEDoesAndExportPngAsAsksForANewFile) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  const std::filesystem::path dir = test::scratchDir("ui_file_menu_export");
+  s->imagePath = (dir / "shot.png").string();
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  auto choose = [&](const char* item) {
+    gui.frame(draw);
+    gui.clickLabel(*s, "File", draw);
+    gui.frame(draw);  // the menu opens and lays out its items
+    gui.clickLabel(*s, item, draw);
+  };
+  // Nothing exported yet: Export PNG asks where, as Ctrl+E does.
+  choose("Export PNG");
+  ASSERT_EQ(s->pathDialog, PathPurpose::Export);
+  EXPECT_EQ(s->pathDialogText, (dir / "shot-warped.png").string());
+  gui.frame(draw);
+  gui.clickLabel(*s, "Cancel", draw);
+  ASSERT_EQ(s->pathDialog, PathPurpose::None);
+  // After an export: Export PNG writes the same file again without a question (Ctrl+E)...
+  const std::filesystem::path last = dir / "shot-warped.png";
+  std::ofstream(last) << "the earlier export";
+  s->exportPath = last.string();
+  choose("Export PNG");
+  EXPECT_EQ(s->pathDialog, PathPurpose::None) << "no dialog: the last export's file is written again";
+  for (int k = 0; k < 300 && (s->worker.busy() || test::slurp(last) == "the earlier export"); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    pollWorker(*s);
+  }
+  EXPECT_EQ(test::slurp(last).substr(1, 3), "PNG") << "the export ran";
+  // ... and Export PNG as... proposes a new file (Ctrl+Shift+E).
+  choose("Export PNG as...");
+  ASSERT_EQ(s->pathDialog, PathPurpose::Export);
+  EXPECT_EQ(s->pathDialogText, (dir / "shot-warped-2.png").string());
 }
 
 TEST(Window, EveryPanelControlHasItsVisibleLabel) {

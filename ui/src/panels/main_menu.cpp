@@ -1,5 +1,7 @@
 #include <imgui.h>
 
+#include <string>
+
 #include "kc/ui/document.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
@@ -19,7 +21,10 @@ void markWidget(AppState& state, const char* label) {
 float drawMainMenu(AppState& state) {
   if (!ImGui::BeginMainMenuBar()) return 0.0f;
   const bool idle = !state.worker.busy();
-  if (ImGui::BeginMenu("File")) {
+  const bool fileMenu = ImGui::BeginMenu("File");
+  markWidget(state, "File");
+  tooltip("Open pictures, sessions and cages; save; export the warped picture.");
+  if (fileMenu) {
     if (ImGui::MenuItem("New", "Ctrl+N", false, idle)) unlessUnsaved(state, "New", newDocument);
     tooltip("Close the picture (asks first when something is unsaved).");
     if (ImGui::MenuItem("Open...", "Ctrl+O", false, idle)) requestPath(state, PathPurpose::Open, state.imagePath);
@@ -40,8 +45,14 @@ float drawMainMenu(AppState& state) {
     tooltip("Save everything (cage, weights, pose) to come back later without binding again.");
     if (ImGui::MenuItem("Save session as...", "Ctrl+Shift+S", false, state.bound)) saveCommand(state, true);
     tooltip("Save everything to a new file name.");
-    if (ImGui::MenuItem("Export PNG...", "Ctrl+E", false, state.bound)) exportCommand(state, true);
-    tooltip("Write the warped picture, full size, as a PNG.");
+    // The same commands as the shortcuts shown beside them (shortcuts.cpp).
+    if (ImGui::MenuItem("Export PNG", "Ctrl+E", false, state.bound)) exportCommand(state, false);
+    markWidget(state, "Export PNG");
+    const std::string again = "Write the warped picture, full size, again to " + state.exportPath + " (replacing it).";
+    tooltip(state.exportPath.empty() ? "Write the warped picture, full size, as a PNG (you choose the file)." : again.c_str());
+    if (ImGui::MenuItem("Export PNG as...", "Ctrl+Shift+E", false, state.bound)) exportCommand(state, true);
+    markWidget(state, "Export PNG as...");
+    tooltip("Write the warped picture, full size, as a PNG to a new file.");
     ImGui::Separator();
     if (ImGui::MenuItem("Load cage...")) requestPath(state, PathPurpose::LoadCage, "");
     tooltip("Read a cage outline from a JSON file (it is bound right away).");
