@@ -1,5 +1,5 @@
 // kcwarp-cli bench --graded: cages drawn tightly (legs 4 px apart and arms 6 px from the torso, a
-// 3 px slit, a 2 px neck; tests/data/narrow) against the same cages with their gaps widened to
+// 3 px slit, a 2 px neck, an arm meeting the torso at a 2.9° armpit; tests/data/narrow) against the same cages with their gaps widened to
 // 40 px, bound with defaults by each backend: bind time and its ratio, samples, partition of unity
 // and reproduction inside the cage, and the weight that leaks across a gap. Then one neck on a
 // 12-megapixel picture against the same scene at 0.1 megapixel.
@@ -46,9 +46,13 @@ std::vector<NarrowCase> narrowCases() {
   // controls right of the slit at its top, 280 px round it.
   auto leftLeg = [](const Vec2& c) { return c.x() < 200.0 && c.y() > 400.0; };
   auto rightTop = [](const Vec2& c) { return c.x() > 150.0 && c.y() < 60.0; };
+  // armpit: the torso's wall x = 180 beside the arm, from 10 px below the armpit to 30 px above the
+  // wedge's mouth; far: the arm's lower controls.
+  auto lowerArm = [](const Vec2& c) { return c.x() > 185.0 && c.y() > 250.0; };
   return {{"person", {202.0, 1.0, 400.0, 460.0, leftLeg}, {220.0, 1.0, 400.0, 460.0, leftLeg}},
           {"slit", {148.5, -1.0, 55.0, 120.0, rightTop}, {130.0, -1.0, 55.0, 120.0, rightTop}},
-          {"neck", {}, {}, false}};
+          {"neck", {}, {}, false},
+          {"armpit", {180.0, -1.0, 110.0, 270.0, lowerArm}, {180.0, -1.0, 110.0, 270.0, lowerArm}}};
 }
 
 struct Quality {

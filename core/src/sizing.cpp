@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -153,10 +154,28 @@ double pairSpacing(double width, bool extra, const SizingOptions& o) {
   return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : narrowSpacing(width, o);
 }
 
+/// Whether cage edges s and t, which share an end, meet at less than the angle whose cosine is
+/// `cosWedge` with the outside of the closed cage `cage` between them (a wedge, kWedgeDegrees).
+bool isWedge(const FeatureGraph& g, std::size_t s, std::size_t t, double cosWedge, const CageQueries& cage) {
+  if (g.extra[s] || g.extra[t]) return false;
+  const auto& es = g.E[s];
+  const auto& et = g.E[t];
+  const int v = et[0] == es[0] || et[0] == es[1] ? et[0] : et[1];
+  const int a = es[0] == v ? es[1] : es[0], b = et[0] == v ? et[1] : et[0];
+  if (a == b) return false;
+  const Vec2 V = g.V.row(v), ua = Vec2(g.V.row(a)) - V, ub = Vec2(g.V.row(b)) - V;
+  const double la = ua.norm(), lb = ub.norm();
+  if (!(ua.dot(ub) > cosWedge * la * lb)) return false;
+  // A point on the bisector just off the shared vertex lies between the two edges.
+  const Vec2 bisector = ua / la + ub / lb;
+  return !cage.inside(V + 1e-3 * std::min(la, lb) * bisector.normalized());
+}
+
 /// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along
-/// each segment, and at vertices (their shortest incident segment). With `outsideGaps`, a gap
-/// whose middle lies outside that cage does not count.
-std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, const CageQueries* outsideGaps) {
+/// each segment, and at vertices (their shortest incident segment). `cage`: the closed cage's
+/// queries (null for an open one): without o.outsideGaps a gap whose middle lies outside it does
+/// not count, nor does a wedge (whose middle always does).
+std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, const CageQueries* cage) {
   std::vector<RawSeed> seeds;
   // Widths at or above `below` leave hMax for either kind of pair.
   const double below = std::max(o.narrowWidth, o.extraNarrowWidth) * o.hMax;
@@ -190,18 +209,21 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
   struct Lfs {
     double all, h;
   };
+  const double cosWedge = o.wedgeDegrees > 0.0 ? std::cos(o.wedgeDegrees * std::numbers::pi / 180.0) : 2.0;
   auto lfs = [&](const Vec2& x, int s) {
     const auto& es = g.E[static_cast<std::size_t>(s)];
     Lfs best{R, o.hMax};
     grid.forEachEdgeNear(x - Vec2::Constant(R), x + Vec2::Constant(R), [&](int t, const Vec2& a, const Vec2& b) {
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
-      if (et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1]) return;
+      const bool wedge = et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1];
+      if (wedge && !(o.outsideGaps && cage && isWedge(g, std::size_t(s), std::size_t(t), cosWedge, *cage))) return;
       const double d = pointSegmentDistance(x, a, b);
       best.all = std::min(best.all, d);
-      const double h = pairSpacing(d, g.extra[std::size_t(s)] || g.extra[std::size_t(t)], o);
+      const double finest = wedge ? o.wedgeFinest * o.hMax : 0.0;  // a wedge's spacing stops there
+      const double h = std::max(finest, pairSpacing(d, g.extra[std::size_t(s)] || g.extra[std::size_t(t)], o));
       if (h >= best.h) return;
-      if (outsideGaps && !outsideGaps->inside(0.5 * (x + closestPointOnSegment(x, a, b)))) return;
+      if (!wedge && !o.outsideGaps && cage && !cage->inside(0.5 * (x + closestPointOnSegment(x, a, b)))) return;
       best.h = h;
     });
     return best;
@@ -382,8 +404,10 @@ SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extr
     if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
   if (!(o.narrowWidth >= 1.0) || !std::isfinite(o.narrowWidth) || !(o.extraNarrowWidth >= 1.0) || !std::isfinite(o.extraNarrowWidth))
     throw std::invalid_argument("sizing: narrowWidth and extraNarrowWidth must be at least 1");
+  if (!(o.wedgeDegrees >= 0.0 && o.wedgeDegrees < 90.0) || !(o.wedgeFinest > 0.0 && o.wedgeFinest <= 1.0))
+    throw std::invalid_argument("sizing: wedgeDegrees must be in [0, 90) and wedgeFinest in (0, 1]");
   std::optional<CageQueries> inside;
-  if (!o.outsideGaps && cage.closed && cage.size() >= 3) inside.emplace(cage);
+  if (cage.closed && cage.size() >= 3) inside.emplace(cage);
   const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), o, inside ? &*inside : nullptr);
   Points P(static_cast<Index>(raw.size()), 2);
   Eigen::VectorXd H(static_cast<Index>(raw.size()));

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "kc/core/sizing.h"
@@ -107,6 +108,37 @@ TEST(Sizing, NarrowPlacesGetTheirWidthOverKRampingToHMaxAtTwiceIt) {
   EXPECT_DOUBLE_EQ(ramp.hMin(), 9.0);  // every seed has lfs = 19
   EXPECT_LE(ramp(Vec2(140.5, 120)), 9.0 + ramp.gradation() * 4.5);  // on the wall: a seed within h/2
   EXPECT_FALSE(featureSizing(slit(21.0), {}, o).graded());
+}
+
+TEST(Sizing, AWedgeIsANarrowPlaceDownToItsFinestSpacing) {
+  // An arm meeting the torso's wall x = 180 at the armpit (180, 100) at 2.9°: at y the gap is
+  // (y − 100)/20 px wide (10 px at y = 300).
+  const Cage armpit = polygon({{100, 40}, {230, 40}, {226, 300}, {190, 300}, {180, 100}, {180, 320}, {100, 320}});
+  const SizingOptions o = options(6.0);
+  const SizingField h = featureSizing(armpit, {}, o);
+  ASSERT_TRUE(h.graded());
+  // On the torso's wall, 150 px below the armpit: the gap is 150 · sin θ wide, spacing width/k at
+  // the seeds, which lie every half spacing along the wall (between them up to g/4 more).
+  const double width = 150.0 * std::sin(std::atan(10.0 / 200.0)), k = kFeatureSamples;
+  EXPECT_GE(h(Vec2(180, 250)), width / k * (1.0 - 0.5 * o.gradation / k));
+  EXPECT_LE(h(Vec2(180, 250)), width / k * (1.0 + 0.25 * o.gradation));
+  EXPECT_NEAR(h.hMin(), kWedgeFinest * o.hMax, 1e-12) << "the refinement stops towards the armpit";
+  EXPECT_NEAR(h(Vec2(180, 101)), kWedgeFinest * o.hMax, 0.3);
+  SizingOptions off = o;
+  off.wedgeDegrees = 0.0;
+  EXPECT_EQ(featureSizing(armpit, {}, off)(Vec2(180, 250)), 6.0) << "without the rule the walls share a vertex and do not count";
+  // A notch of 35° cut 100 px deep into a square's top side is not a wedge; at 25° it is (15 px
+  // from its bottom it is 6.3 px wide). A thin triangle's tip of 25° (inside between its walls) is not.
+  const double deg = std::numbers::pi / 180.0;
+  auto notch = [&](double degrees) {
+    const double d = 100.0 * std::tan(0.5 * degrees * deg);
+    return polygon({{0, 0}, {100 - d, 0}, {100, 100}, {100 + d, 0}, {200, 0}, {200, 200}, {0, 200}});
+  };
+  const Vec2 onWall = Vec2(100, 100) + 15.0 * Vec2(-std::sin(12.5 * deg), -std::cos(12.5 * deg));
+  EXPECT_FALSE(featureSizing(notch(35.0), {}, o).graded());
+  EXPECT_LT(featureSizing(notch(25.0), {}, o)(onWall), 6.0);
+  const double y = 100.0 * std::tan(12.5 * deg);
+  EXPECT_FALSE(featureSizing(polygon({{0, 0}, {100, y}, {100, -y}}), {}, o).graded());
 }
 
 TEST(Sizing, ShortEdgeRefinesItsEnds) {

@@ -49,6 +49,16 @@ def blob_neck(width):
     return out, (320, 240)
 
 
+def armpit(gap):
+    # A torso x in [100, 180] and an arm beside it: drawn tightly (gap 0) the arm's inner wall meets the
+    # torso's at the armpit (180, 100), a wedge of 2.9 degrees that is 10 px wide at the hand; widened,
+    # the arm hangs `gap` px away with a flat armpit.
+    if gap == 0:
+        return [(100, 40), (230, 40), (226, 300), (190, 300), (180, 100), (180, 320), (100, 320)], (320, 360)
+    return [(100, 40), (230 + gap, 40), (226 + gap, 300), (190 + gap, 300), (180 + gap, 100), (180, 100), (180, 320),
+            (100, 320)], (320 + gap, 360)
+
+
 def write(name, pts, size):
     with open(os.path.join(HERE, name + ".cage.json"), "w") as f:
         json.dump({"version": 1, "points": [[round(x, 3), round(y, 3)] for x, y in pts], "closed": True,
@@ -60,3 +70,4 @@ for tag, (a, l, s, n) in {"narrow": (6, 4, 3, 2), "wide": (40, 40, 40, 40)}.item
     write("person-" + tag, *person(a, l))
     write("slit-" + tag, *slit(s))
     write("neck-" + tag, *blob_neck(n))
+    write("armpit-" + tag, *armpit(0 if tag == "narrow" else 40))

@@ -51,6 +51,16 @@ inline constexpr double kExtraFeatureSamples = 4.0;
 /// spacings from the cage or another line bends unless the place between them is refined;
 /// n = kExtraFeatureSamples refines every such place to a quarter of its width.
 inline constexpr double kExtraNarrowWidth = 4.0;
+/// Two edges of a closed cage that share an end, with the outside between them, count as the two
+/// walls of a narrow place (a wedge) where they meet at an angle below this: an arm drawn close to
+/// the body meets it at the armpit at a few degrees, and the gap between them is as narrow as a
+/// slit all along, though its walls share the armpit's vertex. A point at distance s from the shared
+/// vertex is s·sin θ from the other wall. Wider corners, and sharp tips of the cage's inside (a
+/// pointed hand: both walls bound the same part), are not.
+inline constexpr double kWedgeDegrees = 30.0;
+/// The finest spacing of a wedge, as a fraction of hMax: its width falls to 0 at the shared vertex,
+/// and the refinement stops where the width is about kFeatureSamples times this.
+inline constexpr double kWedgeFinest = 0.125;
 /// g: how fast the spacing may grow away from a narrow place, |∇h| ≤ g. At 0.3 neighbouring
 /// samples differ in spacing by at most ~30%, so the inverse mean shift and the variable-width
 /// kernel see a locally uniform sampling; the sample count of the refinement around one narrow
@@ -72,9 +82,11 @@ struct SizingOptions {
   double narrowWidth = kNarrowWidth;        ///< In units of hMax (see kNarrowWidth); ≥ 1.
   double extraNarrowWidth = kExtraNarrowWidth;  ///< The same where a FeatureSegment is one side; ≥ 1.
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
-  /// Whether a gap whose middle lies outside a closed cage (between two legs) is a narrow place.
-  /// false for a sampling of the cage's inside only (the LBC mesh): each wall of such a gap is
-  /// then as wide as the part it bounds.
+  double wedgeDegrees = kWedgeDegrees;   ///< See kWedgeDegrees; 0: edges that share an end never count.
+  double wedgeFinest = kWedgeFinest;     ///< See kWedgeFinest (a fraction of hMax).
+  /// Whether a gap whose middle lies outside a closed cage (between two legs, a wedge) is a narrow
+  /// place. false for a sampling of the cage's inside only (the LBC mesh): each wall of such a gap
+  /// is then as wide as the part it bounds.
   bool outsideGaps = true;
 };
 
@@ -148,7 +160,8 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// any incident one). Features that cross or touch (within 1e-9 of the cage's extent) are split
 /// there and share the point, so a crossing or a line ending on an edge is not a narrow place;
 /// adjacent segments (sharing an end, also where ends of two features meet) do not count for each
-/// other's lfs. Gaps outside the cage count only with options.outsideGaps. Deterministic; expected
+/// other's lfs, except two edges of a closed cage meeting at less than wedgeDegrees with the outside
+/// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage count only with options.outsideGaps. Deterministic; expected
 /// O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 
