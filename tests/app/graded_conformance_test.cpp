@@ -1,5 +1,6 @@
 // Graded samplings in the conformance properties: cages drawn tightly (legs 4 px apart, a 3 px slit,
-// a 2 px neck, a 2.9° armpit; tests/data/narrow) and random cages with a slit 1-5 px wide bind with the defaults,
+// a 2 px neck, a 2.9° armpit; tests/data/narrow) and random cages with a slit 1-5 px wide or a notch
+// of 2-25° bind with the defaults,
 // keep partition of unity and reproduction to round-off inside the cage, the Lagrange property and
 // linear edge samples, and do not leak across their gaps.
 
@@ -119,9 +120,11 @@ TEST(GradedConformance, NoLeakAcrossAWedge) {
   EXPECT_LE(l, 0.02);
 }
 
-/// A random star-shaped cage of m points round (200, 200) with a radial slit `width` px wide cut
-/// from the middle of one edge towards the centre.
-Cage randomSlitCage(std::mt19937_64& rng, double width) {
+/// A random star-shaped cage of 7-13 points round (200, 200) whose edge 0 → 1 (a, b) is cut by a
+/// notch: a, notch(mid, along, in, depth)…, b, with mid the edge's middle, along its direction, in
+/// the direction from mid to the centre and depth 60% of that distance.
+template <class Notch>
+Cage randomNotchedCage(std::mt19937_64& rng, Notch&& notch) {
   std::uniform_real_distribution<double> radius(110.0, 170.0);
   std::uniform_int_distribution<int> count(7, 13);
   const int m = count(rng);
@@ -131,16 +134,22 @@ Cage randomSlitCage(std::mt19937_64& rng, double width) {
     const Vec2 r = test::randomPoint(radius, rng);  // a radius for each coordinate
     p.emplace_back(200.0 + r.x() * std::cos(t), 200.0 + r.y() * std::sin(t));
   }
-  // Cut the slit in edge 0 → 1: along the bisector from the edge's middle to 40% of the way in.
   const Vec2 a = p[0], b = p[1], mid = 0.5 * (a + b), centre(200, 200);
-  const Vec2 along = (b - a).normalized(), in = (centre - mid).normalized();
-  const double depth = 0.6 * (centre - mid).norm();
-  const Vec2 l0 = mid - 0.5 * width * along, r0 = mid + 0.5 * width * along;
-  std::vector<Vec2> q{a, l0, l0 + depth * in, r0 + depth * in, r0};
+  const std::vector<Vec2> cut = notch(mid, (b - a).normalized(), (centre - mid).normalized(), 0.6 * (centre - mid).norm());
+  std::vector<Vec2> q{a};
+  q.insert(q.end(), cut.begin(), cut.end());
   q.insert(q.end(), p.begin() + 1, p.end());
   Points C(Index(q.size()), 2);
   for (std::size_t k = 0; k < q.size(); ++k) C.row(Index(k)) = q[k].transpose();
   return Cage::polygon(C);
+}
+
+/// randomNotchedCage with a radial slit `width` px wide.
+Cage randomSlitCage(std::mt19937_64& rng, double width) {
+  return randomNotchedCage(rng, [&](const Vec2& mid, const Vec2& along, const Vec2& in, double depth) {
+    const Vec2 l0 = mid - 0.5 * width * along, r0 = mid + 0.5 * width * along;
+    return std::vector<Vec2>{l0, l0 + depth * in, r0 + depth * in, r0};
+  });
 }
 
 TEST(GradedConformance, RandomCagesWithASlitBind) {
@@ -154,6 +163,54 @@ TEST(GradedConformance, RandomCagesWithASlitBind) {
     const Session s = bindAndCheck(cage, 400, 400);
     ASSERT_TRUE(s.sizing);
     EXPECT_NEAR(s.sizing->hMin(), wd / kFeatureSamples, 0.2 * wd);
+  }
+}
+
+/// randomNotchedCage with a V-shaped notch of `degrees`: a wedge whose walls meet at its tip.
+/// `wall`, `tip`: the notch's first wall's mouth end and its tip.
+Cage randomWedgeCage(std::mt19937_64& rng, double degrees, Vec2& wall, Vec2& tip) {
+  return randomNotchedCage(rng, [&](const Vec2& mid, const Vec2& along, const Vec2& in, double depth) {
+    const double half = depth * std::tan(0.5 * degrees * std::numbers::pi / 180.0);
+    tip = mid + depth * in;
+    wall = mid - half * along;
+    return std::vector<Vec2>{wall, tip, mid + half * along};
+  });
+}
+
+TEST(GradedConformance, RandomCagesWithAWedgeDoNotLeakAcrossIt) {
+  // Beside the first wall of the notch, 1-3 px inside the cage where the notch is a narrow place
+  // (narrower than two spacings) and 10 px or more from its tip, the other wall's mouth corner and the
+  // control after it (geodesically round the tip) weigh at most 0.02 together.
+  std::mt19937_64 rng(2027);
+  std::uniform_real_distribution<double> angle(2.0, 25.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    const double degrees = angle(rng);
+    Vec2 wall, tip;
+    const Cage cage = randomWedgeCage(rng, degrees, wall, tip);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ", wedge " + std::to_string(degrees) + " degrees");
+    ASSERT_NO_THROW(validateCage(cage));
+    const Session s = bindAndCheck(cage, 400, 400);
+    const Vec2 along = (tip - wall).normalized();
+    Vec2 out(-along.y(), along.x());  // the wall's normal away from the notch
+    if ((0.5 * (wall + tip) + out - tip).norm() < (0.5 * (wall + tip) - out - tip).norm()) out = -out;
+    const CageQueries inside(cage);
+    if (!inside.inside(0.5 * (wall + tip) + 2.0 * out)) out = -out;
+    std::vector<Vec2> pts;
+    const double length = (tip - wall).norm();
+    const double mouth = (Vec2(cage.C.row(3)) - wall).norm();  // the notch's width at its mouth
+    for (double f = 0.0; f <= 1.0; f += 0.01) {
+      const double width = mouth * (1.0 - f);
+      if (width > s.params.spacing || (1.0 - f) * length < 10.0) continue;  // narrower than a spacing, 10 px from the tip
+      for (double d = 1.0; d <= 3.0; d += 0.5) pts.push_back(wall + f * length * along + d * out);
+    }
+    ASSERT_GT(pts.size(), 50u);
+    Points P(Index(pts.size()), 2);
+    for (std::size_t k = 0; k < pts.size(); ++k) P.row(Index(k)) = pts[k].transpose();
+    const Weights W = s.field->weightsAt(P);
+    double worst = 0.0;
+    for (Index k = 0; k < P.rows(); ++k) worst = std::max(worst, std::abs(W(k, 3) + W(k, 4)));  // the other wall's mouth and the next control
+    std::printf("[measured] wedge %.1f degrees: leak %.4f, %ld samples\n", degrees, worst, long(s.samples.size()));
+    EXPECT_LE(worst, 0.02);
   }
 }
 
