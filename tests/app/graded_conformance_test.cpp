@@ -1,8 +1,7 @@
 // Graded samplings in the conformance properties: cages drawn tightly (legs 4 px apart, a 3 px slit,
 // a 2 px neck, a 2.9° armpit; tests/data/narrow) and random cages with a slit 1-5 px wide or a notch
-// of 2-25° bind with the defaults,
-// keep partition of unity and reproduction to round-off inside the cage, the Lagrange property and
-// linear edge samples, and do not leak across their gaps.
+// of 2-25° bind with the defaults, keep partition of unity and reproduction to round-off inside the
+// cage, the Lagrange property and linear edge samples, and do not leak across their gaps.
 
 #include <gtest/gtest.h>
 

@@ -161,8 +161,9 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// there and share the point, so a crossing or a line ending on an edge is not a narrow place;
 /// adjacent segments (sharing an end, also where ends of two features meet) do not count for each
 /// other's lfs, except two edges of a closed cage meeting at less than wedgeDegrees with the outside
-/// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage count only with options.outsideGaps. Deterministic; expected
-/// O(n log n) in the number of segments plus O(seeds · neighbours).
+/// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage count only
+/// with options.outsideGaps. Deterministic; expected O(n log n) in the number of segments plus
+/// O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 
 /// Division of the segment a–b at the local spacing: parameters 0 = t_0 < … < t_n = 1 with
