@@ -1,8 +1,8 @@
 // kcwarp-cli bench --graded: cages drawn tightly (legs 4 px apart and arms 6 px from the torso, a
-// 3 px slit, a 2 px neck, an arm meeting the torso at a 2.9° armpit; tests/data/narrow) against the same cages with their gaps widened to
-// 40 px, bound with defaults by each backend: bind time and its ratio, samples, partition of unity
-// and reproduction inside the cage, and the weight that leaks across a gap. Then one neck on a
-// 12-megapixel picture against the same scene at 0.1 megapixel.
+// 3 px slit, a 2 px neck, an arm meeting the torso at a 2.9° armpit; tests/data/narrow) against the
+// same cages with their gaps widened to 40 px, bound with defaults by each backend: bind time and
+// its ratio, samples, partition of unity and reproduction inside the cage, and the weight that leaks
+// across a gap. Then one neck on a 12-megapixel picture against the same scene at 0.1 megapixel.
 
 #include <algorithm>
 #include <chrono>

@@ -154,21 +154,34 @@ double pairSpacing(double width, bool extra, const SizingOptions& o) {
   return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : narrowSpacing(width, o);
 }
 
-/// Whether cage edges s and t, which share an end, meet at less than the angle whose cosine is
-/// `cosWedge` with the outside of the closed cage `cage` between them (a wedge, kWedgeDegrees).
-bool isWedge(const FeatureGraph& g, std::size_t s, std::size_t t, double cosWedge, const CageQueries& cage) {
-  if (g.extra[s] || g.extra[t]) return false;
-  const auto& es = g.E[s];
-  const auto& et = g.E[t];
-  const int v = et[0] == es[0] || et[0] == es[1] ? et[0] : et[1];
-  const int a = es[0] == v ? es[1] : es[0], b = et[0] == v ? et[1] : et[0];
-  if (a == b) return false;
-  const Vec2 V = g.V.row(v), ua = Vec2(g.V.row(a)) - V, ub = Vec2(g.V.row(b)) - V;
-  const double la = ua.norm(), lb = ub.norm();
-  if (!(ua.dot(ub) > cosWedge * la * lb)) return false;
-  // A point on the bisector just off the shared vertex lies between the two edges.
-  const Vec2 bisector = ua / la + ub / lb;
-  return !cage.inside(V + 1e-3 * std::min(la, lb) * bisector.normalized());
+/// For each edge, the cage edges it forms a wedge with (kWedgeDegrees): sharing an end with it,
+/// meeting it at less than `degrees`, the outside of the closed cage `cage` between them.
+std::vector<std::vector<int>> wedgePartners(const FeatureGraph& g, double degrees, const CageQueries& cage) {
+  std::vector<std::vector<int>> partners(g.E.size());
+  std::vector<std::vector<int>> incident(static_cast<std::size_t>(g.V.rows()));
+  for (std::size_t e = 0; e < g.E.size(); ++e)
+    if (!g.extra[e])
+      for (int v : g.E[e]) incident[static_cast<std::size_t>(v)].push_back(int(e));
+  const double cosWedge = std::cos(degrees * std::numbers::pi / 180.0);
+  for (std::size_t v = 0; v < incident.size(); ++v) {
+    const Vec2 V = g.V.row(Index(v));
+    auto away = [&](int e) {  // from V along edge e
+      const auto& ends = g.E[std::size_t(e)];
+      return Vec2(Vec2(g.V.row(ends[0] == int(v) ? ends[1] : ends[0])) - V);
+    };
+    for (std::size_t i = 0; i < incident[v].size(); ++i)
+      for (std::size_t j = i + 1; j < incident[v].size(); ++j) {
+        const int s = incident[v][i], t = incident[v][j];
+        const Vec2 ua = away(s), ub = away(t);
+        const double la = ua.norm(), lb = ub.norm();
+        if (!(la > 0.0 && lb > 0.0) || !(ua.dot(ub) > cosWedge * la * lb)) continue;
+        // A point on the bisector just off the shared vertex lies between the two edges.
+        if (cage.inside(V + 1e-3 * std::min(la, lb) * (ua / la + ub / lb).normalized())) continue;
+        partners[std::size_t(s)].push_back(t);
+        partners[std::size_t(t)].push_back(s);
+      }
+  }
+  return partners;
 }
 
 /// Seeds where the spacing of a gap (pairSpacing) is below hMax: every half local spacing along
@@ -209,7 +222,8 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
   struct Lfs {
     double all, h;
   };
-  const double cosWedge = o.wedgeDegrees > 0.0 ? std::cos(o.wedgeDegrees * std::numbers::pi / 180.0) : 2.0;
+  const std::vector<std::vector<int>> wedges =
+      o.outsideGaps && cage && o.wedgeDegrees > 0.0 ? wedgePartners(g, o.wedgeDegrees, *cage) : std::vector<std::vector<int>>(g.E.size());
   auto lfs = [&](const Vec2& x, int s) {
     const auto& es = g.E[static_cast<std::size_t>(s)];
     Lfs best{R, o.hMax};
@@ -217,7 +231,8 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
       const bool wedge = et[0] == es[0] || et[0] == es[1] || et[1] == es[0] || et[1] == es[1];
-      if (wedge && !(o.outsideGaps && cage && isWedge(g, std::size_t(s), std::size_t(t), cosWedge, *cage))) return;
+      const auto& partners = wedges[std::size_t(s)];
+      if (wedge && std::find(partners.begin(), partners.end(), t) == partners.end()) return;
       const double d = pointSegmentDistance(x, a, b);
       best.all = std::min(best.all, d);
       const double finest = wedge ? o.wedgeFinest * o.hMax : 0.0;  // a wedge's spacing stops there
