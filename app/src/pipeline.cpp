@@ -109,12 +109,19 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
     o.gradation = kLbcGradation;
     o.outsideGaps = false;
   }
+  // A gap between two parts refined further (SizingOptions::outsideFeatureSamples) where the
+  // interpolation is exact and the edges are not post-processed, as for sharp corners below.
+  const bool exactVaryingWidth = params.kc.interp == InterpMode::Exact && !params.kc.linearEdges;
+  if (!exactVaryingWidth) {
+    o.outsideFeatureSamples = o.featureSamples;
+    o.outsideNarrowWidth = o.narrowWidth;
+  }
   SizingField h = featureSizing(cage, extra, o);
   // Sharp outside corners sampled finer (guardLobes) where the interpolation is exact (the thesis's
   // plain form loses partition of unity where the kernel's width varies: 0.09 on the figure) and
   // the edges are not post-processed (linearEdges, which the finer corners left 1.8e-3 from linear
   // on the figure instead of 3.1e-4).
-  if (params.kc.guardLobes && !params.kc.linearEdges && params.kc.interp == InterpMode::Exact &&
+  if (params.kc.guardLobes && exactVaryingWidth &&
       backendFor(params.backend).capabilities().outsideCage)
     h = withSharpCorners(cage, o, h);
   if (!h.graded()) return nullptr;

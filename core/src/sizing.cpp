@@ -154,6 +154,14 @@ double pairSpacing(double width, bool extra, const SizingOptions& o) {
   return extra ? spacingOfWidth(width, o.extraFeatureSamples, o.extraNarrowWidth, o) : narrowSpacing(width, o);
 }
 
+/// True when the middle of x–y lies outside the closed cage, and so do the points beside it a tenth
+/// of |x − y| either way across x–y (a middle on the cage's boundary, as between the two ends of a
+/// corner, is not outside).
+bool outsideBetween(const CageQueries& cage, const Vec2& x, const Vec2& y) {
+  const Vec2 m = 0.5 * (x + y), across = 0.1 * Vec2(y.y() - x.y(), x.x() - y.x());
+  return !cage.inside(m) && !cage.inside(m + across) && !cage.inside(m - across);
+}
+
 /// For each edge, the cage edges it forms a wedge with (kWedgeDegrees): sharing an end with it,
 /// meeting it at less than `degrees`, the outside of the closed cage `cage` between them.
 std::vector<std::vector<int>> wedgePartners(const FeatureGraph& g, double degrees, const CageQueries& cage) {
@@ -191,7 +199,7 @@ std::vector<std::vector<int>> wedgePartners(const FeatureGraph& g, double degree
 std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, const CageQueries* cage) {
   std::vector<RawSeed> seeds;
   // Widths at or above `below` leave hMax for either kind of pair.
-  const double below = std::max(o.narrowWidth, o.extraNarrowWidth) * o.hMax;
+  const double below = std::max({o.narrowWidth, o.extraNarrowWidth, o.outsideNarrowWidth}) * o.hMax;
   if (g.E.empty() || !(below > 0.0)) return seeds;
   Cage fc;
   fc.C = g.V;
@@ -236,9 +244,14 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
       const double d = pointSegmentDistance(x, a, b);
       best.all = std::min(best.all, d);
       const double finest = wedge ? o.wedgeFinest * o.hMax : 0.0;  // a wedge's spacing stops there
-      const double h = std::max(finest, pairSpacing(d, g.extra[std::size_t(s)] || g.extra[std::size_t(t)], o));
+      const bool extra = g.extra[std::size_t(s)] || g.extra[std::size_t(t)];
+      double h = std::max(finest, pairSpacing(d, extra, o));
+      if (!extra && cage && o.outsideGaps) {  // a gap between two parts (a wedge's middle always lies outside)
+        const double outside = std::max(finest, spacingOfWidth(d, o.outsideFeatureSamples, o.outsideNarrowWidth, o));
+        if (outside < std::min(h, best.h) && (wedge || outsideBetween(*cage, x, closestPointOnSegment(x, a, b)))) h = outside;
+      }
       if (h >= best.h) return;
-      if (!wedge && !o.outsideGaps && cage && !cage->inside(0.5 * (x + closestPointOnSegment(x, a, b)))) return;
+      if (!wedge && !o.outsideGaps && cage && outsideBetween(*cage, x, closestPointOnSegment(x, a, b))) return;
       best.h = h;
     });
     return best;
@@ -413,12 +426,14 @@ double narrowSpacing(double width, const SizingOptions& o) { return spacingOfWid
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
   if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
   if (!(o.hMin > 0.0) || o.hMin > o.hMax) throw std::invalid_argument("sizing: hMin must be in (0, hMax]");
-  if (!(o.featureSamples > 0.0) || !std::isfinite(o.featureSamples) || !(o.extraFeatureSamples > 0.0) || !std::isfinite(o.extraFeatureSamples))
-    throw std::invalid_argument("sizing: featureSamples and extraFeatureSamples must be positive");
+  for (double k : {o.featureSamples, o.extraFeatureSamples, o.outsideFeatureSamples})
+    if (!(k > 0.0) || !std::isfinite(k))
+      throw std::invalid_argument("sizing: featureSamples, extraFeatureSamples and outsideFeatureSamples must be positive");
   for (const FeatureSegment& f : extra)
     if (!f.a.allFinite() || !f.b.allFinite()) throw std::invalid_argument("sizing: feature segments must be finite");
-  if (!(o.narrowWidth >= 1.0) || !std::isfinite(o.narrowWidth) || !(o.extraNarrowWidth >= 1.0) || !std::isfinite(o.extraNarrowWidth))
-    throw std::invalid_argument("sizing: narrowWidth and extraNarrowWidth must be at least 1");
+  for (double n : {o.narrowWidth, o.extraNarrowWidth, o.outsideNarrowWidth})
+    if (!(n >= 1.0) || !std::isfinite(n))
+      throw std::invalid_argument("sizing: narrowWidth, extraNarrowWidth and outsideNarrowWidth must be at least 1");
   if (!(o.wedgeDegrees >= 0.0 && o.wedgeDegrees < 90.0) || !(o.wedgeFinest > 0.0 && o.wedgeFinest <= 1.0))
     throw std::invalid_argument("sizing: wedgeDegrees must be in [0, 90) and wedgeFinest in (0, 1]");
   std::optional<CageQueries> inside;

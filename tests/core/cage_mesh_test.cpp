@@ -106,7 +106,8 @@ TEST(CageMesh, ASizingFieldGradesTheMeshAtTheNarrowPlaceOnly) {
   const Points& C = cage.C;
   SizingOptions so;
   so.hMax = 10.0;
-  so.featureSamples = 2.0;
+  so.featureSamples = so.outsideFeatureSamples = 2.0;
+  so.outsideNarrowWidth = so.narrowWidth;
   auto sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));
   ASSERT_TRUE(sizing->graded());
   EXPECT_NEAR(sizing->hMin(), 1.5, 1e-9);

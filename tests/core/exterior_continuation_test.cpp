@@ -176,7 +176,7 @@ TEST(ExteriorContinuation, ContinuesInAWideOutsideWedge) {
 
 TEST(ExteriorContinuation, ARefinedGapBlendsItsTwoWallsAndNextToAWallContinuesThatWallAlone) {
   // The U's notch (x in 40..60, open at the top, 50 px deep) is narrow for hMax = 24 (20 px <
-  // kNarrowWidth·hMax): the sizing refines it (h = 20/k), and its exterior rows, left alone by a
+  // kOutsideNarrowWidth·hMax): the sizing refines it (h = 20/k), and its exterior rows, left alone by a
   // uniform sampling (LeavesNarrowGapsAndFarRowsAlone), blend the reflections of both walls.
   const Cage cage = uCage();
   SizingOptions so;

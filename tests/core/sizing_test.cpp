@@ -43,9 +43,9 @@ TEST(Sizing, CageWithoutNarrowPlaceIsUniform) {
 TEST(Sizing, SlitGetsItsWidthOverKAndGrowsAtMostByTheGradation) {
   const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
   ASSERT_TRUE(h.graded());
-  // On the slit's walls lfs = 3: h = 3/k.
-  EXPECT_NEAR(h(Vec2(148.5, 120)), 3.0 / kFeatureSamples, 0.05);
-  EXPECT_NEAR(h.hMin(), 3.0 / kFeatureSamples, 1e-9);
+  // On the slit's walls lfs = 3, a gap outside the cage: h = 3/k.
+  EXPECT_NEAR(h(Vec2(148.5, 120)), 3.0 / kOutsideFeatureSamples, 0.05);
+  EXPECT_NEAR(h.hMin(), 3.0 / kOutsideFeatureSamples, 1e-9);
   // Far from it, hMax.
   EXPECT_EQ(h(Vec2(60, 240)), 10.0);
   // |h(x) − h(y)| ≤ g |x − y| on random pairs (h is a minimum of g-Lipschitz cones).
@@ -102,12 +102,12 @@ TEST(Sizing, NarrowPlacesGetTheirWidthOverKRampingToHMaxAtTwiceIt) {
   lbc.featureSamples = lbc.narrowWidth = 1.0;
   EXPECT_DOUBLE_EQ(narrowSpacing(3.0, lbc), 3.0);
   EXPECT_DOUBLE_EQ(narrowSpacing(12.0, lbc), 10.0);
-  // A slit narrower than n·hMax is a narrow place, on the ramp; a wider one is not.
-  const SizingField ramp = featureSizing(slit(19.0), {}, o);
+  // A part of the cage (a bar) narrower than n·hMax is a narrow place, on the ramp; a wider one is not.
+  const SizingField ramp = featureSizing(polygon({{0, 0}, {200, 0}, {200, 19}, {0, 19}}), {}, o);
   ASSERT_TRUE(ramp.graded());
   EXPECT_DOUBLE_EQ(ramp.hMin(), 9.0);  // every seed has lfs = 19
-  EXPECT_LE(ramp(Vec2(140.5, 120)), 9.0 + ramp.gradation() * 4.5);  // on the wall: a seed within h/2
-  EXPECT_FALSE(featureSizing(slit(21.0), {}, o).graded());
+  EXPECT_LE(ramp(Vec2(100, 0)), 9.0 + ramp.gradation() * 4.5);  // on the wall: a seed within h/2
+  EXPECT_FALSE(featureSizing(polygon({{0, 0}, {200, 0}, {200, 21}, {0, 21}}), {}, o).graded());
 }
 
 TEST(Sizing, AWedgeIsANarrowPlaceDownToItsFinestSpacing) {
@@ -118,8 +118,9 @@ TEST(Sizing, AWedgeIsANarrowPlaceDownToItsFinestSpacing) {
   const SizingField h = featureSizing(armpit, {}, o);
   ASSERT_TRUE(h.graded());
   // On the torso's wall, 150 px below the armpit: the gap is 150 · sin θ wide, spacing width/k at
-  // the seeds, which lie every half spacing along the wall (between them up to g/4 more).
-  const double width = 150.0 * std::sin(std::atan(10.0 / 200.0)), k = kFeatureSamples;
+  // the seeds, which lie every half spacing along the wall (between them up to g/4 more); k of a gap
+  // outside the cage.
+  const double width = 150.0 * std::sin(std::atan(10.0 / 200.0)), k = kOutsideFeatureSamples;
   EXPECT_GE(h(Vec2(180, 250)), width / k * (1.0 - 0.5 * o.gradation / k));
   EXPECT_LE(h(Vec2(180, 250)), width / k * (1.0 + 0.25 * o.gradation));
   EXPECT_NEAR(h.hMin(), kWedgeFinest * o.hMax, 1e-12) << "the refinement stops towards the armpit";
@@ -176,9 +177,9 @@ TEST(Sizing, LineEndingNearTheEdgeIsNarrow) {
   EXPECT_EQ(h(Vec2(150, 150)), 8.0);
 }
 
-TEST(Sizing, ALineRefinesWithinFourSpacingsOfTheCageAGapWithinTwo) {
-  // A line 16 px from the left side (hMax 6: 2.7 spacings) gets a quarter of that, 4 px; a slit
-  // 16 px wide between cage edges is not narrow (kNarrowWidth·hMax = 12).
+TEST(Sizing, ALineRefinesWithinFourSpacingsOfTheCageAThinPartWithinTwo) {
+  // A line 16 px from the left side (hMax 6: 2.7 spacings) gets a quarter of that, 4 px; a part of
+  // the cage 16 px wide (a bar) is not narrow (kNarrowWidth·hMax = 12).
   const Cage square = polygon({{0, 0}, {200, 0}, {200, 200}, {0, 200}});
   const std::vector<FeatureSegment> line{{{16, 60}, {16, 140}}};
   const SizingField h = featureSizing(square, line, options(6.0));
@@ -186,10 +187,28 @@ TEST(Sizing, ALineRefinesWithinFourSpacingsOfTheCageAGapWithinTwo) {
   EXPECT_NEAR(h.hMin(), 4.0, 1e-9);
   EXPECT_NEAR(h(Vec2(16, 100)), 4.0, 0.3 * 2.0);  // a seed within h/2 along the line
   EXPECT_EQ(h(Vec2(150, 100)), 6.0);
-  EXPECT_FALSE(featureSizing(slit(16.0), {}, options(6.0)).graded());
+  EXPECT_FALSE(featureSizing(polygon({{0, 0}, {200, 0}, {200, 16}, {0, 16}}), {}, options(6.0)).graded());
   SizingOptions two = options(6.0);
   two.extraNarrowWidth = kNarrowWidth;  // the lines' rule as the cage's: 16 px is not narrow
   EXPECT_FALSE(featureSizing(square, line, two).graded());
+}
+
+TEST(Sizing, AGapBetweenTwoPartsIsNarrowUpToFourSpacings) {
+  // A slit 16 px wide (hMax 6: 2.7 spacings) has the outside between its walls: a quarter of its
+  // width, 4 px, all along it; at 26 px (4.3 spacings) it is not narrow. Without outsideGaps (the
+  // LBC mesh) or with the inside's rule there, 16 px is not narrow either.
+  const SizingField h = featureSizing(slit(16.0), {}, options(6.0));
+  ASSERT_TRUE(h.graded());
+  for (double y : {80.0, 120.0, 160.0}) EXPECT_NEAR(h(Vec2(142, y)), 4.0, 0.3 * 2.0) << "at y " << y;
+  EXPECT_EQ(h(Vec2(100, 230)), 6.0);
+  EXPECT_FALSE(featureSizing(slit(26.0), {}, options(6.0)).graded());
+  SizingOptions inside = options(6.0);
+  inside.outsideGaps = false;
+  EXPECT_FALSE(featureSizing(slit(16.0), {}, inside).graded());
+  inside = options(6.0);
+  inside.outsideFeatureSamples = kFeatureSamples;
+  inside.outsideNarrowWidth = kNarrowWidth;
+  EXPECT_FALSE(featureSizing(slit(16.0), {}, inside).graded());
 }
 
 TEST(Sizing, UniformDivisionIsTheEqualOne) {

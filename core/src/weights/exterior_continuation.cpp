@@ -159,8 +159,10 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     // side's inside is as near as this one's: continuing either side would steepen the gap).
     const double width = p.distance + p.other;
     const double alpha = (1.0 - smoothstep(p.distance / band)) * smoothstep(width / band - 1.0);
-    // γ: the share of the two-sided blend, in a refined gap between two loop walls (see the header).
-    const double refined = sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * hx / sizing->hMax() - 1.0) : 0.0;
+    // γ: the share of the two-sided blend, in a gap between two loop walls that a graded sampling
+    // refines (see the header).
+    const double refined =
+        sizing && sizing->graded() ? 1.0 - smoothstep(width / sizing->hMax() - kOutsideNarrowWidth) : 0.0;
     double gamma = p.otherA >= 0 ? refined * (1.0 - smoothstep(width / band - 2.0)) : 0.0;
     if (!(alpha > 0.0) && !(gamma > 0.0)) return;
     // The odd reflection of the inside through the wall point (1 − t)·c_a + t·c_b, or false

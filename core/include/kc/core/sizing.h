@@ -43,6 +43,12 @@ inline constexpr double kNarrowWidth = 2.0;
 /// two-sided blend in the gap, exterior_continuation.h). The leak against k:
 /// docs/notes/measured-constants.md.
 inline constexpr double kFeatureSamples = 3.5;
+/// k and kNarrowWidth for a gap whose middle lies outside a closed cage (between two legs, an arm
+/// and the body, a wedge): its walls bound different parts, and the controls on one side weigh
+/// across the gap unless it holds enough samples, so such a gap is narrow up to k·hMax, with
+/// spacing w/k throughout (the leak against k: docs/notes/measured-constants.md).
+inline constexpr double kOutsideFeatureSamples = 4.0;
+inline constexpr double kOutsideNarrowWidth = kOutsideFeatureSamples;
 /// k where a structure line or a rigid polygon's side is one side of the place (see
 /// kExtraNarrowWidth): such a place is refined to a quarter of its width.
 inline constexpr double kExtraFeatureSamples = 4.0;
@@ -81,6 +87,8 @@ struct SizingOptions {
   double extraFeatureSamples = kExtraFeatureSamples;  ///< k where a FeatureSegment is one side.
   double narrowWidth = kNarrowWidth;        ///< In units of hMax (see kNarrowWidth); ≥ 1.
   double extraNarrowWidth = kExtraNarrowWidth;  ///< The same where a FeatureSegment is one side; ≥ 1.
+  double outsideFeatureSamples = kOutsideFeatureSamples;  ///< k for a gap outside a closed cage.
+  double outsideNarrowWidth = kOutsideNarrowWidth;  ///< The same for a gap outside a closed cage; ≥ 1.
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
   double wedgeDegrees = kWedgeDegrees;   ///< See kWedgeDegrees; 0: edges that share an end never count.
   double wedgeFinest = kWedgeFinest;     ///< See kWedgeFinest (a fraction of hMax).
@@ -150,7 +158,8 @@ class SizingField {
 ///   clamp(max(w/k, w − (n − 1)·hMax), hMin, hMax),  k = featureSamples, n = narrowWidth,
 /// w/k where w ≤ hMax·(n − 1)/(1 − 1/k), rising with slope 1 to hMax at w = n·hMax (continuous;
 /// n = k gives w/k throughout). Where an extra segment is one side, k = extraFeatureSamples and
-/// n = extraNarrowWidth.
+/// n = extraNarrowWidth; for a gap between cage edges whose middle lies outside a closed cage,
+/// k = outsideFeatureSamples and n = outsideNarrowWidth (the finer of the two rules).
 double narrowSpacing(double width, const SizingOptions& options);
 
 /// The sizing field of a cage and further features (structure lines, rigid polygons' sides):
@@ -161,9 +170,9 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// there and share the point, so a crossing or a line ending on an edge is not a narrow place;
 /// adjacent segments (sharing an end, also where ends of two features meet) do not count for each
 /// other's lfs, except two edges of a closed cage meeting at less than wedgeDegrees with the outside
-/// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage count only
-/// with options.outsideGaps. Deterministic; expected O(n log n) in the number of segments plus
-/// O(seeds · neighbours).
+/// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage (wedges
+/// included) count only with options.outsideGaps, and with the outside k and n. Deterministic;
+/// expected O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 
 /// Division of the segment a–b at the local spacing: parameters 0 = t_0 < … < t_n = 1 with

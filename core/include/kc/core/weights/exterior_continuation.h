@@ -23,18 +23,18 @@
 /// side into a narrow gap would steepen the weights across it, and a stick's linear weights are
 /// the data next to it.
 ///
-/// A gap or a narrow outside wedge between two loop walls where the graded sampling refined the
-/// spacing h(x) below hMax (a narrow place, or near a sharp corner's seeds) is sampled finely
-/// enough to hold both sides: there the row blends the two walls' reflections R (this side, at
-/// distance d) and R′ (the other side, at d′),
+/// A gap or an outside wedge between two loop walls that a graded sampling refines (narrower
+/// than kOutsideNarrowWidth·hMax: about kFeatureSamples samples across) holds both sides: there
+/// the row blends the two walls' reflections R (this side, at distance d) and R′ (the other side,
+/// at d′),
 ///   w(x) = γ·((1 − s)·R + s·R′) + (1 − γ)·(the single-side rule above),
 ///   s = smoothstep((u − 0.2)/0.6),  u = d/(d + d′) ∈ [0, 1/2],
-/// γ = ρ·(1 − smoothstep((d + d′)/band − 2)), ρ = 1 − smoothstep(2h(x)/hMax − 1) (1 up to
-/// h = hMax/2, 0 at hMax). The fifth of the gap next to each wall continues that wall alone, so the
+/// γ = ρ·(1 − smoothstep((d + d′)/band − 2)), ρ = 1 − smoothstep((d + d′)/hMax − kOutsideNarrowWidth)
+/// (1 up to the refined width, 0 one hMax wider). The fifth of the gap next to each wall continues that wall alone, so the
 /// inside next to a wall sees its own side's field continued, not a ramp towards the far side's
 /// (the leak across a gap kFeatureSamples quotes); the blend is C¹ in u and symmetric
-/// (s(1/2) = 1/2), and keeps partition of unity and reproduction exact as each R does. A gap that
-/// was not refined (ρ = 0: every gap of a uniform sampling) keeps the single-side rule.
+/// (s(1/2) = 1/2), and keeps partition of unity and reproduction exact as each R does. A wider gap,
+/// and every gap of a uniform sampling, keeps the single-side rule.
 
 #include <memory>
 #include <span>
