@@ -294,6 +294,7 @@ SizingField::SizingField(double hMax, double gradation, const Points& P, const E
 void SizingField::buildGrid() {
   m_start.clear();
   m_items.clear();
+  m_cellLow.clear();
   m_nx = m_ny = 0;
   if (m_P.rows() == 0) return;
   // Seeds farther than m_reach from x leave h(x) = h̃(x) = hMax (the smooth profile's cones reach 2·hMax).
@@ -318,6 +319,12 @@ void SizingField::buildGrid() {
   m_start = count;
   m_items.resize(static_cast<std::size_t>(m_P.rows()));
   for (Index i = 0; i < m_P.rows(); ++i) m_items[static_cast<std::size_t>(count[cellOf(i)]++)] = static_cast<int>(i);
+  // Each cell's lowest rounded cone tip: a query skips the cells this bound rules out.
+  m_cellLow.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), kInf);
+  for (Index i = 0; i < m_P.rows(); ++i) {
+    double& low = m_cellLow[cellOf(i)];
+    low = std::min(low, (1.0 - 0.5 * m_g) * m_H(i));
+  }
 }
 
 template <class Bound, class Visit>
@@ -338,7 +345,12 @@ void SizingField::scanSeeds(const Vec2& x, Bound bound, Visit visit) const {
       for (int i = cx - r; i <= cx + r; i += edgeRow ? 1 : 2 * r) {
         if (i >= 0 && i < m_nx) {
           const std::size_t c = static_cast<std::size_t>(j) * static_cast<std::size_t>(m_nx) + static_cast<std::size_t>(i);
-          for (int k = m_start[c]; k < m_start[c + 1]; ++k) visit(m_items[static_cast<std::size_t>(k)]);
+          // The distance from x to the cell: its seeds' cones lie at least cellLow + g·that above 0.
+          const double cellX = m_x0 + i * m_cell, cellY = m_y0 + j * m_cell;
+          const double dx = std::max({cellX - x.x(), x.x() - (cellX + m_cell), 0.0});
+          const double dy = std::max({cellY - x.y(), x.y() - (cellY + m_cell), 0.0});
+          if (m_cellLow[c] + m_g * std::sqrt(dx * dx + dy * dy) < bound())
+            for (int k = m_start[c]; k < m_start[c + 1]; ++k) visit(m_items[static_cast<std::size_t>(k)]);
         }
         if (r == 0) break;
       }

@@ -152,6 +152,7 @@ class SizingField {
   double m_cell = 1.0, m_x0 = 0.0, m_y0 = 0.0;
   int m_nx = 0, m_ny = 0;
   std::vector<int> m_start, m_items;
+  std::vector<double> m_cellLow;  // per cell: the lowest (1 − g/2)·h_i of its seeds (∞ when empty)
 };
 
 /// The spacing of a narrow place of width w (pixels) between cage edges:
