@@ -247,7 +247,7 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
       const bool extra = g.extra[std::size_t(s)] || g.extra[std::size_t(t)];
       double h = std::max(finest, pairSpacing(d, extra, o));
       if (!extra && cage && o.outsideGaps) {  // a gap between two parts (a wedge's middle always lies outside)
-        const double outside = std::max(finest, spacingOfWidth(d, o.outsideFeatureSamples, o.outsideNarrowWidth, o));
+        const double outside = std::max(finest, outsideSpacing(d, o));
         if (outside < std::min(h, best.h) && (wedge || outsideBetween(*cage, x, closestPointOnSegment(x, a, b)))) h = outside;
       }
       if (h >= best.h) return;
@@ -434,6 +434,10 @@ Eigen::VectorXd SizingField::at(const Points& X) const {
 }
 
 double narrowSpacing(double width, const SizingOptions& o) { return spacingOfWidth(width, o.featureSamples, o.narrowWidth, o); }
+
+double outsideSpacing(double width, const SizingOptions& o) {
+  return width < o.outsideNarrowWidth * o.hMax ? std::clamp(width / o.outsideFeatureSamples, o.hMin, o.hMax) : o.hMax;
+}
 
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& o) {
   if (!(o.hMax > 0.0) || !std::isfinite(o.hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");

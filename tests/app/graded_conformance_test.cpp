@@ -105,10 +105,10 @@ TEST(GradedConformance, NoLeakAcrossAGap) {
 }
 
 TEST(GradedConformance, NoLeakAcrossAGapOfAnyWidth) {
-  // Slits 6-14 px wide cut 150 px deep into a 200 px square, at hMax = 6 (1-2.3 spacings: gaps a
-  // uniform sampling held with one or two samples across): 1-3 px inside the left wall, all along
+  // Slits 6-20 px wide cut 150 px deep into a 200 px square, at hMax = 6 (1-3.3 spacings: gaps a
+  // uniform sampling held with one to three samples across): 1-3 px inside the left wall, all along
   // the slit, the controls right of its top (250+ px round it) weigh at most 0.02 together.
-  for (double width : {6.0, 10.0, 14.0}) {
+  for (double width : {6.0, 10.0, 14.0, 20.0}) {
     SCOPED_TRACE(width);
     const double a = 150.0 - width / 2.0, b = 150.0 + width / 2.0;
     Points C(8, 2);
@@ -116,7 +116,6 @@ TEST(GradedConformance, NoLeakAcrossAGapOfAnyWidth) {
     BindParams p;
     p.spacing = 6.0;
     const Session s = app::bind(Cage::polygon(C), 300, 300, p);
-    ASSERT_TRUE(s.sizing);
     const double l = leak(s, a, -1.0, 55.0, 195.0, [](const Vec2& c) { return c.x() > 150.0 && c.y() < 60.0; });
     std::printf("[measured] slit %.0f px at h 6: leak %.4f\n", width, l);
     EXPECT_LE(l, 0.02);

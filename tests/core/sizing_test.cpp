@@ -193,22 +193,29 @@ TEST(Sizing, ALineRefinesWithinFourSpacingsOfTheCageAThinPartWithinTwo) {
   EXPECT_FALSE(featureSizing(square, line, two).graded());
 }
 
-TEST(Sizing, AGapBetweenTwoPartsIsNarrowUpToFourSpacings) {
+TEST(Sizing, AGapBetweenTwoPartsIsNarrowBelowThreeSpacings) {
   // A slit 16 px wide (hMax 6: 2.7 spacings) has the outside between its walls: a quarter of its
-  // width, 4 px, all along it; at 26 px (4.3 spacings) it is not narrow. Without outsideGaps (the
-  // LBC mesh) or with the inside's rule there, 16 px is not narrow either.
+  // width, 4 px, all along it; at 19 px (3.2 spacings) it is not narrow, nor wider. Without
+  // outsideGaps (the LBC mesh) or with the inside's rule there, 16 px is not narrow either.
   const SizingField h = featureSizing(slit(16.0), {}, options(6.0));
   ASSERT_TRUE(h.graded());
   for (double y : {80.0, 120.0, 160.0}) EXPECT_NEAR(h(Vec2(142, y)), 4.0, 0.3 * 2.0) << "at y " << y;
   EXPECT_EQ(h(Vec2(100, 230)), 6.0);
+  EXPECT_FALSE(featureSizing(slit(19.0), {}, options(6.0)).graded());
   EXPECT_FALSE(featureSizing(slit(26.0), {}, options(6.0)).graded());
   SizingOptions inside = options(6.0);
   inside.outsideGaps = false;
   EXPECT_FALSE(featureSizing(slit(16.0), {}, inside).graded());
   inside = options(6.0);
   inside.outsideFeatureSamples = kFeatureSamples;
-  inside.outsideNarrowWidth = kNarrowWidth;
+  inside.outsideNarrowWidth = 1.0;
   EXPECT_FALSE(featureSizing(slit(16.0), {}, inside).graded());
+  // outsideSpacing: w/k below n·hMax, hMax from there on (no ramp), hMin at the bottom.
+  const SizingOptions o = options(6.0);
+  EXPECT_DOUBLE_EQ(outsideSpacing(10.0, o), 10.0 / kOutsideFeatureSamples);
+  EXPECT_DOUBLE_EQ(outsideSpacing(17.9, o), 17.9 / kOutsideFeatureSamples);
+  EXPECT_DOUBLE_EQ(outsideSpacing(18.0, o), 6.0);
+  EXPECT_DOUBLE_EQ(outsideSpacing(0.01, o), 0.05);
 }
 
 TEST(Sizing, UniformDivisionIsTheEqualOne) {

@@ -43,12 +43,14 @@ inline constexpr double kNarrowWidth = 2.0;
 /// two-sided blend in the gap, exterior_continuation.h). The leak against k:
 /// docs/notes/measured-constants.md.
 inline constexpr double kFeatureSamples = 3.5;
-/// k and kNarrowWidth for a gap whose middle lies outside a closed cage (between two legs, an arm
-/// and the body, a wedge): its walls bound different parts, and the controls on one side weigh
-/// across the gap unless it holds enough samples, so such a gap is narrow up to k·hMax, with
-/// spacing w/k throughout (the leak against k: docs/notes/measured-constants.md).
+/// k for a gap whose middle lies outside a closed cage (between two legs, an arm and the body, a
+/// wedge): its walls bound different parts, and the controls on one side weigh across the gap
+/// unless it holds enough samples. Such a gap narrower than kOutsideNarrowWidth·hMax gets spacing
+/// w/k (at most 3/4·hMax); a wider one keeps hMax, without a ramp: a gap refined only a little
+/// leaked more than one left alone (the leak against k and the width: docs/notes/measured-constants.md).
 inline constexpr double kOutsideFeatureSamples = 4.0;
-inline constexpr double kOutsideNarrowWidth = kOutsideFeatureSamples;
+/// See kOutsideFeatureSamples.
+inline constexpr double kOutsideNarrowWidth = 3.0;
 /// k where a structure line or a rigid polygon's side is one side of the place (see
 /// kExtraNarrowWidth): such a place is refined to a quarter of its width.
 inline constexpr double kExtraFeatureSamples = 4.0;
@@ -88,7 +90,7 @@ struct SizingOptions {
   double narrowWidth = kNarrowWidth;        ///< In units of hMax (see kNarrowWidth); ≥ 1.
   double extraNarrowWidth = kExtraNarrowWidth;  ///< The same where a FeatureSegment is one side; ≥ 1.
   double outsideFeatureSamples = kOutsideFeatureSamples;  ///< k for a gap outside a closed cage.
-  double outsideNarrowWidth = kOutsideNarrowWidth;  ///< The same for a gap outside a closed cage; ≥ 1.
+  double outsideNarrowWidth = kOutsideNarrowWidth;  ///< Its width limit (units of hMax); ≥ 1.
   double gradation = kSizingGradation;   ///< g in (0, 0.5].
   double wedgeDegrees = kWedgeDegrees;   ///< See kWedgeDegrees; 0: edges that share an end never count.
   double wedgeFinest = kWedgeFinest;     ///< See kWedgeFinest (a fraction of hMax).
@@ -159,9 +161,12 @@ class SizingField {
 ///   clamp(max(w/k, w − (n − 1)·hMax), hMin, hMax),  k = featureSamples, n = narrowWidth,
 /// w/k where w ≤ hMax·(n − 1)/(1 − 1/k), rising with slope 1 to hMax at w = n·hMax (continuous;
 /// n = k gives w/k throughout). Where an extra segment is one side, k = extraFeatureSamples and
-/// n = extraNarrowWidth; for a gap between cage edges whose middle lies outside a closed cage,
-/// k = outsideFeatureSamples and n = outsideNarrowWidth (the finer of the two rules).
+/// n = extraNarrowWidth. A gap between cage edges whose middle lies outside a closed cage gets the
+/// finer of this and outsideSpacing.
 double narrowSpacing(double width, const SizingOptions& options);
+/// The spacing of a gap of width w (pixels) whose middle lies outside a closed cage:
+/// clamp(w/k, hMin, hMax) for w < n·hMax, else hMax (k = outsideFeatureSamples, n = outsideNarrowWidth).
+double outsideSpacing(double width, const SizingOptions& options);
 
 /// The sizing field of a cage and further features (structure lines, rigid polygons' sides):
 /// seeds every h_i/2 along each feature where h_i = narrowSpacing(lfs) < hMax, and at every
@@ -172,7 +177,7 @@ double narrowSpacing(double width, const SizingOptions& options);
 /// adjacent segments (sharing an end, also where ends of two features meet) do not count for each
 /// other's lfs, except two edges of a closed cage meeting at less than wedgeDegrees with the outside
 /// between them (a wedge: spacing no finer than wedgeFinest·hMax). Gaps outside the cage (wedges
-/// included) count only with options.outsideGaps, and with the outside k and n. Deterministic;
+/// included) count only with options.outsideGaps, and with outsideSpacing. Deterministic;
 /// expected O(n log n) in the number of segments plus O(seeds · neighbours).
 SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extra, const SizingOptions& options);
 
