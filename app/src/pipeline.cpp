@@ -109,8 +109,8 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
     o.gradation = kLbcGradation;
     o.outsideGaps = false;
   }
-  // A gap between two parts refined further (SizingOptions::outsideFeatureSamples) where the
-  // interpolation is exact and the edges are not post-processed, as for sharp corners below.
+  // A gap between two parts gets kOutsideFeatureSamples where the interpolation is exact and the
+  // edges are not post-processed, as sharp corners below; otherwise the cage's k below n·hMax.
   const bool exactVaryingWidth = params.kc.interp == InterpMode::Exact && !params.kc.linearEdges;
   if (!exactVaryingWidth) {
     o.outsideFeatureSamples = o.featureSamples;

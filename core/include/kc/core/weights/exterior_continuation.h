@@ -29,8 +29,9 @@
 /// at d′),
 ///   w(x) = γ·((1 − s)·R + s·R′) + (1 − γ)·(the single-side rule above),
 ///   s = smoothstep((u − 0.2)/0.6),  u = d/(d + d′) ∈ [0, 1/2],
-/// γ = ρ·(1 − smoothstep((d + d′)/band − 2)), ρ = 1 − smoothstep(2·((d + d′)/hMax − kOutsideNarrowWidth))
-/// (1 up to the refined width, 0 half an hMax wider). The fifth of the gap next to each wall continues that wall alone, so the
+/// γ = ρ·(1 − smoothstep((d + d′)/band − 2)),
+/// ρ = 1 − smoothstep(2·((d + d′)/hMax − kOutsideNarrowWidth)) (1 up to the refined width, 0 half
+/// an hMax wider). The fifth of the gap next to each wall continues that wall alone, so the
 /// inside next to a wall sees its own side's field continued, not a ramp towards the far side's
 /// (the leak across a gap kFeatureSamples quotes); the blend is C¹ in u and symmetric
 /// (s(1/2) = 1/2), and keeps partition of unity and reproduction exact as each R does. A wider gap,
