@@ -12,6 +12,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -98,6 +99,7 @@ Quality measure(const app::Session& s, const LeakProbe* probe) {
 struct Timed {
   double seconds = 0.0;  // median over the runs
   std::vector<double> runs;
+  std::vector<app::BindTimings> stages;  // each run's
   Index samples = 0;
   double hMin = 0.0, hMax = 0.0;
   app::Session session;
@@ -114,6 +116,7 @@ void bindOnce(Timed& t, const Cage& cage, int w, int h, const app::BindParams& p
     const auto t0 = std::chrono::steady_clock::now();
     t.session = app::bind(cage, w, h, p);
     t.runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    t.stages.push_back(t.session.timings);
     t.samples = t.session.samples.size();
     t.hMax = p.spacing;
     t.hMin = t.session.sizing ? t.session.sizing->hMin() : p.spacing;
@@ -161,6 +164,16 @@ void row(const char* backend, const std::string& name, const Timed& t, const Qua
               static_cast<long>(t.samples), t.hMin, t.hMax, q.unity, q.reproduction, q.leak);
   if (ratio > 0.0) std::printf(" %7.2fx", ratio);
   std::printf("\n");
+  if (std::string_view(backend) != "kc") return;
+  // Where the time goes: each stage's median over the runs (BindTimings).
+  const auto stage = [&](double app::BindTimings::* m) {
+    std::vector<double> v;
+    for (const app::BindTimings& b : t.stages) v.push_back(b.*m);
+    return 1e3 * median(v);
+  };
+  std::printf("  %-4s %-14s stages ms: sampling %.0f, kernel %.0f, factor %.0f, init %.0f, optimize %.0f, solve %.0f\n", "",
+              "", stage(&app::BindTimings::sampling), stage(&app::BindTimings::assemble), stage(&app::BindTimings::factor),
+              stage(&app::BindTimings::init), stage(&app::BindTimings::optimize), stage(&app::BindTimings::solve));
 }
 
 /// The picture size a test cage file names ("image_size": [w, h]).
