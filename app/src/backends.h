@@ -61,6 +61,8 @@ RigidityReport applyRigidity(Session& s, KernelField& field, const std::function
 /// changed columns, which are appended to `columns`.
 void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rows, std::vector<Index>& columns);
 
+/// The options of bindSizing's sizing field for a bind with `params` (hMax = params.spacing).
+SizingOptions bindSizingOptions(const BindParams& params);
 /// The exterior continuation of a kc session's bind (KcParams::guardLobes) over its samples; empty
 /// when the option is off, or with linearEdges, whose post-processing of the rows next to the
 /// edges sets the field there itself. Its construction fits every exterior row near the cage:

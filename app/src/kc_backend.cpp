@@ -77,7 +77,11 @@ void lbcTargetsInside(Session& s, const std::function<void(const char*, double)>
 
 ExteriorContinuation continuationFor(const Session& s) {
   if (!s.params.kc.guardLobes || s.params.kc.linearEdges) return {};
-  return ExteriorContinuation(s.samples, s.cage, s.params.spacing, s.sizing.get());
+  // The two-sided blend where the sizing refined a gap between two parts: its width limit is the
+  // one the bind's sizing used.
+  ExteriorContinuationOptions o;
+  o.blendWidth = bindSizingOptions(s.params).outsideNarrowWidth;
+  return ExteriorContinuation(s.samples, s.cage, s.params.spacing, s.sizing.get(), o);
 }
 
 std::vector<Index> rederivedRows(const Session& s, std::span<const Index> rows) { return rederivedRows(s, continuationFor(s), rows); }

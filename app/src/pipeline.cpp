@@ -1,4 +1,5 @@
 #include "kc/app/pipeline.h"
+#include "backends.h"
 #include "corner_sizing.h"
 #include "kc/app/text.h"
 #include "kc/app/errors.h"
@@ -85,12 +86,34 @@ bool gradedBind(const BindParams& p) {
   return p.graded && p.sampler == sampling::SamplerKind::BlueNoise;
 }
 
+/// Where the kernel's width may vary freely: exact interpolation (the thesis's plain form loses
+/// partition of unity where it varies) without linearEdges' post-processing of the edges' rows.
+bool exactVaryingWidth(const BindParams& p) { return p.kc.interp == InterpMode::Exact && !p.kc.linearEdges; }
+
 }  // namespace
 
 bool gradedSampling(const BindParams& params) { return gradedBind(params); }
 
 bool exactLines(const BindParams& params) {
   return params.kc.exactLines && backendFor(params.backend).capabilities().outsideCage;
+}
+
+SizingOptions bindSizingOptions(const BindParams& params) {
+  SizingOptions o;
+  o.hMax = params.spacing;
+  o.hMin = std::min(kMinSpacing, params.spacing);
+  if (!backendFor(params.backend).capabilities().outsideCage) {
+    o.featureSamples = o.extraFeatureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
+    o.gradation = kLbcGradation;
+    o.outsideGaps = false;
+  }
+  // A gap between two parts gets kOutsideFeatureSamples where the interpolation is exact and the
+  // edges are not post-processed, as sharp corners (bindSizing); otherwise the cage's k below n·hMax.
+  if (!exactVaryingWidth(params)) {
+    o.outsideFeatureSamples = o.featureSamples;
+    o.outsideNarrowWidth = o.narrowWidth;
+  }
+  return o;
 }
 
 std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure& structure, const BindParams& params) {
@@ -101,27 +124,13 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
     for (const StructureLine& l : structure.lines) extra.push_back({l.a, l.b});
   for (const RigidRegion& r : structure.rigid)
     for (Index i = 0; i < r.polygon.rows(); ++i) extra.push_back({r.polygon.row(i), r.polygon.row((i + 1) % r.polygon.rows())});
-  SizingOptions o;
-  o.hMax = params.spacing;
-  o.hMin = std::min(kMinSpacing, params.spacing);
-  if (!backendFor(params.backend).capabilities().outsideCage) {
-    o.featureSamples = o.extraFeatureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
-    o.gradation = kLbcGradation;
-    o.outsideGaps = false;
-  }
-  // A gap between two parts gets kOutsideFeatureSamples where the interpolation is exact and the
-  // edges are not post-processed, as sharp corners below; otherwise the cage's k below n·hMax.
-  const bool exactVaryingWidth = params.kc.interp == InterpMode::Exact && !params.kc.linearEdges;
-  if (!exactVaryingWidth) {
-    o.outsideFeatureSamples = o.featureSamples;
-    o.outsideNarrowWidth = o.narrowWidth;
-  }
+  const SizingOptions o = bindSizingOptions(params);
   SizingField h = featureSizing(cage, extra, o);
   // Sharp outside corners sampled finer (guardLobes) where the interpolation is exact (the thesis's
   // plain form loses partition of unity where the kernel's width varies: 0.09 on the figure) and
   // the edges are not post-processed (linearEdges, which the finer corners left 1.8e-3 from linear
   // on the figure instead of 3.1e-4).
-  if (params.kc.guardLobes && exactVaryingWidth &&
+  if (params.kc.guardLobes && exactVaryingWidth(params) &&
       backendFor(params.backend).capabilities().outsideCage)
     h = withSharpCorners(cage, o, h);
   if (!h.graded()) return nullptr;

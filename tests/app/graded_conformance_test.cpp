@@ -122,6 +122,30 @@ TEST(GradedConformance, NoLeakAcrossAGapOfAnyWidth) {
   }
 }
 
+TEST(GradedConformance, ThePlainInterpolationBlendsOnlyTheGapsItRefined) {
+  // `--interp thesis` refines a gap between two parts only below 2·hMax (the exact form: 3·hMax).
+  // A 14 or 16 px slit at hMax = 6 is then sampled as it is, and its exterior rows must not blend
+  // its two walls, which they did when the blend's width limit was the exact form's (far side's
+  // weight up to 0.077 1-3 px inside the wall; 0.025-0.034 continuing the nearer wall). A 3 px slit
+  // beside it makes the sampling graded.
+  for (const double width : {14.0, 16.0})
+    for (const std::uint64_t seed : {1u, 2u, 3u}) {
+      SCOPED_TRACE(testing::Message() << width << " px, seed " << seed);
+      const double a = 130.0 - width / 2.0, b = 130.0 + width / 2.0;
+      Points C(12, 2);
+      C << 50, 50, a, 50, a, 200, b, 200, b, 50, 220, 50, 220, 150, 223, 150, 223, 50, 250, 50, 250, 250, 50, 250;
+      BindParams p;
+      p.spacing = 6.0;
+      p.seed = seed;
+      p.kc.interp = InterpMode::Thesis;
+      const Session s = app::bind(Cage::polygon(C), 300, 300, p);
+      ASSERT_TRUE(s.sizing);
+      const double l = leak(s, a, -1.0, 55.0, 195.0, [&](const Vec2& c) { return c.x() > 130.0 && c.y() < 60.0; });
+      std::printf("[measured] thesis, slit %.0f px at h 6, seed %d: leak %.4f\n", width, int(seed), l);
+      EXPECT_LE(l, 0.04);
+    }
+}
+
 TEST(GradedConformance, NoLeakAcrossAWedge) {
   // An arm drawn close to the body: its inner wall meets the torso's at the armpit at 2.9°, a gap
   // 0-10 px wide whose walls share the armpit's vertex. 1-3 px inside the torso, from 10 px below

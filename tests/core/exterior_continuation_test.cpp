@@ -1,6 +1,7 @@
 // The exterior rows continued from the inside (ExteriorContinuation): exact partition of unity and
 // reproduction, linear weights continued unchanged, gaps and far rows left alone, refined gaps
-// blending their two walls, subsets and thread counts giving the same rows.
+// blending their two walls (and only below the blend's width), subsets and thread counts giving the
+// same rows.
 
 #include <gtest/gtest.h>
 
@@ -216,6 +217,44 @@ TEST(ExteriorContinuation, ARefinedGapBlendsItsTwoWallsAndNextToAWallContinuesTh
   }
   EXPECT_GT(nearRight, 5);
   EXPECT_GT(middle, 5);
+}
+
+TEST(ExteriorContinuation, AGapWiderThanTheBlendWidthContinuesItsNearerWallAlone) {
+  // The notch of the test above, 20 px wide at hMax = 24, with the blend's width limit below it
+  // (blendWidth 0.3·hMax: a sizing that refines only narrower gaps, SizingOptions'
+  // outsideNarrowWidth): its rows keep the single-side rule, so a row nearer the right wall reads
+  // nothing of the left side; with the default limit the rows there read both walls.
+  const Cage cage = uCage();
+  SizingOptions so;
+  so.hMax = 24.0;
+  const SizingField sizing = featureSizing(cage, {}, so);
+  const SampleSet S = gridSamples(cage, 2.5, -10, -10, 110, 110);
+  ExteriorContinuationOptions narrow;
+  narrow.blendWidth = 0.3;
+  const ExteriorContinuation blended(S, cage, so.hMax, &sizing), single(S, cage, so.hMax, &sizing, narrow);
+  const Weights W = randomExactRows(S, cage, 5);
+  Weights changed = W;
+  for (Index i = 0; i < S.size(); ++i)
+    if (S.kind[std::size_t(i)] != SampleKind::Exterior && S.X(i, 0) < 40) changed.row(i).array() += 0.1 * double(i % 7);
+  Weights Wb = W, Cb = changed, Ws = W, Cs = changed;
+  blended.apply(Wb);
+  blended.apply(Cb);
+  single.apply(Ws);
+  single.apply(Cs);
+  EXPECT_LE(worstUnity(Ws, single.rows()), 1e-12);
+  EXPECT_LE(worstReproduction(Ws, cage.C, S.X, single.rows()), 1e-10);
+  int rightHalf = 0, readBoth = 0, continued = 0;
+  for (Index i = 0; i < S.size(); ++i) {
+    const double x = S.X(i, 0), y = S.X(i, 1);
+    if (S.kind[std::size_t(i)] != SampleKind::Exterior || !(x > 50.5 && x < 56.5 && y > 15 && y < 35)) continue;
+    ++rightHalf;
+    readBoth += (Cb.row(i) - Wb.row(i)).cwiseAbs().maxCoeff() > 1e-3;
+    continued += std::binary_search(single.rows().begin(), single.rows().end(), i);
+    EXPECT_EQ((Cs.row(i) - Ws.row(i)).cwiseAbs().maxCoeff(), 0.0) << "row " << i << " at " << S.X.row(i);
+  }
+  EXPECT_GT(rightHalf, 10);
+  EXPECT_GT(readBoth, 5);
+  EXPECT_GT(continued, 5);
 }
 
 TEST(ExteriorContinuation, SubsetsAndThreadCountsGiveTheSameRows) {

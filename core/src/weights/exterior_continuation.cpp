@@ -162,7 +162,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     // γ: the share of the two-sided blend, in a gap between two loop walls that a graded sampling
     // refines (see the header).
     const double refined =
-        sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * (width / sizing->hMax() - kOutsideNarrowWidth)) : 0.0;
+        sizing && sizing->graded() ? 1.0 - smoothstep(2.0 * (width / sizing->hMax() - options.blendWidth)) : 0.0;
     double gamma = p.otherA >= 0 ? refined * (1.0 - smoothstep(width / band - 2.0)) : 0.0;
     if (!(alpha > 0.0) && !(gamma > 0.0)) return;
     // The odd reflection of the inside through the wall point (1 − t)·c_a + t·c_b, or false

@@ -24,16 +24,17 @@
 /// the data next to it.
 ///
 /// A gap or an outside wedge between two loop walls that a graded sampling refines (narrower
-/// than kOutsideNarrowWidth·hMax: kOutsideFeatureSamples samples across) holds both sides: there
+/// than outsideNarrowWidth·hMax, SizingOptions: a few samples across) holds both sides: there
 /// the row blends the two walls' reflections R (this side, at distance d) and R′ (the other side,
 /// at d′),
 ///   w(x) = γ·((1 − s)·R + s·R′) + (1 − γ)·(the single-side rule above),
 ///   s = smoothstep((u − 0.2)/0.6),  u = d/(d + d′) ∈ [0, 1/2],
 /// γ = ρ·(1 − smoothstep((d + d′)/band − 2)),
-/// ρ = 1 − smoothstep(2·((d + d′)/hMax − kOutsideNarrowWidth)) (1 up to the refined width, 0 half
-/// an hMax wider). The fifth of the gap next to each wall continues that wall alone, so the
-/// inside next to a wall sees its own side's field continued, not a ramp towards the far side's
-/// (the leak across a gap kFeatureSamples quotes); the blend is C¹ in u and symmetric
+/// ρ = 1 − smoothstep(2·((d + d′)/hMax − n)) (1 up to the refined width n·hMax, 0 half an hMax
+/// wider; n = ExteriorContinuationOptions::blendWidth, the sizing's outsideNarrowWidth). The fifth
+/// of the gap next to each wall continues that wall alone, so the inside next to a wall sees its
+/// own side's field continued, not a ramp towards the far side's (the leak across a gap
+/// kFeatureSamples quotes); the blend is C¹ in u and symmetric
 /// (s(1/2) = 1/2), and keeps partition of unity and reproduction exact as each R does. A wider gap,
 /// and every gap of a uniform sampling, keeps the single-side rule.
 
@@ -53,6 +54,10 @@ struct ExteriorContinuationOptions {
   double bandSpacings = 2.0;
   /// Radius of the inside fit around m, in local spacings (grown until it holds 3 points off one line).
   double fitSpacings = 2.0;
+  /// n of ρ (see above), in units of hMax: the width below which the sampling's sizing refined a gap
+  /// between two parts (SizingOptions::outsideNarrowWidth of the sizing the samples were placed by).
+  /// A wider gap holds too few samples across for the two-sided blend, and keeps the single-side rule.
+  double blendWidth = kOutsideNarrowWidth;
 };
 
 /// The exterior samples the continuation replaces and how: for each, the mirror fit and blend.
