@@ -96,7 +96,9 @@ TEST(Recovery, AnUnfinishedCageIsRecoveredAsDrawn) {
     EXPECT_EQ(t.cage.C, drawn.C);
     EXPECT_EQ(t.cage.edges, drawn.edges);
     EXPECT_EQ(t.cage.closed, drawn.closed);
-    if (drawn.closed) EXPECT_FALSE(t.cageValid) << "the crossing cage is a draft, not a cage to bind";
+    if (drawn.closed) {
+      EXPECT_FALSE(t.cageValid) << "the crossing cage is a draft, not a cage to bind";
+    }
   }
 }
 

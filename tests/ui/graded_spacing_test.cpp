@@ -1,6 +1,9 @@
 // The Bind panel's spacing on a graded bind: the range it shows before the bind is the one the
-// bind uses, and after the bind the session's; the sample plot's spacings are the session's.
+// bind uses, and after the bind the session's (and its sigma range); the sample plot's spacings are
+// the session's.
 #include <gtest/gtest.h>
+
+#include <cstdio>
 
 #include "kc/app/pipeline.h"
 #include "kc/ui/jobs.h"
@@ -35,6 +38,11 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   EXPECT_DOUBLE_EQ(session.sizing->hMin(), plan.minSpacing);
   EXPECT_DOUBLE_EQ(s->boundSpacing, plan.spacing);
   EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
+  // The sigma shown after the bind is the session's, as a range: σ·h(x)/hMax at the smallest h.
+  EXPECT_DOUBLE_EQ(s->boundSigma, session.sigma);
+  char sigma[64];
+  std::snprintf(sigma, sizeof sigma, "%.2f-%.2f px", session.sigma * session.sizing->hMin() / session.params.spacing, session.sigma);
+  EXPECT_EQ(boundSigmaText(*s), sigma);
   // The count shown before the bind is the sampler's estimate: within a quarter of what it drew.
   const double drawn = double(s->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;

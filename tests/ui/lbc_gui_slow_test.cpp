@@ -96,6 +96,7 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   EXPECT_EQ(s->tool, Tool::Pose);
   EXPECT_FALSE(s->capabilities.painting || s->capabilities.methods || s->capabilities.outsideCage);
   EXPECT_NE(s->messages.back().text.find("with LBC"), std::string::npos) << s->messages.back().text;
+  EXPECT_EQ(boundSigmaText(*s), "") << "LBC weights have no kernel width to show";
 
   // Greyed after the bind too: method buttons, brush (panel and key), Move everything.
   gui.frame(draw);

@@ -167,6 +167,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   refreshBoundRigidity(state, s);
   state.boundSpacing = s.params.spacing;
   state.boundMinSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
+  state.boundSigma = s.reports.lbcMesh > 0 ? 0.0 : s.sigma;
   state.sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
@@ -237,6 +238,16 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
 }
 
 double autoSpacingShown(AppState& state) { return spacingPlan(state).spacing; }
+
+std::string boundSigmaText(const AppState& state) {
+  if (!state.bound || !(state.boundSigma > 0.0) || !(state.boundSpacing > 0.0)) return "";
+  // σ(x) = σ·h(x)/hMax (kc::GaussianKernel's variable width).
+  const double smallest = state.boundSigma * state.boundMinSpacing / state.boundSpacing;
+  char text[64];
+  if (smallest < state.boundSigma - 0.005) std::snprintf(text, sizeof text, "%.2f-%.2f px", smallest, state.boundSigma);
+  else std::snprintf(text, sizeof text, "%.2f px", state.boundSigma);
+  return text;
+}
 
 bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   if (!canStart(state, "bind")) return false;

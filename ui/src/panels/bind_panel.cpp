@@ -1,6 +1,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -145,10 +146,16 @@ void drawBindButtons(AppState& state) {
   }
   if (state.bound) {  // what the bound session was computed with
     const bool mesh = state.reports.lbcMesh > 0;
-    ImGui::TextDisabled("Bound: spacing %s, %ld %s", spacingRange(state.boundMinSpacing, state.boundSpacing).c_str(),
-                        long(mesh ? state.reports.lbcMesh : state.samples.size()), mesh ? "mesh points" : "samples");
-    tooltip("The spacing the weights of the bound picture were computed at (closer where the cage is narrow) and how "
-            "many points they were computed at. Show them with View > Samples.");
+    const std::string sigma = boundSigmaText(state);
+    // Wrapped at the panel's edge: with a graded sigma the line is longer than the panel is wide.
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("Bound: spacing %s,%s%s %ld %s", spacingRange(state.boundMinSpacing, state.boundSpacing).c_str(),
+                       sigma.empty() ? "" : " sigma ", sigma.empty() ? "" : (sigma + ",").c_str(),
+                       long(mesh ? state.reports.lbcMesh : state.samples.size()), mesh ? "mesh points" : "samples");
+    ImGui::PopStyleColor();
+    tooltip("The spacing the weights of the bound picture were computed at (closer where the cage is narrow), their "
+            "smoothing width sigma (smaller in proportion where the spacing is) and how many points they were computed "
+            "at. Show the points with View > Samples.");
   }
   if (button(state, "Load cage...", "Read a cage outline from a JSON file (it is bound right away).")) requestPath(state, PathPurpose::LoadCage, "");
   ImGui::SameLine();
@@ -208,7 +215,12 @@ void drawBindPanel(AppState& state) {
                "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
     p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
-  if (autoSigma) {
+  if (autoSigma && !boundSigmaText(state).empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
+    // Bound at the spacing the next bind uses: the width the bound weights use.
+    ImGui::TextDisabled("%s", boundSigmaText(state).c_str());
+    tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
+            "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
+  } else if (autoSigma) {
     ImGui::TextDisabled("about %.2f px", app::automaticSigma(bindSpacing));
     tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
             "Where the samples lie closer (narrow places), sigma is smaller in proportion.");

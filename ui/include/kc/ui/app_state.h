@@ -188,6 +188,9 @@ struct AppState {
   double boundSpacing = 0.0;               ///< The bound session's sample spacing h (pixels).
   /// The bound session's smallest local spacing (its sizing field's; == boundSpacing when uniform).
   double boundMinSpacing = 0.0;
+  /// The bound session's kernel width σ where the spacing is boundSpacing (pixels; smaller in
+  /// proportion where the spacing is); 0 when the bound weights have no kernel (LBC).
+  double boundSigma = 0.0;
   /// The local spacing h(x) at each of `samples` (#S; boundSpacing everywhere when uniform): the
   /// sample plot's colours.
   Eigen::VectorXd sampleSpacing;

@@ -46,6 +46,10 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
 const AppState::ShownSpacing& spacingPlan(AppState& state);
 /// spacingPlan(state).spacing.
 double autoSpacingShown(AppState& state);
+/// The bound session's kernel widths as shown: "0.44-5.20 px" (graded: σ at its smallest spacing
+/// and away from narrow places) or "5.20 px"; empty when the bound weights have no kernel (LBC)
+/// or nothing is bound.
+std::string boundSigmaText(const AppState& state);
 /// Binds the draft cage with the document's lines (state.lines) over the current image with
 /// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =
 /// false for a bind that only reproduces files on disk (the picture and cage given at startup),
