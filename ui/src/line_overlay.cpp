@@ -3,6 +3,8 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include "kc/ui/canvas.h"
 #include "overlay_draw.h"
@@ -48,6 +50,13 @@ void drawLinesOverlay(AppState& state) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   const View& view = state.view;
   dl->PushClipRect(im(view.canvasMin), im(view.canvasMin + view.canvasSize), true);
+  // Labels after every stroke: a line that crosses another at its middle would cover its label.
+  struct Label {
+    ImVec2 at;
+    std::string text;
+    ImU32 color;
+  };
+  std::vector<Label> labels;
   if (state.tool == Tool::Lines) {
     const app::Structure& L = state.lines;
     for (std::size_t k = 0; k < L.lines.size(); ++k) {
@@ -55,8 +64,8 @@ void drawLinesOverlay(AppState& state) {
       const bool selected = std::find(state.lineSelection.begin(), state.lineSelection.end(), int(k)) != state.lineSelection.end();
       drawStroke(dl, s, lineColor(L.lines[k].group), selected);
       const std::string name = groupName(L, L.lines[k].group);
-      drawLabel(dl, ImVec2(0.5f * (s[0].x + s[1].x), 0.5f * (s[0].y + s[1].y)),
-                "line " + std::to_string(k) + (name.empty() ? "" : " (" + name + ")"), lineColor(L.lines[k].group));
+      labels.push_back({ImVec2(0.5f * (s[0].x + s[1].x), 0.5f * (s[0].y + s[1].y)),
+                        "line " + std::to_string(k) + (name.empty() ? "" : " (" + name + ")"), lineColor(L.lines[k].group)});
     }
     if (state.lineTool.drawing())  // the line being drawn follows the mouse
       drawStroke(dl, {im(view.toScreen(state.lineTool.start())), im(view.toScreen(state.mouseImage))}, IM_COL32(255, 255, 255, 200), false);
@@ -69,9 +78,10 @@ void drawLinesOverlay(AppState& state) {
       for (Index i = 0; i < P.rows(); ++i) s.push_back(im(view.toScreen(P.row(i).transpose())));
       if (s.size() < 2) continue;
       drawStroke(dl, s, lineColor(l.group), false);
-      drawLabel(dl, s[s.size() / 2], groupName(state.lines, l.group), lineColor(l.group));
+      labels.push_back({s[s.size() / 2], groupName(state.lines, l.group), lineColor(l.group)});
     }
   }
+  for (const Label& l : labels) drawLabel(dl, l.at, l.text, l.color);
   dl->PopClipRect();
 }
 
