@@ -111,8 +111,6 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   std::vector<Index> ghostOf;
   std::vector<double> moved(static_cast<std::size_t>(nFree));
   std::vector<unsigned char> rejected(static_cast<std::size_t>(nFree));
-  Points velocity = Points::Zero(nFree, 2);  // last move of each free sample (momentum)
-  const double beta = std::clamp(options.momentum, 0.0, 0.99);
   SpatialGrid grid;
   double firstMove = 0.0, shown = 0.0;  // progress reporting
 
@@ -220,8 +218,6 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         });
       }
       Vec2 step = gain * force;  // (6.4)
-      const Vec2 previous = velocity.row(f);
-      if (beta > 0.0 && previous.dot(step) > 0.0) step += beta * previous;
       const double len = step.norm();
       if (len > maxMove * rk) step *= maxMove * rk / len;
       Vec2 to = xk + step;
@@ -241,7 +237,6 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
           refused = 1;
         }
       }
-      velocity.row(f) = (to - xk).transpose();
       moved[static_cast<std::size_t>(f)] = (to - xk).norm() / rk;  // in units of the sample's own spacing
       if (region.periodic) {
         to.x() = wrap(to.x(), region.domain.x0, region.domain.width());

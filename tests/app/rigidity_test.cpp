@@ -94,7 +94,9 @@ TEST(RigidRegionsApp, ARigidPolygonDoesNotRefineItsCorners) {
   std::printf("%ld samples without the octagon, %ld with; smallest spacing %.3g px\n", long(plain.samples.size()),
               long(rigid.samples.size()), rigid.sizing ? rigid.sizing->hMin() : rigid.params.spacing);
   EXPECT_LE(rigid.samples.size(), plain.samples.size() + plain.samples.size() / 10);
-  if (rigid.sizing) EXPECT_GE(rigid.sizing->hMin(), 0.25 * rigid.params.spacing);
+  if (rigid.sizing) {
+    EXPECT_GE(rigid.sizing->hMin(), 0.25 * rigid.params.spacing);
+  }
 }
 
 TEST(RigidRegionsApp, ProgressAndCancel) {

@@ -21,7 +21,9 @@ struct DualErrors {
 /// the interpolants of the data 1 and x_j, so one solve with W = [1 x y] measures both.
 DualErrors dualErrors(const Points& X, InterpMode mode) {
   KernelInterpolator interp;
-  const InterpolatorReport rep = interp.compute(X, GaussianKernel{.sigma = 2.5}, mode);
+  GaussianKernel kernel;
+  kernel.sigma = 2.5;
+  const InterpolatorReport rep = interp.compute(X, kernel, mode);
   EXPECT_EQ(rep.status, FactorStatus::Ok) << rep.advice;
   Weights W(X.rows(), 3);
   W.col(0).setOnes();

@@ -16,9 +16,6 @@ struct InverseMeanShiftOptions {
   double scale = -1.0;         ///< s of (6.4); < 0 → 0.6 h.
   double step = -1.0;          ///< λ of (6.4); < 0 → 0.3 s².
   double cutoff = 3.0;         ///< Neighbours within cutoff · s contribute.
-  /// Heavy-ball momentum β: move = β · previous move + (6.4) step, reset for a sample whose step
-  /// turns against its previous move. 0 = plain (6.4). Speeds up the slow long-range modes.
-  double momentum = 0.0;
   double maxMove = 0.25;       ///< Largest move per iteration, fraction of h (stability cap).
   double tolerance = 3e-3;     ///< Stop when the largest move < tolerance · h.
   int maxIterations = 1000;
