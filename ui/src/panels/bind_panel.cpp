@@ -215,8 +215,9 @@ void drawBindPanel(AppState& state) {
                "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
     p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
-  if (autoSigma && !boundSigmaText(state).empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
-    // Bound at the spacing the next bind uses: the width the bound weights use.
+  const bool boundAuto = state.session && !(state.session->params.kc.sigma > 0.0);
+  if (autoSigma && boundAuto && !boundSigmaText(state).empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
+    // Bound with the automatic sigma at the spacing the next bind uses: the width it measured.
     ImGui::TextDisabled("%s", boundSigmaText(state).c_str());
     tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
             "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
