@@ -154,10 +154,10 @@ OptimizeReport reoptimize(Session& session, Method method, std::span<const Index
 /// The locality length (pixels) of a kc bind's screened targets (KcParams::localitySpacings = S):
 /// ℓ = max(S·spacing, D/4), D the cage's depth, the largest distance from a point inside the cage
 /// to its edges (on a grid of step spacing/2, at most ~20,000 points). The targets decay like
-/// exp(−d/ℓ) from the cage inwards; where the deepest point keeps less than e^−4 ≈ 2% of the heat
-/// that leaves the cage, the discretized diffusion's error there is of the targets' size and the
-/// optimizer turns it into lobes (a 720×477 rectangle with 8 controls: ℓ = D/7 gives −0.26 inside,
-/// D/5 −0.03, D/4 −0.005). A cage with no inside (open sticks) has D = 0.
+/// exp(−d/ℓ) from the cage inwards; where the deepest point keeps much less than e^−4 ≈ 2% of the
+/// heat that leaves the cage, the discretized diffusion's error there is of the targets' size and
+/// the optimizer turns it into lobes (docs/notes/measured-constants.md). A cage with no inside (open
+/// sticks) has D = 0.
 double localityLength(const Cage& cage, double spacing, double spacings);
 
 /// The rows of session.W a re-optimization of `rows` re-derives (sorted): `rows`, and with
