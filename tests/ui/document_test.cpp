@@ -223,6 +223,8 @@ TEST(Files, BrowserListsFoldersThenMatchingFiles) {
 }
 
 TEST(Files, NativeDialogRunsZenityAndReadsTheChosenPath) {
+  // A window test run earlier in the same process turns native dialogs off (GuiSession::SetUp).
+  unsetenv("KCWARP_NO_NATIVE_DIALOG");
   const auto dir = scratchDir("ui_zenity");
   // A stand-in zenity on PATH that records its arguments and answers with a path.
   writeText(dir / "zenity", "#!/bin/sh\nprintf '%s\\n' \"$@\" > \"" + (dir / "args.txt").string() +
