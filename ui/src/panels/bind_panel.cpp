@@ -216,9 +216,10 @@ void drawBindPanel(AppState& state) {
     p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
   ImGui::SameLine();
   const bool boundAuto = state.session && !(state.session->params.kc.sigma > 0.0);
-  if (autoSigma && boundAuto && !boundSigmaText(state).empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
+  const std::string boundSigma = autoSigma && boundAuto ? boundSigmaText(state) : "";
+  if (!boundSigma.empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
     // Bound with the automatic sigma at the spacing the next bind uses: the width it measured.
-    ImGui::TextDisabled("%s", boundSigmaText(state).c_str());
+    ImGui::TextDisabled("%s", boundSigma.c_str());
     tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
             "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
   } else if (autoSigma) {
