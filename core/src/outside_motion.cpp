@@ -59,7 +59,9 @@ OutsideMotion measureOutside(const WarpMesh& mesh, const std::vector<double>& di
   out.minWeight = std::numeric_limits<double>::infinity();
   out.maxWeight = -std::numeric_limits<double>::infinity();
   for (const double d : distances) out.bands.push_back({d, halfWidth});
-  const double x0 = R.col(0).minCoeff(), x1 = R.col(0).maxCoeff(), y0 = R.col(1).minCoeff(), y1 = R.col(1).maxCoeff();
+  // The picture's frame (the grid's outer lines, gridAxis), not the mesh's extent: a mesh of the
+  // inside alone (fixed, transparent) has no vertex there, and its extreme vertices are the cage's.
+  const double x0 = -0.5, x1 = mesh.width() - 0.5, y0 = -0.5, y1 = mesh.height() - 0.5;
   const auto& W = mesh.weights();
   for (Index v = 0; v < nv; ++v) {
     const double move = (F.row(v) - R.row(v)).norm();

@@ -84,7 +84,7 @@ TEST(BarycentricLp, ControlsOfTheStarCage) {
 
 TEST(RowBlockCholesky, SolvesLikeEigenAndTheSameOnOneAndTwoThreads) {
   // L + M of a mesh of the L-shaped cage, interior block: the LBC Y-system.
-  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 12.0});
+  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 12.0, .sizing = nullptr});
   const TriangleGradients g = triangleGradients(mesh.V, mesh.T);
   const Index nb = mesh.boundary, n = mesh.interior();
   SparseMatrix S = stiffnessMatrix(mesh.T, g, mesh.size()).bottomRightCorner(n, n);

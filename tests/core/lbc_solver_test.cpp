@@ -134,7 +134,7 @@ TEST(LbcSolver, BitIdenticalOnOneAndTwoThreads) {
 }
 
 TEST(LbcSolver, EveryTauGivesBarycentricWeights) {
-  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 20.0});
+  const CageMesh mesh = meshCageInterior(test::lCage(), {.spacing = 20.0, .sizing = nullptr});
   ASSERT_GT(mesh.interior(), 50);
   for (LbcTau tau : {LbcTau::Square, LbcTau::Constant, LbcTau::Linear, LbcTau::Sqrt}) {
     LbcOptions options;

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "kc/core/outside_motion.h"
 #include "kc/core/parallel.h"
 #include "warp_fixtures.h"
 
@@ -181,6 +182,32 @@ TEST(WarpMesh, OutsideModes) {
   EXPECT_TRUE(parseName("fixed", m));
   EXPECT_EQ(m, OutsideMode::Fixed);
   EXPECT_FALSE(parseName("gimp", m));
+}
+
+// The border and corners measureOutside reports are the picture's frame: a mesh of the inside
+// alone has no vertex there, however far the cage's extreme points move.
+TEST(WarpMesh, OutsideMotionMeasuresThePictureFrameNotTheMeshExtent) {
+  const Cage cage = lCage();  // extremes: x 12 and 108, y 10 and 92, inside a 120×100 picture
+  Pose pose = restPose(8);
+  pose[4].translate = Vec2(6, -5);  // (108, 90): the cage's rightmost point
+  pose[0].translate = Vec2(-4, -3);  // (15, 10): its topmost
+  for (OutsideMode mode : {OutsideMode::Fixed, OutsideMode::Transparent, OutsideMode::Deform}) {
+    WarpMeshOptions opt;
+    opt.outside = mode;
+    WarpMesh mesh(120, 100, cage, opt);
+    mesh.setWeights(meanValueWeights(cage.C, mesh.restVertices()));
+    mesh.deform(pose);
+    const OutsideMotion om = measureOutside(mesh);
+    if (mode == OutsideMode::Deform) {  // the whole picture's mesh: its frame moves with the weights
+      EXPECT_GT(om.borderMoved, 0);
+      EXPECT_GT(om.borderMax, 0.1);
+      EXPECT_GT(om.cornerMax, 0.0);
+    } else {
+      EXPECT_EQ(om.borderMoved, 0) << toString(mode);
+      EXPECT_EQ(om.borderMax, 0.0) << toString(mode);
+      EXPECT_EQ(om.cornerMax, 0.0) << toString(mode);
+    }
+  }
 }
 
 TEST(WarpMesh, DeformAndRenderAreIdenticalForOneAndTwoThreads) {

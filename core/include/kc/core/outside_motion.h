@@ -18,9 +18,12 @@ struct OutsideBand {
 };
 
 struct OutsideMotion {
-  double cornerMax = 0.0;          ///< Largest displacement of the image's four corner vertices (px).
-  /// Largest displacement of a vertex on the image border (px; pinned mode: where the fold repair
-  /// let the border give way, exterior_untangle.h), and how many border vertices moved at all.
+  /// Largest displacement of a vertex at one of the picture's four corners (px; (−0.5, −0.5) and
+  /// (width − 0.5, height − 0.5) diagonally, the warp mesh's frame); 0 when the mesh has none there
+  /// (fixed and transparent meshes of the inside alone).
+  double cornerMax = 0.0;
+  /// Largest displacement of a vertex on the picture's frame (px; pinned mode: where the fold repair
+  /// let the border give way, exterior_untangle.h), and how many frame vertices moved at all.
   double borderMax = 0.0;
   Index borderMoved = 0;
   std::vector<OutsideBand> bands;  ///< One per requested distance.
