@@ -87,5 +87,26 @@ TEST(CanvasInput, HandlesCloserThanTheirSizeAreDrawnSmallerToStayApart) {
   EXPECT_EQ(handleScales(far, 6.5).minCoeff(), 1.0);
 }
 
+TEST(CanvasInput, TagsThatWouldCoverEachOtherAreMovedApart) {
+  // Boxes 20×14 px: two at nearly the same place (two control points 3 px apart), a third that
+  // would land on the second's new place, and one far away.
+  Points at(4, 2), size(4, 2);
+  at << 100, 100, 102, 103, 101, 118, 400, 100;
+  size << 20, 14, 20, 14, 20, 14, 20, 14;
+  const Points p = tagPlaces(at, size);
+  ASSERT_EQ(p.rows(), 4);
+  EXPECT_EQ(Vec2(p.row(0)), Vec2(100, 100));  // the first keeps its place
+  EXPECT_EQ(Vec2(p.row(1)), Vec2(102, 116));  // just below the first
+  EXPECT_EQ(Vec2(p.row(2)), Vec2(101, 132));  // below the second's new place
+  EXPECT_EQ(Vec2(p.row(3)), Vec2(400, 100));  // clear: untouched
+  for (Index i = 0; i < 4; ++i)
+    for (Index j = 0; j < i; ++j) {
+      const bool apart = p(i, 0) >= p(j, 0) + size(j, 0) || p(j, 0) >= p(i, 0) + size(i, 0) ||
+                         p(i, 1) >= p(j, 1) + size(j, 1) || p(j, 1) >= p(i, 1) + size(i, 1);
+      EXPECT_TRUE(apart) << i << " covers " << j;
+    }
+  EXPECT_EQ(tagPlaces(at.topRows(1), size.topRows(1)), at.topRows(1));
+}
+
 }  // namespace
 }  // namespace kc::ui

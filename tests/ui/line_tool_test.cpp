@@ -183,6 +183,23 @@ TEST(LineTool, AnEndDrawnALittlePastTheOutlineEndsOnIt) {
   EXPECT_NE(lastMessage(*s).find("not inside the cage"), std::string::npos) << lastMessage(*s);
 }
 
+TEST(LineTool, ADragThatStartsOnALineDrawsANewOneAndAClickOnItSelectsIt) {
+  auto s = lineState();
+  drawLine(*s, Vec2(50, 100), Vec2(200, 100));
+  ASSERT_EQ(s->lines.lines.size(), 1u) << lastMessage(*s);
+  // A second line 3 px below the first: its press lies within the first's pick radius (6 px).
+  drawLine(*s, Vec2(50, 103), Vec2(200, 103));
+  ASSERT_EQ(s->lines.lines.size(), 2u) << lastMessage(*s);
+  EXPECT_TRUE(s->lines.lines[1].a.isApprox(Vec2(50, 103)));
+  EXPECT_EQ(s->lineSelection, std::vector<int>{1}) << "the new line is selected";
+  click(*s, Vec2(125, 99));  // on line 0 (also within line 1's radius; line 0 is nearer)
+  EXPECT_EQ(s->lineSelection, std::vector<int>{0});
+  EXPECT_FALSE(s->lineTool.drawing()) << "a click on a line starts no line";
+  EXPECT_EQ(s->lines.lines.size(), 2u);
+  click(*s, Vec2(125, 104), /*shift=*/true);  // adds line 1
+  EXPECT_EQ(s->lineSelection, (std::vector<int>{0, 1}));
+}
+
 TEST(LineTool, ParallelGroupDeleteUndoRedo) {
   auto s = lineState();
   drawLine(*s, Vec2(50, 60), Vec2(200, 90));

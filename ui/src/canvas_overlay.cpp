@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <numbers>
 #include <cmath>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "kc/app/heatmap.h"
 #include "kc/core/spatial_grid.h"
@@ -34,17 +37,25 @@ void drawPolygon(ImDrawList* dl, const View& view, const Cage& cage, const Point
   }
 }
 
-/// The point's number next to it (a dark box behind light text).
-void drawPointNumber(ImDrawList* dl, const Vec2& s, Index i, ImU32 color) {
-  overlay::drawTag(dl, ImVec2(static_cast<float>(s.x()) + 9.0f, static_cast<float>(s.y()) - 20.0f), std::to_string(i), color);
-}
-
-/// Numbers of the points of P (#P×2, image pixels) near the mouse, or of all of them.
+/// Numbers of the points of P (#P×2, image pixels) near the mouse, or of all of them; the nearest
+/// point's beside it, the others' moved off it where they would cover it (tagPlaces).
 void drawPointNumbers(const AppState& state, ImDrawList* dl, const Points& P, bool all, ImU32 color) {
   if (!all && !state.canvasHovered) return;
   const double radius = 12.0 / state.view.zoom;
+  std::vector<std::pair<double, Index>> shown;  // (distance to the mouse, point)
   for (Index i = 0; i < P.rows(); ++i)
-    if (all || (P.row(i).transpose() - state.mouseImage).norm() <= radius) drawPointNumber(dl, state.view.toScreen(P.row(i).transpose()), i, color);
+    if (const double d = (P.row(i).transpose() - state.mouseImage).norm(); all || d <= radius) shown.emplace_back(d, i);
+  std::sort(shown.begin(), shown.end());
+  Points at(Index(shown.size()), 2), size(Index(shown.size()), 2);
+  for (std::size_t k = 0; k < shown.size(); ++k) {
+    const Vec2 s = state.view.toScreen(P.row(shown[k].second).transpose());
+    const ImVec2 text = ImGui::CalcTextSize(std::to_string(shown[k].second).c_str());
+    at.row(Index(k)) << s.x() + 9.0 - 3.0, s.y() - 20.0 - 1.0;  // the box drawTag draws
+    size.row(Index(k)) << text.x + 6.0, text.y + 2.0;
+  }
+  const Points place = tagPlaces(at, size);
+  for (std::size_t k = 0; k < shown.size(); ++k)
+    overlay::drawTag(dl, ImVec2(float(place(Index(k), 0) + 3.0), float(place(Index(k), 1) + 1.0)), std::to_string(shown[k].second), color);
 }
 
 /// A control's handle at screen point s, `scale` times its full size (handleScales).
@@ -294,6 +305,23 @@ Eigen::VectorXd handleScales(const Points& S, double radius) {
     scale(i) = std::clamp(0.5 * std::sqrt(nearest2) / radius, kMinHandleScale, 1.0);
   }
   return scale;
+}
+
+Points tagPlaces(const Points& at, const Points& size) {
+  Points placed = at;
+  const auto overlap = [&](Index a, Index b) {  // boxes a and b (placed) intersect
+    return placed(a, 0) < placed(b, 0) + size(b, 0) && placed(b, 0) < placed(a, 0) + size(a, 0) &&
+           placed(a, 1) < placed(b, 1) + size(b, 1) && placed(b, 1) < placed(a, 1) + size(a, 1);
+  };
+  for (Index i = 1; i < at.rows(); ++i)
+    for (Index moves = 0; moves < i; ++moves) {  // each move clears one placed box below it
+      Index blocker = -1;
+      for (Index j = 0; j < i && blocker < 0; ++j)
+        if (overlap(i, j)) blocker = j;
+      if (blocker < 0) break;
+      placed(i, 1) = placed(blocker, 1) + size(blocker, 1) + 2.0;
+    }
+  return placed;
 }
 
 }  // namespace kc::ui

@@ -34,11 +34,6 @@ void drawStroke(ImDrawList* dl, const std::vector<ImVec2>& s, ImU32 color, bool 
   }
 }
 
-/// The group's name (or the line's number in the line tool) beside the middle of the line.
-void drawLabel(ImDrawList* dl, const ImVec2& at, const std::string& text, ImU32 color) {
-  overlay::drawTag(dl, ImVec2(at.x + 8.0f, at.y + 4.0f), text, color);
-}
-
 std::string groupName(const app::Structure& s, int group) {
   return group >= 0 && group < static_cast<int>(s.groups.size()) ? s.groups[static_cast<std::size_t>(group)] : "";
 }
@@ -81,7 +76,16 @@ void drawLinesOverlay(AppState& state) {
       labels.push_back({s[s.size() / 2], groupName(state.lines, l.group), lineColor(l.group)});
     }
   }
-  for (const Label& l : labels) drawLabel(dl, l.at, l.text, l.color);
+  // Labels of lines drawn close together would cover each other: moved apart (tagPlaces).
+  Points at(Index(labels.size()), 2), size(Index(labels.size()), 2);
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    const ImVec2 text = ImGui::CalcTextSize(labels[k].text.c_str());
+    at.row(Index(k)) << labels[k].at.x + 8.0 - 3.0, labels[k].at.y + 4.0 - 1.0;  // the box drawTag draws
+    size.row(Index(k)) << (labels[k].text.empty() ? 0.0 : text.x + 6.0), text.y + 2.0;
+  }
+  const Points place = tagPlaces(at, size);
+  for (std::size_t k = 0; k < labels.size(); ++k)
+    overlay::drawTag(dl, ImVec2(float(place(Index(k), 0) + 3.0), float(place(Index(k), 1) + 1.0)), labels[k].text, labels[k].color);
   dl->PopClipRect();
 }
 

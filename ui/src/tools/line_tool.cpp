@@ -1,6 +1,7 @@
 #include "kc/ui/tools/line_tool.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "kc/core/cage.h"
 #include "kc/ui/app_state.h"
@@ -50,16 +51,11 @@ void LineTool::press(AppState& state, const PointerEvent& e) {
     finish(state, e.position);
     return;
   }
-  if (hit >= 0) {
-    auto& sel = state.lineSelection;
-    const auto it = std::find(sel.begin(), sel.end(), hit);
-    if (!e.shift) sel = {hit};
-    else if (it == sel.end()) sel.push_back(hit);
-    else sel.erase(it);
-    m_pressed = false;
-    return;
-  }
-  if (!e.shift) state.lineSelection.clear();
+  // On a line: a click selects it (at the release), a drag draws a new line from here (two lines
+  // drawn a few pixels apart start on each other's pick radius).
+  m_pressedLine = hit;
+  m_shift = e.shift;
+  if (hit < 0 && !e.shift) state.lineSelection.clear();
   m_drawing = true;
   m_startedByPress = true;
   m_start = e.position;
@@ -73,12 +69,25 @@ void LineTool::release(AppState& state, const PointerEvent& e) {
   m_pressed = false;
   if (!pressed || !m_drawing || !m_startedByPress) return;
   m_startedByPress = false;
+  const bool dragged = (e.position - m_start).norm() > 2.0 * e.pickRadius;
+  const int line = std::exchange(m_pressedLine, -1);
+  if (line >= 0 && !dragged) {  // a click on a line selects it (Shift: adds or removes it)
+    m_drawing = false;
+    auto& sel = state.lineSelection;
+    const auto it = std::find(sel.begin(), sel.end(), line);
+    if (!m_shift) sel = {line};
+    else if (it == sel.end()) sel.push_back(line);
+    else sel.erase(it);
+    return;
+  }
+  if (line >= 0 && !m_shift) state.lineSelection.clear();
   // A press and release close together is a click: the line ends at the next click.
-  if ((e.position - m_start).norm() > 2.0 * e.pickRadius) finish(state, e.position);
+  if (dragged) finish(state, e.position);
 }
 
 void LineTool::cancel(AppState&) {
   m_drawing = false;
+  m_pressedLine = -1;
   m_pressed = false;
   m_startedByPress = false;
 }
