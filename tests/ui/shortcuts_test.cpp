@@ -46,5 +46,27 @@ TEST(Shortcuts, AKeyTappedBetweenTwoFramesCountsWithItsModifiers) {
   EXPECT_EQ(s->tool, Tool::Pose);
 }
 
+TEST(Shortcuts, HoldingHHidesTheCageAndHoldingOShowsTheOriginal) {
+  auto s = test::boundState();
+  HeadlessImGui gui;
+  const auto shortcuts = [&] { handleShortcuts(*s); };
+  ImGuiIO& io = ImGui::GetIO();
+  io.KeysDown[GLFW_KEY_H] = true;
+  gui.frame(shortcuts);
+  EXPECT_TRUE(s->hideCage);
+  EXPECT_FALSE(s->showOriginal);
+  gui.frame(shortcuts);
+  EXPECT_TRUE(s->hideCage) << "while held";
+  io.KeysDown[GLFW_KEY_O] = true;  // O wins: the original picture is drawn with its rest cage
+  gui.frame(shortcuts);
+  EXPECT_TRUE(s->showOriginal);
+  EXPECT_FALSE(s->hideCage);
+  io.KeysDown[GLFW_KEY_O] = io.KeysDown[GLFW_KEY_H] = false;
+  gui.frame(shortcuts);
+  EXPECT_FALSE(s->hideCage);
+  EXPECT_FALSE(s->showOriginal);
+  EXPECT_EQ(s->tool, Tool::Pose) << "H selects no tool";
+}
+
 }  // namespace
 }  // namespace kc::ui

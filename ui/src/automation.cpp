@@ -82,6 +82,7 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["session_path"] = state.sessionPath;
   j["recent_files"] = state.recentFiles;
   j["show_original"] = state.showOriginal;
+  j["hide_cage"] = state.hideCage;
   j["pose_translate"] = nlohmann::json::array();
   for (const HandlePose& h : state.pose) j["pose_translate"].push_back({h.translate.x(), h.translate.y()});
   j["mesh_revision"] = state.meshRevision;

@@ -279,6 +279,12 @@ void drawCanvasOverlay(AppState& state) {
   } else if (state.tool == Tool::Lines) {
     if (state.bound) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 200), 2.0f);
     else drawCageToolOverlay(state, dl);
+  } else if (state.bound && state.hideCage) {  // a tight cage's outline and handles cover what it bends
+    const char* text = "Without the cage (release H)";
+    const ImVec2 p = im(view.canvasMin + Vec2(12, 12));
+    const ImVec2 size = ImGui::CalcTextSize(text);
+    dl->AddRectFilled({p.x - 6, p.y - 4}, {p.x + size.x + 6, p.y + size.y + 4}, rgba(20, 20, 28, 220), 4.0f);
+    dl->AddText(p, rgba(255, 220, 120), text);
   } else if (state.bound) {
     dl->PopClipRect();
     drawRigidityOverlay(state);  // under the cage and the handles
@@ -290,7 +296,7 @@ void drawCanvasOverlay(AppState& state) {
                state.rigidBrush.erase != ImGui::GetIO().KeyCtrl);
   }
   dl->PopClipRect();
-  if (!state.showOriginal && state.tool != Tool::Cage) drawLinesOverlay(state);
+  if (!state.showOriginal && !state.hideCage && state.tool != Tool::Cage) drawLinesOverlay(state);
 }
 
 Eigen::VectorXd handleScales(const Points& S, double radius) {

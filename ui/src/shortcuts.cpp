@@ -20,6 +20,7 @@ void handleShortcuts(AppState& state) {
   state.frameTaps = std::exchange(state.tappedKeys, {});
   const std::vector<std::pair<int, int>>& tapped = state.frameTaps;
   state.showOriginal = false;
+  state.hideCage = false;
   if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
   // A key counts when ImGui sees it go down this frame or when it was tapped since the last frame
   // (then with the modifiers it was tapped with).
@@ -63,6 +64,7 @@ void handleShortcuts(AppState& state) {
   if (pressed(GLFW_KEY_1)) state.view.zoomTo(1.0);
   if (pressed(GLFW_KEY_F1)) state.helpOpen = true;
   state.showOriginal = state.bound && ImGui::IsKeyDown(GLFW_KEY_O);
+  state.hideCage = state.bound && !state.showOriginal && ImGui::IsKeyDown(GLFW_KEY_H);
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Cage) state.cageTool.deleteSelected(state);
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Lines) deleteSelectedLines(state);
 }

@@ -27,6 +27,7 @@ constexpr Shortcut kShortcuts[] = {
     {"R", "Rigidity brush: paint parts that keep their shape (Ctrl erases)"},
     {"F / 1", "Fit the picture in the window / show it at 100%"},
     {"hold O", "See the original picture (before/after)"},
+    {"hold H", "See the warp without the cage, its points and lines"},
     {"Space+drag, middle-drag, wheel", "Pan and zoom"},
     {"Delete", "Remove the selected cage point"},
     {"Escape", "Cancel the drag in progress"},

@@ -140,7 +140,7 @@ void drawToolsPanel(AppState& state) {
     case Tool::Pose:
       ImGui::TextWrapped("Left-drag a point to move it, right-drag to turn it. Shift-click or drag a rectangle to "
                          "select several; right-drag then turns them about the pivot (+), which you can drag. "
-                         "Middle-drag or Space+drag pans, the wheel zooms. Hold O to see the original picture.");
+                         "Middle-drag or Space+drag pans, the wheel zooms. Hold O to see the original picture, H to hide the cage.");
       if (button(state, "Reset pose", "Put every point back where it was when you pressed Bind (undoable).")) resetPose(state);
       ImGui::SameLine();
       ImGui::TextDisabled("%zu selected", state.selection.size());
