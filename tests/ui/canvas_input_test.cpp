@@ -106,6 +106,10 @@ TEST(CanvasInput, TagsThatWouldCoverEachOtherAreMovedApart) {
       EXPECT_TRUE(apart) << i << " covers " << j;
     }
   EXPECT_EQ(tagPlaces(at.topRows(1), size.topRows(1)), at.topRows(1));
+  // 20 tags at one place: each moves below the last, at most 8 times (then it may cover one).
+  const Points pile = tagPlaces(Points::Constant(20, 2, 100.0), size.row(0).replicate(20, 1));
+  for (Index i = 0; i <= 8; ++i) EXPECT_EQ(pile(i, 1), 100.0 + 16.0 * double(i)) << i;
+  for (Index i = 9; i < 20; ++i) EXPECT_EQ(pile(i, 1), 100.0 + 16.0 * 8.0) << i;
 }
 
 }  // namespace

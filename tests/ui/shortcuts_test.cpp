@@ -66,6 +66,11 @@ TEST(Shortcuts, HoldingHHidesTheCageAndHoldingOShowsTheOriginal) {
   EXPECT_FALSE(s->hideCage);
   EXPECT_FALSE(s->showOriginal);
   EXPECT_EQ(s->tool, Tool::Pose) << "H selects no tool";
+  s->tool = Tool::Cage;  // the cage tool shows the picture and the cage being drawn, not the warp
+  io.KeysDown[GLFW_KEY_H] = true;
+  gui.frame(shortcuts);
+  EXPECT_FALSE(s->hideCage);
+  io.KeysDown[GLFW_KEY_H] = false;
 }
 
 }  // namespace

@@ -46,16 +46,12 @@ void drawPointNumbers(const AppState& state, ImDrawList* dl, const Points& P, bo
   for (Index i = 0; i < P.rows(); ++i)
     if (const double d = (P.row(i).transpose() - state.mouseImage).norm(); all || d <= radius) shown.emplace_back(d, i);
   std::sort(shown.begin(), shown.end());
-  Points at(Index(shown.size()), 2), size(Index(shown.size()), 2);
-  for (std::size_t k = 0; k < shown.size(); ++k) {
-    const Vec2 s = state.view.toScreen(P.row(shown[k].second).transpose());
-    const ImVec2 text = ImGui::CalcTextSize(std::to_string(shown[k].second).c_str());
-    at.row(Index(k)) << s.x() + 9.0 - 3.0, s.y() - 20.0 - 1.0;  // the box drawTag draws
-    size.row(Index(k)) << text.x + 6.0, text.y + 2.0;
+  std::vector<overlay::Tag> tags;
+  for (const auto& [d, i] : shown) {
+    const Vec2 s = state.view.toScreen(P.row(i).transpose());
+    tags.push_back({ImVec2(float(s.x()) + 9.0f, float(s.y()) - 20.0f), std::to_string(i), color});
   }
-  const Points place = tagPlaces(at, size);
-  for (std::size_t k = 0; k < shown.size(); ++k)
-    overlay::drawTag(dl, ImVec2(float(place(Index(k), 0) + 3.0), float(place(Index(k), 1) + 1.0)), std::to_string(shown[k].second), color);
+  overlay::drawTags(dl, tags);
 }
 
 /// A control's handle at screen point s, `scale` times its full size (handleScales).
@@ -319,8 +315,11 @@ Points tagPlaces(const Points& at, const Points& size) {
     return placed(a, 0) < placed(b, 0) + size(b, 0) && placed(b, 0) < placed(a, 0) + size(a, 0) &&
            placed(a, 1) < placed(b, 1) + size(b, 1) && placed(b, 1) < placed(a, 1) + size(a, 1);
   };
+  // At most kMaxMoves moves per tag: tags piled in one column (all the numbers of a big cage seen
+  // from afar) would otherwise cost O(n³); past that a tag may cover another.
+  constexpr Index kMaxMoves = 8;
   for (Index i = 1; i < at.rows(); ++i)
-    for (Index moves = 0; moves < i; ++moves) {  // each move clears one placed box below it
+    for (Index moves = 0; moves < std::min(i, kMaxMoves); ++moves) {  // each move clears one placed box
       Index blocker = -1;
       for (Index j = 0; j < i && blocker < 0; ++j)
         if (overlap(i, j)) blocker = j;

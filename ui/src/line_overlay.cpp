@@ -46,12 +46,7 @@ void drawLinesOverlay(AppState& state) {
   const View& view = state.view;
   dl->PushClipRect(im(view.canvasMin), im(view.canvasMin + view.canvasSize), true);
   // Labels after every stroke: a line that crosses another at its middle would cover its label.
-  struct Label {
-    ImVec2 at;
-    std::string text;
-    ImU32 color;
-  };
-  std::vector<Label> labels;
+  std::vector<overlay::Tag> labels;
   if (state.tool == Tool::Lines) {
     const app::Structure& L = state.lines;
     for (std::size_t k = 0; k < L.lines.size(); ++k) {
@@ -59,7 +54,7 @@ void drawLinesOverlay(AppState& state) {
       const bool selected = std::find(state.lineSelection.begin(), state.lineSelection.end(), int(k)) != state.lineSelection.end();
       drawStroke(dl, s, lineColor(L.lines[k].group), selected);
       const std::string name = groupName(L, L.lines[k].group);
-      labels.push_back({ImVec2(0.5f * (s[0].x + s[1].x), 0.5f * (s[0].y + s[1].y)),
+      labels.push_back({ImVec2(0.5f * (s[0].x + s[1].x) + 8.0f, 0.5f * (s[0].y + s[1].y) + 4.0f),
                         "line " + std::to_string(k) + (name.empty() ? "" : " (" + name + ")"), lineColor(L.lines[k].group)});
     }
     if (state.lineTool.drawing())  // the line being drawn follows the mouse
@@ -73,19 +68,10 @@ void drawLinesOverlay(AppState& state) {
       for (Index i = 0; i < P.rows(); ++i) s.push_back(im(view.toScreen(P.row(i).transpose())));
       if (s.size() < 2) continue;
       drawStroke(dl, s, lineColor(l.group), false);
-      labels.push_back({s[s.size() / 2], groupName(state.lines, l.group), lineColor(l.group)});
+      labels.push_back({ImVec2(s[s.size() / 2].x + 8.0f, s[s.size() / 2].y + 4.0f), groupName(state.lines, l.group), lineColor(l.group)});
     }
   }
-  // Labels of lines drawn close together would cover each other: moved apart (tagPlaces).
-  Points at(Index(labels.size()), 2), size(Index(labels.size()), 2);
-  for (std::size_t k = 0; k < labels.size(); ++k) {
-    const ImVec2 text = ImGui::CalcTextSize(labels[k].text.c_str());
-    at.row(Index(k)) << labels[k].at.x + 8.0 - 3.0, labels[k].at.y + 4.0 - 1.0;  // the box drawTag draws
-    size.row(Index(k)) << (labels[k].text.empty() ? 0.0 : text.x + 6.0), text.y + 2.0;
-  }
-  const Points place = tagPlaces(at, size);
-  for (std::size_t k = 0; k < labels.size(); ++k)
-    overlay::drawTag(dl, ImVec2(float(place(Index(k), 0) + 3.0), float(place(Index(k), 1) + 1.0)), labels[k].text, labels[k].color);
+  overlay::drawTags(dl, labels);  // lines drawn close together: their labels moved apart
   dl->PopClipRect();
 }
 

@@ -64,7 +64,8 @@ void handleShortcuts(AppState& state) {
   if (pressed(GLFW_KEY_1)) state.view.zoomTo(1.0);
   if (pressed(GLFW_KEY_F1)) state.helpOpen = true;
   state.showOriginal = state.bound && ImGui::IsKeyDown(GLFW_KEY_O);
-  state.hideCage = state.bound && !state.showOriginal && ImGui::IsKeyDown(GLFW_KEY_H);
+  state.hideCage = state.bound && !state.showOriginal && state.tool != Tool::Cage && state.tool != Tool::Lines &&
+                   ImGui::IsKeyDown(GLFW_KEY_H);  // the tools that show the warp
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Cage) state.cageTool.deleteSelected(state);
   if ((pressed(GLFW_KEY_DELETE) || pressed(GLFW_KEY_BACKSPACE)) && state.tool == Tool::Lines) deleteSelectedLines(state);
 }

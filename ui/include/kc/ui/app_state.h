@@ -227,7 +227,7 @@ struct AppState {
   View view;
   bool fitPending = true;                  ///< Fit the view at the next frame (new image).
   bool showOriginal = false;               ///< Before/after: the original picture while O is held.
-  bool hideCage = false;                   ///< The warp without the cage, its handles and lines while H is held.
+  bool hideCage = false;                   ///< The warp without the cage, its handles and lines while H is held (pose, brush, rigid tools).
   std::vector<Index> selection;            ///< Selected control points (pose tool).
   std::vector<int> lineSelection;          ///< Selected structure lines (line tool), indices into `lines`.
   std::string lineGroupName = "parallel 1";  ///< The line tool's name for the next parallel group.

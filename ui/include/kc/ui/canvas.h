@@ -44,7 +44,8 @@ Eigen::VectorXd handleScales(const Points& S, double radius);
 /// Where to draw tags (labels in boxes) so that none covers another: `at` #n×2 the preferred
 /// top-left corners, `size` #n×2 the boxes' widths and heights (screen pixels). In row order, each
 /// tag keeps its place unless its box overlaps one already placed; then it moves down to just
-/// below that box (2 px apart), until it is clear. Rows earlier in `at` win their place.
+/// below that box (2 px apart), until it is clear or it has moved 8 times (then it may cover one).
+/// Rows earlier in `at` win their place.
 Points tagPlaces(const Points& at, const Points& size);
 
 }  // namespace kc::ui
