@@ -37,7 +37,7 @@ std::pair<int, int> imageSize(const std::string& path) {
 
 std::pair<int, int> imageHeaderSize(const std::string& path) {
   const app::ImageHeader header = app::readImageFileHeader(path);  // InputError naming the file
-  return {static_cast<int>(header.width), static_cast<int>(header.height)};
+  return {static_cast<int>(header.uprightWidth()), static_cast<int>(header.uprightHeight())};  // as loadImage lays it out
 }
 
 void requireFinite(double value, const std::string& option, const std::string& unit) {

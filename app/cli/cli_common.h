@@ -43,10 +43,11 @@ std::string nameOf(E value) {
 
 /// "W,H" → (W, H); InputError naming `option` when malformed or not positive.
 std::pair<int, int> parseSize(const std::string& text, const std::string& option);
-/// Width and height of an image file; InputError naming the file when it cannot be read.
+/// Width and height of an image file as loadImage lays it out (upright); InputError naming the file
+/// when it cannot be read.
 std::pair<int, int> imageSize(const std::string& path);
-/// Width and height from the image file's header (format and limits checked, pixels not decoded):
-/// what `bind` needs of a picture.
+/// Width and height from the image file's header (format and limits checked, pixels not decoded),
+/// upright (ImageHeader::uprightWidth): what `bind` needs of a picture.
 std::pair<int, int> imageHeaderSize(const std::string& path);
 /// InputError naming `option` when `value` is NaN or infinite ("must be a finite number of `unit`";
 /// no unit for an empty one).

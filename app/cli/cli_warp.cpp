@@ -94,7 +94,7 @@ void runWarp(const WarpArgs& a) {
       throw app::InputError(a.pose.empty() ? a.session : a.pose, e.what());
     }
     const auto tRead = std::chrono::steady_clock::now();
-    source = app::loadImage(imagePath);
+    source = app::loadImage(imagePath, s.imageUpright ? app::ImageOrientation::Upright : app::ImageOrientation::AsStored);
     readMs = msSince(tRead);
     if (source.width != s.imageWidth || source.height != s.imageHeight)
       throw app::InputError(imagePath, "image is " + std::to_string(source.width) + "x" + std::to_string(source.height) +

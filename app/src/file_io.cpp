@@ -303,6 +303,7 @@ void saveDraftCage(const std::string& path, const DraftCage& draft) {
   for (const auto& [a, b] : draft.cage.edges) edges.push_back({a, b});
   j["edges"] = edges;
   j["image"] = draft.image;
+  if (draft.imageUpright) j["image_upright"] = true;
   writeFileAtomic(path, j.dump(1) + "\n");
 }
 
@@ -314,6 +315,7 @@ DraftCage loadDraftCage(const std::string& path) {
   const detail::json& image = detail::require(j, "image", path);
   if (!image.is_string()) throw InputError(path, "image must be the picture's path (a string)");
   draft.image = image.get<std::string>();
+  draft.imageUpright = j.contains("image_upright") && j["image_upright"].is_boolean() && j["image_upright"].get<bool>();
   return draft;
 }
 

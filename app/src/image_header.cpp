@@ -1,5 +1,6 @@
 #include "kc/app/image_header.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 
@@ -31,6 +32,29 @@ bool png(const Reader& r, ImageHeader& h, std::string& problem) {
   return true;
 }
 
+/// The Orientation (tag 0x0112) of the first directory of the TIFF structure in bytes [begin, end)
+/// of r (an Exif block), or 1 when there is none or the structure is malformed: a picture is not
+/// refused for its metadata.
+int tiffOrientation(const Reader& r, std::size_t begin, std::size_t end) {
+  if (end > r.b.size() || begin > end || end - begin < 8) return 1;
+  const bool little = r.b[begin] == 'I' && r.b[begin + 1] == 'I';
+  if (!little && !(r.b[begin] == 'M' && r.b[begin + 1] == 'M')) return 1;
+  auto u16 = [&](std::size_t at) { return little ? r.le16(at) : r.be16(at); };
+  auto u32 = [&](std::size_t at) { return little ? r.le32(at) : r.be32(at); };
+  if (u16(begin + 2) != 42) return 1;
+  const std::size_t ifd = u32(begin + 4);
+  if (ifd > end - begin - 2) return 1;
+  const std::size_t first = begin + ifd, count = u16(first);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t e = first + 2 + 12 * k;
+    if (e + 12 > end) return 1;
+    if (u16(e) != 0x0112) continue;
+    const std::uint32_t value = u16(e + 2) == 3 ? u16(e + 8) : 0;  // SHORT, one value
+    return value >= 1 && value <= 8 ? int(value) : 1;
+  }
+  return 1;
+}
+
 bool jpeg(const Reader& r, ImageHeader& h, std::string& problem) {
   std::size_t at = 2;
   while (r.has(at, 2)) {
@@ -46,6 +70,9 @@ bool jpeg(const Reader& r, ImageHeader& h, std::string& problem) {
     if (!r.has(at, 2)) break;
     const std::uint32_t length = r.be16(at);
     if (length < 2) return fail(problem, "malformed JPEG: bad segment length");
+    // APP1 "Exif\0\0": a TIFF structure whose Orientation says how the picture is shown.
+    if (marker == 0xE1 && h.orientation == 1 && r.has(at + 2, 6) && r.b.substr(at + 2, 6) == std::string_view("Exif\0\0", 6))
+      h.orientation = tiffOrientation(r, at + 8, std::min(r.b.size(), at + length));
     const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
     if (frame) {
       if (!r.has(at, 7)) break;

@@ -14,6 +14,7 @@
 #include "kc/app/file_io.h"
 #include "kc/app/image_header.h"
 #include "kc/app/limits.h"
+#include "kc/core/parallel.h"
 #include "png_codec.h"
 
 namespace kc::app {
@@ -75,7 +76,32 @@ std::string decoderReason(const std::string& said) {
 
 }  // namespace
 
-Image loadImage(const std::string& path) {
+Image orientImage(const Image& stored, int orientation) {
+  if (orientation < 1 || orientation > 8) throw std::invalid_argument("image orientation must be 1..8, got " + std::to_string(orientation));
+  if (orientation == 1) return stored;
+  const int W = stored.width, H = stored.height;
+  const bool swap = orientation >= 5;
+  Image out(swap ? H : W, swap ? W : H);
+  parallelFor(out.height, [&](Index y) {
+    for (int x = 0; x < out.width; ++x) {
+      int sx = x, sy = int(y);
+      switch (orientation) {
+        case 2: sx = W - 1 - x; break;
+        case 3: sx = W - 1 - x, sy = H - 1 - int(y); break;
+        case 4: sy = H - 1 - int(y); break;
+        case 5: sx = int(y), sy = x; break;
+        case 6: sx = int(y), sy = H - 1 - x; break;
+        case 7: sx = W - 1 - int(y), sy = H - 1 - x; break;
+        case 8: sx = W - 1 - int(y), sy = x; break;
+        default: break;
+      }
+      std::copy_n(stored.pixel(sx, sy), 4, out.pixel(x, int(y)));
+    }
+  }, 16);
+  return out;
+}
+
+Image loadImage(const std::string& path, ImageOrientation orientation) {
   const std::string bytes = readTextFile(path, kMaxImageFileBytes);
   const ImageHeader header = checkImageFile(bytes, path);
   if (header.format == "PNG") {  // libpng directly: OpenCV's codecs are loaded only for other formats
@@ -89,7 +115,7 @@ Image loadImage(const std::string& path) {
     std::string problem;
     if (!detail::decodeJpeg(bytes, int(header.width), int(header.height), img, problem))
       throw InputError(path, "cannot decode the JPEG image: " + problem);
-    return img;
+    return orientation == ImageOrientation::Upright ? orientImage(img, header.orientation) : img;
   }
   cv::Mat m;
   std::string said;  // what OpenCV's decoder wrote to std::cerr, kept for kcwarp's one line

@@ -107,6 +107,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
             {"lines", linesToJson(s)},
             {"rigid", detail::rigidToJson(s.structure)},
             {"image", s.image}};
+  if (s.imageUpright) j["image_upright"] = true;  // absent: the picture as stored (older sessions)
   putWeights(j["weights"], "optimized", s.W, form);
   if (s.W0.rows() > 0) putWeights(j["weights"], "initial", s.W0, form);  // a backend without targets has none
   if (s.sizing && s.sizing->graded()) {
@@ -372,6 +373,11 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (j.contains("image")) {
     if (!j["image"].is_string()) throw InputError(where, "image must be a path string");
     s.image = j["image"].get<std::string>();
+  }
+  s.imageUpright = false;
+  if (j.contains("image_upright")) {
+    if (!j["image_upright"].is_boolean()) throw InputError(where, "image_upright must be true or false");
+    s.imageUpright = j["image_upright"].get<bool>();
   }
   if (j.contains("outside") && !j["outside"].is_null()) {
     OutsideMode mode;

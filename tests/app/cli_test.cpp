@@ -7,6 +7,8 @@
 #include <string>
 
 #include "cli_run.h"
+#include "exif_jpeg.h"
+#include "kc/app/image_io.h"
 
 namespace kc::test {
 namespace {
@@ -191,6 +193,45 @@ TEST(CliBind, BadInputExitsTwoWithOneLine) {
   EXPECT_EQ(r.code, 2);
   EXPECT_TRUE(contains(r.err, "p.csv: line 3")) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "w.csv"));
+}
+
+TEST(CliWarp, APhotoTurnedByItsExifBindsUprightAndAnOlderSessionKeepsItAsStored) {
+  // A phone photo stored 48x32 and shown 32x48 (Exif orientation 6: turned 90 degrees clockwise).
+  const auto dir = scratchDir("cli_exif");
+  const std::string jpeg = app::encodeImage(quadrantPicture(48, 32), ".jpg");
+  writeBytes(dir / "photo.jpg", withSegment(jpeg, exifSegment(orientationEntry(6, false), false)));
+  writeText(dir / "cage.json", R"({"version": 1, "points": [[4,4],[28,4],[28,28],[4,28]], "closed": true})");
+  CliResult r = runCli("bind --cage cage.json --image photo.jpg -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(slurp(dir / "s.kcw.json"));
+  EXPECT_EQ(j["image_size"], nlohmann::json::parse("[32, 48]"));
+  EXPECT_EQ(j["image_upright"], true);
+  r = runCli("warp --session s.kcw.json -o upright.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image upright = app::loadImage((dir / "upright.png").string());
+  EXPECT_EQ(upright.width, 32);
+  EXPECT_EQ(quadrantLayout(upright), "BRWG");  // as a viewer shows the photo (the rest pose warps nothing)
+
+  // A session written before kcwarp read the orientation: bound on the picture as stored, and no
+  // image_upright key. It warps the picture as it was bound.
+  ASSERT_EQ(runCli("bind --cage cage.json --size 48,32 -o old.kcw.json", dir).code, 0);
+  j = nlohmann::json::parse(slurp(dir / "old.kcw.json"));
+  j["image"] = "photo.jpg";
+  j.erase("image_upright");
+  writeText(dir / "old.kcw.json", j.dump());
+  r = runCli("warp --session old.kcw.json -o stored.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image stored = app::loadImage((dir / "stored.png").string());
+  EXPECT_EQ(stored.width, 48);
+  EXPECT_EQ(quadrantLayout(stored), "RGBW");
+  // The same session claiming an upright picture does not match it: refused, naming the picture.
+  j["image_upright"] = true;
+  writeText(dir / "old.kcw.json", j.dump());
+  r = runCli("warp --session old.kcw.json -o refused.png", dir);
+  EXPECT_EQ(r.code, 2);
+  EXPECT_TRUE(contains(r.err, "photo.jpg")) << r.err;
+  EXPECT_TRUE(contains(r.err, "image is 32x48 but the session was bound for 48x32")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused.png"));
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "bad_files.h"
+#include "exif_jpeg.h"
 #include "kc/app/errors.h"
 
 namespace kc::app {
@@ -85,6 +86,75 @@ TEST(ImageIo, JpegDropsAlphaAndIsClose) {
   ASSERT_EQ(back.width, 64);
   EXPECT_GT(psnr(back, img), 35.0);
   EXPECT_EQ(back.at(10, 10).a, 255);
+}
+
+TEST(ImageIo, ExifOrientationLaysTheJpegOutAsViewersShowIt) {
+  // A phone stores its photo as the sensor saw it and says in the Exif block how to turn it. The
+  // layouts below are the Exif specification's (row 0 and column 0 of the stored picture go to the
+  // named sides), written out for the quadrant picture: top-left, top-right, bottom-left,
+  // bottom-right as shown.
+  const fs::path dir = freshDir("exif");
+  const std::string stored = encodeImage(test::quadrantPicture(48, 32), ".jpg");
+  const char* shown[9] = {"", "RGBW", "GRWB", "WBGR", "BWRG", "RBGW", "BRWG", "WGBR", "GWRB"};
+  for (const bool bigEndian : {false, true})
+    for (int o = 1; o <= 8; ++o) {
+      const fs::path file = dir / ("o" + std::to_string(o) + (bigEndian ? "m" : "i") + ".jpg");
+      test::writeBytes(file, test::withSegment(stored, test::exifSegment(test::orientationEntry(o, bigEndian), bigEndian)));
+      const ImageHeader header = readImageFileHeader(file.string());
+      EXPECT_EQ(header.orientation, o);
+      EXPECT_EQ(header.width, 48);
+      EXPECT_EQ(header.uprightWidth(), o >= 5 ? 32 : 48);
+      const Image upright = loadImage(file.string());
+      ASSERT_EQ(upright.width, o >= 5 ? 32 : 48) << o;
+      ASSERT_EQ(upright.height, o >= 5 ? 48 : 32) << o;
+      EXPECT_EQ(test::quadrantLayout(upright), shown[o]) << "orientation " << o << (bigEndian ? " MM" : " II");
+      const Image asStored = loadImage(file.string(), ImageOrientation::AsStored);
+      ASSERT_EQ(asStored.width, 48);
+      EXPECT_EQ(test::quadrantLayout(asStored), "RGBW");
+      EXPECT_EQ(orientImage(asStored, o).rgba, upright.rgba);  // the same turn, to the byte
+    }
+  EXPECT_THROW(orientImage(test::quadrantPicture(4, 4), 9), std::invalid_argument);
+}
+
+TEST(ImageIo, AMalformedExifBlockLeavesThePictureAsStored) {
+  // Viewers ignore Exif they cannot read; so does kcwarp: the picture loads, as stored.
+  const fs::path dir = freshDir("bad_exif");
+  const std::string stored = encodeImage(test::quadrantPicture(48, 32), ".jpg");
+  const std::string good = test::exifSegment(test::orientationEntry(6, false), false);
+  std::string wrongType = test::orientationEntry(6, false);
+  wrongType[2] = '\x04';  // LONG instead of SHORT
+  std::string badMagic = good;
+  badMagic[4 + 6 + 2] = 'X';
+  std::string hugeCount = test::exifSegment("", false);
+  hugeCount[4 + 6 + 8] = '\xFF', hugeCount[4 + 6 + 9] = '\xFF';  // 65,535 entries in a 14-byte directory
+  std::string farDirectory = good;
+  farDirectory[4 + 6 + 4] = '\xF0';  // the directory offset past the block
+  const std::string cases[] = {test::exifSegment(test::orientationEntry(0, false), false),
+                               test::exifSegment(test::orientationEntry(9, true), true),
+                               test::exifSegment(wrongType, false),
+                               test::exifSegment("", false),
+                               badMagic,
+                               hugeCount,
+                               farDirectory,
+                               good.substr(0, 12)};  // the segment cut short (its length still says more)
+  int k = 0;
+  for (const std::string& segment : cases) {
+    const fs::path file = dir / ("bad" + std::to_string(k++) + ".jpg");
+    test::writeBytes(file, test::withSegment(stored, segment));
+    ImageHeader header;
+    std::string problem;
+    const std::string bytes = test::slurpBytes(file);
+    if (k == 8) {  // the cut segment: its length runs into the next segment, so the JPEG itself is malformed
+      EXPECT_FALSE(readImageHeader(bytes, header, problem));
+      EXPECT_EQ(problem, "malformed JPEG: expected a marker");
+      continue;
+    }
+    ASSERT_TRUE(readImageHeader(bytes, header, problem)) << "case " << k - 1 << ": " << problem;
+    EXPECT_EQ(header.orientation, 1) << "case " << k - 1;
+    const Image img = loadImage(file.string());
+    EXPECT_EQ(img.width, 48) << "case " << k - 1;
+    EXPECT_EQ(test::quadrantLayout(img), "RGBW") << "case " << k - 1;
+  }
 }
 
 TEST(ImageIo, GreyAndSixteenBitImagesBecomeRgba) {

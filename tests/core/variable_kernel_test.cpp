@@ -82,6 +82,40 @@ TEST(VariableKernel, GradientMatchesFiniteDifferences) {
   }
 }
 
+TEST(VariableKernel, TruncatedMatrixAndRowsHoldEveryNonZeroPair) {
+  // Graded points: dense (0.3–1 px apart) around the shrinking width's centre, 8 px apart far from
+  // it, where the search skips whole cells of narrow samples. Every pair the kernel does not
+  // truncate must be in K and in the query rows, with the kernel's value to the bit.
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto width = shrinkingWidth();
+  std::vector<Vec2> pts;
+  while (pts.size() < 1500) {
+    const Vec2 p(160 * u(rng) - 30, 160 * u(rng) - 30);
+    if (u(rng) * 8.0 < 1.0 / (*width)(p) * 8.0 * u(rng) + 0.05) pts.push_back(p);
+  }
+  Points X(static_cast<Index>(pts.size()), 2), Q(200, 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) X.row(static_cast<Index>(i)) = pts[i].transpose();
+  for (Index q = 0; q < Q.rows(); ++q) Q.row(q) << 40 + 25 * u(rng), 40 + 25 * u(rng);
+  GaussianKernel k = GaussianKernel::forSpacing(7.0, 8.0);
+  k.width = width;
+  const Eigen::MatrixXd K = Eigen::MatrixXd(assembleKernelMatrix(X, k));
+  const Eigen::MatrixXd R = Eigen::MatrixXd(kernelRows(X, Q, k));
+  Index nonZeros = 0, narrowPairs = 0;
+  for (Index i = 0; i < X.rows(); ++i)
+    for (Index j = 0; j < X.rows(); ++j) {
+      const double v = k((X.row(i) - X.row(j)).squaredNorm(), k.widthAt(X.row(i)), k.widthAt(X.row(j)));
+      ASSERT_EQ(K(i, j), v) << i << ", " << j;
+      nonZeros += v != 0.0;
+      narrowPairs += v != 0.0 && k.widthAt(X.row(i)) < 2.0 && k.widthAt(X.row(j)) > 5.0;
+    }
+  for (Index q = 0; q < Q.rows(); ++q)
+    for (Index j = 0; j < X.rows(); ++j)
+      ASSERT_EQ(R(q, j), k((Q.row(q) - X.row(j)).squaredNorm(), k.widthAt(Q.row(q)), k.widthAt(X.row(j)))) << q << ", " << j;
+  EXPECT_GT(narrowPairs, 0);  // the set-up has the pairs of a narrow and a wide sample that reach far
+  EXPECT_LT(nonZeros, X.rows() * X.rows() / 4);  // and it is truncated
+}
+
 TEST(VariableKernel, ExactInterpolationReproducesLinearFunctions) {
   // Samples on a jittered grid, denser near the shrinking width's centre.
   std::mt19937_64 rng(11);

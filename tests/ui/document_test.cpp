@@ -9,8 +9,11 @@
 #include <thread>
 
 #include "cli_run.h"
+#include "exif_jpeg.h"
 #include "kc/app/draft_cage.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
+#include "kc/app/pipeline.h"
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/recent_files.h"
@@ -100,6 +103,58 @@ TEST(Recovery, AnUnfinishedCageIsRecoveredAsDrawn) {
       EXPECT_FALSE(t.cageValid) << "the crossing cage is a draft, not a cage to bind";
     }
   }
+}
+
+TEST(Recovery, APhonePhotoOpensUprightAndOlderFilesKeepThePictureAsTheyDrewOnIt) {
+  // Stored 48x32, shown 32x48 (Exif orientation 8: turned 90 degrees anticlockwise).
+  const auto dir = scratchDir("ui_exif");
+  const std::string photo = (dir / "photo.jpg").string();
+  writeBytes(photo, withSegment(app::encodeImage(quadrantPicture(48, 32), ".jpg"), exifSegment(orientationEntry(8, true), true)));
+  ui::AppState s;
+  s.worker.setSynchronous(true);
+  s.recoveryPath = (dir / "recovery.kcw.json").string();
+  ASSERT_TRUE(ui::openImage(s, photo));
+  EXPECT_EQ(s.source.width, 32);
+  EXPECT_EQ(quadrantLayout(s.source), "GWRB");
+  EXPECT_TRUE(s.imageUpright);
+  Points C(3, 2);
+  C << 4, 4, 28, 6, 16, 40;  // inside the upright picture only
+  const Cage before = s.cage;
+  ui::setDraftCage(s, Cage::polygon(C));
+  ui::commitCage(s, before, "draw");
+  ASSERT_TRUE(ui::maybeAutosave(s, 100.0));
+  EXPECT_TRUE(app::loadDraftCage(ui::recoveryCagePath(s)).imageUpright);
+
+  // A cage copy written before kcwarp read the orientation (no image_upright): the picture as stored.
+  Points D(3, 2);
+  D << 4, 4, 44, 6, 20, 28;
+  app::saveDraftCage(ui::recoveryCagePath(s), {Cage::polygon(D), photo, false});
+  ui::AppState t;
+  t.worker.setSynchronous(true);
+  t.recoveryPath = s.recoveryPath;
+  ASSERT_TRUE(ui::openRecoveryCopy(t));
+  EXPECT_EQ(t.source.width, 48);
+  EXPECT_EQ(quadrantLayout(t.source), "RGBW");
+  EXPECT_FALSE(t.imageUpright);
+  ui::discardRecoveryCopy(t);
+
+  // A session bound on the picture as stored, written before kcwarp read the orientation: it opens
+  // with its picture as stored (not the grey placeholder of a picture whose size differs).
+  app::Session old = app::bind(Cage::polygon(D), 48, 32, app::BindParams{});
+  old.image = photo;
+  old.imageUpright = false;
+  app::saveSession((dir / "old.kcw.json").string(), old);
+  EXPECT_EQ(slurp(dir / "old.kcw.json").find("image_upright"), std::string::npos);
+  ui::AppState u;
+  u.worker.setSynchronous(true);
+  ASSERT_TRUE(ui::openPath(u, (dir / "old.kcw.json").string()));
+  u.worker.waitFinished();
+  ui::pollWorker(u);
+  ASSERT_TRUE(u.bound);
+  EXPECT_EQ(u.source.width, 48);
+  EXPECT_EQ(quadrantLayout(u.source), "RGBW");
+  EXPECT_FALSE(u.imageUpright);
+  EXPECT_FALSE(u.messages.back().error) << u.messages.back().text;
 }
 
 TEST(Recovery, ACorruptCageCopyIsRefusedAndNothingChanges) {

@@ -37,6 +37,7 @@ namespace {
 void clearDocument(AppState& state) {
   state.source = Image();
   state.imagePath.clear();
+  state.imageUpright = true;
   ++state.sourceRevision;
   state.session.reset();
   state.bound = false;
@@ -128,11 +129,11 @@ bool fileExists(AppState& state, const std::string& path) {
 
 }  // namespace
 
-bool openImage(AppState& state, const std::string& path) {
+bool openImage(AppState& state, const std::string& path, app::ImageOrientation orientation) {
   Image img;
   const double t0 = nowSeconds();
   try {
-    img = app::loadImage(path);
+    img = app::loadImage(path, orientation);
   } catch (const std::exception& e) {
     postMessage(state, "Cannot open image: " + failureText(e, path, kLoadNeedsMore), true);
     return false;
@@ -145,6 +146,7 @@ bool openImage(AppState& state, const std::string& path) {
   state.timings.openMs = 1e3 * (nowSeconds() - t0);
   state.source = std::move(img);
   state.imagePath = fs::absolute(path).string();
+  state.imageUpright = orientation == app::ImageOrientation::Upright;
   rememberFile(state, path);
   postMessage(state, "Opened " + path + ": click on the picture to draw a cage around what you want to bend, then Bind.", false);
   return true;
@@ -223,7 +225,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
       std::string warning;
       try {
         if (imagePath.empty()) throw app::InputError(path, "the session names no image");
-        img = app::loadImage(imagePath);
+        img = app::loadImage(imagePath, s->imageUpright ? app::ImageOrientation::Upright : app::ImageOrientation::AsStored);
         if (img.width != s->imageWidth || img.height != s->imageHeight)
           throw app::InputError(imagePath, "image size differs from the session's");
       } catch (const std::exception& e) {
@@ -239,6 +241,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
         st.source = std::move(*image);
         ++st.sourceRevision;
         st.imagePath = imagePath.empty() ? std::string() : fs::absolute(imagePath).string();
+        st.imageUpright = s->imageUpright;
         installSession(st, s, display);
         st.sessionPath = path;
         st.unsaved = false;
@@ -470,7 +473,7 @@ namespace {
 /// The recovery copy of an unbound draft cage: its points, edges, closed flag and the picture.
 void writeCageRecovery(const AppState& state) {
   fs::create_directories(fs::path(recoveryCagePath(state)).parent_path());
-  app::saveDraftCage(recoveryCagePath(state), {state.cage, state.imagePath});
+  app::saveDraftCage(recoveryCagePath(state), {state.cage, state.imagePath, state.imageUpright});
 }
 
 }  // namespace
@@ -503,7 +506,8 @@ bool openRecoveryCopy(AppState& state) {
   if (fs::exists(state.recoveryPath, ec)) return startOpenSession(state, state.recoveryPath);
   try {
     app::DraftCage draft = app::loadDraftCage(recoveryCagePath(state));
-    if (!openImage(state, draft.image)) return false;
+    if (!openImage(state, draft.image, draft.imageUpright ? app::ImageOrientation::Upright : app::ImageOrientation::AsStored))
+      return false;
     setDraftCage(state, std::move(draft.cage));
     state.unsaved = true;  // recovered work is not saved anywhere else
     postMessage(state, "Recovered the cage on " + draft.image + (state.cageValid ? ": press Bind." : "."), false);

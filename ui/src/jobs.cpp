@@ -273,6 +273,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const std::string narrow =
       params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing, app::effectiveBindParams(cage, lines, params)) : "";
   const std::string image = state.imagePath;
+  const bool upright = state.imageUpright;
   WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, app::weightSpacing(params), state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
     // The backend has no weights outside the cage: the outside stays where it is (its default).
@@ -304,6 +305,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
       auto s = std::make_shared<app::Session>(
           app::bind(cage, lines, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
       s->image = image;
+      s->imageUpright = upright;
       s->outside = meshOptions.outside;
       if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
       DisplayMesh display = buildDisplayMesh(*s, meshOptions);

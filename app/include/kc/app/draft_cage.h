@@ -3,7 +3,8 @@
 // or a kill before the first bind loses nothing.
 //
 // File: {"version": 1, "points": [[x, y], ...], "closed": bool, "edges": [[i, j], ...],
-// "image": "<the picture's path>"} (the cage file's fields, file_io.h, plus the picture).
+// "image": "<the picture's path>", "image_upright": true} (the cage file's fields, file_io.h, plus
+// the picture; "image_upright" as in a session: missing means the picture as stored).
 
 #include <string>
 
@@ -15,6 +16,7 @@ namespace kc::app {
 struct DraftCage {
   Cage cage;
   std::string image;
+  bool imageUpright = true;  ///< The cage was drawn on the picture turned upright (Session::imageUpright).
 };
 
 /// Writes the draft atomically (writeFileAtomic); InputError naming the file on failure.

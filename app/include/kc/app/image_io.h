@@ -8,15 +8,31 @@
 
 namespace kc::app {
 
-/// Loads a PNG, JPEG, BMP, TIFF, WebP or PNM file as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
-/// converted; images without alpha get alpha 255. The file is read whole (a regular file of at
-/// most kMaxImageFileBytes), its header checked against kMaxImageSide and kMaxImagePixels before
-/// a pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
-/// the file when it is missing, too large, or cannot be decoded.
-Image loadImage(const std::string& path);
+/// How loadImage lays out a picture whose header says how it is shown (ImageHeader::orientation:
+/// a phone's photo stored sideways with an Exif Orientation).
+enum class ImageOrientation {
+  Upright,   ///< Turned and mirrored as the header says: as viewers and painting programs show it.
+  AsStored,  ///< The decoder's rows and columns (how sessions written before kcwarp read the
+             ///< orientation saw the picture: Session::imageUpright false).
+};
 
-/// The format and size of an image file from its header, checked like loadImage but without
-/// decoding; InputError naming the file otherwise.
+/// Loads a PNG, JPEG, BMP, TIFF, WebP or PNM file as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
+/// converted; images without alpha get alpha 255; a JPEG's Exif orientation is applied unless
+/// `orientation` is AsStored. The file is read whole (a regular file of at most
+/// kMaxImageFileBytes), its header checked against kMaxImageSide and kMaxImagePixels before a
+/// pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
+/// the file when it is missing, too large, or cannot be decoded.
+Image loadImage(const std::string& path, ImageOrientation orientation = ImageOrientation::Upright);
+
+/// `stored` turned and mirrored as Exif orientation `orientation` (1–8, ImageHeader::orientation)
+/// says it is shown: the result is uprightWidth × uprightHeight, and its pixel (x, y) is stored's
+/// pixel at (x, y) for 1, (W−1−x, y) for 2, (W−1−x, H−1−y) for 3, (x, H−1−y) for 4, (y, x) for 5,
+/// (y, H−1−x) for 6, (W−1−y, H−1−x) for 7 and (W−1−y, x) for 8 (W × H the stored size).
+/// std::invalid_argument for an orientation outside 1–8.
+Image orientImage(const Image& stored, int orientation);
+
+/// The format, size and orientation of an image file from its header, checked like loadImage but
+/// without decoding; InputError naming the file otherwise.
 ImageHeader readImageFileHeader(const std::string& path);
 /// The header of the image file content `bytes` (read from `path`), checked against the limits.
 ImageHeader checkImageFile(const std::string& bytes, const std::string& path);

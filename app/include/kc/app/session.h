@@ -133,6 +133,11 @@ struct Session {
   Weights W;                   ///< Optimized weights, #S×m.
   Pose pose;                   ///< Current pose (empty = rest).
   std::string image;           ///< Image path as written in the file (may be empty).
+  /// The picture is the image turned as its Exif orientation says (loadImage's
+  /// ImageOrientation::Upright), which is how it was shown when the cage was drawn; false: as
+  /// stored (sessions written before kcwarp read the orientation, whose `image_upright` key is
+  /// missing).
+  bool imageUpright = true;
   /// The user's outside-the-cage choice, none when none was made: warps then use WarpMeshOptions'
   /// default (pinned). In the file: the kc::OutsideMode name, or no key.
   std::optional<OutsideMode> outside;

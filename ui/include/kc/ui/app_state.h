@@ -130,6 +130,9 @@ struct AppState {
   // --- Document -------------------------------------------------------------------------------
   Image source;                            ///< The picture (RGBA8), full resolution (the export's; drawn from textures sized for the screen).
   std::string imagePath;
+  /// `source` is the picture turned as its Exif orientation says (app::Session::imageUpright);
+  /// false for the picture of a session written before kcwarp read the orientation.
+  bool imageUpright = true;
   std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
   /// The bound session; null when nothing is bound or while a worker job holds it.
   std::shared_ptr<app::Session> session;

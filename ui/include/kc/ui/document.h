@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "kc/app/image_io.h"
 #include "kc/ui/app_state.h"
 
 namespace kc::ui {
@@ -19,8 +20,9 @@ bool openAnyFile(AppState& state, const std::string& path);
 /// Opens a PNG/JPEG (no cage yet: cage tool) or a session (*.kcw.json, on the worker), without
 /// asking about unsaved work. Returns false with a message on failure.
 bool openPath(AppState& state, const std::string& path);
-/// Opens an image as a new document with an empty cage.
-bool openImage(AppState& state, const std::string& path);
+/// Opens an image as a new document with an empty cage, turned as its Exif orientation says
+/// unless `orientation` is AsStored (the picture of a recovered cage drawn before kcwarp read it).
+bool openImage(AppState& state, const std::string& path, app::ImageOrientation orientation = app::ImageOrientation::Upright);
 /// Closes the document: no picture, nothing unsaved (File > New).
 void newDocument(AppState& state);
 
