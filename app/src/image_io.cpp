@@ -82,22 +82,33 @@ Image orientImage(const Image& stored, int orientation) {
   const int W = stored.width, H = stored.height;
   const bool swap = orientation >= 5;
   Image out(swap ? H : W, swap ? W : H);
-  parallelFor(out.height, [&](Index y) {
-    for (int x = 0; x < out.width; ++x) {
-      int sx = x, sy = int(y);
-      switch (orientation) {
-        case 2: sx = W - 1 - x; break;
-        case 3: sx = W - 1 - x, sy = H - 1 - int(y); break;
-        case 4: sy = H - 1 - int(y); break;
-        case 5: sx = int(y), sy = x; break;
-        case 6: sx = int(y), sy = H - 1 - x; break;
-        case 7: sx = W - 1 - int(y), sy = H - 1 - x; break;
-        case 8: sx = W - 1 - int(y), sy = x; break;
-        default: break;
-      }
-      std::copy_n(stored.pixel(sx, sy), 4, out.pixel(x, int(y)));
+  // The stored pixel shown at (x, y), for the table in the header.
+  auto source = [&](int x, int y) -> std::pair<int, int> {
+    switch (orientation) {
+      case 2: return {W - 1 - x, y};
+      case 3: return {W - 1 - x, H - 1 - y};
+      case 4: return {x, H - 1 - y};
+      case 5: return {y, x};
+      case 6: return {y, H - 1 - x};
+      case 7: return {W - 1 - y, H - 1 - x};
+      default: return {W - 1 - y, x};  // 8
     }
-  }, 16);
+  };
+  // In tiles of kTile × kTile: a turn reads the stored picture down its columns, and a tile's
+  // columns stay in the cache while it is copied.
+  constexpr int kTile = 32;
+  const int tilesY = (out.height + kTile - 1) / kTile;
+  parallelFor(tilesY, [&](Index ty) {
+    const int y0 = int(ty) * kTile, y1 = std::min(out.height, y0 + kTile);
+    for (int x0 = 0; x0 < out.width; x0 += kTile) {
+      const int x1 = std::min(out.width, x0 + kTile);
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+          const auto [sx, sy] = source(x, y);
+          std::copy_n(stored.pixel(sx, sy), 4, out.pixel(x, y));
+        }
+    }
+  }, 1);
   return out;
 }
 
