@@ -10,21 +10,16 @@
 namespace kc::app::detail {
 namespace {
 
-// The functions' types, taken from OpenCV's declarations without referencing the functions
+// The function's type, taken from OpenCV's declarations without referencing the functions
 // (decltype is unevaluated): a change of signature fails to compile instead of crashing.
 using DecodeFn = decltype(static_cast<cv::Mat (*)(cv::InputArray, int)>(&cv::imdecode));
-using EncodeFn = decltype(static_cast<bool (*)(const cv::String&, cv::InputArray, std::vector<uchar>&, const std::vector<int>&)>(
-    &cv::imencode));
 static_assert(std::is_same_v<cv::String, std::string>, "the symbol names below assume cv::String is std::string");
 
-// Their exported (Itanium-mangled) names in libopencv_imgcodecs, as `nm -D` lists them.
+// Its exported (Itanium-mangled) name in libopencv_imgcodecs, as `nm -D` lists them.
 constexpr const char* kDecodeSymbol = "_ZN2cv8imdecodeERKNS_11_InputArrayEi";
-constexpr const char* kEncodeSymbol =
-    "_ZN2cv8imencodeERKNSt7__cxx1112basic_stringIcSt11char_traitsIcESaIcEEERKNS_11_InputArrayERSt6vectorIhSaIhEERKSB_IiSaIiEE";
 
 struct Codecs {
   DecodeFn decode = nullptr;
-  EncodeFn encode = nullptr;
   std::string problem;  // why loading failed, or ""
 
   Codecs() {
@@ -41,8 +36,7 @@ struct Codecs {
     // silenced, so a file they refuse gives kcwarp's one line only.
     cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
     decode = reinterpret_cast<DecodeFn>(dlsym(handle, kDecodeSymbol));
-    encode = reinterpret_cast<EncodeFn>(dlsym(handle, kEncodeSymbol));
-    if (!decode || !encode) problem = std::string("OpenCV's image codecs (") + KC_IMGCODECS_SONAME + ") lack imdecode/imencode";
+    if (!decode) problem = std::string("OpenCV's image codecs (") + KC_IMGCODECS_SONAME + ") lack imdecode";
   }
 };
 
@@ -55,9 +49,5 @@ const Codecs& codecs() {
 }  // namespace
 
 cv::Mat imdecode(cv::InputArray buf, int flags) { return codecs().decode(buf, flags); }
-
-bool imencode(const std::string& ext, cv::InputArray image, std::vector<uchar>& out, const std::vector<int>& params) {
-  return codecs().encode(ext, image, out, params);
-}
 
 }  // namespace kc::app::detail

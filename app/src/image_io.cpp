@@ -163,13 +163,7 @@ std::string encodeImage(const Image& image, const std::string& ext, int pngCompr
   if (image.empty()) throw std::invalid_argument("cannot encode an empty image");
   if (ext == ".png") return detail::encodePng(image, pngCompression);
   if (ext != ".jpg" && ext != ".jpeg") throw std::invalid_argument("unknown image format '" + ext + "' (use .png or .jpg)");
-  const cv::Mat rgba(image.height, image.width, CV_8UC4, const_cast<std::uint8_t*>(image.rgba.data()));
-  cv::Mat bgr;
-  cv::cvtColor(rgba, bgr, cv::COLOR_RGBA2BGR);
-  const std::vector<int> params = {cv::IMWRITE_JPEG_QUALITY, 92};
-  std::vector<uchar> buf;
-  if (!detail::imencode(ext, bgr, buf, params)) throw std::runtime_error("OpenCV could not encode the image as " + ext);
-  return std::string(buf.begin(), buf.end());
+  return detail::encodeJpeg(image, 92);
 }
 
 std::string imageExtension(const std::string& path) {

@@ -6,6 +6,9 @@
 #include <jpeglib.h>
 
 #include <cstdint>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace kc::app::detail {
@@ -36,13 +39,19 @@ void onMessage(j_common_ptr cinfo, int level) {
 }
 void noOutput(j_common_ptr) {}
 
-bool decodeInto(Decoder& d, const std::string& bytes, int expectWidth, int expectHeight, Image& out) {
-  jpeg_decompress_struct cinfo{};
+/// Routes the errors and messages of a libjpeg (de)compressor to `d`.
+template <class Info>
+void reportTo(Decoder& d, Info& cinfo) {
   cinfo.client_data = &d;
   cinfo.err = jpeg_std_error(&d.errors);
   d.errors.error_exit = onError;
   d.errors.emit_message = onMessage;
   d.errors.output_message = noOutput;
+}
+
+bool decodeInto(Decoder& d, const std::string& bytes, int expectWidth, int expectHeight, Image& out) {
+  jpeg_decompress_struct cinfo{};
+  reportTo(d, cinfo);
   if (setjmp(d.jump)) {
     jpeg_destroy_decompress(&cinfo);
     return false;
@@ -88,6 +97,52 @@ bool decodeJpeg(const std::string& bytes, int expectWidth, int expectHeight, Ima
   if (decodeInto(d, bytes, expectWidth, expectHeight, out)) return true;
   problem = d.message[0] ? d.message : "libjpeg error";
   return false;
+}
+
+namespace {
+
+/// libjpeg's in-memory destination: the buffer it allocates (malloc) and its size.
+struct Compressed {
+  unsigned char* bytes = nullptr;
+  unsigned long size = 0;
+  ~Compressed() { std::free(bytes); }
+};
+
+/// Compresses `image` into `out`; false with d.message set on a libjpeg error. Like decodeInto,
+/// what it changes after the setjmp is the caller's (Decoder, Compressed).
+bool encodeInto(Decoder& d, const Image& image, int quality, Compressed& out) {
+  jpeg_compress_struct cinfo{};
+  reportTo(d, cinfo);
+  if (setjmp(d.jump)) {
+    jpeg_destroy_compress(&cinfo);
+    return false;
+  }
+  jpeg_create_compress(&cinfo);
+  jpeg_mem_dest(&cinfo, &out.bytes, &out.size);
+  cinfo.image_width = JDIMENSION(image.width);
+  cinfo.image_height = JDIMENSION(image.height);
+  cinfo.input_components = 4;
+  cinfo.in_color_space = JCS_EXT_RGBA;
+  jpeg_set_defaults(&cinfo);
+  jpeg_set_quality(&cinfo, quality, TRUE);
+  jpeg_start_compress(&cinfo, TRUE);
+  while (cinfo.next_scanline < cinfo.image_height) {
+    JSAMPROW row = const_cast<JSAMPROW>(image.pixel(0, int(cinfo.next_scanline)));
+    jpeg_write_scanlines(&cinfo, &row, 1);
+  }
+  jpeg_finish_compress(&cinfo);
+  jpeg_destroy_compress(&cinfo);
+  return true;
+}
+
+}  // namespace
+
+std::string encodeJpeg(const Image& image, int quality) {
+  Decoder d;
+  Compressed out;
+  if (!encodeInto(d, image, quality, out))
+    throw std::runtime_error(std::string("cannot encode the JPEG image: ") + (d.message[0] ? d.message : "libjpeg error"));
+  return std::string(reinterpret_cast<const char*>(out.bytes), out.size);
 }
 
 }  // namespace kc::app::detail

@@ -1,7 +1,8 @@
 #pragma once
-/// JPEG → RGBA8 through libjpeg directly, strictly: where OpenCV's decoder prints libjpeg's
-/// warnings ("Premature end of JPEG file", "Corrupt JPEG data: ...") and returns a picture whose
-/// missing rows repeat the last one decoded, this refuses the file with libjpeg's message.
+/// JPEG ↔ RGBA8 through libjpeg directly. Decoding is strict: where OpenCV's decoder prints
+/// libjpeg's warnings ("Premature end of JPEG file", "Corrupt JPEG data: ...") and returns a
+/// picture whose missing rows repeat the last one decoded, this refuses the file with libjpeg's
+/// message. Encoding needs no OpenCV (whose codecs library takes ~0.1 s to load).
 
 #include <string>
 
@@ -16,5 +17,10 @@ namespace kc::app::detail {
 /// its size is not expectWidth × expectHeight (the header the caller checked against the limits);
 /// `out` is then unspecified.
 bool decodeJpeg(const std::string& bytes, int expectWidth, int expectHeight, Image& out, std::string& problem);
+
+/// `image` (RGBA8, alpha dropped) as a baseline JPEG of `quality` (1–100; libjpeg's standard
+/// tables scaled, 4:2:0 chroma), in memory. Throws std::runtime_error with libjpeg's message on a
+/// failure (an empty image, out of memory).
+std::string encodeJpeg(const Image& image, int quality);
 
 }  // namespace kc::app::detail

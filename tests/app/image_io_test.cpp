@@ -88,6 +88,35 @@ TEST(ImageIo, JpegDropsAlphaAndIsClose) {
   EXPECT_EQ(back.at(10, 10).a, 255);
 }
 
+TEST(ImageIo, JpegIsWrittenByLibjpegAndReadsTheSameInOpenCv) {
+  // Odd sizes (the chroma planes are subsampled 2×2) and a smooth picture with an edge.
+  Image img(97, 61);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      p[0] = std::uint8_t(2 * x), p[1] = std::uint8_t(3 * y), p[2] = x > 48 ? 220 : 30, p[3] = 7;  // alpha is dropped
+    }
+  const std::string bytes = encodeImage(img, ".jpg");
+  ASSERT_GT(bytes.size(), 100u);
+  EXPECT_EQ(bytes.substr(0, 3), "\xFF\xD8\xFF");
+  const fs::path file = freshDir("jpeg_write") / "w.jpg";
+  test::writeBytes(file, bytes);
+  const Image back = loadImage(file.string());
+  ASSERT_EQ(back.width, 97);
+  ASSERT_EQ(back.height, 61);
+  Image opaque = img;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) opaque.pixel(x, y)[3] = 255;
+  EXPECT_GT(psnr(back, opaque), 30.0);
+  const cv::Mat cv = cv::imdecode(cv::Mat(1, int(bytes.size()), CV_8U, const_cast<char*>(bytes.data())), cv::IMREAD_COLOR);
+  ASSERT_EQ(cv.cols, 97);
+  int worst = 0;
+  for (int y = 0; y < cv.rows; ++y)
+    for (int x = 0; x < cv.cols; ++x)
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(cv.at<cv::Vec3b>(y, x)[2 - c]) - int(back.pixel(x, y)[c])));
+  EXPECT_LE(worst, 1) << "OpenCV reads kcwarp's JPEG as kcwarp does";
+}
+
 TEST(ImageIo, ExifOrientationLaysTheJpegOutAsViewersShowIt) {
   // A phone stores its photo as the sensor saw it and says in the Exif block how to turn it. The
   // layouts below are the Exif specification's (row 0 and column 0 of the stored picture go to the
