@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <chrono>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "cli_run.h"
@@ -277,23 +278,44 @@ TEST(Files, BrowserListsFoldersThenMatchingFiles) {
   EXPECT_EQ(ui::listFolder(dir.string(), ui::PathPurpose::Export).size(), 2u);  // pictures/, b.png
 }
 
+/// Sets an environment variable (unsets it when `value` is null) until the end of the scope, then
+/// puts back what it was.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const char* value) : m_name(name) {
+    if (const char* old = std::getenv(name)) m_old = old;
+    if (value) setenv(name, value, 1);
+    else unsetenv(name);
+  }
+  ~ScopedEnv() {
+    if (m_old) setenv(m_name.c_str(), m_old->c_str(), 1);
+    else unsetenv(m_name.c_str());
+  }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string m_name;
+  std::optional<std::string> m_old;
+};
+
 TEST(Files, NativeDialogRunsZenityAndReadsTheChosenPath) {
   // A window test run earlier in the same process turns native dialogs off (GuiSession::SetUp).
-  unsetenv("KCWARP_NO_NATIVE_DIALOG");
+  const ScopedEnv nativeDialogs("KCWARP_NO_NATIVE_DIALOG", nullptr);
   const auto dir = scratchDir("ui_zenity");
   // A stand-in zenity on PATH that records its arguments and answers with a path.
   writeText(dir / "zenity", "#!/bin/sh\nprintf '%s\\n' \"$@\" > \"" + (dir / "args.txt").string() +
                                 "\"\necho /tmp/chosen.kcw.json\n");
   fs::permissions(dir / "zenity", fs::perms::owner_all);
-  const std::string oldPath = std::getenv("PATH") ? std::getenv("PATH") : "";
-  setenv("PATH", (dir.string() + ":" + oldPath).c_str(), 1);
-  EXPECT_EQ(ui::nativeDialogProgram(), "zenity");
-  ui::NativeDialog dialog(ui::nativeDialogCommand("zenity", ui::PathPurpose::SaveSession, "/tmp/untitled.kcw.json"),
-                          ui::PathPurpose::SaveSession, {});
-  for (int k = 0; k < 200 && !dialog.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  setenv("PATH", oldPath.c_str(), 1);
-  ASSERT_TRUE(dialog.done());
-  EXPECT_EQ(dialog.result().value_or(""), "/tmp/chosen.kcw.json");
+  {
+    const ScopedEnv path("PATH", (dir.string() + ":" + (std::getenv("PATH") ? std::getenv("PATH") : "")).c_str());
+    EXPECT_EQ(ui::nativeDialogProgram(), "zenity");
+    ui::NativeDialog dialog(ui::nativeDialogCommand("zenity", ui::PathPurpose::SaveSession, "/tmp/untitled.kcw.json"),
+                            ui::PathPurpose::SaveSession, {});
+    for (int k = 0; k < 200 && !dialog.done(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_TRUE(dialog.done());
+    EXPECT_EQ(dialog.result().value_or(""), "/tmp/chosen.kcw.json");
+  }
   const std::string args = slurp(dir / "args.txt");
   EXPECT_NE(args.find("--save"), std::string::npos) << args;
   EXPECT_NE(args.find("--filename=/tmp/untitled.kcw.json"), std::string::npos) << args;
