@@ -39,11 +39,6 @@ void benchGraded(const std::string& folder, int repeats);                       
 
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 struct BenchArgs {
   int samples = 10000;
   int repeats = 3;

@@ -125,11 +125,6 @@ void bindOnce(Timed& t, const Cage& cage, int w, int h, const app::BindParams& p
   }
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 struct Bindable {
   Cage cage;
   int w = 0, h = 0;

@@ -89,11 +89,6 @@ Release timedRelease(app::Session& s, const std::vector<double>& rho) {
 /// After the QP iterations: "~" for the splitting path's ADMM iterations, " " for active-set rounds.
 const char* methodMark(RigidityQpMethod m) { return m == RigidityQpMethod::Splitting ? "~" : " "; }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 /// Per repeat: a session loaded from the bound one's text (its field not factorized, as after
 /// opening a file); K is factorized first (timed apart: a loaded session's first release pays it),
 /// then the release is timed on the factorized field — the GUI's case after a bind or a stroke.

@@ -1,5 +1,7 @@
 #include "cli_common.h"
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <charconv>
@@ -51,6 +53,12 @@ void addPngCompressionOption(CLI::App* sub, int& level) {
                   "about 1-2 s at 1, 6-40 s at 9)")
       ->check(CLI::Range(0, 9))
       ->capture_default_str();
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 
 std::string limitsText() {

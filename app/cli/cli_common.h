@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 #include <utility>
 
 #include "kc/core/warp_mesh.h"
@@ -54,6 +55,9 @@ std::pair<int, int> imageHeaderSize(const std::string& path);
 void requireFinite(double value, const std::string& option, const std::string& unit = "pixels");
 /// The limits kcwarp puts on its input (kc/app/limits.h), as the footer of `--help`.
 std::string limitsText();
+
+/// The middle value of `v` (the upper one of the two middle values for an even count); 0 when empty.
+double median(std::vector<double> v);
 /// Help text of the --outside options.
 inline constexpr const char* kOutsideHelp =
     "Outside the cage: pinned (the image border stays, the background between cage and border stretches) | "

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "triangle_area.h"
+
 namespace kc {
 
 Vec2 exteriorOutwardAt(const ExteriorRepairFrame& f, const Vec2& p) {
@@ -15,11 +17,7 @@ Vec2 exteriorOutwardAt(const ExteriorRepairFrame& f, const Vec2& p) {
 
 namespace {
 
-double signedArea2(const Points& P, const std::array<int, 3>& t) {
-  const double ax = P(t[1], 0) - P(t[0], 0), ay = P(t[1], 1) - P(t[0], 1);
-  const double bx = P(t[2], 0) - P(t[0], 0), by = P(t[2], 1) - P(t[0], 1);
-  return ax * by - ay * bx;
-}
+using detail::signedArea2;
 
 double jacobian(const Points& P, const std::array<int, 3>& t, double restArea) { return 0.5 * signedArea2(P, t) / restArea; }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "kc/core/parallel.h"
+#include "kc/core/timing.h"
 #include "sparse_cholesky.h"
 
 namespace kc {
@@ -16,7 +17,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// Where a grid edge meets the cage: fraction t along the grid edge (from its lower-index end) and
 /// the point's edge data: cage edge a→b at parameter s (λ_a = 1 − s, λ_b = s).
@@ -334,7 +334,7 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
   SparseMatrix A(nu, nu);
   A.setFromTriplets(aTrip.begin(), aTrip.end());
   std::sort(bTrip.begin(), bTrip.end(), [](const auto& p, const auto& q) { return p.col() < q.col(); });
-  rep.assembleSeconds = seconds(t0);
+  rep.assembleSeconds = secondsSince(t0);
 
   // One factorization, m right-hand sides (setFieldData solves again with the band's data).
   t0 = Clock::now();
@@ -343,10 +343,10 @@ ExteriorWeights pinnedExteriorWeights(const std::vector<double>& xs, const std::
     sys.ok = sys.llt.info() == Eigen::Success;
   }
   rep.ok = sys.ok;
-  rep.factorSeconds = seconds(t0);
+  rep.factorSeconds = secondsSince(t0);
   t0 = Clock::now();
   sys.fill(out, nullptr);
-  rep.solveSeconds = seconds(t0);
+  rep.solveSeconds = secondsSince(t0);
   if (!sys.bandData.empty()) out.system = std::move(system);
   return out;
 }
@@ -360,7 +360,7 @@ void setFieldData(ExteriorWeights& ext, const Weights& W) {
                                 std::to_string(sys.m));
   const auto t0 = Clock::now();
   sys.fill(ext, &W);
-  ext.report.solveSeconds = seconds(t0);
+  ext.report.solveSeconds = secondsSince(t0);
 }
 
 }  // namespace kc

@@ -11,6 +11,8 @@
 
 #include "kc/core/cage_conforming_grid.h"
 #include "kc/core/parallel.h"
+#include "kc/core/timing.h"
+#include "triangle_area.h"
 
 namespace kc {
 namespace {
@@ -25,13 +27,8 @@ const double kLiveRepairBudget = 1.0;
 /// While dragging, each frame starts from the last relaxed picture, so the sweeps add up.
 const int kLiveRelaxSweeps = 20;
 
-double seconds(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-double signedArea2(const Points& P, const std::array<int, 3>& t) {
-  const double ax = P(t[1], 0) - P(t[0], 0), ay = P(t[1], 1) - P(t[0], 1);
-  const double bx = P(t[2], 0) - P(t[0], 0), by = P(t[2], 1) - P(t[0], 1);
-  return ax * by - ay * bx;
-}
+using detail::signedArea2;
 
 }  // namespace
 
@@ -367,7 +364,7 @@ CompactWeightsReport WarpMesh::setWeights(const Weights& W) {
   }
   rep.compactBytes = std::size_t(rep.nonZeros) * (sizeof(double) + sizeof(int)) + std::size_t(nv + 1) * sizeof(int);
   rep.denseBytes = std::size_t(nv) * std::size_t(m) * sizeof(double);
-  rep.seconds = seconds(t0);
+  rep.seconds = secondsSince(t0);
   return rep;
 }
 
@@ -426,7 +423,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     rep.repairVertices = r.regionVertices;
     rep.repairBorderVertices = r.borderVertices;
     rep.repairWarmStart = r.warmStart;
-    rep.repairSeconds = seconds(t1);
+    rep.repairSeconds = secondsSince(t1);
     m_previousFoldFree = r.foldedAfter == 0;
     if (pass == DeformPass::Live || m_previous.rows() > 0) m_previous = m_deformed;  // (kept once a live pass asked for it)
   }
@@ -446,7 +443,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
       rep.flippedArea += std::abs(m_restArea(t));
     }
   }
-  rep.seconds = seconds(t0);
+  rep.seconds = secondsSince(t0);
   return rep;
 }
 
