@@ -315,7 +315,8 @@ DraftCage loadDraftCage(const std::string& path) {
   const detail::json& image = detail::require(j, "image", path);
   if (!image.is_string()) throw InputError(path, "image must be the picture's path (a string)");
   draft.image = image.get<std::string>();
-  draft.imageUpright = j.contains("image_upright") && j["image_upright"].is_boolean() && j["image_upright"].get<bool>();
+  if (j.contains("image_upright") && !j["image_upright"].is_boolean()) throw InputError(path, "image_upright must be true or false");
+  draft.imageUpright = j.contains("image_upright") && j["image_upright"].get<bool>();
   return draft;
 }
 

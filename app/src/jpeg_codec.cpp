@@ -15,20 +15,20 @@ namespace kc::app::detail {
 namespace {
 
 // libjpeg reports errors by calling error_exit, which must not return: it longjmps to the setjmp
-// in decodeInto. The frames it jumps over are libjpeg's; decodeInto keeps every object it changes
-// after the setjmp behind a pointer to the caller's frame (Decoder, Image), as png_codec.cpp does.
-struct Decoder {
+// in decodeInto or encodeInto. The frames it jumps over are libjpeg's; both keep every object they
+// change after the setjmp behind a pointer to the caller's frame (Codec, Image, Compressed), as
+// png_codec.cpp does.
+struct Codec {
   jpeg_error_mgr errors{};
   std::jmp_buf jump{};
   char message[JMSG_LENGTH_MAX] = "";
-  std::vector<JSAMPROW> rows;
   std::vector<unsigned char> cmyk;  // one row of CMYK samples (CMYK and YCCK files)
 };
 
-Decoder& decoderOf(j_common_ptr cinfo) { return *static_cast<Decoder*>(cinfo->client_data); }
+Codec& codecOf(j_common_ptr cinfo) { return *static_cast<Codec*>(cinfo->client_data); }
 
 [[noreturn]] void onError(j_common_ptr cinfo) {
-  Decoder& d = decoderOf(cinfo);
+  Codec& d = codecOf(cinfo);
   (*cinfo->err->format_message)(cinfo, d.message);
   std::longjmp(d.jump, 1);
 }
@@ -41,7 +41,7 @@ void noOutput(j_common_ptr) {}
 
 /// Routes the errors and messages of a libjpeg (de)compressor to `d`.
 template <class Info>
-void reportTo(Decoder& d, Info& cinfo) {
+void reportTo(Codec& d, Info& cinfo) {
   cinfo.client_data = &d;
   cinfo.err = jpeg_std_error(&d.errors);
   d.errors.error_exit = onError;
@@ -49,7 +49,7 @@ void reportTo(Decoder& d, Info& cinfo) {
   d.errors.output_message = noOutput;
 }
 
-bool decodeInto(Decoder& d, const std::string& bytes, int expectWidth, int expectHeight, Image& out) {
+bool decodeInto(Codec& d, const std::string& bytes, int expectWidth, int expectHeight, Image& out) {
   jpeg_decompress_struct cinfo{};
   reportTo(d, cinfo);
   if (setjmp(d.jump)) {
@@ -93,7 +93,7 @@ bool decodeInto(Decoder& d, const std::string& bytes, int expectWidth, int expec
 }  // namespace
 
 bool decodeJpeg(const std::string& bytes, int expectWidth, int expectHeight, Image& out, std::string& problem) {
-  Decoder d;
+  Codec d;
   if (decodeInto(d, bytes, expectWidth, expectHeight, out)) return true;
   problem = d.message[0] ? d.message : "libjpeg error";
   return false;
@@ -109,8 +109,8 @@ struct Compressed {
 };
 
 /// Compresses `image` into `out`; false with d.message set on a libjpeg error. Like decodeInto,
-/// what it changes after the setjmp is the caller's (Decoder, Compressed).
-bool encodeInto(Decoder& d, const Image& image, int quality, Compressed& out) {
+/// what it changes after the setjmp is the caller's (Codec, Compressed).
+bool encodeInto(Codec& d, const Image& image, int quality, Compressed& out) {
   jpeg_compress_struct cinfo{};
   reportTo(d, cinfo);
   if (setjmp(d.jump)) {
@@ -138,7 +138,7 @@ bool encodeInto(Decoder& d, const Image& image, int quality, Compressed& out) {
 }  // namespace
 
 std::string encodeJpeg(const Image& image, int quality) {
-  Decoder d;
+  Codec d;
   Compressed out;
   if (!encodeInto(d, image, quality, out))
     throw std::runtime_error(std::string("cannot encode the JPEG image: ") + (d.message[0] ? d.message : "libjpeg error"));

@@ -83,6 +83,9 @@ TEST(Session, CorruptFieldsAreNamed) {
   j["params"]["method"] = "newton";
   expectError(j, "params.method");
   j = good;
+  j["image_upright"] = "yes";
+  expectError(j, "image_upright must be true or false");
+  j = good;
   j["params"]["sigma"] = -1;
   expectError(j, "params.sigma");
   j = good;

@@ -170,6 +170,7 @@ TEST(Recovery, ACorruptCageCopyIsRefusedAndNothingChanges) {
       {head + R"("points": [[10, 10], [50, 20]], "closed": "yes", "edges": []})", "closed"},
       {R"({"version": 1, "image": 7, "points": [[10, 10], [50, 20]], "closed": false, "edges": [[0, 1]]})", "image"},
       {head + R"("points": [[10, 10], [50, 20]], "closed": false, "edges": [[0, 1])", "malformed JSON"},
+      {head + R"("points": [[10, 10], [50, 20]], "closed": false, "edges": [[0, 1]], "image_upright": 1})", "image_upright"},
   };
   for (const auto& [text, problem] : cases) {
     SCOPED_TRACE(text);
