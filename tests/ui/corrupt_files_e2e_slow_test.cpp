@@ -45,7 +45,7 @@ class CorruptFiles : public GuiSession {
   json openByDialog(const fs::path& file) {
     const json before = state();
     focusApp();
-    key("ctrl+o");
+    xdo("key ctrl+o");  // tapped: the window answers keys that go down and up between its frames
     // The path field takes the keyboard in the dialog's first frames.
     waitFor([](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); }, 20);
     // Typed again when a key was lost on the way (xdotool under a loaded X server).
@@ -56,7 +56,7 @@ class CorruptFiles : public GuiSession {
       waitUntil([&](const json& j) { return j.value("file_dialog_text", "") == file.string(); }, 10, typed);
       if (typed) break;
     }
-    key("Return");
+    xdo("key Return");
     json s = waitFor(
         [&](const json& j) {
           return !j.value("busy", true) && !j.value("file_dialog", true) &&

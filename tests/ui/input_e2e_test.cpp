@@ -1,7 +1,9 @@
 // End to end, input faster than the frames: kcwarp in a real window under Xvfb with every frame
 // slowed on purpose (--slow-frames), clicked by xdotool faster than it draws. The window's mouse
 // callbacks queue each press and release with its position (AppState::pointerInputs), so every
-// click reaches the tool, where ImGui's once-per-frame mouse would merge those of one frame.
+// click reaches the tool, where ImGui's once-per-frame mouse would merge those of one frame; keys
+// tapped between two frames reach the shortcuts and the file dialog (AppState::tappedKeys), and
+// input that arrives while the window draws its last frames after an event gets frames of its own.
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -84,6 +86,41 @@ TEST_F(GuiSession, ADragFasterThanTheFramesEndsWhereTheMouseWasReleased) {
   const std::vector<double> ms = frameTimes(dir / "frames.csv");
   ASSERT_GE(ms.size(), 2u);
   EXPECT_GE(*std::min_element(ms.begin(), ms.end()), 790.0) << "the frames were not slowed";
+}
+
+TEST_F(GuiSession, KeysTappedBetweenFramesOpenAndCloseTheFileDialog) {
+  // Frames of 300 ms. Ctrl is held, and O tapped (down and up within a few ms, between two
+  // frames) at several moments of the frames the window draws after the Ctrl press: the dialog
+  // opens with its path field taking the keyboard without any further input, also when the tap
+  // lands in the last of those frames (its field takes the keyboard a frame after the dialog
+  // appears). A quick Escape then closes it.
+  Image plain(400, 300);
+  for (std::size_t k = 0; k < plain.rgba.size(); ++k) plain.rgba[k] = k % 4 == 3 ? 255 : 180;
+  app::saveImage((dir / "plain.png").string(), plain);
+  startApp({(dir / "plain.png").string(), "--slow-frames", "300"}, false);
+  json s = waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && j.value("idle", false); });
+  for (int offsetMs : {400, 700, 800}) {
+    focusApp();
+    pause(1200);  // the window asleep again
+    runXdo("keydown ctrl");
+    pause(offsetMs);
+    runXdo("key o");
+    pause(50);
+    runXdo("keyup ctrl");
+    bool ok = false;
+    s = waitUntil([](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); }, 6, ok);
+    EXPECT_TRUE(ok) << "O tapped " << offsetMs << " ms after Ctrl: dialog " << s.value("file_dialog", false) << ", field focused "
+                    << s.value("file_dialog_focused", false);
+    pause(1200);
+    runXdo("key Escape");
+    s = waitUntil([](const json& j) { return !j.value("file_dialog", true); }, 6, ok);
+    EXPECT_TRUE(ok) << "a quick Escape did not close the dialog (O tapped " << offsetMs << " ms after Ctrl)";
+    if (!ok) {  // closed by a held Escape, for the next round
+      key("Escape");
+      waitUntil([](const json& j) { return !j.value("file_dialog", true); }, 6, ok);
+      ASSERT_TRUE(ok);
+    }
+  }
 }
 
 }  // namespace

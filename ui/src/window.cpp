@@ -175,12 +175,23 @@ void installInputCallbacks(GLFWwindow* window, AppState& state) {
   glfwSetWindowUserPointer(window, &state);
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
     ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
-    if (action == GLFW_PRESS) static_cast<AppState*>(glfwGetWindowUserPointer(w))->tappedKeys.emplace_back(key, mods);
+    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    ++st->inputEvents;
+    if (action == GLFW_PRESS) st->tappedKeys.emplace_back(key, mods);
+  });
+  glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) {
+    ImGui_ImplGlfw_CharCallback(w, c);
+    ++static_cast<AppState*>(glfwGetWindowUserPointer(w))->inputEvents;
+  });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
+    ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
+    ++static_cast<AppState*>(glfwGetWindowUserPointer(w))->inputEvents;
   });
   state.pointerQueued = true;
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
     ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
     auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    ++st->inputEvents;
     if (button > 2 || action == GLFW_REPEAT) return;
     if (!st->pointerAt) {  // no move seen yet: where the pointer is now
       double x = 0.0, y = 0.0;
@@ -192,6 +203,7 @@ void installInputCallbacks(GLFWwindow* window, AppState& state) {
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
     auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    ++st->inputEvents;
     st->pointerAt = Vec2(x, y);
     st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
   });
@@ -205,13 +217,16 @@ void installInputCallbacks(GLFWwindow* window, AppState& state) {
 void removeInputCallbacks(GLFWwindow* window) {
   glfwSetDropCallback(window, nullptr);
   glfwSetKeyCallback(window, ImGui_ImplGlfw_KeyCallback);
+  glfwSetCharCallback(window, ImGui_ImplGlfw_CharCallback);
+  glfwSetScrollCallback(window, ImGui_ImplGlfw_ScrollCallback);
   glfwSetMouseButtonCallback(window, ImGui_ImplGlfw_MouseButtonCallback);
   glfwSetCursorPosCallback(window, nullptr);
   glfwSetWindowUserPointer(window, nullptr);
 }
 
 /// When the loop draws the next frame. Display rate while dragging or for a few frames after an
-/// event (ImGui settles hover and popups over two or three frames); a running job gets a few
+/// event, counted from the last event also when it arrived while a frame polled (ImGui settles
+/// hover, popups and keyboard focus over two or three frames); a running job gets a few
 /// progress redraws per second once it has run kQuietJobSeconds (before that, only input or its
 /// end wakes the loop); otherwise sleep until input arrives (no redraw while nothing changes). A
 /// timeout wakes the loop only for a blinking text cursor and for the next autosave of unsaved work.
@@ -227,10 +242,11 @@ struct FramePacing {
     wasBusy = busy;
     const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
     if (state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
+      const unsigned long before = state.inputEvents;
       glfwPollEvents();
-      // A drag's end gets its settle frames too: the release's full deform may post a message
-      // (a fold) after the status bar was drawn.
-      settleFrames = state.canvasDrag.button >= 0 ? 3 : settleFrames - 1;
+      // Input in this poll, and a drag's end, get their settle frames too (the release's full
+      // deform may post a message, a fold, after the status bar was drawn).
+      settleFrames = state.canvasDrag.button >= 0 || state.inputEvents != before ? 3 : settleFrames - 1;
       return;
     }
     if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));

@@ -19,6 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// `key` went down since the last frame (AppState::frameTaps): also a tap that went down and up
+/// between two frames, which ImGui never saw.
+bool tapped(const AppState& state, int key) {
+  return std::any_of(state.frameTaps.begin(), state.frameTaps.end(), [key](const auto& t) { return t.first == key; });
+}
+
 void run(AppState& state, PathPurpose p, const std::string& path) {
   switch (p) {
     case PathPurpose::Open: openAnyFile(state, path); break;
@@ -89,9 +95,7 @@ void browserDialog(AppState& state) {
   ImGui::SetNextItemWidth(-1);
   bool enter = ImGui::InputText("##path", buffer, sizeof buffer, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
   // Return tapped between two frames (ImGui saw no key down) while the field has the keyboard.
-  enter = enter || (ImGui::IsItemActive() && std::any_of(state.frameTaps.begin(), state.frameTaps.end(), [](const auto& t) {
-                      return t.first == GLFW_KEY_ENTER || t.first == GLFW_KEY_KP_ENTER;
-                    }));
+  enter = enter || (ImGui::IsItemActive() && (tapped(state, GLFW_KEY_ENTER) || tapped(state, GLFW_KEY_KP_ENTER)));
   tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
   state.pathDialogText = buffer;  // what the field holds now (the automation state reports it)
   state.pathDialogFocused = ImGui::IsItemActive();
@@ -99,7 +103,7 @@ void browserDialog(AppState& state) {
     chosen = buffer;
   ImGui::SameLine();
   const bool cancel = button(state, "Cancel##file", "Close without choosing a file.", ImVec2(100, 0)) ||
-                      ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape));
+                      ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)) || tapped(state, GLFW_KEY_ESCAPE);
   if (!chosen.empty() && fs::is_directory(chosen)) {  // a folder typed or picked: list it
     setFolder(chosen, purpose);
     chosen.clear();

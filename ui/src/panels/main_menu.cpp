@@ -1,4 +1,5 @@
 #include <imgui.h>
+#include <imgui_internal.h>
 
 #include <string>
 
@@ -13,7 +14,7 @@ namespace kc::ui {
 void markWidget(AppState& state, const char* label) {
   const std::string text(label);
   const std::string name = text.substr(0, text.find("##"));
-  if (name.empty()) return;
+  if (name.empty() || ImGui::GetCurrentWindowRead()->Hidden) return;
   const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
   state.widgets[name] = Vec2(0.5 * (a.x + b.x), 0.5 * (a.y + b.y));
 }

@@ -289,9 +289,13 @@ struct AppState {
   bool pointerQueued = false;
   std::optional<Vec2> pointerAt;           ///< The last position the window's callbacks saw (a press's position).
   /// Set by a frame that left work for the next one (the renderer defers the detail texture while
-  /// the view moves): the window draws one more frame before it sleeps. Input that arrives during
-  /// the few frames drawn after an event does not itself extend them.
+  /// the view moves): the window draws one more frame before it sleeps.
   bool frameWanted = false;
+  /// Input events the window's callbacks have seen (keys, characters, mouse buttons, moves,
+  /// wheel): the window draws a few frames after each, also after one that arrived while it polled,
+  /// so a key tapped during those frames gets the frames ImGui needs to answer it (a dialog's
+  /// field takes the keyboard one frame after the dialog appears).
+  unsigned long inputEvents = 0;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.

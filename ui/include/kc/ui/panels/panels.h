@@ -28,7 +28,9 @@ void drawDialogs(AppState& state);
 /// Asks for a file path for `purpose` (opens the path dialog prefilled with `initial`).
 void requestPath(AppState& state, PathPurpose purpose, const std::string& initial);
 /// Records the centre of the last ImGui item under its visible label (the text of `label` before
-/// "##") in AppState::widgets, for UI automation: tests and the window test click by label.
+/// "##") in AppState::widgets, for UI automation: tests and the window test click by label. Not
+/// while its window is hidden: a popup that sizes itself is laid out hidden in its first frame and
+/// placed in the next, so only then is the item where a click finds it.
 void markWidget(AppState& state, const char* label);
 
 }  // namespace kc::ui
