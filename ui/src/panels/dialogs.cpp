@@ -25,6 +25,11 @@ bool tapped(const AppState& state, int key) {
   return std::any_of(state.frameTaps.begin(), state.frameTaps.end(), [key](const auto& t) { return t.first == key; });
 }
 
+/// Escape this frame, held or tapped: it cancels the open dialog or question, as Cancel does.
+bool escapePressed(const AppState& state) {
+  return ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false) || tapped(state, GLFW_KEY_ESCAPE);
+}
+
 void run(AppState& state, PathPurpose p, const std::string& path) {
   switch (p) {
     case PathPurpose::Open: openAnyFile(state, path); break;
@@ -102,8 +107,8 @@ void browserDialog(AppState& state) {
   if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)
     chosen = buffer;
   ImGui::SameLine();
-  const bool cancel = button(state, "Cancel##file", "Close without choosing a file.", ImVec2(100, 0)) ||
-                      ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)) || tapped(state, GLFW_KEY_ESCAPE);
+  const bool cancel = button(state, "Cancel##file", "Close without choosing a file (Esc).", ImVec2(100, 0)) ||
+                      escapePressed(state);
   if (!chosen.empty() && fs::is_directory(chosen)) {  // a folder typed or picked: list it
     setFolder(chosen, purpose);
     chosen.clear();
@@ -167,7 +172,7 @@ void questionPrompt(AppState& state) {
     action(state);
   } else {
     ImGui::SameLine();
-    if (button(state, "Cancel##question", "Go back to your work; nothing changes.")) {
+    if (button(state, "Cancel##question", "Go back to your work; nothing changes (Esc).") || escapePressed(state)) {
       state.unsavedPrompt.reset();
       ImGui::CloseCurrentPopup();
     }
@@ -220,7 +225,7 @@ void unsavedPrompt(AppState& state) {
   }
   if (state.unsavedPrompt) {
     ImGui::SameLine();
-    if (button(state, "Cancel##unsaved", "Go back to your work.")) {
+    if (button(state, "Cancel##unsaved", "Go back to your work (Esc).") || escapePressed(state)) {
       state.unsavedPrompt.reset();
       ImGui::CloseCurrentPopup();
     }

@@ -30,7 +30,7 @@ constexpr Shortcut kShortcuts[] = {
     {"hold H", "See the warp without the cage, its points and lines"},
     {"Space+drag, middle-drag, wheel", "Pan and zoom"},
     {"Delete", "Remove the selected cage point"},
-    {"Escape", "Cancel the drag in progress"},
+    {"Escape", "Cancel the drag in progress; close the file dialog or a question without going on"},
     {"F1", "This help"},
 };
 
