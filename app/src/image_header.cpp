@@ -113,11 +113,12 @@ bool tiff(const Reader& r, ImageHeader& h, std::string& problem) {
   const std::size_t ifd = u32(4);
   if (!r.has(ifd, 2)) return fail(problem, "truncated TIFF: the first directory lies past the end of the file");
   const std::uint32_t count = u16(ifd);
-  bool haveW = false, haveH = false;
+  bool haveW = false, haveH = false, tiled = false;
   for (std::uint32_t k = 0; k < count; ++k) {
     const std::size_t e = ifd + 2 + 12 * static_cast<std::size_t>(k);
     if (!r.has(e, 12)) return fail(problem, "truncated TIFF directory");
     const std::uint32_t tag = u16(e), type = u16(e + 2);
+    tiled = tiled || tag == 322;  // TileWidth
     if (tag != 256 && tag != 257) continue;
     std::int64_t v = 0;
     if (type == 3) v = u16(e + 8);        // SHORT
@@ -127,6 +128,11 @@ bool tiff(const Reader& r, ImageHeader& h, std::string& problem) {
     (tag == 256 ? haveW : haveH) = true;
   }
   if (!haveW || !haveH) return fail(problem, "malformed TIFF: no image width or length");
+  // Scanners and cameras say how to show the picture as JPEG's Exif does (the same tag). OpenCV's
+  // TIFF decoder turns the picture by it, and scrambles a tiled one.
+  h.orientation = tiffOrientation(r, 0, r.b.size());
+  if (tiled && h.orientation != 1)
+    return fail(problem, "a tiled TIFF turned by its Orientation tag is not supported: save it in strips, or upright");
   return true;
 }
 

@@ -138,9 +138,10 @@ Image loadImage(const std::string& path, ImageOrientation orientation) {
   }
   if (m.empty())
     throw InputError(path, "cannot decode the " + header.format + " image (corrupt or truncated)" + decoderReason(said));
-  if (m.cols != header.width || m.rows != header.height)
-    throw InputError(path, "the " + header.format + " header says " + std::to_string(header.width) + "x" +
-                               std::to_string(header.height) + " but the pixels are " + std::to_string(m.cols) + "x" +
+  // OpenCV's decoders turn a TIFF by its Orientation tag (ImageHeader::orientation; 1 for the others).
+  if (m.cols != header.uprightWidth() || m.rows != header.uprightHeight())
+    throw InputError(path, "the " + header.format + " header says " + std::to_string(header.uprightWidth()) + "x" +
+                               std::to_string(header.uprightHeight()) + " but the pixels are " + std::to_string(m.cols) + "x" +
                                std::to_string(m.rows));
   if (m.depth() == CV_16U) m.convertTo(m, CV_8U, 1.0 / 257.0);
   else if (m.depth() != CV_8U) throw InputError(path, "unsupported pixel depth (need 8 or 16 bit)");
@@ -153,7 +154,9 @@ Image loadImage(const std::string& path, ImageOrientation orientation) {
   }
   Image img(rgba.cols, rgba.rows);
   for (int y = 0; y < rgba.rows; ++y) std::copy_n(rgba.ptr<std::uint8_t>(y), std::size_t(rgba.cols) * 4, img.pixel(0, y));
-  return img;
+  if (orientation == ImageOrientation::Upright || header.orientation == 1) return img;
+  const int o = header.orientation;
+  return orientImage(img, o == 6 ? 8 : o == 8 ? 6 : o);  // back as stored: 6 and 8 undo each other, the rest undo themselves
 }
 
 std::string encodeImage(const Image& image, const std::string& ext, int pngCompression) {

@@ -234,5 +234,21 @@ TEST(CliWarp, APhotoTurnedByItsExifBindsUprightAndAnOlderSessionKeepsItAsStored)
   EXPECT_FALSE(std::filesystem::exists(dir / "refused.png"));
 }
 
+TEST(CliWarp, AScanTurnedByItsTiffOrientationBindsAndWarpsUpright) {
+  // A TIFF stored 48x32 with Orientation 6: bound on the picture as shown (32x48) and warped so.
+  const auto dir = scratchDir("cli_tiff_orientation");
+  writeBytes(dir / "scan.tif", orientedTiff(quadrantPicture(48, 32), 6));
+  writeText(dir / "cage.json", R"({"version": 1, "points": [[4,4],[28,4],[28,28],[4,28]], "closed": true})");
+  CliResult r = runCli("bind --cage cage.json --image scan.tif -o s.kcw.json", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "s.kcw.json"));
+  EXPECT_EQ(j["image_size"], nlohmann::json::parse("[32, 48]"));
+  r = runCli("warp --session s.kcw.json -o upright.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Image upright = app::loadImage((dir / "upright.png").string());
+  EXPECT_EQ(upright.width, 32);
+  EXPECT_EQ(quadrantLayout(upright), "BRWG");
+}
+
 }  // namespace
 }  // namespace kc::test

@@ -145,6 +145,45 @@ TEST(ImageIo, ExifOrientationLaysTheJpegOutAsViewersShowIt) {
   EXPECT_THROW(orientImage(test::quadrantPicture(4, 4), 9), std::invalid_argument);
 }
 
+TEST(ImageIo, ATiffIsLaidOutAsItsOrientationTagSays) {
+  // Scanners and cameras write TIFFs stored one way with an Orientation tag (the Exif tag, in the
+  // TIFF's own first directory); OpenCV's TIFF decoder turns the pixels by it. The header must say
+  // the same size, and AsStored must give the rows and columns as stored.
+  const fs::path dir = freshDir("tiff_orientation");
+  const Image picture = test::quadrantPicture(48, 32);
+  const char* shown[9] = {"", "RGBW", "GRWB", "WBGR", "BWRG", "RBGW", "BRWG", "WGBR", "GWRB"};
+  for (int o = 0; o <= 8; ++o) {  // 0: no Orientation tag
+    SCOPED_TRACE("orientation " + std::to_string(o));
+    const fs::path file = dir / ("o" + std::to_string(o) + ".tif");
+    test::writeBytes(file, test::orientedTiff(picture, o));
+    const ImageHeader header = readImageFileHeader(file.string());
+    EXPECT_EQ(header.format, "TIFF");
+    EXPECT_EQ(header.orientation, std::max(o, 1));
+    EXPECT_EQ(header.width, 48);
+    const bool turned = o >= 5;
+    const Image upright = loadImage(file.string());
+    ASSERT_EQ(upright.width, turned ? 32 : 48);
+    ASSERT_EQ(upright.height, turned ? 48 : 32);
+    EXPECT_EQ(test::quadrantLayout(upright), shown[std::max(o, 1)]);
+    const Image asStored = loadImage(file.string(), ImageOrientation::AsStored);
+    ASSERT_EQ(asStored.width, 48);
+    EXPECT_EQ(asStored.rgba, picture.rgba) << "the pixels as stored, to the byte";
+  }
+  // A tiled TIFF with an orientation (OpenCV 4.6 scrambles its tiles) is refused from its header;
+  // without one it is not.
+  test::writeBytes(dir / "tiled6.tif", test::orientedTiff(picture, 6, true));
+  try {
+    readImageFileHeader((dir / "tiled6.tif").string());
+    ADD_FAILURE() << "a tiled TIFF with orientation 6 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tiled6.tif"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a tiled TIFF turned by its Orientation tag is not supported"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(loadImage((dir / "tiled6.tif").string()), InputError);
+  test::writeBytes(dir / "tiled1.tif", test::orientedTiff(picture, 1, true));
+  EXPECT_EQ(readImageFileHeader((dir / "tiled1.tif").string()).orientation, 1);
+}
+
 TEST(ImageIo, AMalformedExifBlockLeavesThePictureAsStored) {
   // Viewers ignore Exif they cannot read; so does kcwarp: the picture loads, as stored.
   const fs::path dir = freshDir("bad_exif");

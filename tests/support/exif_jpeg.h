@@ -1,6 +1,6 @@
 #pragma once
-// Test support: JPEGs that carry an Exif orientation, as phone cameras write them, and a picture
-// whose four quadrants tell how it was turned.
+// Test support: JPEGs that carry an Exif orientation, as phone cameras write them, TIFFs with an
+// Orientation tag, as scanners write them, and a picture whose four quadrants tell how it was turned.
 
 #include <cstdint>
 #include <filesystem>
@@ -61,6 +61,29 @@ inline std::string orientationEntry(int value, bool bigEndian) {
   const char v = char(value);
   return bigEndian ? std::string{'\x01', '\x12', '\0', '\x03', '\0', '\0', '\0', '\x01', '\0', v, '\0', '\0'}
                    : std::string{'\x12', '\x01', '\x03', '\0', '\x01', '\0', '\0', '\0', v, '\0', '\0', '\0'};
+}
+
+/// An uncompressed little-endian RGB TIFF of `img` (one strip) whose first directory holds the
+/// Orientation `orientation` (none when 0); `tiled` adds a TileWidth entry (a header only: such a
+/// file is refused before its pixels are read).
+inline std::string orientedTiff(const Image& img, int orientation, bool tiled = false) {
+  auto u16 = [](std::uint32_t v) { return std::string{char(v & 0xFF), char(v >> 8 & 0xFF)}; };
+  auto u32 = [&](std::uint32_t v) { return u16(v & 0xFFFF) + u16(v >> 16); };
+  auto entry = [&](std::uint32_t tag, std::uint32_t type, std::uint32_t count, std::uint32_t value) {
+    return u16(tag) + u16(type) + u32(count) + (type == 3 && count == 1 ? u16(value) + u16(0) : u32(value));
+  };
+  const std::uint32_t w = std::uint32_t(img.width), h = std::uint32_t(img.height);
+  const int entries = 10 + (orientation != 0) + tiled;
+  const std::uint32_t bits = 8 + 2 + 12 * entries + 4, pixels = bits + 6;
+  std::string ifd = entry(256, 4, 1, w) + entry(257, 4, 1, h) + entry(258, 3, 3, bits) + entry(259, 3, 1, 1) +
+                    entry(262, 3, 1, 2) + entry(273, 4, 1, pixels);
+  if (orientation != 0) ifd += entry(274, 3, 1, std::uint32_t(orientation));
+  ifd += entry(277, 3, 1, 3) + entry(278, 4, 1, h) + entry(279, 4, 1, w * h * 3) + entry(284, 3, 1, 1);
+  if (tiled) ifd += entry(322, 3, 1, 16);
+  std::string out = std::string("II*\0", 4) + u32(8) + u16(std::uint32_t(entries)) + ifd + u32(0) + u16(8) + u16(8) + u16(8);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) out.append(reinterpret_cast<const char*>(img.pixel(x, y)), 3);
+  return out;
 }
 
 inline void writeBytes(const std::filesystem::path& p, const std::string& bytes) {

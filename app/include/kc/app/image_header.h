@@ -11,10 +11,10 @@ namespace kc::app {
 struct ImageHeader {
   std::string format;         ///< "PNG", "JPEG", "BMP", "TIFF", "WebP" or "PNM".
   std::int64_t width = 0, height = 0;  ///< As stored (the decoder's rows and columns).
-  /// How the picture is meant to be shown (the Exif Orientation of a JPEG, 1–8): 1 as stored,
-  /// 2 mirrored left-right, 3 turned 180°, 4 mirrored top-bottom, 5 transposed, 6 turned 90°
-  /// clockwise, 7 transversed, 8 turned 90° anticlockwise. 1 for other formats and for a
-  /// missing or malformed Exif block.
+  /// How the picture is meant to be shown (the Exif Orientation of a JPEG, the Orientation tag
+  /// of a TIFF's first directory; 1–8): 1 as stored, 2 mirrored left-right, 3 turned 180°, 4
+  /// mirrored top-bottom, 5 transposed, 6 turned 90° clockwise, 7 transversed, 8 turned 90°
+  /// anticlockwise. 1 for other formats and for a missing or malformed tag.
   int orientation = 1;
   /// The size as shown: width and height swapped for orientations 5–8.
   std::int64_t uprightWidth() const { return orientation >= 5 ? height : width; }

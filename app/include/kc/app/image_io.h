@@ -9,7 +9,7 @@
 namespace kc::app {
 
 /// How loadImage lays out a picture whose header says how it is shown (ImageHeader::orientation:
-/// a phone's photo stored sideways with an Exif Orientation).
+/// a phone's photo stored sideways with an Exif Orientation, a scan with a TIFF Orientation tag).
 enum class ImageOrientation {
   Upright,   ///< Turned and mirrored as the header says: as viewers and painting programs show it.
   AsStored,  ///< The decoder's rows and columns (how sessions written before kcwarp read the
@@ -17,8 +17,8 @@ enum class ImageOrientation {
 };
 
 /// Loads a PNG, JPEG, BMP, TIFF, WebP or PNM file as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
-/// converted; images without alpha get alpha 255; a JPEG's Exif orientation is applied unless
-/// `orientation` is AsStored. The file is read whole (a regular file of at most
+/// converted; images without alpha get alpha 255; a JPEG's Exif orientation and a TIFF's
+/// Orientation tag are applied unless `orientation` is AsStored. The file is read whole (a regular file of at most
 /// kMaxImageFileBytes), its header checked against kMaxImageSide and kMaxImagePixels before a
 /// pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
 /// the file when it is missing, too large, or cannot be decoded.
