@@ -281,7 +281,7 @@ TEST(GradedConformance, SessionsKeepTheWidthProfile) {
   C << 50, 50, 148.5, 50, 148.5, 200, 151.5, 200, 151.5, 50, 250, 50, 250, 250, 50, 250;
   EXPECT_EQ(app::bind(Cage::polygon(C), 300, 300, BindParams{}).sizing->form(), SizingForm::Min);  // no lines
   Structure st;
-  st.lines = {{{146.5, 70}, {146.5, 230}}};
+  st.lines = {{{120.0, 70}, {120.0, 230}}};
   EXPECT_EQ(app::bind(Cage::polygon(C), st, 300, 300, BindParams{}).sizing->form(), SizingForm::Min);  // exact lines: not sampled
   BindParams sampled;  // lines made linear through their samples (sessions written before the exact correction)
   sampled.kc.exactLines = false;
@@ -292,6 +292,7 @@ TEST(GradedConformance, SessionsKeepTheWidthProfile) {
   const Session t = sessionFromJson(text, "graded.kcw.json");
   ASSERT_TRUE(t.sizing);
   EXPECT_EQ(t.sizing->form(), SizingForm::Smooth);
+  EXPECT_LT(t.sizing->profile(Vec2(147.0, 120.0)), (*t.sizing)(Vec2(147.0, 120.0))) << "the smooth profile lies below h there";
   Points P(3, 2);
   P << 147.0, 120.0, 153.0, 60.0, 100.0, 220.0;
   EXPECT_EQ(s.field->weightsAt(P), t.field->weightsAt(P));
