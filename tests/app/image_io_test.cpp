@@ -177,7 +177,8 @@ TEST(ImageIo, ATiffIsLaidOutAsItsOrientationTagSays) {
     ADD_FAILURE() << "a tiled TIFF with orientation 6 was accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("tiled6.tif"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("a tiled TIFF turned by its Orientation tag is not supported"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("a tiled TIFF turned by its Orientation tag is not supported"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(loadImage((dir / "tiled6.tif").string()), InputError);
   test::writeBytes(dir / "tiled1.tif", test::orientedTiff(picture, 1, true));

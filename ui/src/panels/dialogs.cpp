@@ -107,8 +107,8 @@ void browserDialog(AppState& state) {
   if (button(state, isSave(purpose) ? "Save##file" : "Open##file", "Use this file.", ImVec2(100, 0)) || enter)
     chosen = buffer;
   ImGui::SameLine();
-  const bool cancel = button(state, "Cancel##file", "Close without choosing a file (Esc).", ImVec2(100, 0)) ||
-                      escapePressed(state);
+  const bool cancel =
+      button(state, "Cancel##file", "Close without choosing a file (Esc).", ImVec2(100, 0)) || escapePressed(state);
   if (!chosen.empty() && fs::is_directory(chosen)) {  // a folder typed or picked: list it
     setFolder(chosen, purpose);
     chosen.clear();

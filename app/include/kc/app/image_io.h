@@ -18,9 +18,9 @@ enum class ImageOrientation {
 
 /// Loads a PNG, JPEG, BMP, TIFF, WebP or PNM file as RGBA8: grey, BGR and BGRA, 8 or 16 bit, are
 /// converted; images without alpha get alpha 255; a JPEG's Exif orientation and a TIFF's
-/// Orientation tag are applied unless `orientation` is AsStored. The file is read whole (a regular file of at most
-/// kMaxImageFileBytes), its header checked against kMaxImageSide and kMaxImagePixels before a
-/// pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
+/// Orientation tag are applied unless `orientation` is AsStored. The file is read whole (a regular
+/// file of at most kMaxImageFileBytes), its header checked against kMaxImageSide and
+/// kMaxImagePixels before a pixel is decoded, then decoded from memory. Throws InputError (a std::runtime_error) naming
 /// the file when it is missing, too large, or cannot be decoded.
 Image loadImage(const std::string& path, ImageOrientation orientation = ImageOrientation::Upright);
 
