@@ -13,18 +13,22 @@
 #include "sparse_cholesky.h"
 
 namespace kc {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
+namespace detail {
 
 /// Where a grid edge meets the cage: fraction t along the grid edge (from its lower-index end) and
 /// the point's edge data: cage edge a→b at parameter s (λ_a = 1 − s, λ_b = s).
-struct Crossing {
+struct GridCrossing {
   double t = 0.0;
   int a = -1, b = -1;
   double s = 0.0;
 };
+
+}  // namespace detail
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using Crossing = detail::GridCrossing;
 
 /// The crossings nearest to each end of one grid edge.
 struct GridEdgeCuts {
