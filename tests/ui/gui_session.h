@@ -30,6 +30,16 @@ class GuiSession : public ::testing::Test, protected GuiDriver {
     args.insert(args.end(), extra.begin(), extra.end());
     launch(KC_GUI_PATH, args);
   }
+  /// Starts kcwarp (startApp, without --export) on a plain grey w × h picture written to `dir`.
+  void startOnPlainPicture(int w, int h, const std::vector<std::string>& extra) {
+    Image plain(w, h);
+    for (std::size_t k = 0; k < plain.rgba.size(); ++k) plain.rgba[k] = k % 4 == 3 ? 255 : 180;
+    app::saveImage((dir / "plain.png").string(), plain);
+    std::vector<std::string> args{(dir / "plain.png").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    startApp(args, false);
+  }
+
   /// Gives the app's window the keyboard focus (Xvfb has no window manager: after a window
   /// closes, the focus does not move to the next one by itself).
   void focusApp() { xdo("search --name '^kcwarp' windowfocus"); }

@@ -30,10 +30,7 @@ std::vector<double> frameTimes(const fs::path& csv) {
 }
 
 TEST_F(GuiSession, CageClicksFasterThanTheFramesAllArrive) {
-  Image plain(600, 400);
-  for (std::size_t k = 0; k < plain.rgba.size(); ++k) plain.rgba[k] = k % 4 == 3 ? 255 : 180;
-  app::saveImage((dir / "plain.png").string(), plain);
-  startApp({(dir / "plain.png").string(), "--slow-frames", "300"}, false);
+  startOnPlainPicture(600, 400, {"--slow-frames", "300"});
   json s = waitFor([](const json& j) { return j.value("tool", "") == "cage" && !j.value("busy", true) && j["view"]["zoom"].get<double>() > 0; });
   ASSERT_EQ(s["cage"].size(), 0u);
   const int wx = s["window"][0], wy = s["window"][1];
@@ -94,10 +91,7 @@ TEST_F(GuiSession, KeysTappedBetweenFramesOpenAndCloseTheFileDialog) {
   // opens with its path field taking the keyboard without any further input, also when the tap
   // lands in the last of those frames (its field takes the keyboard a frame after the dialog
   // appears). A quick Escape then closes it.
-  Image plain(400, 300);
-  for (std::size_t k = 0; k < plain.rgba.size(); ++k) plain.rgba[k] = k % 4 == 3 ? 255 : 180;
-  app::saveImage((dir / "plain.png").string(), plain);
-  startApp({(dir / "plain.png").string(), "--slow-frames", "300"}, false);
+  startOnPlainPicture(400, 300, {"--slow-frames", "300"});
   json s = waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && j.value("idle", false); });
   for (int offsetMs : {400, 700, 800}) {
     focusApp();
@@ -121,6 +115,24 @@ TEST_F(GuiSession, KeysTappedBetweenFramesOpenAndCloseTheFileDialog) {
       ASSERT_TRUE(ok);
     }
   }
+}
+
+TEST_F(GuiSession, TypingFasterThanTheFramesEditsTheFieldInOrder) {
+  // Frames of 300 ms. In the file dialog's path field: Ctrl+A, "abc", Backspace, "d", Left, "x",
+  // sent within a few frames. Each key reaches the field in order, also a Backspace or an arrow
+  // that goes down and up between two frames: "abxd".
+  startOnPlainPicture(300, 200, {"--slow-frames", "300"});
+  json s = waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && j.value("idle", false); });
+  focusApp();
+  runXdo("key ctrl+o");
+  s = waitFor([](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); }, 10);
+  ASSERT_TRUE(s.value("file_dialog_focused", false));
+  runXdo("key --delay 1 ctrl+a a b c BackSpace d Left x");
+  bool ok = false;
+  s = waitUntil([](const json& j) { return j.value("file_dialog_text", "") == "abxd"; }, 10, ok);
+  EXPECT_TRUE(ok) << "the field holds '" << s.value("file_dialog_text", "") << "'";
+  runXdo("key Escape");
+  waitFor([](const json& j) { return !j.value("file_dialog", true); }, 10);
 }
 
 }  // namespace

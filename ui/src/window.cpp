@@ -10,11 +10,13 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <deque>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -167,30 +169,89 @@ void closeWindow(GLFWwindow* window) {
   glfwTerminate();
 }
 
-/// The window's input callbacks for `state`, installed after ImGui's backend installed its own:
-/// keys are forwarded to ImGui and their presses kept for handleShortcuts (AppState::tappedKeys);
-/// mouse buttons and moves are forwarded and queued in order with their positions for the canvas
-/// (AppState::pointerInputs); dropped files are kept (AppState::droppedPaths).
-void installInputCallbacks(GLFWwindow* window, AppState& state) {
-  glfwSetWindowUserPointer(window, &state);
+/// A key or character event from GLFW's callbacks.
+struct KeyEvent {
+  bool character = false;
+  int key = 0, scancode = 0, action = 0, mods = 0;  // a key event
+  unsigned int codepoint = 0;                       // a character
+};
+
+/// What the window's callbacks reach through GLFW's user pointer: the state, and the key and
+/// character events not yet given to ImGui (feedKeys).
+struct WindowInput {
+  AppState* state = nullptr;
+  std::deque<KeyEvent> keys;
+};
+
+/// The keys that edit a text field or act in a dialog without typing a character.
+bool editingKey(int key, int mods) {
+  if (mods & (GLFW_MOD_CONTROL | GLFW_MOD_SUPER)) return true;  // Ctrl+A, Ctrl+Z, … and the shortcuts
+  switch (key) {
+    case GLFW_KEY_BACKSPACE: case GLFW_KEY_DELETE: case GLFW_KEY_LEFT: case GLFW_KEY_RIGHT: case GLFW_KEY_UP:
+    case GLFW_KEY_DOWN: case GLFW_KEY_HOME: case GLFW_KEY_END: case GLFW_KEY_PAGE_UP: case GLFW_KEY_PAGE_DOWN:
+    case GLFW_KEY_ENTER: case GLFW_KEY_KP_ENTER: case GLFW_KEY_TAB: case GLFW_KEY_ESCAPE: case GLFW_KEY_INSERT:
+      return true;
+    default:
+      return false;
+  }
+}
+
+/// Gives ImGui the queued key and character events, in order, as far as this frame can take them.
+/// ImGui 1.86 reads key state once per frame: an editing key (Backspace, arrows, Ctrl+…) that went
+/// down and up since the last frame would never be seen down, and a text field reads a frame's
+/// characters before its keys. So an editing key changes at most once per frame (the modifiers
+/// released after it wait behind it, in order), and a character after one waits for the next
+/// frame; what is left stays queued (the window draws on while it is). Keys that type characters
+/// pass freely: the characters carry the text, and their presses reach the shortcuts as taps.
+/// Each press given is also kept for handleShortcuts (AppState::tappedKeys). True when it gave any.
+bool feedKeys(GLFWwindow* window, WindowInput& input) {
+  const std::size_t queued = input.keys.size();
+  std::vector<int> changed;  // keys that went down or up this frame
+  bool edited = false;
+  while (!input.keys.empty()) {
+    const KeyEvent& e = input.keys.front();
+    if (e.character) {
+      if (edited) break;
+      ImGui_ImplGlfw_CharCallback(window, e.codepoint);
+    } else {
+      const bool held = e.action != GLFW_REPEAT && editingKey(e.key, e.mods);
+      if (held && std::find(changed.begin(), changed.end(), e.key) != changed.end()) break;
+      ImGui_ImplGlfw_KeyCallback(window, e.key, e.scancode, e.action, e.mods);
+      if (held) changed.push_back(e.key);
+      if (e.action == GLFW_PRESS) {
+        input.state->tappedKeys.emplace_back(e.key, e.mods);
+        edited = edited || editingKey(e.key, e.mods);
+      }
+    }
+    input.keys.pop_front();
+  }
+  return input.keys.size() != queued;
+}
+
+/// The window's input callbacks for `input`, installed after ImGui's backend installed its own:
+/// keys and characters are queued for feedKeys; mouse buttons and moves are forwarded and queued
+/// in order with their positions for the canvas (AppState::pointerInputs); dropped files are kept
+/// (AppState::droppedPaths). Every event counts in AppState::inputEvents.
+void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
+  glfwSetWindowUserPointer(window, &input);
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
-    ImGui_ImplGlfw_KeyCallback(w, key, scancode, action, mods);
-    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
-    ++st->inputEvents;
-    if (action == GLFW_PRESS) st->tappedKeys.emplace_back(key, mods);
+    auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
+    ++in->state->inputEvents;
+    in->keys.push_back({false, key, scancode, action, mods, 0});
   });
   glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) {
-    ImGui_ImplGlfw_CharCallback(w, c);
-    ++static_cast<AppState*>(glfwGetWindowUserPointer(w))->inputEvents;
+    auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
+    ++in->state->inputEvents;
+    in->keys.push_back({true, 0, 0, 0, 0, c});
   });
   glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
     ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
-    ++static_cast<AppState*>(glfwGetWindowUserPointer(w))->inputEvents;
+    ++static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state->inputEvents;
   });
-  state.pointerQueued = true;
+  input.state->pointerQueued = true;
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
     ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
-    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
     ++st->inputEvents;
     if (button > 2 || action == GLFW_REPEAT) return;
     if (!st->pointerAt) {  // no move seen yet: where the pointer is now
@@ -202,13 +263,13 @@ void installInputCallbacks(GLFWwindow* window, AppState& state) {
                                  *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
-    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
     ++st->inputEvents;
     st->pointerAt = Vec2(x, y);
     st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
   });
   glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
-    auto* st = static_cast<AppState*>(glfwGetWindowUserPointer(w));
+    AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
     for (int k = 0; k < count; ++k) st->droppedPaths.emplace_back(paths[k]);
   });
 }
@@ -236,17 +297,18 @@ struct FramePacing {
   double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
 
   /// Polls or waits for events as above. `waitsForever`: a signal can wake a wait without timeout.
-  void waitForEvents(const AppState& state, bool waitsForever) {
+  /// `keysQueued`: key events wait for the next frame (feedKeys), which comes at once.
+  void waitForEvents(const AppState& state, bool waitsForever, bool keysQueued) {
     const bool busy = state.worker.busy();
     if (busy && !wasBusy) jobSince = nowSeconds();
     wasBusy = busy;
     const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
-    if (state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
+    if (keysQueued || state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
       const unsigned long before = state.inputEvents;
       glfwPollEvents();
       // Input in this poll, and a drag's end, get their settle frames too (the release's full
       // deform may post a message, a fold, after the status bar was drawn).
-      settleFrames = state.canvasDrag.button >= 0 || state.inputEvents != before ? 3 : settleFrames - 1;
+      settleFrames = state.canvasDrag.button >= 0 || state.inputEvents != before ? 3 : std::max(settleFrames - 1, 0);
       return;
     }
     if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
@@ -305,7 +367,8 @@ int runWindow(const WindowOptions& o) {
     state->nativeDialogs = true;
     state->recentFilesPath = defaultRecentFilesPath();
     state->recentFiles = loadRecentFiles(state->recentFilesPath);
-    installInputCallbacks(window, *state);
+    WindowInput input{state.get(), {}};
+    installInputCallbacks(window, input);
     state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
     state->exportPath = o.exportPath;
     state->lastAutosave = nowSeconds();
@@ -323,7 +386,7 @@ int runWindow(const WindowOptions& o) {
     auto previous = std::chrono::steady_clock::now();
     const auto start = previous;
     while (!state->quitConfirmed && !g_terminate) {
-      pacing.waitForEvents(*state, waker.waitsForever());
+      pacing.waitForEvents(*state, waker.waitsForever(), !input.keys.empty());
       if (glfwWindowShouldClose(window)) {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
         state->quitRequested = true;
@@ -331,6 +394,7 @@ int runWindow(const WindowOptions& o) {
       const auto t0 = std::chrono::steady_clock::now();
       pollWorker(*state);
       const auto tApplied = std::chrono::steady_clock::now();
+      if (feedKeys(window, input)) pacing.settleFrames = 3;  // the frames ImGui takes to answer them
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();

@@ -276,9 +276,10 @@ struct AppState {
   std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
   std::function<void(AppState&)> afterSave;    ///< Runs after the next successful save (prompt's "Save and ...").
   std::vector<std::string> droppedPaths;   ///< Files dropped onto the window, handled next frame.
-  /// Keys pressed since the last frame (GLFW key, modifier bits), from the window's key callback:
-  /// ImGui samples key state once per frame, so a tap that goes down and up between two frames (a
-  /// quick Ctrl+B while a big picture draws at a few frames per second) would otherwise be lost.
+  /// Keys pressed since the last frame (GLFW key, modifier bits), as the window gives them to ImGui
+  /// (at most one change per key per frame, so ImGui sees every press down for a frame; a tap that
+  /// goes down and up between two frames, a quick Ctrl+B while a big picture draws at a few frames
+  /// per second, is not lost).
   std::vector<std::pair<int, int>> tappedKeys;
   /// This frame's taps (handleShortcuts moves tappedKeys here), for the widgets that act on a key
   /// of their own: the file dialog's Return.
