@@ -2,6 +2,7 @@
 // Test support for kc::ui: an AppState with a small bound session (checker example, coarse
 // spacing) and a headless Dear ImGui context (the null backend of example_null: no window).
 
+#include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 #include <imgui.h>
 #include <imgui_internal.h>
@@ -92,6 +93,14 @@ class HeadlessImGui {
     io.DisplaySize = ImVec2(1400, 900);
     io.DeltaTime = 1.0f / 60.0f;
     io.IniFilename = nullptr;
+    // The key map of ImGui's GLFW backend (keys are GLFW codes, as in the window).
+    io.KeyMap[ImGuiKey_Tab] = GLFW_KEY_TAB;
+    io.KeyMap[ImGuiKey_LeftArrow] = GLFW_KEY_LEFT;
+    io.KeyMap[ImGuiKey_RightArrow] = GLFW_KEY_RIGHT;
+    io.KeyMap[ImGuiKey_Backspace] = GLFW_KEY_BACKSPACE;
+    io.KeyMap[ImGuiKey_Enter] = GLFW_KEY_ENTER;
+    io.KeyMap[ImGuiKey_Escape] = GLFW_KEY_ESCAPE;
+    io.KeyMap[ImGuiKey_KeyPadEnter] = GLFW_KEY_KP_ENTER;
     unsigned char* pixels = nullptr;
     int w = 0, h = 0;
     io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);

@@ -17,8 +17,7 @@ namespace kc::ui {
 
 void handleShortcuts(AppState& state) {
   const ImGuiIO& io = ImGui::GetIO();
-  state.frameTaps = std::exchange(state.tappedKeys, {});
-  const std::vector<std::pair<int, int>>& tapped = state.frameTaps;
+  const std::vector<std::pair<int, int>> tapped = std::exchange(state.tappedKeys, {});
   state.showOriginal = false;
   state.hideCage = false;
   if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;

@@ -176,11 +176,13 @@ struct KeyEvent {
   unsigned int codepoint = 0;                       // a character
 };
 
-/// What the window's callbacks reach through GLFW's user pointer: the state, and the key and
-/// character events not yet given to ImGui (feedKeys).
+/// What the window's callbacks reach through GLFW's user pointer: the state, the key and
+/// character events not yet given to ImGui (feedKeys), and a count of every input event (the frame
+/// pacing draws a few frames after each, also after one that arrived while it polled).
 struct WindowInput {
   AppState* state = nullptr;
   std::deque<KeyEvent> keys;
+  unsigned long events = 0;
 };
 
 /// The keys that edit a text field or act in a dialog without typing a character.
@@ -205,6 +207,7 @@ bool editingKey(int key, int mods) {
 /// pass freely: the characters carry the text, and their presses reach the shortcuts as taps.
 /// Each press given is also kept for handleShortcuts (AppState::tappedKeys). True when it gave any.
 bool feedKeys(GLFWwindow* window, WindowInput& input) {
+  if (input.keys.empty()) return false;
   const std::size_t queued = input.keys.size();
   std::vector<int> changed;  // keys that went down or up this frame
   bool edited = false;
@@ -231,28 +234,29 @@ bool feedKeys(GLFWwindow* window, WindowInput& input) {
 /// The window's input callbacks for `input`, installed after ImGui's backend installed its own:
 /// keys and characters are queued for feedKeys; mouse buttons and moves are forwarded and queued
 /// in order with their positions for the canvas (AppState::pointerInputs); dropped files are kept
-/// (AppState::droppedPaths). Every event counts in AppState::inputEvents.
+/// (AppState::droppedPaths). Every event counts in WindowInput::events.
 void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
   glfwSetWindowUserPointer(window, &input);
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int scancode, int action, int mods) {
     auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
-    ++in->state->inputEvents;
+    ++in->events;
     in->keys.push_back({false, key, scancode, action, mods, 0});
   });
   glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int c) {
     auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
-    ++in->state->inputEvents;
+    ++in->events;
     in->keys.push_back({true, 0, 0, 0, 0, c});
   });
   glfwSetScrollCallback(window, [](GLFWwindow* w, double dx, double dy) {
     ImGui_ImplGlfw_ScrollCallback(w, dx, dy);
-    ++static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state->inputEvents;
+    ++static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->events;
   });
   input.state->pointerQueued = true;
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
     ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
-    AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
-    ++st->inputEvents;
+    auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
+    ++in->events;
+    AppState* st = in->state;
     if (button > 2 || action == GLFW_REPEAT) return;
     if (!st->pointerAt) {  // no move seen yet: where the pointer is now
       double x = 0.0, y = 0.0;
@@ -263,8 +267,9 @@ void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
                                  *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
-    AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
-    ++st->inputEvents;
+    auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
+    ++in->events;
+    AppState* st = in->state;
     st->pointerAt = Vec2(x, y);
     st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
   });
@@ -297,18 +302,18 @@ struct FramePacing {
   double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
 
   /// Polls or waits for events as above. `waitsForever`: a signal can wake a wait without timeout.
-  /// `keysQueued`: key events wait for the next frame (feedKeys), which comes at once.
-  void waitForEvents(const AppState& state, bool waitsForever, bool keysQueued) {
+  /// Key events still queued (feedKeys) get the next frame at once.
+  void waitForEvents(const AppState& state, const WindowInput& input, bool waitsForever) {
     const bool busy = state.worker.busy();
     if (busy && !wasBusy) jobSince = nowSeconds();
     wasBusy = busy;
     const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
-    if (keysQueued || state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
-      const unsigned long before = state.inputEvents;
+    if (!input.keys.empty() || state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
+      const unsigned long before = input.events;
       glfwPollEvents();
       // Input in this poll, and a drag's end, get their settle frames too (the release's full
       // deform may post a message, a fold, after the status bar was drawn).
-      settleFrames = state.canvasDrag.button >= 0 || state.inputEvents != before ? 3 : std::max(settleFrames - 1, 0);
+      settleFrames = state.canvasDrag.button >= 0 || input.events != before ? 3 : std::max(settleFrames - 1, 0);
       return;
     }
     if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
@@ -386,7 +391,7 @@ int runWindow(const WindowOptions& o) {
     auto previous = std::chrono::steady_clock::now();
     const auto start = previous;
     while (!state->quitConfirmed && !g_terminate) {
-      pacing.waitForEvents(*state, waker.waitsForever(), !input.keys.empty());
+      pacing.waitForEvents(*state, input, waker.waitsForever());
       if (glfwWindowShouldClose(window)) {
         glfwSetWindowShouldClose(window, GLFW_FALSE);
         state->quitRequested = true;

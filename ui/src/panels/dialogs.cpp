@@ -19,16 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// `key` went down since the last frame (AppState::frameTaps): also a tap that went down and up
-/// between two frames, which ImGui never saw.
-bool tapped(const AppState& state, int key) {
-  return std::any_of(state.frameTaps.begin(), state.frameTaps.end(), [key](const auto& t) { return t.first == key; });
-}
-
-/// Escape this frame, held or tapped: it cancels the open dialog or question, as Cancel does.
-bool escapePressed(const AppState& state) {
-  return ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false) || tapped(state, GLFW_KEY_ESCAPE);
-}
+/// Escape went down this frame (not its repeat): it cancels the open dialog or question, as Cancel
+/// does. The window holds Escape down for a frame however quickly it was tapped (feedKeys).
+bool escapePressed() { return ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false); }
 
 void run(AppState& state, PathPurpose p, const std::string& path) {
   switch (p) {
@@ -98,9 +91,7 @@ void browserDialog(AppState& state) {
   ImGui::EndChild();
   if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
   ImGui::SetNextItemWidth(-1);
-  bool enter = ImGui::InputText("##path", buffer, sizeof buffer, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
-  // Return tapped between two frames (ImGui saw no key down) while the field has the keyboard.
-  enter = enter || (ImGui::IsItemActive() && (tapped(state, GLFW_KEY_ENTER) || tapped(state, GLFW_KEY_KP_ENTER)));
+  const bool enter = ImGui::InputText("##path", buffer, sizeof buffer, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll);
   tooltip("The file's path: type one, or pick a file above (double-click opens a folder).");
   state.pathDialogText = buffer;  // what the field holds now (the automation state reports it)
   state.pathDialogFocused = ImGui::IsItemActive();
@@ -108,7 +99,7 @@ void browserDialog(AppState& state) {
     chosen = buffer;
   ImGui::SameLine();
   const bool cancel =
-      button(state, "Cancel##file", "Close without choosing a file (Esc).", ImVec2(100, 0)) || escapePressed(state);
+      button(state, "Cancel##file", "Close without choosing a file (Esc).", ImVec2(100, 0)) || escapePressed();
   if (!chosen.empty() && fs::is_directory(chosen)) {  // a folder typed or picked: list it
     setFolder(chosen, purpose);
     chosen.clear();
@@ -172,7 +163,7 @@ void questionPrompt(AppState& state) {
     action(state);
   } else {
     ImGui::SameLine();
-    if (button(state, "Cancel##question", "Go back to your work; nothing changes (Esc).") || escapePressed(state)) {
+    if (button(state, "Cancel##question", "Go back to your work; nothing changes (Esc).") || escapePressed()) {
       state.unsavedPrompt.reset();
       ImGui::CloseCurrentPopup();
     }
@@ -225,7 +216,7 @@ void unsavedPrompt(AppState& state) {
   }
   if (state.unsavedPrompt) {
     ImGui::SameLine();
-    if (button(state, "Cancel##unsaved", "Go back to your work (Esc).") || escapePressed(state)) {
+    if (button(state, "Cancel##unsaved", "Go back to your work (Esc).") || escapePressed()) {
       state.unsavedPrompt.reset();
       ImGui::CloseCurrentPopup();
     }

@@ -276,14 +276,11 @@ struct AppState {
   std::optional<PendingAction> unsavedPrompt;  ///< The unsaved-changes prompt is open for this action.
   std::function<void(AppState&)> afterSave;    ///< Runs after the next successful save (prompt's "Save and ...").
   std::vector<std::string> droppedPaths;   ///< Files dropped onto the window, handled next frame.
-  /// Keys pressed since the last frame (GLFW key, modifier bits), as the window gives them to ImGui
-  /// (at most one change per key per frame, so ImGui sees every press down for a frame; a tap that
-  /// goes down and up between two frames, a quick Ctrl+B while a big picture draws at a few frames
-  /// per second, is not lost).
+  /// Keys pressed since the last frame (GLFW key, modifier bits), as the window gives them to ImGui,
+  /// for handleShortcuts: the window holds an editing key (Return, Escape, arrows, Ctrl+…) down for
+  /// a frame at least, but lets a key that types a character go down and up between two frames (a
+  /// quick B or C while a big picture draws at a few frames per second), which ImGui never sees.
   std::vector<std::pair<int, int>> tappedKeys;
-  /// This frame's taps (handleShortcuts moves tappedKeys here), for the widgets that act on a key
-  /// of their own: the file dialog's Return.
-  std::vector<std::pair<int, int>> frameTaps;
   /// Mouse presses, releases and moves since the last frame, in order (PointerInput). Filled only
   /// when `pointerQueued` (the window's callbacks); otherwise the canvas reads ImGui's mouse state.
   std::vector<PointerInput> pointerInputs;
@@ -292,11 +289,6 @@ struct AppState {
   /// Set by a frame that left work for the next one (the renderer defers the detail texture while
   /// the view moves): the window draws one more frame before it sleeps.
   bool frameWanted = false;
-  /// Input events the window's callbacks have seen (keys, characters, mouse buttons, moves,
-  /// wheel): the window draws a few frames after each, also after one that arrived while it polled,
-  /// so a key tapped during those frames gets the frames ImGui needs to answer it (a dialog's
-  /// field takes the keyboard one frame after the dialog appears).
-  unsigned long inputEvents = 0;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
