@@ -46,17 +46,8 @@ class CorruptFiles : public GuiSession {
     const json before = state();
     focusApp();
     xdo("key ctrl+o");  // tapped: the window answers keys that go down and up between its frames
-    // The path field takes the keyboard in the dialog's first frames. A Ctrl+O that lands in the
-    // frame right after the dialog closed is swallowed (ImGui still reports the closed field as
-    // taking text in that frame: a known race, in the stop note); it is tapped once more then.
-    const auto focused = [](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); };
-    bool open = false;
-    waitUntil(focused, 3, open);
-    if (!open) {
-      focusApp();
-      xdo("key ctrl+o");
-    }
-    waitFor(focused, 20);
+    // The path field takes the keyboard in the dialog's first frames.
+    waitFor([](const json& j) { return j.value("file_dialog", false) && j.value("file_dialog_focused", false); }, 20);
     // Typed again when a key was lost on the way (xdotool under a loaded X server).
     for (int attempt = 0; attempt < 3; ++attempt) {
       xdo("key --delay 20 ctrl+a");

@@ -279,6 +279,45 @@ TEST(UnsavedPrompt, EscapeCancelsTheQuestionsAndTheFileDialog) {
   EXPECT_EQ(s->source.width, width) << "nothing was opened";
 }
 
+TEST(Shortcuts, ACtrlKeyTappedRightAfterTheFileDialogClosesIsAnswered) {
+  // ImGui reports the closed dialog's path field as taking text for one more frame; a Ctrl+O
+  // tapped in that frame opens the dialog again (a tapped Ctrl shortcut waits one frame for it).
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  ImGuiIO& io = ImGui::GetIO();
+  requestPath(*s, PathPurpose::Open, s->imagePath);
+  for (int k = 0; k < 3; ++k) gui.frame(draw);
+  ASSERT_EQ(s->pathDialog, PathPurpose::Open);
+  io.KeysDown[GLFW_KEY_ESCAPE] = true;
+  gui.frame(draw);
+  io.KeysDown[GLFW_KEY_ESCAPE] = false;
+  ASSERT_EQ(s->pathDialog, PathPurpose::None);
+  s->tappedKeys.emplace_back(GLFW_KEY_O, GLFW_MOD_CONTROL);
+  for (int k = 0; k < 3; ++k) gui.frame(draw);
+  EXPECT_EQ(s->pathDialog, PathPurpose::Open) << "the tapped Ctrl+O was lost";
+  // While a field takes text, a tapped shortcut belongs to the field, also in the frame after.
+  io.KeysDown[GLFW_KEY_ESCAPE] = true;
+  gui.frame(draw);
+  io.KeysDown[GLFW_KEY_ESCAPE] = false;
+  ASSERT_EQ(s->pathDialog, PathPurpose::None);
+  char text[32] = "";
+  bool focus = true;
+  auto drawWithField = [&] {
+    drawFrame(*s);
+    ImGui::Begin("field");
+    if (std::exchange(focus, false)) ImGui::SetKeyboardFocusHere();
+    ImGui::InputText("##text", text, sizeof text);
+    ImGui::End();
+  };
+  for (int k = 0; k < 3; ++k) gui.frame(drawWithField);
+  ASSERT_TRUE(io.WantTextInput);
+  s->tappedKeys.emplace_back(GLFW_KEY_O, GLFW_MOD_CONTROL);
+  for (int k = 0; k < 3; ++k) gui.frame(drawWithField);
+  EXPECT_EQ(s->pathDialog, PathPurpose::None) << "Ctrl+O typed into a field must not open the file dialog";
+  EXPECT_TRUE(s->heldTaps.empty());
+}
+
 TEST(UnsavedPrompt, AnUnboundCageCountsAsWork) {
   test::HeadlessImGui gui;
   auto s = newPicture();

@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <iterator>
 #include <utility>
 #include <vector>
 
@@ -17,10 +18,18 @@ namespace kc::ui {
 
 void handleShortcuts(AppState& state) {
   const ImGuiIO& io = ImGui::GetIO();
-  const std::vector<std::pair<int, int>> tapped = std::exchange(state.tappedKeys, {});
+  const std::vector<std::pair<int, int>> fresh = std::exchange(state.tappedKeys, {});
+  std::vector<std::pair<int, int>> tapped = std::exchange(state.heldTaps, {});
+  tapped.insert(tapped.end(), fresh.begin(), fresh.end());
   state.showOriginal = false;
   state.hideCage = false;
-  if (io.WantTextInput || state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
+  if (state.pathDialog != PathPurpose::None || state.unsavedPrompt || state.nativeDialog) return;
+  if (io.WantTextInput) {
+    // The field takes these keys if it is still there next frame (then they are dropped).
+    std::copy_if(fresh.begin(), fresh.end(), std::back_inserter(state.heldTaps),
+                 [](const std::pair<int, int>& t) { return (t.second & GLFW_MOD_CONTROL) != 0; });
+    return;
+  }
   // A key counts when ImGui sees it go down this frame or when it was tapped since the last frame
   // (then with the modifiers it was tapped with).
   bool ctrl = io.KeyCtrl, shift = io.KeyShift;

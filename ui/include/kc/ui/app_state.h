@@ -281,6 +281,10 @@ struct AppState {
   /// a frame at least, but lets a key that types a character go down and up between two frames (a
   /// quick B or C while a big picture draws at a few frames per second), which ImGui never sees.
   std::vector<std::pair<int, int>> tappedKeys;
+  /// Ctrl shortcuts tapped in a frame where ImGui reported a text field as taking the keyboard,
+  /// tried once more in the next frame: ImGui reports a field that closed (a dialog's path field)
+  /// as taking text for one frame after, and a shortcut tapped then belongs to the window.
+  std::vector<std::pair<int, int>> heldTaps;
   /// Mouse presses, releases and moves since the last frame, in order (PointerInput). Filled only
   /// when `pointerQueued` (the window's callbacks); otherwise the canvas reads ImGui's mouse state.
   std::vector<PointerInput> pointerInputs;
