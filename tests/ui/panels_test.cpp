@@ -55,6 +55,23 @@ TEST(Window, NewcomerDrawsACageClicksBindAndPoses) {
   EXPECT_GT(s->deformReport.seconds, 0.0) << "the picture was not re-deformed";
 }
 
+TEST(BindPanel, TheBindButtonStaysInPlaceWhicheverParametersAreShown) {
+  // Switching KC -> LBC to compare, then clicking Bind where it was, must hit Bind.
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  ASSERT_TRUE(s->widgets.count("Bind"));
+  const Vec2 kc = s->widgets.at("Bind");
+  s->bindParams.backend = "lbc";
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_TRUE(s->widgets.at("Bind").isApprox(kc)) << s->widgets.at("Bind").transpose() << " against " << kc.transpose();
+  s->bindParams.backend = "kc";
+  s->bindParams.kc.init.method = InitMethod::Lbc;  // more rows of parameters
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_TRUE(s->widgets.at("Bind").isApprox(kc)) << s->widgets.at("Bind").transpose() << " against " << kc.transpose();
+}
+
 TEST(FileMenu, ExportPngDoesWhatCtrlEDoesAndExportPngAsAsksForANewFile) {
   test::HeadlessImGui gui;
   auto s = test::boundState();

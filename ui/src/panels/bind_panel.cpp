@@ -108,7 +108,8 @@ void lbcControls(AppState& state) {
   labelled(state, "Max iterations", "The solver gives up after this many iterations and Bind reports it (default 20000).");
 }
 
-/// The cage's status, Bind (with the cage-edited hint), Load / Save cage.
+/// The cage's status and the Bind row (Previous / Next bind, the cage-edited hint): above the
+/// parameters, so that Bind stays in one place whichever backend's parameters are shown.
 void drawBindButtons(AppState& state) {
   if (!state.cageStatus.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, cageComplete(state.cage) ? ImVec4(1.0f, 0.42f, 0.42f, 1.0f) : ImVec4(0.75f, 0.85f, 1.0f, 1.0f));
@@ -144,6 +145,10 @@ void drawBindButtons(AppState& state) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
   }
+}
+
+/// What the bound session was computed with; Load / Save cage.
+void drawBoundSummary(AppState& state) {
   if (state.bound) {  // what the bound session was computed with
     const bool mesh = state.reports.lbcMesh > 0;
     const std::string sigma = boundSigmaText(state);
@@ -166,6 +171,7 @@ void drawBindButtons(AppState& state) {
 
 void drawBindPanel(AppState& state) {
   app::BindParams& p = state.bindParams;
+  drawBindButtons(state);
   backendSwitch(state);
   const bool lbc = p.backend == "lbc";
   ImGui::PushItemWidth(150);
@@ -207,7 +213,7 @@ void drawBindPanel(AppState& state) {
   if (lbc) {
     lbcControls(state);
     ImGui::PopItemWidth();
-    drawBindButtons(state);
+    drawBoundSummary(state);
     return;
   }
   bool autoSigma = p.kc.sigma <= 0.0;
@@ -271,7 +277,7 @@ void drawBindPanel(AppState& state) {
             "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
             "thesis: the plain kernel form of the thesis (about 0.1% off).");
   ImGui::PopItemWidth();
-  drawBindButtons(state);
+  drawBoundSummary(state);
 }
 
 }  // namespace kc::ui
