@@ -190,7 +190,7 @@ void addBindCommand(CLI::App& app) {
                 "along it, not only at its samples (thesis 5.3.3; deepens the negative lobes near the controls)");
   sub->add_option("--backend", a->backend,
                   "Weight backend: kc (kernel coordinates) | lbc (local barycentric coordinates on a mesh of the cage interior, "
-                  "edge length --spacing; no weights outside the cage: warps default to --outside fixed)")
+                  "edge length --spacing; no weights outside the cage: warps cannot use --outside deform)")
       ->capture_default_str();
   sub->add_option("--lbc-tau", a->lbcTau, "LBC locality weighting tau(D) of the geodesic distance: square | const | linear | sqrt")
       ->capture_default_str();

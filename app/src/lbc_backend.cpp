@@ -127,7 +127,6 @@ class LbcBackend final : public Backend {
     s.W = b.result.W;
     s.field = std::make_unique<MeshField>(mesh.V, mesh.T, std::move(b.result.W));
     s.reports = SolverReports{r.sampling, r.init, r.optimize, rep, mesh.size()};
-    if (!s.outside) s.outside = OutsideMode::Fixed;  // LBC has no weights outside the cage
   }
 
   void rebuildField(Session& s) const override {

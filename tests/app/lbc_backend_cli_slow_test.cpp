@@ -43,6 +43,15 @@ TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   EXPECT_NE(r.out.find("outside the cage"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("LBC mesh of the cage interior"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("lower bound"), std::string::npos) << r.out;
+  // A warp of the session without --outside pins the border and lets the background follow, as
+  // for a kc session (no copy of the moved part left behind where it was).
+  nlohmann::json pose = {{"version", 1}, {"positions", nlohmann::json::parse(test::slurp(kImages + "star.cage.json"))["points"]}};
+  pose["positions"][0][0] = pose["positions"][0][0].get<double>() + 30.0;
+  test::writeText(dir / "pose.json", pose.dump());
+  r = test::runCli("warp --session s.kcw.json --pose pose.json -o pinned.png", dir);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("outside pinned"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("pinned exterior"), std::string::npos) << r.out;
 
   struct Bad {
     std::string args, says;

@@ -206,14 +206,14 @@ TEST(LbcGui, NoConvergenceIsAMessageWithAdviceAndKeepsTheSession) {
   EXPECT_NE(m.text.find("Max iterations"), std::string::npos) << "advice in the panel's words: " << m.text;
 }
 
-TEST(LbcGui, KeepOutsideReplacesMoveEverythingAtAnLbcBind) {
+TEST(LbcGui, PinnedBorderReplacesMoveEverythingAtAnLbcBind) {
   test::HeadlessImGui gui;
   auto s = sceneWithCage(test::scratchDir("ui_lbc_outside"));
   ASSERT_TRUE(setOutsideMode(*s, OutsideMode::Deform)) << "KC before the bind: allowed";
   bindLbc(gui, *s);
-  EXPECT_EQ(s->outside, OutsideMode::Fixed);
-  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Fixed);
-  EXPECT_EQ(s->session->outside, OutsideMode::Fixed);
+  EXPECT_EQ(s->outside, OutsideMode::Pinned);
+  EXPECT_EQ(s->mesh.options().outside, OutsideMode::Pinned);
+  EXPECT_EQ(s->session->outside, OutsideMode::Pinned);
 }
 
 TEST(LbcGui, KcOnLbcTargetsIsMoreLocalAndStillPaintable) {

@@ -276,9 +276,9 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const bool upright = state.imageUpright;
   WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, app::weightSpacing(params), state.outside);
   if (meshOptions.outside == OutsideMode::Deform && !app::backendFor(params.backend).capabilities().outsideCage) {
-    // The backend has no weights outside the cage: the outside stays where it is (its default).
-    meshOptions.outside = OutsideMode::Fixed;
-    postMessage(state, "Outside the cage: Keep outside (Move everything needs weights outside the cage).", false);
+    // The backend has no weights outside the cage: the background follows as in the default mode.
+    meshOptions.outside = OutsideMode::Pinned;
+    postMessage(state, "Outside the cage: Pinned border (Move everything needs weights outside the cage).", false);
   }
   // The kernel factorization and the steady-state heat solve are single solver calls that cannot
   // stop half way, so Cancel abandons the bind (Worker): the previous session comes back at once
