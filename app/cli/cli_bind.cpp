@@ -31,6 +31,7 @@ struct BindArgs {
   bool uniformSpacing = !kDefaults.graded;
   double locality = kDefaults.kc.init.locality;
   double localitySpacings = kDefaults.kc.localitySpacings;
+  double targetFloor = kDefaults.kc.targetFloor;
   bool noGuardLobes = !kDefaults.kc.guardLobes;
   CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
   std::uint64_t seed = kDefaults.seed;
@@ -62,6 +63,9 @@ void runBind(const BindArgs& a) {
   requireFinite(a.localitySpacings, "--locality-spacings", "spacings");
   if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
   p.kc.localitySpacings = a.localityOption && *a.localityOption ? 0.0 : a.localitySpacings;
+  requireFinite(a.targetFloor, "--target-floor", "");
+  if (!(a.targetFloor >= 0.0 && a.targetFloor < 0.5)) throw app::InputError("--target-floor", "must be in [0, 0.5) (0 = off)");
+  p.kc.targetFloor = a.targetFloor;
   p.kc.guardLobes = !a.noGuardLobes;
   p.kc.method = parseOption<Method>(a.method, "--method");
   p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
@@ -176,6 +180,10 @@ void addBindCommand(CLI::App& app) {
                   "diagonal); replaces --locality-spacings");
   sub->add_option("--locality-spacings", a->localitySpacings,
                   "Screened heat-linear targets: locality length in sample spacings (0 = off: --locality decides)")
+      ->capture_default_str();
+  sub->add_option("--target-floor", a->targetFloor,
+                  "Screened heat-linear targets: the heat below this weight is dropped before the optimization, so each "
+                  "point pulls on a smaller part of the shape (0 = off; below 0.5)")
       ->capture_default_str();
   sub->add_flag("--no-guard-lobes", a->noGuardLobes,
                 "Keep the optimizer's weights outside next to the cage and the sampling at sharp outside corners (the field then "

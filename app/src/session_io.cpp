@@ -87,6 +87,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"interp", std::string(toString(p.kc.interp))},
                  {"linear_edges", p.kc.linearEdges},
                  {"locality_spacings", p.kc.localitySpacings},
+                 {"target_floor", p.kc.targetFloor},
                  {"guard_lobes", p.kc.guardLobes},
                  {"exact_lines", p.kc.exactLines},
                  {"backend", p.backend},
@@ -208,6 +209,12 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
   if (params.contains("locality_spacings")) {
     p.kc.localitySpacings = detail::boundedNumber(params["locality_spacings"], kMaxCoordinate, where, "params.locality_spacings");
     if (!(p.kc.localitySpacings >= 0.0)) throw InputError(where, "params.locality_spacings must be 0 (off) or a positive number of spacings");
+  }
+  p.kc.targetFloor = 0.0;  // sessions written before the option: the whole diffused tail
+  if (params.contains("target_floor")) {
+    p.kc.targetFloor = detail::boundedNumber(params["target_floor"], 1.0, where, "params.target_floor");
+    if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < 0.5))
+      throw InputError(where, "params.target_floor must be in [0, 0.5) (0 = off)");
   }
   p.kc.guardLobes = false;  // sessions written before the option: exterior rows as optimized, corners as sampled
   if (params.contains("guard_lobes")) {

@@ -136,6 +136,7 @@ TEST(LbcBackend, KernelCoordinatesOnLbcTargets) {
   const Cage cage = loadCage(kImages + "star.cage.json");
   BindParams p;
   p.spacing = 14.0;
+  p.kc.targetFloor = 0.0;  // against the whole diffused heat
   const Session heat = bind(cage, 320, 320, p);
   p.kc.init.method = InitMethod::Lbc;
   const Session local = bind(cage, 320, 320, p);

@@ -175,27 +175,29 @@ TEST_P(WeightConformanceSlow, PropertiesHold) {
 
 // Edge linearity and negative-lobe bounds per example (checker, star, figure) at h = 8: the values
 // measured with the local default (screened targets, KcParams::guardLobes; 2026-12-03), times 1.05
-// rounded up to two digits. Edge linearity is
+// rounded up to two digits; re-measured where the floored targets (kTargetFloor, 2026-12-06) went
+// past a bound: QEC and L1 on the figure (edge linearity 0.113), their lobes and those of the thesis
+// interpolation and linear edges. Edge linearity is
 // measured every h/8 along every edge since 2026-11-30 (16 points per edge before: the star's
 // 0.021 was 0.040 measured densely).
 
 const BackendCase kCases[] = {
-    kc("kc_qp_exact", Method::QP, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.069}},
-       {{"checker", 0.0054}, {"star", 0.012}, {"figure", 0.067}}),
-    kc("kc_qec_exact", Method::QEC, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.1}},
-       {{"checker", 0.0055}, {"star", 0.019}, {"figure", 0.072}}),
-    kc("kc_l1_exact", Method::L1, InterpMode::Exact, InitMethod::HeatLinear, {{"checker", 0.0062}, {"star", 0.021}, {"figure", 0.1}},
-       {{"checker", 0.017}, {"star", 0.018}, {"figure", 0.073}}),
-    kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear, {{"checker", 0.0035}, {"star", 0.024}, {"figure", 0.057}},
-       {{"checker", 0.012}, {"star", 0.011}, {"figure", 0.047}}),
-    kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse, {{"checker", 0.002}, {"star", 0.05}, {"figure", 0.13}},
-       {{"checker", 0.0038}, {"star", 0.012}, {"figure", 0.03}}),
-    kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance, {{"checker", 0.0032}, {"star", 0.099}, {"figure", 0.56}},
-       {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
-    kcLinearEdges({{"checker", 0.0061}, {"star", 0.068}, {"figure", 0.53}}),
+    kc("kc_qp_exact", Method::QP, InterpMode::Exact, InitMethod::HeatLinear,
+       {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.069}}, {{"checker", 0.0054}, {"star", 0.012}, {"figure", 0.067}}),
+    kc("kc_qec_exact", Method::QEC, InterpMode::Exact, InitMethod::HeatLinear,
+       {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.0055}, {"star", 0.024}, {"figure", 0.075}}),
+    kc("kc_l1_exact", Method::L1, InterpMode::Exact, InitMethod::HeatLinear,
+       {{"checker", 0.0062}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.02}, {"star", 0.038}, {"figure", 0.075}}),
+    kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear,
+       {{"checker", 0.0035}, {"star", 0.024}, {"figure", 0.057}}, {{"checker", 0.012}, {"star", 0.011}, {"figure", 0.05}}),
+    kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse,
+       {{"checker", 0.002}, {"star", 0.05}, {"figure", 0.13}}, {{"checker", 0.0038}, {"star", 0.012}, {"figure", 0.03}}),
+    kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance,
+       {{"checker", 0.0032}, {"star", 0.099}, {"figure", 0.56}}, {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
+    kcLinearEdges({{"checker", 0.0071}, {"star", 0.068}, {"figure", 0.53}}),
     // KC on LBC targets (--init lbc: LBC on a mesh of 2h inside, heat-linear outside).
-    kc("kc_qp_exact_lbc_init", Method::QP, InterpMode::Exact, InitMethod::Lbc, {{"checker", 0.002}, {"star", 0.023}, {"figure", 0.07}},
-       {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.046}}),
+    kc("kc_qp_exact_lbc_init", Method::QP, InterpMode::Exact, InitMethod::Lbc,
+       {{"checker", 0.002}, {"star", 0.023}, {"figure", 0.07}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.046}}),
     lbc("lbc_square", LbcTau::Square),
 };
 
@@ -222,9 +224,9 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // rectangle with its edges' midpoints (8 controls, deep: the locality length follows its depth),
 // each at the automatic spacing. The goals are an area ≤ 1.1× LBC's and lobes ≥ −0.02; the
 // rectangle meets both and is held to them, the others are held to what the default reached when
-// measured (2026-12-03; the hand's lobe 2026-12-04, the person's 2026-12-05), times 1.05: their lobes
-// and extra area sit between limbs and fingers, where the Euclidean kernel reaches across the gap
-// outside. The deepest weight on the 2-px grid depends on where the samples fall against the grid
+// measured (the lobes 2026-12-03 to 05; the areas with the floored targets, kTargetFloor, 2026-12-06:
+// 1.05, 1.09, 1.10 and 1.16), times 1.05: their lobes and the hand's extra area sit between limbs and
+// fingers, where the Euclidean kernel reaches across the gap outside. The deepest weight on the 2-px grid depends on where the samples fall against the grid
 // (kcwarp-cli bind --seed 1 to 12, then kcwarp-cli stats): the person −0.049 to −0.111 (at the
 // armpit, where a 1-px grid finds −0.12 to −0.13 for seeds 1 and 4 alike), the hand −0.041 to −0.061.
 // Unscreened targets without the lobe
@@ -247,10 +249,10 @@ Session bindDefault(const Cage& cage, int w, int h, const std::string& backend) 
 
 TEST(LocalityConformanceSlow, DefaultBindIsNearlyAsLocalAsLbcWithShallowLobes) {
   const LocalityCase cases[] = {
-      {"images/star.cage.json", 320, 320, 1.19, 0.02},
-      {"images/figure.cage.json", 320, 400, 1.43, 0.030},
-      {"tests/data/locality/person.cage.json", 360, 500, 1.44, 0.073},
-      {"tests/data/locality/hand.cage.json", 400, 440, 1.55, 0.06},
+      {"images/star.cage.json", 320, 320, 1.1, 0.02},
+      {"images/figure.cage.json", 320, 400, 1.15, 0.030},
+      {"tests/data/locality/person.cage.json", 360, 500, 1.16, 0.073},
+      {"tests/data/locality/hand.cage.json", 400, 440, 1.22, 0.06},
       {"tests/data/locality/rectangle.cage.json", 720, 477, 1.0, 0.02},
   };
   for (const LocalityCase& c : cases) {

@@ -271,4 +271,18 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   return W;
 }
 
+void floorTargets(const SampleSet& S, Weights& W0, double floor) {
+  if (!(floor >= 0.0) || !std::isfinite(floor))
+    throw std::invalid_argument("floorTargets: the floor must be a finite number >= 0");
+  if (W0.rows() != S.size()) throw std::invalid_argument("floorTargets: W0 must have one row per sample");
+  if (floor == 0.0) return;
+  for (Index i = 0; i < W0.rows(); ++i) {
+    const SampleKind kind = S.kind[std::size_t(i)];
+    if (kind != SampleKind::Interior && kind != SampleKind::Exterior) continue;
+    const auto lowered = (W0.row(i).array() - floor).cwiseMax(0.0).eval();
+    const double sum = lowered.sum();
+    if (sum > 0.0) W0.row(i) = lowered / sum;
+  }
+}
+
 }  // namespace kc

@@ -253,9 +253,11 @@ void drawBindPanel(AppState& state) {
     // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
     bool screened = p.kc.localitySpacings > 0.0 || p.kc.init.locality != 0.0;
     if (checkbox(state, "Local targets", &screened,
-                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion), about as locally as LBC "
-                 "(recommended). Off: smooth influences that reach further. Takes effect at the next Bind.")) {
+                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion, its faint far tail "
+                 "dropped), about as locally as LBC (recommended). Off: smooth influences that reach further. Takes effect "
+                 "at the next Bind.")) {
       p.kc.localitySpacings = screened ? app::kLocalitySpacings : 0.0;
+      p.kc.targetFloor = screened ? app::kTargetFloor : 0.0;
       p.kc.init.locality = 0.0;
     }
     if (screened) {

@@ -26,6 +26,13 @@ namespace kc::app {
 /// towards the LBC backend's), but targets that fall off within about one sample spacing ring
 /// between the samples: 1.5 spacings is the shortest length that does not deepen the lobes.
 inline constexpr double kLocalitySpacings = 1.5;
+/// Default floor of the kc backend's screened targets (KcParams::targetFloor, kc::floorTargets):
+/// the diffused heat's tail below 3% of a sample's weight is dropped before the per-sample
+/// optimization. A drag then moves little more than what the LBC backend's weights move
+/// (`kcwarp-cli stats`, locality.drag); lower floors keep more of the tail, higher ones leave
+/// the optimizer to restore reproduction with weights far from the control (the measurements:
+/// docs/notes/measured-constants.md).
+inline constexpr double kTargetFloor = 0.03;
 
 /// Bind parameters of the kernel-coordinate backend ("kc").
 struct KcParams {
@@ -45,6 +52,10 @@ struct KcParams {
   /// with HeatLinear targets only, and not in binds with structure lines (unscreened there).
   /// Sessions written before the option (no `params.locality_spacings`) read 0.
   double localitySpacings = kLocalitySpacings;
+  /// The floor of screened heat-linear targets (kc::floorTargets; kTargetFloor), in [0, 0.5): 0
+  /// keeps the whole diffused tail. Applied where the targets are screened (localitySpacings or
+  /// init.locality). Sessions written before the option (no `params.target_floor`) read 0.
+  double targetFloor = kTargetFloor;
   /// Bound the field's negative lobes inside the cage: the exterior rows next to the cage continue
   /// the inside across it (ExteriorContinuation), and sharp outside corners are sampled finer
   /// (app's sharp-corner seeds of the sizing field; exact interpolation only). No effect with

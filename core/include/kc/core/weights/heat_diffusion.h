@@ -80,4 +80,12 @@ struct InitReport {
 Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix& K, const InitOptions& options,
                        InitReport* report = nullptr);
 
+/// Sparser targets: in the rows of W0 (#S×m) of the interior and exterior samples of S, every
+/// weight w is replaced by max(w − floor, 0) and the row rescaled to sum 1 (a row with no weight
+/// above `floor` is left as it is). Controls, edge and line samples keep their exact data. The
+/// per-sample optimizer then restores reproduction; what it cannot take back is the diffused
+/// heat's long tail, so each control pulls on a smaller part of the shape. floor ≥ 0 (0: no
+/// change); throws std::invalid_argument otherwise or when W0 has not #S rows.
+void floorTargets(const SampleSet& S, Weights& W0, double floor);
+
 }  // namespace kc
