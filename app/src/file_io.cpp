@@ -116,7 +116,12 @@ namespace {
 /// would otherwise give a temporary name the file system refuses).
 fs::path tempName(const fs::path& dir, const std::string& name) {
   constexpr std::size_t kAdded = 18;  // ".", ".", 12 hex digits, ".tmp"
-  return dir / ("." + name.substr(0, NAME_MAX - kAdded) + "." + randomSuffix() + ".tmp");
+  std::string temp = ".";             // appended piece by piece: GCC 12 warns falsely on "." + std::string at -O3
+  temp += name.substr(0, NAME_MAX - kAdded);
+  temp += '.';
+  temp += randomSuffix();
+  temp += ".tmp";
+  return dir / temp;
 }
 
 /// One output written in full to a temporary in its target's folder, not yet in place: an unnamed

@@ -127,7 +127,7 @@ TEST(ImageIo, ExifOrientationLaysTheJpegOutAsViewersShowIt) {
   const char* shown[9] = {"", "RGBW", "GRWB", "WBGR", "BWRG", "RBGW", "BRWG", "WGBR", "GWRB"};
   for (const bool bigEndian : {false, true})
     for (int o = 1; o <= 8; ++o) {
-      const fs::path file = dir / ("o" + std::to_string(o) + (bigEndian ? "m" : "i") + ".jpg");
+      const fs::path file = dir / (std::to_string(o) + (bigEndian ? "m" : "i") + ".jpg");
       test::writeBytes(file, test::withSegment(stored, test::exifSegment(test::orientationEntry(o, bigEndian), bigEndian)));
       const ImageHeader header = readImageFileHeader(file.string());
       EXPECT_EQ(header.orientation, o);
@@ -154,7 +154,7 @@ TEST(ImageIo, ATiffIsLaidOutAsItsOrientationTagSays) {
   const char* shown[9] = {"", "RGBW", "GRWB", "WBGR", "BWRG", "RBGW", "BRWG", "WGBR", "GWRB"};
   for (int o = 0; o <= 8; ++o) {  // 0: no Orientation tag
     SCOPED_TRACE("orientation " + std::to_string(o));
-    const fs::path file = dir / ("o" + std::to_string(o) + ".tif");
+    const fs::path file = dir / (std::to_string(o) + ".tif");
     test::writeBytes(file, test::orientedTiff(picture, o));
     const ImageHeader header = readImageFileHeader(file.string());
     EXPECT_EQ(header.format, "TIFF");

@@ -219,7 +219,7 @@ TEST(PngCodec, WrittenFilesReadBackWithOpenCvImreadAndKcwarp) {
   for (const bool opaque : {true, false}) {
     const Image img = testPicture(61, 29, opaque, 3);
     for (int level : {0, 1, 6, 9}) {
-      const fs::path file = dir / ((opaque ? "o" : "t") + std::to_string(level) + ".png");
+      const fs::path file = dir / (std::to_string(level) + (opaque ? "o" : "t") + ".png");
       saveImage(file.string(), img, level);
       EXPECT_EQ(maxDifference(viaOpenCv(file), img), 0) << "level " << level;
       EXPECT_EQ(maxDifference(loadImage(file.string()), img), 0) << "level " << level;
