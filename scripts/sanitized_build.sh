@@ -14,6 +14,9 @@ cd "$(dirname "$0")/.."
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 launcher=()
 command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+# lld when present (scripts/setup.sh installs it): a sanitized fuzzer links in ~2 s, ~11 s with GNU ld.
+linker="$sanitize"
+command -v ld.lld > /dev/null && linker="$linker -fuse-ld=lld"
 dir="${KC_SANITIZED_DIR:-build-asan}"
 opt="${KC_SANITIZED_OPT:--O1}"
 if [ -f "$dir/CMakeCache.txt" ] && ! grep -q "^KC_BUILD_FUZZ:BOOL=ON" "$dir/CMakeCache.txt"; then
@@ -24,5 +27,5 @@ generator=()  # Ninja for a new build folder, as scripts/build.sh
 # Configured every time (it is quick when nothing changed), so targets added since are known.
 CC=clang CXX=clang++ cmake -S . -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Debug -DKC_BUILD_GUI=OFF -DKC_BUILD_BENCH=OFF \
     -DKC_BUILD_FUZZ=ON "${launcher[@]}" -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
-    -DCMAKE_CXX_FLAGS_DEBUG="$opt -gline-tables-only" -DCMAKE_EXE_LINKER_FLAGS="$sanitize" > /dev/null
+    -DCMAKE_CXX_FLAGS_DEBUG="$opt -gline-tables-only" -DCMAKE_EXE_LINKER_FLAGS="$linker" > /dev/null
 cmake --build "$dir" -j"$(nproc 2>/dev/null || echo 2)" --target "$@"
