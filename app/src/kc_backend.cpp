@@ -163,8 +163,8 @@ class KcBackend final : public Backend {
     // linear fit bends where the targets fall off steeply (the exact correction does not).
     if (kc.localitySpacings > 0.0 && (s.structure.lines.empty() || kc.exactLines)) init.locality = localityLength(s.cage, params.spacing, kc.localitySpacings);
     s.W0 = initialWeights(s.samples, s.cage, K, init, &r.init);
-    if (init.method == InitMethod::HeatLinear && kc.init.method == InitMethod::HeatLinear && init.locality != 0.0)
-      floorTargets(s.samples, s.W0, kc.targetFloor);
+    // Screened heat-linear targets lose their faint tail (KcParams::targetFloor).
+    if (kc.init.method == InitMethod::HeatLinear && init.locality != 0.0) floorTargets(s.samples, s.W0, kc.targetFloor);
     if (kc.init.method == InitMethod::Lbc) {
       t0 = std::chrono::steady_clock::now();
       lbcTargetsInside(s, [&](const char*, double f) { step("initial weights", kStageStart[2] + (kStageStart[3] - kStageStart[2]) * f); });

@@ -168,6 +168,42 @@ TEST(HeatDiffusion, IterationsConvergeToTheSteadyState) {
   EXPECT_LT(previous, 1e-4);
 }
 
+TEST(HeatDiffusion, FloorTargetsDropsTheTailOfInteriorAndExteriorRowsOnly) {
+  SampleSet S;
+  S.X.resize(5, 2);
+  S.X << 0, 0, 1, 0, 0, 1, 0.5, 0.0, 0.2, 0.2;
+  S.kind = {SampleKind::Control, SampleKind::Edge, SampleKind::Interior, SampleKind::Exterior, SampleKind::Interior};
+  Weights W0(5, 3);
+  W0 << 1.0, 0.0, 0.0,   // control: exact data
+      0.98, 0.02, 0.0,   // edge: exact data, kept although 0.02 is below the floor
+      0.02, 0.01, 0.97,  // a row whose tail is all below the floor
+      0.5, 0.48, 0.02,   // exterior
+      0.6, 0.2, 0.2;
+  const Weights before = W0;
+  floorTargets(S, W0, 0.0);
+  EXPECT_EQ(W0, before) << "floor 0 changes nothing";
+  floorTargets(S, W0, 0.03);
+  EXPECT_EQ(W0.row(0), before.row(0));
+  EXPECT_EQ(W0.row(1), before.row(1));
+  EXPECT_EQ(W0(2, 0), 0.0);
+  EXPECT_EQ(W0(2, 1), 0.0);
+  EXPECT_NEAR(W0(2, 2), 1.0, 1e-15);
+  EXPECT_NEAR(W0(3, 0), 0.47 / 0.92, 1e-15);
+  EXPECT_NEAR(W0(3, 1), 0.45 / 0.92, 1e-15);
+  EXPECT_EQ(W0(3, 2), 0.0);
+  EXPECT_NEAR(W0(4, 0), 0.57 / 0.91, 1e-15);
+  EXPECT_NEAR(W0(4, 1), 0.17 / 0.91, 1e-15);
+  for (Index i = 0; i < W0.rows(); ++i) EXPECT_NEAR(W0.row(i).sum(), 1.0, 1e-15) << i;
+  // A row with nothing above the floor is left as it is.
+  Weights flat = Weights::Constant(5, 3, 1.0 / 3.0);
+  floorTargets(S, flat, 0.4);
+  EXPECT_EQ(flat, Weights::Constant(5, 3, 1.0 / 3.0));
+  EXPECT_THROW(floorTargets(S, W0, -0.01), std::invalid_argument);
+  EXPECT_THROW(floorTargets(S, W0, std::nan("")), std::invalid_argument);
+  Weights short_(4, 3);
+  EXPECT_THROW(floorTargets(S, short_, 0.03), std::invalid_argument);
+}
+
 TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
   // A square with controls at its corners and edge midpoints: unscreened (harmonic-like) targets
   // near one corner still take a share from the far controls; screened ones (almost) none.
