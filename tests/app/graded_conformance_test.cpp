@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -19,7 +20,9 @@
 namespace kc::app {
 namespace {
 
-std::string narrowPath(const std::string& name) { return std::string(KC_SOURCE_DIR) + "/tests/data/narrow/" + name + ".cage.json"; }
+std::string narrowPath(const std::string& name) {
+  return (std::filesystem::path(KC_SOURCE_DIR) / "tests" / "data" / "narrow" / (name + ".cage.json")).string();
+}
 
 std::pair<int, int> imageSize(const std::string& path) {
   std::ifstream in(path);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <ostream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -23,7 +24,7 @@ inline void PrintTo(Method method, std::ostream* os) { *os << toString(method); 
 namespace kc::app {
 namespace {
 
-Cage stickCage() { return loadCage(std::string(KC_SOURCE_DIR) + "/images/stick.cage.json"); }
+Cage stickCage() { return loadCage((std::filesystem::path(KC_SOURCE_DIR) / "images" / "stick.cage.json").string()); }
 
 TEST(StickFigure, HeadLoopHasAnInsideAndSticksDoNot) {
   const Cage cage = stickCage();
