@@ -430,6 +430,22 @@ TEST(BindPanel, LocalityShownIsTheBindsUnderAutoSpacing) {
   EXPECT_DOUBLE_EQ(spacingPlan(state).locality, app::localityLength(cage, h, 3.0));
 }
 
+/// "Local targets" switches the screening and the targets' floor together: off binds the smooth,
+/// far-reaching targets, on again the local default.
+TEST(BindPanel, LocalTargetsSwitchesTheScreeningAndTheFloor) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  ASSERT_EQ(s->bindParams.kc.targetFloor, app::kTargetFloor);
+  gui.clickLabel(*s, "Local targets", draw);
+  EXPECT_EQ(s->bindParams.kc.localitySpacings, 0.0);
+  EXPECT_EQ(s->bindParams.kc.targetFloor, 0.0);
+  gui.clickLabel(*s, "Local targets", draw);
+  EXPECT_EQ(s->bindParams.kc.localitySpacings, app::kLocalitySpacings);
+  EXPECT_EQ(s->bindParams.kc.targetFloor, app::kTargetFloor);
+}
+
 /// The spacing shown next to "Auto spacing" is the one Bind will use: switching Initialization to
 /// LBC (whose kernel samples lie at half a plain bind's spacing) changes it at once.
 TEST(BindPanel, AutoSpacingShownFollowsTheInitialization) {
