@@ -63,8 +63,8 @@ void runBind(const BindArgs& a) {
   requireFinite(a.localitySpacings, "--locality-spacings", "spacings");
   if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
   p.kc.localitySpacings = a.localityOption && *a.localityOption ? 0.0 : a.localitySpacings;
-  requireFinite(a.targetFloor, "--target-floor", "");
-  if (!(a.targetFloor >= 0.0 && a.targetFloor < 0.5)) throw app::InputError("--target-floor", "must be in [0, 0.5) (0 = off)");
+  if (!(a.targetFloor >= 0.0 && a.targetFloor < app::kMaxTargetFloor))  // also NaN
+    throw app::InputError("--target-floor", "must be in [0, 0.5) (0 = off)");
   p.kc.targetFloor = a.targetFloor;
   p.kc.guardLobes = !a.noGuardLobes;
   p.kc.method = parseOption<Method>(a.method, "--method");

@@ -29,7 +29,7 @@ void checkCommonParams(int width, int height, const BindParams& p) {
   if (!std::isfinite(p.kc.init.locality)) throw std::invalid_argument("locality must be a finite number of pixels (0 = off)");
   if (!(p.kc.localitySpacings >= 0.0) || !std::isfinite(p.kc.localitySpacings))
     throw std::invalid_argument("locality spacings must be 0 (off) or a positive number");
-  if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < 0.5))
+  if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < kMaxTargetFloor))
     throw std::invalid_argument("the target floor must be in [0, 0.5) (0 = off)");
   if (!std::isfinite(p.margin) || p.margin > kMaxCoordinate) throw std::invalid_argument("margin must be a finite number of pixels");
 }

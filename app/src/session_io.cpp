@@ -213,7 +213,7 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
   p.kc.targetFloor = 0.0;  // sessions written before the option: the whole diffused tail
   if (params.contains("target_floor")) {
     p.kc.targetFloor = detail::boundedNumber(params["target_floor"], 1.0, where, "params.target_floor");
-    if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < 0.5))
+    if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < kMaxTargetFloor))
       throw InputError(where, "params.target_floor must be in [0, 0.5) (0 = off)");
   }
   p.kc.guardLobes = false;  // sessions written before the option: exterior rows as optimized, corners as sampled

@@ -270,6 +270,13 @@ TEST_F(BadInput, BindLocalitySpacingsNanOrNegative) {
   EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
 }
 
+TEST_F(BadInput, BindTargetFloorOutOfRange) {
+  for (const char* floor : {"nan", "-0.1", "0.5"})
+    expectRefused(std::string("bind --cage cage.json --size 96,96 --target-floor ") + floor + " -o out.kcw.json",
+                  "--target-floor: must be in [0, 0.5)");
+  EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
+}
+
 TEST_F(BadInput, BindHeatIterationsHuge) {
   expectRefused("bind --cage cage.json --size 96,96 --heat-iterations 100000000 -o out.kcw.json", "--heat-iterations");
 }

@@ -83,6 +83,11 @@ TEST(Session, CorruptFieldsAreNamed) {
   j["params"]["method"] = "newton";
   expectError(j, "params.method");
   j = good;
+  j["params"]["target_floor"] = 0.5;
+  expectError(j, "params.target_floor must be in [0, 0.5)");
+  j["params"]["target_floor"] = -0.01;
+  expectError(j, "params.target_floor must be in [0, 0.5)");
+  j = good;
   j["image_upright"] = "yes";
   expectError(j, "image_upright must be true or false");
   j = good;

@@ -279,9 +279,9 @@ void floorTargets(const SampleSet& S, Weights& W0, double floor) {
   for (Index i = 0; i < W0.rows(); ++i) {
     const SampleKind kind = S.kind[std::size_t(i)];
     if (kind != SampleKind::Interior && kind != SampleKind::Exterior) continue;
-    const auto lowered = (W0.row(i).array() - floor).cwiseMax(0.0).eval();
-    const double sum = lowered.sum();
-    if (sum > 0.0) W0.row(i) = lowered / sum;
+    auto row = W0.row(i).array();
+    const double sum = (row - floor).cwiseMax(0.0).sum();
+    if (sum > 0.0) row = (row - floor).cwiseMax(0.0) / sum;  // element-wise: no temporary row
   }
 }
 

@@ -33,6 +33,9 @@ inline constexpr double kLocalitySpacings = 1.5;
 /// the optimizer to restore reproduction with weights far from the control (the measurements:
 /// docs/notes/measured-constants.md).
 inline constexpr double kTargetFloor = 0.03;
+/// KcParams::targetFloor lies in [0, kMaxTargetFloor): a floor of 1/2 or more would leave each
+/// sample at most one control's target.
+inline constexpr double kMaxTargetFloor = 0.5;
 
 /// Bind parameters of the kernel-coordinate backend ("kc").
 struct KcParams {
@@ -52,7 +55,7 @@ struct KcParams {
   /// with HeatLinear targets only, and not in binds with structure lines (unscreened there).
   /// Sessions written before the option (no `params.locality_spacings`) read 0.
   double localitySpacings = kLocalitySpacings;
-  /// The floor of screened heat-linear targets (kc::floorTargets; kTargetFloor), in [0, 0.5): 0
+  /// The floor of screened heat-linear targets (kc::floorTargets; kTargetFloor), in [0, kMaxTargetFloor): 0
   /// keeps the whole diffused tail. Applied where the targets are screened (localitySpacings or
   /// init.locality). Sessions written before the option (no `params.target_floor`) read 0.
   double targetFloor = kTargetFloor;
