@@ -410,5 +410,39 @@ TEST(SampleQp, FallbackIsContinuousAcrossTheHull) {
   EXPECT_LE((wIn - wOut).lpNorm<Eigen::Infinity>(), 1e-5);
 }
 
+TEST(SampleQp, AnExteriorSampleOutsideTheHullWithMostTargetsZeroIsSolved) {
+  // An exterior sample of a bind at defaults, outside the control hull of a 44-point cage drawn
+  // tightly round a horse (its floored targets are 0 on all but 7 controls). The fallback's point
+  // βx̂ falls on a horizontal hull edge (two controls at the same height), where the feasible set is
+  // one point; rounded, it lay just outside, Newton ran its 100 iterations with the residual
+  // stalled at 1.8e-12 and the bind warned "1 samples not solved to optimality".
+  Points C(44, 2);
+  C << 470, 222, 495, 219, 545, 216, 560, 219, 588, 213, 593, 235, 595, 264, 583, 272, 577, 256, 571, 282, 565, 300, 561, 336,
+      561, 342, 551, 342, 552, 305, 546, 300, 545, 317, 538, 333, 530, 341, 523, 336, 534, 317, 536, 300, 527, 286, 502, 283, 496,
+      300, 501, 335, 503, 345, 491, 345, 489, 330, 484, 306, 477, 292, 470, 306, 458, 326, 458, 341, 448, 341, 449, 327, 461, 300,
+      463, 278, 456, 300, 450, 320, 441, 321, 445, 290, 452, 250, 460, 230;
+  const ControlFrame frame(C);
+  const Vec2 xh(-0.27488543367580925, 1.3639799883683545);
+  Eigen::VectorXd w0 = Eigen::VectorXd::Zero(44), w(44);
+  w0(18) = 0.022914676973825186;
+  w0(19) = 0.01599084787723856;
+  w0(25) = 0.01055575069702213;
+  w0(26) = 0.36114960457108053;
+  w0(27) = 0.512748277072534;
+  w0(28) = 0.033355298238978814;
+  w0(33) = 0.043285544569320815;
+  const SampleReport r = sampleQp(frame, xh, {w0.data(), 44}, {w.data(), 44});
+  EXPECT_EQ(r.status, SampleStatus::Infeasible);
+  EXPECT_LE(r.residual, 1e-12);
+  EXPECT_NEAR(w.sum(), 1.0, 1e-12);
+  Vec2 reproduced = Vec2::Zero();
+  for (Index i = 0; i < 44; ++i) reproduced += w(i) * Vec2(frame.cx()[i], frame.cy()[i]);
+  EXPECT_LE((reproduced - xh).lpNorm<Eigen::Infinity>(), 1e-12);
+  // The only feasible point on that edge: u = (w + t1)β on controls 26 and 27, the rest at −t.
+  EXPECT_NEAR(w(26), 1.49475, 1e-5);
+  EXPECT_NEAR(w(27), 0.204923, 1e-5);
+  EXPECT_LE(r.iterations, 20);
+}
+
 }  // namespace
 }  // namespace kc

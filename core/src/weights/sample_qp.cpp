@@ -3,6 +3,7 @@
 #include "simd2.h"
 
 #include <algorithm>
+#include <limits>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -250,6 +251,10 @@ Polish polish(const ControlFrame& frame, const Eigen::Vector3d& b, const double*
   return Polish::Rejected;
 }
 
+/// The infeasible fallback's point βx̂ is moved this fraction of its length into the hull (64
+/// units of rounding; see sampleQp).
+constexpr double kHullInset = 64.0 * std::numeric_limits<double>::epsilon();
+
 /// An iterate that ends the iterations within this factor of the tolerance is accepted: the
 /// positive set can cycle among controls whose weights are at rounding level (|z_i| ~ 1e-14, e.g.
 /// an exterior sample whose target has many exact zeros), which holds the residual at ~1e-13
@@ -320,7 +325,11 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
   } else {
     // Fallback (see header): u = w + t1 ≥ 0 solves the QP at βx̂ on the hull boundary with the
     // target β(w0 + t1), scaled by 1/β; t = (1 − β)/(mβ).
-    const double beta = frame.hullShrink(xh);
+    // βx̂ lies on the hull's boundary, where the feasible set is one edge's controls or one
+    // vertex; rounded, it can lie just outside in A u's arithmetic, where Newton cannot converge
+    // (its multipliers run off along the edge's normal, the residual stalls near 1e-12). Moved
+    // inwards by kHullInset of its length it is feasible there, and t changes by O(kHullInset).
+    const double beta = frame.hullShrink(xh) * (1.0 - kHullInset);
     const double t = (1.0 - beta) / (static_cast<double>(m) * beta);
     const Vec2 y = beta * xh;
     constexpr Index kStack = 64;

@@ -44,7 +44,9 @@ struct SampleReport {
 /// where it meets the hull (β = hullShrink, t = (1 − β)/(mβ)), so it is solved by the same code.
 /// Partition of unity and reproduction stay exact, the most negative weight is as small as any
 /// affine-reproducing weights allow, and the weights are continuous across the hull boundary
-/// (t → 0 there), unlike switching to QEC, which would jump. Reported as Infeasible.
+/// (t → 0 there), unlike switching to QEC, which would jump. Reported as Infeasible. βx̂ is taken
+/// 64 units of rounding inside the hull: exactly on it the feasible set is one edge's controls or
+/// one vertex, and rounding can put the point just outside, where Newton cannot converge.
 /// On and near the hull boundary the optimal λ is large (it runs along the boundary's normal) and
 /// the positive set often lies on one line (H singular): the last step is then evaluated
 /// incrementally on the positive set, which avoids the cancellation in w0 + Aᵀλ, and on a
