@@ -109,7 +109,7 @@ void BM_Locality(benchmark::State& state) {
   const ScopedThreadCount threads(2);
   const Cage cage = exampleCage(int(state.range(0)));
   const auto [w, h] = state.range(0) == 0 ? std::pair(320, 320) : std::pair(320, 400);
-  app::BindParams p;
+  app::BindParams p = app::frameBindParams();
   p.backend = state.range(1) == 0 ? "kc" : "lbc";
   app::Diagnostics d;
   for (auto _ : state) {

@@ -22,7 +22,7 @@ const app::Session& figureSession() {
   static const app::Session s = [] {
     const std::string base = std::string(KC_SOURCE_DIR) + "/images/figure";
     const Image picture = app::loadImage(base + ".png");
-    return app::bind(app::loadCage(base + ".cage.json"), picture.width, picture.height, app::BindParams{});
+    return app::bind(app::loadCage(base + ".cage.json"), picture.width, picture.height, app::frameBindParams());
   }();
   return s;
 }

@@ -57,7 +57,7 @@ void benchBind(const BenchArgs& a) {
   const int m = 34;
   const double size = 512.0;
   // Samples cover the image plus an automatic margin of ~3h per side: ((size + 6h) / h)² ≈ N.
-  app::BindParams p;
+  app::BindParams p = app::frameBindParams();
   p.spacing = size / (std::sqrt(static_cast<double>(a.samples)) - 6.0);
   std::vector<double> t[8];
   Index n = 0;
@@ -80,7 +80,7 @@ void benchOptimizers(const BenchArgs& a) {
   std::printf("\nper-sample optimization, 1 thread, real heat-diffusion targets (median of %d runs):\n", a.repeats);
   std::printf("  %4s %9s %12s %12s %12s %9s %9s\n", "m", "samples", "QEC ns", "QP ns", "L1 ns", "QP/QEC", "L1/QEC");
   for (int m : {4, 10, 34}) {
-    app::BindParams p;
+    app::BindParams p = app::frameBindParams();
     p.spacing = 4.0;
     const app::Session s = app::bind(blobCage(m, 400.0), 400, 400, p);
     std::vector<Index> rows;
@@ -113,7 +113,7 @@ void benchOptimizers(const BenchArgs& a) {
 void benchStroke(const BenchArgs& a) {
   const int m = 30;
   const double size = 1000.0;
-  app::BindParams p;
+  app::BindParams p = app::frameBindParams();
   p.spacing = size / (std::sqrt(static_cast<double>(a.samples)) - 6.0);
   app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p);
   app::FieldSampler sampler;

@@ -27,7 +27,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
   const Cage cage = app::loadCage(cagePath);
   const double x1 = cage.C.col(0).maxCoeff(), y1 = cage.C.col(1).maxCoeff();
   const int w = static_cast<int>(std::ceil(x1 + 20.0)), h = static_cast<int>(std::ceil(y1 + 20.0));
-  app::BindParams p;
+  app::BindParams p = app::frameBindParams();
   const RandomLineLayout layout = crossing ? RandomLineLayout::Crossing : RandomLineLayout::ParallelPair;
   std::printf("lines: %s, %d random sets of 3 lines (100-150 px, %s), 50 random translations of every\n"
               "control by up to +-40 px each; bind times median of %d runs\n",

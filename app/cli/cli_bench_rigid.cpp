@@ -25,7 +25,7 @@ namespace {
 app::Session bindExample(const std::string& dir, const std::string& name, Cage& cage) {
   cage = app::loadCage(dir + "/" + name + ".cage.json");
   const app::ImageHeader h = app::readImageFileHeader(dir + "/" + name + ".png");
-  return app::bind(cage, int(h.width), int(h.height), app::BindParams{});
+  return app::bind(cage, int(h.width), int(h.height), app::frameBindParams());
 }
 
 /// A copy of a bound session (through its file text: the field is rebuilt as when loading).

@@ -16,8 +16,7 @@
 namespace kc::cli {
 namespace {
 
-/// The defaults of every option: app::BindParams' own, except --exterior (band: as the GUI for
-/// the pinned, fixed and transparent outside modes; warp --outside deform needs --exterior frame).
+/// The defaults of every option: app::BindParams' own.
 const app::BindParams kDefaults{};
 
 struct BindArgs {
@@ -25,7 +24,7 @@ struct BindArgs {
   double spacing = kDefaults.spacing, sigma = kDefaults.kc.sigma, margin = kDefaults.margin;
   std::string init = nameOf(kDefaults.kc.init.method), method = nameOf(kDefaults.kc.method), interp = nameOf(kDefaults.kc.interp),
               backend = kDefaults.backend, sampler = nameOf(kDefaults.sampler);
-  std::string exterior = nameOf(app::exteriorFor(WarpMeshOptions{}.outside));
+  std::string exterior = nameOf(kDefaults.exterior);
   int heatIterations = kDefaults.kc.init.iterations;
   bool linearEdges = kDefaults.kc.linearEdges;
   bool uniformSpacing = !kDefaults.graded;

@@ -102,8 +102,8 @@ TEST(AutoSpacing, NarrowPlacesKeepTwoSamplesAcross) {
 TEST(AutoSpacing, WhenTheLimitsForbidItTheBindWarnsAndStillFits) {
   // A 12 px slot would need 6 px over 12 MP (above the sample limit): the spacing stops at the
   // smallest that fits the limits, and the warning names the slot's points and what resolves it
-  // (a uniform bind; a graded one refines the slot).
-  BindParams p;
+  // (a uniform bind of the whole frame; a graded one refines the slot).
+  BindParams p = frameBindParams();
   p.graded = false;
   const Cage slot = slotCage(4384, 2736, 12.0);
   BindParams q = p;

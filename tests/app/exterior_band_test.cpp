@@ -150,6 +150,15 @@ TEST(ExteriorBand, KeepsTheWeightsInsideAndOnTheCage) {
   }
 }
 
+TEST(ExteriorBand, IsTheDefaultOfTheParamsAsOfTheCliAndTheGui) {
+  // BindParams{} is what `kcwarp-cli bind` and the GUI bind with: the band the default outside
+  // mode (pinned) needs; frameBindParams() the whole frame, as `--outside deform` needs.
+  EXPECT_EQ(BindParams{}.exterior, sampling::ExteriorExtent::Band);
+  EXPECT_EQ(BindParams{}.exterior, exteriorFor(WarpMeshOptions{}.outside));
+  EXPECT_EQ(frameBindParams().exterior, sampling::ExteriorExtent::Frame);
+  EXPECT_EQ(frameBindParams().exterior, exteriorFor(OutsideMode::Deform));
+}
+
 TEST(ExteriorBand, ABandThatReachesTheFrameIsRecordedAsTheFrame) {
   // The bundled star fills its picture: its band is the frame, and the session says so (deform works).
   const Cage star = loadCage(std::string(KC_SOURCE_DIR) + "/images/star.cage.json");

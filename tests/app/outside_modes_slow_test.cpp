@@ -57,7 +57,7 @@ class OutsideModes : public ::testing::Test {
     for (Index i = 0; i < cage.size(); ++i) cage.C.row(i) = kScale * figure.C.row(i) + kOffset.transpose();
     pose = figurePose;
     for (auto& h : pose) h.translate *= kScale;
-    session = new app::Session(app::bind(cage, kW, kH, app::BindParams{}));
+    session = new app::Session(app::bind(cage, kW, kH, app::frameBindParams()));  // deform needs the whole frame
     picture = new Image(backgroundPicture(cage));
     dir = scratchDir("outside_modes");
     app::saveImage((dir / "background.png").string(), *picture);

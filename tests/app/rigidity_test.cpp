@@ -24,7 +24,7 @@ const std::string kImages = std::string(KC_SOURCE_DIR) + "/images";
 
 Session bindStar(const Structure& st = {}) {
   const Cage cage = loadCage(kImages + "/star.cage.json");
-  return bind(cage, st, 320, 320, BindParams{});
+  return bind(cage, st, 320, 320, frameBindParams());  // the thesis's set-up: weights over the whole picture
 }
 
 /// Points of a grid of spacing `step` over the session's image farther than 6σ from every sample with ρ > 0.
@@ -197,7 +197,7 @@ Cage playerCage() {
 // bounds for 50 rounds (1,282 → ~1,600 active pairs) and the ADMM fallback needed 2,647
 // iterations. The solver must settle by itself in a bounded number of rounds.
 TEST(RigidRegionsAppSlow, SoftBrushStrokeOnAPhotoCage) {
-  const Session plain = bind(playerCage(), 548, 342, BindParams{});
+  const Session plain = bind(playerCage(), 548, 342, frameBindParams());  // weights compared over the whole picture
   Session s = sessionFromJson(sessionToJson(plain), "copy");
   const std::vector<double> rho = brushStroke(s, Vec2(252, 135), Vec2(252, 212), 25.0, 0.5, 1.0);
   const RigidityUpdate u = setRigidity(s, rho);

@@ -36,10 +36,11 @@ struct BackendCase {
   PerExample negativeLobe;        ///< −(min weight of the field inside the cage).
 };
 
-/// A bind at h = 8 with the default parameters changed by `configure`.
+/// A bind at h = 8 of the whole frame (the properties are measured outside the cage too) with the
+/// default parameters changed by `configure`.
 std::function<Session(const Cage&, int, int)> binder(std::function<void(BindParams&)> configure) {
   return [configure](const Cage& cage, int w, int h) {
-    BindParams p;
+    BindParams p = frameBindParams();
     p.spacing = 8.0;
     configure(p);
     return app::bind(cage, w, h, p);

@@ -81,18 +81,18 @@ struct LbcParams {
 };
 
 /// Parameters of one bind: the ones every backend shares, then each backend's own. Defaults are
-/// what `kcwarp-cli bind` uses, except `exterior` (see there).
+/// what `kcwarp-cli bind` and the GUI use.
 struct BindParams {
   std::string backend = "kc";
   double spacing = 6.0;    ///< h, pixels (sample spacing; a mesh backend's edge length).
   sampling::SamplerKind sampler = sampling::SamplerKind::BlueNoise;
   double margin = -1.0;    ///< Sampling margin around the image; < 0 = automatic.
-  /// How far outside the cage the kc backend samples: the whole frame (what `--outside deform`
-  /// needs; sessions written before the choice existed read Frame) or a band around the cage
-  /// (sampling::kExteriorBandSpacings·h; what `kcwarp-cli bind`, the GUI and the demo use unless
-  /// the outside mode is deform: exteriorFor). A band session has no weights far outside the
-  /// cage: sessionCapabilities() says so and warps refuse `deform` on it.
-  sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Frame;
+  /// How far outside the cage the kc backend samples: a band around the cage
+  /// (sampling::kExteriorBandSpacings·h), what the pinned, fixed and transparent outside modes
+  /// need, or the whole frame, what `--outside deform` needs (exteriorFor; sessions written before
+  /// the choice existed read Frame). A band session has no weights far outside the cage:
+  /// sessionCapabilities() says so and warps refuse `deform` on it.
+  sampling::ExteriorExtent exterior = sampling::ExteriorExtent::Band;
   std::uint64_t seed = 1;
   /// Graded sampling (blue noise): the spacing follows the cage's local feature size, from
   /// `spacing` away from narrow places down to what the narrowest place needs (featureSizing);
@@ -101,6 +101,14 @@ struct BindParams {
   KcParams kc;             ///< Used when backend == "kc".
   LbcParams lbc;           ///< Used when backend == "lbc".
 };
+
+/// BindParams{} with the whole frame sampled (exterior = Frame): the thesis's set-up, which the
+/// paper reproductions, the benchmarks' fixed scenes and `--outside deform` use.
+inline BindParams frameBindParams() {
+  BindParams p;
+  p.exterior = sampling::ExteriorExtent::Frame;
+  return p;
+}
 
 // The names of InitMethod, Method, InterpMode, SamplerKind and LbcTau (kc/core/names.h), also as app::.
 using kc::toString;
