@@ -23,10 +23,13 @@
 namespace kc::cli {
 namespace {
 
+/// The defaults of the options: sampling::SamplingOptions' own.
+const sampling::SamplingOptions kSampleDefaults{};
+
 struct SampleArgs {
-  std::string cage, image, size, output, png, sampler = "blue-noise", structure;
-  double spacing = 6.0, margin = -1.0;
-  std::uint64_t seed = 1;
+  std::string cage, image, size, output, png, sampler = nameOf(kSampleDefaults.kind), structure;
+  double spacing = kSampleDefaults.spacing, margin = kSampleDefaults.margin;
+  std::uint64_t seed = kSampleDefaults.seed;
   int pngCompression = app::kDefaultPngCompression;
 };
 

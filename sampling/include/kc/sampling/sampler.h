@@ -56,7 +56,7 @@ struct SamplingOptions {
   /// Margin around the image (pixels); < 0 = automatic (a few σ ≈ 3h, so coordinates stay
   /// accurate up to the image border, thesis Fig 3.1).
   double margin = -1.0;
-  SamplerKind kind = SamplerKind::Grid;
+  SamplerKind kind = SamplerKind::BlueNoise;
   /// How far outside the cage to sample (ExteriorExtent). Frame by default.
   ExteriorExtent exterior = ExteriorExtent::Frame;
   /// ExteriorExtent::Band: the band's width in pixels; < 0 = automatic (kExteriorBandSpacings·h).
