@@ -201,8 +201,7 @@ Cage neckCage(double scale, double neck) {
 
 void benchGraded(const std::string& folder, int repeats) {
   // What `kcwarp-cli bind` and the GUI do by default: automatic spacing, the exterior band.
-  app::BindParams defaults;
-  defaults.exterior = app::exteriorFor(WarpMeshOptions{}.outside);
+  const app::BindParams defaults{};
   std::printf("graded sampling: cages with narrow places (%s) and their gaps widened to 40 px, kcwarp-cli bind's\n"
               "defaults (automatic spacing, --exterior %s), median of %d binds, wide and narrow alternating (/wide:\n"
               "the median of the paired ratios); unity and reproduction: largest error\n"

@@ -186,6 +186,8 @@ TEST(CliBind, BadInputExitsTwoWithOneLine) {
   // The limits are in the main help only, not repeated by every subcommand's.
   EXPECT_TRUE(contains(runCli("--help", dir).out, "Limits"));
   EXPECT_FALSE(contains(runCli("warp --help", dir).out, "Limits"));
+  // bind's defaults are BindParams' own, the exterior band among them.
+  EXPECT_TRUE(contains(runCli("bind --help", dir).out, "--exterior TEXT=band"));
 
   // A bad points row names the file and line.
   ASSERT_EQ(runCli("bind --cage cage.json --size 96,96 --spacing 6 -o s.kcw.json", dir).code, 0);

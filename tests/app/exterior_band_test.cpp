@@ -150,9 +150,9 @@ TEST(ExteriorBand, KeepsTheWeightsInsideAndOnTheCage) {
   }
 }
 
-TEST(ExteriorBand, IsTheDefaultOfTheParamsAsOfTheCliAndTheGui) {
-  // BindParams{} is what `kcwarp-cli bind` and the GUI bind with: the band the default outside
-  // mode (pinned) needs; frameBindParams() the whole frame, as `--outside deform` needs.
+TEST(ExteriorBand, IsTheDefaultWhatTheDefaultOutsideModeNeeds) {
+  // BindParams{}: the band the default outside mode (pinned) needs (`kcwarp-cli bind`'s default is
+  // read from it: CliBind.BadInputExitsTwoWithOneLine); frameBindParams() the whole frame, as `--outside deform` needs.
   EXPECT_EQ(BindParams{}.exterior, sampling::ExteriorExtent::Band);
   EXPECT_EQ(BindParams{}.exterior, exteriorFor(WarpMeshOptions{}.outside));
   EXPECT_EQ(frameBindParams().exterior, sampling::ExteriorExtent::Frame);

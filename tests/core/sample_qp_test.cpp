@@ -438,9 +438,17 @@ TEST(SampleQp, AnExteriorSampleOutsideTheHullWithMostTargetsZeroIsSolved) {
   Vec2 reproduced = Vec2::Zero();
   for (Index i = 0; i < 44; ++i) reproduced += w(i) * Vec2(frame.cx()[i], frame.cy()[i]);
   EXPECT_LE((reproduced - xh).lpNorm<Eigen::Infinity>(), 1e-12);
-  // The only feasible point on that edge: u = (w + t1)β on controls 26 and 27, the rest at −t.
-  EXPECT_NEAR(w(26), 1.49475, 1e-5);
-  EXPECT_NEAR(w(27), 0.204923, 1e-5);
+  // The reference, by hand: βx̂ lies on the hull edge between controls 26 and 27 (the same height),
+  // where the only u ≥ 0 reproducing it is their linear interpolation; w = u/β − t, t = (1 − β)/(mβ).
+  const double beta = frame.hullShrink(xh), t = (1.0 - beta) / (44.0 * beta);
+  const Vec2 y = beta * xh;
+  ASSERT_NEAR(frame.cy()[26], frame.cy()[27], 1e-15);
+  ASSERT_NEAR(y.y(), frame.cy()[26], 1e-12);
+  const double u26 = (y.x() - frame.cx()[27]) / (frame.cx()[26] - frame.cx()[27]);
+  Eigen::VectorXd expected = Eigen::VectorXd::Constant(44, -t);
+  expected(26) = u26 / beta - t;
+  expected(27) = (1.0 - u26) / beta - t;
+  EXPECT_LE((w - expected).lpNorm<Eigen::Infinity>(), 1e-9);
   EXPECT_LE(r.iterations, 20);
 }
 
