@@ -1,6 +1,7 @@
 #include "kc/sampling/blue_noise.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <random>
@@ -74,8 +75,8 @@ constexpr double kLeafSpacings = 2.0;
 /// Visits the cells of the graded start: root cells of side c0 = √cellArea·hMax over `rect`
 /// (those meeting `keep` when given), each split into four while its side exceeds
 /// kLeafSpacings·√cellArea·h(centre); f(cell rectangle, expected count, id) for every leaf, the
-/// expected count side² / (cellArea·h(centre)²) of its samples, so the expected density is
-/// 1/(cellArea·h²). Leaves below a side of hMin·√cellArea/2 are not split further.
+/// expected count side² / (cellArea·h(centre)²) of its samples (so the expected density is
+/// 1/(cellArea·h²)), h(centre) and its id. Leaves below a side of hMin·√cellArea/2 are not split further.
 template <class F>
 void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, const Rect* keep, F&& f) {
   const double root = std::sqrt(cellArea);
@@ -95,7 +96,7 @@ void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, c
       self(self, {xm, ym, cell.x1, cell.y1}, child + 4);
       return;
     }
-    f(cell, cell.area() / (cellArea * hc * hc), id);
+    f(cell, cell.area() / (cellArea * hc * hc), hc, id);
   };
   for (Index j = 0; j < g.ny; ++j)
     for (Index i = 0; i < g.nx; ++i) {
@@ -106,6 +107,46 @@ void gradedCells(const Rect& rect, const SizingField& sizing, double cellArea, c
       visit(visit, cell, root);
     }
 }
+
+/// Which side of the cage points near a known point lie on: the known point's side, flipped by
+/// each loop edge (loopEdges: sticks bound nothing) that the segment between them crosses, found
+/// through a grid of those edges, O(edges near the segment) a query instead of the O(m) even-odd
+/// test. A segment through a vertex or touching an edge falls back to the even-odd test.
+class LoopParity {
+ public:
+  LoopParity(const Cage& cage, double cell) : m_loops{cage.C, loopEdges(cage), false}, m_grid(m_loops, cell) {}
+
+  bool inside(const Vec2& from, bool fromInside, const Vec2& to, const CageQueries& exact) const {
+    std::array<int, 16> seen{};
+    std::size_t nSeen = 0;
+    bool inside = fromInside, degenerate = false;
+    auto orient = [](const Vec2& a, const Vec2& b, const Vec2& c) {
+      return (b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x());
+    };
+    m_grid.forEachEdgeNear(from.cwiseMin(to), from.cwiseMax(to), [&](int e, const Vec2& a, const Vec2& b) {
+      if (degenerate) return;
+      if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(nSeen), e) !=
+          seen.begin() + static_cast<std::ptrdiff_t>(nSeen))
+        return;
+      if (nSeen == seen.size()) {  // more edges than expected near one short segment
+        degenerate = true;
+        return;
+      }
+      seen[nSeen++] = e;
+      const double s1 = orient(from, to, a), s2 = orient(from, to, b), s3 = orient(a, b, from), s4 = orient(a, b, to);
+      if (s1 == 0.0 || s2 == 0.0 || s3 == 0.0 || s4 == 0.0) {
+        degenerate = true;
+        return;
+      }
+      if ((s1 > 0.0) != (s2 > 0.0) && (s3 > 0.0) != (s4 > 0.0)) inside = !inside;
+    });
+    return degenerate ? exact.inside(to) : inside;
+  }
+
+ private:
+  Cage m_loops;
+  CageEdgeGrid m_grid;
+};
 
 Points toPoints(const std::vector<Vec2>& v) {
   Points P(static_cast<Index>(v.size()), 2);
@@ -122,10 +163,7 @@ double blueNoiseCountEstimate(const Rect& domain, double h, double cellArea) {
 
 double gradedCountEstimate(const Rect& domain, const SizingField& sizing, double cellArea) {
   double n = 0.0;
-  gradedCells(domain, sizing, cellArea, nullptr, [&](const Rect& cell, double p, std::uint64_t) {
-    (void)cell;
-    n += p;
-  });
+  gradedCells(domain, sizing, cellArea, nullptr, [&](const Rect&, double p, double, std::uint64_t) { n += p; });
   return n;
 }
 
@@ -134,25 +172,63 @@ Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizi
   const bool anchored = cellGrid && cellGrid->area() > 0.0;
   const CageEdgeGrid locator(obstacles ? *obstacles : cage, sizing.hMax());
   const CageQueries queries(cage);
+  const LoopParity parity(cage, sizing.hMax());
   std::vector<Vec2> inside, outside;
-  // A leaf gets as many samples as the running sum of the expected counts, in the quadtree's order,
-  // passes whole numbers: the count over any run of neighbouring leaves is then within one of its
-  // expectation (no Poisson clumps and holes for the relaxation to smooth out). The sum starts at a
-  // random offset; positions are random in the leaf.
-  double carry = static_cast<double>(splitmix(seed) >> 11) * 0x1.0p-53;
+  // The inside and the outside each get as many samples as their running sum of expected counts,
+  // in the quadtree's order, passes whole numbers: the count over any run of neighbouring leaves,
+  // on either side of the cage, is then within one of its expectation (no Poisson clumps and
+  // holes for the relaxation to smooth out; a corridor between two parts of the cage, which its
+  // samples cannot leave sideways, starts with the count its area needs). A leaf that the cage or
+  // the domain's boundary comes near is split between the sides by the fractions of a stratified
+  // 4×4 set of probes on each (probes within h/2 of them count for neither: the samples there
+  // are dropped). The sums start at random offsets; positions are random in the leaf.
+  double carryIn = static_cast<double>(splitmix(seed) >> 11) * 0x1.0p-53;
+  double carryOut = static_cast<double>(splitmix(seed ^ 0x5bd1e995u) >> 11) * 0x1.0p-53;
   gradedCells(anchored ? *cellGrid : domain, sizing, cellArea, anchored ? &domain : nullptr,
-              [&](const Rect& cell, double expected, std::uint64_t id) {
+              [&](const Rect& cell, double expected, double hc, std::uint64_t id) {
                 const std::uint64_t base = splitmix(seed ^ splitmix(id));
                 auto draw = [&](std::uint64_t k) { return static_cast<double>(splitmix(base + k) >> 11) * 0x1.0p-53; };
-                carry += expected;
-                const int count = static_cast<int>(carry);
-                carry -= count;
-                for (int m = 0; m < count; ++m) {
-                  const Vec2 p(cell.x0 + draw(1 + 2 * m) * cell.width(), cell.y0 + draw(2 + 2 * m) * cell.height());
+                auto at = [&](double u, double v) { return Vec2(cell.x0 + u * cell.width(), cell.y0 + v * cell.height()); };
+                const Vec2 centre = at(0.5, 0.5);
+                const bool centreInside = queries.inside(centre);
+                // h ≤ hc + g·r ≤ hc + r/2 in the leaf (g ≤ 1/2): nothing in it lies within h/2 of
+                // the obstacles or the domain's side when they are this far from the centre.
+                const double r = 0.5 * std::hypot(cell.width(), cell.height()), clear = r + 0.5 * (hc + 0.5 * r);
+                double in = centreInside ? 1.0 : 0.0, out = 1.0 - in;
+                const bool near = locator.distance(centre, clear) < clear || domain.insideDistance(centre) < clear;
+                if (near) {
+                  constexpr int kProbes = 4;
+                  in = out = 0.0;
+                  for (int a = 0; a < kProbes; ++a)
+                    for (int b = 0; b < kProbes; ++b) {
+                      const std::uint64_t k = 1000 + 2 * static_cast<std::uint64_t>(a * kProbes + b);
+                      const Vec2 q = at((a + draw(k)) / kProbes, (b + draw(k + 1)) / kProbes);
+                      if (domain.insideDistance(q) < 0.5 * hc || locator.distance(q, 0.5 * hc) < 0.5 * hc) continue;
+                      (parity.inside(centre, centreInside, q, queries) ? in : out) += 1.0 / (kProbes * kProbes);
+                    }
+                }
+                carryIn += expected * in;
+                carryOut += expected * out;
+                const int wantIn = static_cast<int>(carryIn), wantOut = static_cast<int>(carryOut);
+                carryIn -= wantIn;
+                carryOut -= wantOut;
+                int gotIn = 0, gotOut = 0;
+                const int tries = near ? 16 * (wantIn + wantOut) : wantIn + wantOut;
+                for (int m = 0; m < tries && (gotIn < wantIn || gotOut < wantOut); ++m) {
+                  const Vec2 p = at(draw(1 + 2 * static_cast<std::uint64_t>(m)), draw(2 + 2 * static_cast<std::uint64_t>(m)));
+                  if (!near) {
+                    (centreInside ? inside : outside).push_back(p);
+                    ++(centreInside ? gotIn : gotOut);
+                    continue;
+                  }
                   const double minDistance = 0.5 * sizing(p);
                   if (domain.insideDistance(p) < minDistance) continue;
                   if (locator.distance(p, minDistance) < minDistance) continue;
-                  (queries.inside(p) ? inside : outside).push_back(p);
+                  if (queries.inside(p)) {
+                    if (gotIn < wantIn) inside.push_back(p), ++gotIn;
+                  } else if (gotOut < wantOut) {
+                    outside.push_back(p), ++gotOut;
+                  }
                 }
               });
   interiorCount = static_cast<Index>(inside.size());

@@ -196,9 +196,11 @@ const BackendCase kCases[] = {
     kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance,
        {{"checker", 0.0032}, {"star", 0.099}, {"figure", 0.56}}, {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
     kcLinearEdges({{"checker", 0.0071}, {"star", 0.068}, {"figure", 0.53}}),
-    // KC on LBC targets (--init lbc: LBC on a mesh of 2h inside, heat-linear outside).
+    // KC on LBC targets (--init lbc: LBC on a mesh of 2h inside, heat-linear outside). The figure's
+    // deepest weight inside over seeds 1-5: −0.035 to −0.050 (−0.035 to −0.050 before the graded
+    // start kept each side's count; seed 1 −0.042 then, −0.050 now).
     kc("kc_qp_exact_lbc_init", Method::QP, InterpMode::Exact, InitMethod::Lbc,
-       {{"checker", 0.002}, {"star", 0.023}, {"figure", 0.07}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.046}}),
+       {{"checker", 0.002}, {"star", 0.023}, {"figure", 0.07}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.052}}),
     lbc("lbc_square", LbcTau::Square),
 };
 
@@ -229,7 +231,9 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // 1.05, 1.09, 1.10 and 1.16), times 1.05: their lobes and the hand's extra area sit between limbs and
 // fingers, where the Euclidean kernel reaches across the gap outside. The deepest weight on the 2-px grid depends on where the samples fall against the grid
 // (kcwarp-cli bind --seed 1 to 12, then kcwarp-cli stats): the person −0.049 to −0.111 (at the
-// armpit, where a 1-px grid finds −0.12 to −0.13 for seeds 1 and 4 alike), the hand −0.041 to −0.061.
+// armpit, where a 1-px grid finds −0.12 to −0.13 for seeds 1 and 4 alike), the hand −0.041 to −0.061,
+// the figure −0.036 to −0.050 (seeds 1 to 5; −0.027 to −0.057 before the graded start kept each
+// side's count, kcwarp-cli stats locality.drag.min_weight): the figure is held to 0.04.
 // Unscreened targets without the lobe
 // guard (the default before) moved 1.7×, 2.0×, 1.7× and 1.8× LBC's area on the first four, with
 // lobes −0.010, −0.135, −0.134, −0.087.
@@ -251,7 +255,7 @@ Session bindDefault(const Cage& cage, int w, int h, const std::string& backend) 
 TEST(LocalityConformanceSlow, DefaultBindIsNearlyAsLocalAsLbcWithShallowLobes) {
   const LocalityCase cases[] = {
       {"images/star.cage.json", 320, 320, 1.1, 0.02},
-      {"images/figure.cage.json", 320, 400, 1.15, 0.030},
+      {"images/figure.cage.json", 320, 400, 1.15, 0.04},
       {"tests/data/locality/person.cage.json", 360, 500, 1.16, 0.073},
       {"tests/data/locality/hand.cage.json", 400, 440, 1.22, 0.06},
       {"tests/data/locality/rectangle.cage.json", 720, 477, 1.0, 0.02},

@@ -43,11 +43,15 @@ double gradedCountEstimate(const Rect& domain, const SizingField& sizing, double
 
 /// Random start for the free samples of a graded sampling: cells of side √cellArea·hMax over
 /// `domain` (or over `cellGrid`, keeping those meeting `domain`), split into four while larger than
-/// 2·√cellArea·h(centre), each leaf worth side²/(cellArea·h(centre)²) samples (up to 4): a leaf
-/// holds one uniformly placed sample each time the running sum of the leaves' worth (in the
-/// quadtree's order, from a random offset) passes a whole number, so the density is
-/// 1/(cellArea·h(x)²) without clumps or empty runs; samples closer than h(p)/2 to the obstacles or
-/// the domain's boundary are dropped. Positions are drawn per cell (seed and cell). Rows: interior first.
+/// 2·√cellArea·h(centre), each leaf worth side²/(cellArea·h(centre)²) samples (up to 4). A leaf the
+/// obstacles or the domain's boundary come near splits its worth between the inside and the
+/// outside of the cage by the fractions of a stratified 4×4 set of probes on each (probes closer
+/// than h/2 to them count for neither); each side holds one uniformly placed sample each time its
+/// running sum of worth (in the quadtree's order, from a random offset) passes a whole number, so
+/// the density is 1/(cellArea·h(x)²) without clumps or empty runs, and a corridor between two
+/// parts of the cage gets the count its area needs; samples closer than h(p)/2 to the obstacles or
+/// the domain's boundary are dropped. Positions are drawn per cell (seed and cell). Rows: interior
+/// first.
 Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizing, double cellArea, std::uint64_t seed,
                    Index& interiorCount, const Cage* obstacles = nullptr, const Rect* cellGrid = nullptr);
 
