@@ -150,9 +150,11 @@ class Repair {
   }
 
   /// Per connected part of the region (vertices sharing a triangle): back to the harmonic
-  /// positions where the repair left more folded triangles around it than the harmonic map had
-  /// (a fold no placement removes: the cage pushed past the border). Returns the vertices kept moved.
-  Index revertWhereWorse() {
+  /// positions where the repair left a folded triangle around it (a fold no placement removes: the
+  /// cage pushed past the border or over itself; the continuation then spent its budget spreading
+  /// the squeeze, and kept moved would drag the background and the border for one fold fewer).
+  /// Returns the vertices kept moved.
+  Index revertWhereFolded() {
     std::vector<int> part;
     std::vector<std::uint8_t> done(region.size(), 0);
     Index kept = 0;
@@ -176,7 +178,7 @@ class Repair {
           before += !(jacobian(E, tri(t), area(t)) > 0.0);
           after += !(jacobian(P, tri(t), area(t)) > 0.0);
         }
-      if (after > before) {
+      if (after > 0) {
         for (int v : part) P.row(v) = E.row(v);
       } else {
         kept += Index(part.size());
@@ -218,7 +220,7 @@ class Repair {
 
   std::vector<int> region;
   double s = 0.0;  // continuation fraction
-  Index keptBorder = 0;  // border vertices kept moved by revertWhereWorse
+  Index keptBorder = 0;  // border vertices kept moved by revertWhereFolded
 
  private:
   void add(int v, std::vector<int>& front) {
@@ -461,7 +463,7 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
   }
   if (options.relaxSweeps > 0 && r.badAround(0.0, nullptr).empty())
     rep.relaxSweeps = relaxExteriorRegion(restX, P, triangles, nt, topology, r.region, options.relaxSweeps).sweeps;
-  rep.regionVertices = r.revertWhereWorse();
+  rep.regionVertices = r.revertWhereFolded();
   rep.borderVertices = r.keptBorder;
   deformed = P.topRows(nv);
   for (Index t = 0; t < nt; ++t)

@@ -43,10 +43,11 @@
 ///    may double again. The work is budgeted (ExteriorRepairOptions::budget). Once the
 ///    continuation ends fold-free, the relaxation runs again over the region (`relaxSweeps`).
 ///    Outside the region the background is the harmonic one.
-/// 4. Fallback: per connected part of the region, if the repair left more folded triangles around
-///    it than the harmonic map had, the part goes back to the harmonic positions. That happens
-///    where no placement of the free vertices removes a fold — the deformed cage overlaps itself
-///    or a corner. The report counts what is left.
+/// 4. Fallback: per connected part of the region, if the repair left a folded triangle around it,
+///    the part goes back to the harmonic positions: a repair keeps only what it untangled. Folds
+///    remain where no placement of the free vertices removes one — the deformed cage overlaps
+///    itself or a corner; a partial repair there had spread the squeeze over the background and
+///    dragged the border to leave one fold instead of many. The report counts what is left.
 
 #include <cstdint>
 #include <vector>
