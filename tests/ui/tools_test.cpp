@@ -275,13 +275,22 @@ TEST(CageTool, AClickBesideAPointAcrossANarrowGapAddsAPoint) {
   again.closed = false;
   setDraftCage(s, again);
   for (const Vec2& p : {Vec2(10, 10), Vec2(60, 10), Vec2(60, 100)}) click(p);
-  click(Vec2(60.5, 10));  // on point 1 itself: selects it, adds nothing
+  const std::size_t told = s.messages.size();
+  click(Vec2(60.5, 10));  // on point 1 itself: selects it, adds nothing, and says how to add one beside it
   EXPECT_EQ(s.cage.size(), 3);
-  s.cageTool.press(s, at(62, 10));  // beside point 1, then dragged: moves it
+  ASSERT_EQ(s.messages.size(), told + 1);
+  EXPECT_EQ(s.messages.back().text.rfind("Point 1 selected: ", 0), 0u) << s.messages.back().text;
+  EXPECT_NE(s.messages.back().text.find("zoom in"), std::string::npos);
+  s.cageTool.press(s, at(62, 10));  // beside point 1, then dragged: moves it, silently
   s.cageTool.drag(s, at(72, 20));
   s.cageTool.release(s, at(72, 20));
   EXPECT_EQ(s.cage.size(), 3);
   EXPECT_TRUE(s.cage.C.row(1).transpose().isApprox(Vec2(70, 20)));
+  EXPECT_EQ(s.messages.size(), told + 1);
+  s.cageTool.press(s, at(70, 20));  // on point 1 itself, then dragged: moves it, silently
+  s.cageTool.drag(s, at(75, 25));
+  s.cageTool.release(s, at(75, 25));
+  EXPECT_EQ(s.messages.size(), told + 1);
 }
 
 TEST(CageTool, SelfIntersectingCageIsRejectedWithTheReason) {

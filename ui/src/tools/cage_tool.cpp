@@ -1,6 +1,7 @@
 #include "kc/ui/tools/cage_tool.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
 
 #include "kc/ui/app_state.h"
@@ -63,6 +64,7 @@ Index nearestEdge(const Cage& cage, const Vec2& p, double radius) {
 
 void CageTool::press(AppState& state, const PointerEvent& e) {
   if (m_dragging >= 0) return;
+  m_onPoint = false;
   const Index hit = pickPoint(state.cage.C, e.position, e.pickRadius);
   const bool graph = cageIsEdgeGraph(state.cage);  // points move; adding or removing would lose its edges
   if (e.button == MouseButton::Right) {
@@ -91,6 +93,7 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
     // the gap: a click there (not a drag, not on the point itself) adds it (see release).
     m_clickSlop = 0.25 * e.pickRadius;
     m_addOnClick = !state.cage.closed && !graph && hit != 0 && m_grab.norm() >= m_clickSlop;
+    m_onPoint = !state.cage.closed && !graph && hit != 0 && m_grab.norm() < m_clickSlop;
     m_pressAt = e.position;
     return;
   }
@@ -125,6 +128,13 @@ void CageTool::release(AppState& state, const PointerEvent& e) {
     m_dragging = -1;
     return;
   }
+  // A click on a point while drawing selects it; one meant to add a point right beside it (an
+  // outline a pixel or two from itself) lands there too when the view is zoomed out: say so.
+  if (std::exchange(m_onPoint, false) && !m_moved && (e.position - m_pressAt).norm() < m_clickSlop)
+    postMessage(state,
+                "Point " + std::to_string(m_dragging) +
+                    " selected: the click was on it. To add a point this close, zoom in (mouse wheel).",
+                false);
   drag(state, e);
   if (m_moved && !(m_before.C.rows() == state.cage.C.rows() && m_before.C == state.cage.C)) commitCage(state, m_before, "move cage point");
   m_dragging = -1;

@@ -33,6 +33,7 @@ class CageTool {
   Vec2 m_grab = Vec2::Zero();
   Cage m_before;
   bool m_addOnClick = false;      ///< This press on a point adds a point at m_pressAt if it is not dragged.
+  bool m_onPoint = false;         ///< This press, while drawing, landed on a point itself (other than the first).
   Vec2 m_pressAt = Vec2::Zero();
   double m_clickSlop = 0.0;       ///< How far (image pixels) a click may move and stay a click.
 };
