@@ -170,15 +170,13 @@ class Repair {
               part.push_back(u);
             }
       ++stamp;
-      Index before = 0, after = 0;
-      for (int v : part)
-        for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k) {
+      bool folds = false;
+      for (std::size_t q = 0; q < part.size() && !folds; ++q)
+        for (Index k = topo.start[std::size_t(part[q])]; k < topo.start[std::size_t(part[q]) + 1] && !folds; ++k) {
           const Index t = topo.around[std::size_t(k)];
-          if (mark(t)) continue;
-          before += !(jacobian(E, tri(t), area(t)) > 0.0);
-          after += !(jacobian(P, tri(t), area(t)) > 0.0);
+          folds = !mark(t) && !(jacobian(P, tri(t), area(t)) > 0.0);
         }
-      if (after > 0) {
+      if (folds) {
         for (int v : part) P.row(v) = E.row(v);
       } else {
         kept += Index(part.size());

@@ -201,6 +201,8 @@ Points gradedStart(const Cage& cage, const Rect& domain, const SizingField& sizi
                   in = out = 0.0;
                   for (int a = 0; a < kProbes; ++a)
                     for (int b = 0; b < kProbes; ++b) {
+                      // Draws 1000 on: past the positions' (a leaf wants at most 6 samples, so
+                      // at most 96 tries draw 1 to 192).
                       const std::uint64_t k = 1000 + 2 * static_cast<std::uint64_t>(a * kProbes + b);
                       const Vec2 q = at((a + draw(k)) / kProbes, (b + draw(k + 1)) / kProbes);
                       if (domain.insideDistance(q) < 0.5 * hc || locator.distance(q, 0.5 * hc) < 0.5 * hc) continue;

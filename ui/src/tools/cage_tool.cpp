@@ -64,7 +64,7 @@ Index nearestEdge(const Cage& cage, const Vec2& p, double radius) {
 
 void CageTool::press(AppState& state, const PointerEvent& e) {
   if (m_dragging >= 0) return;
-  m_onPoint = false;
+  m_clickWhileDrawing = false;
   const Index hit = pickPoint(state.cage.C, e.position, e.pickRadius);
   const bool graph = cageIsEdgeGraph(state.cage);  // points move; adding or removing would lose its edges
   if (e.button == MouseButton::Right) {
@@ -92,8 +92,7 @@ void CageTool::press(AppState& state, const PointerEvent& e) {
     // Drawing a cage round a narrow gap puts the next point within the pick radius of one across
     // the gap: a click there (not a drag, not on the point itself) adds it (see release).
     m_clickSlop = 0.25 * e.pickRadius;
-    m_addOnClick = !state.cage.closed && !graph && hit != 0 && m_grab.norm() >= m_clickSlop;
-    m_onPoint = !state.cage.closed && !graph && hit != 0 && m_grab.norm() < m_clickSlop;
+    m_clickWhileDrawing = !state.cage.closed && !graph && hit != 0;
     m_pressAt = e.position;
     return;
   }
@@ -122,19 +121,21 @@ void CageTool::drag(AppState& state, const PointerEvent& e) {
 
 void CageTool::release(AppState& state, const PointerEvent& e) {
   if (m_dragging < 0) return;
-  if (std::exchange(m_addOnClick, false) && (e.position - m_pressAt).norm() < m_clickSlop) {
-    setDraftCage(state, m_before);  // the pressed point stays where it was
-    m_selected = addPoint(state, state.cage.size(), m_pressAt);
-    m_dragging = -1;
-    return;
+  if (std::exchange(m_clickWhileDrawing, false) && (e.position - m_pressAt).norm() < m_clickSlop) {
+    if (m_grab.norm() >= m_clickSlop) {  // beside the point: add one there
+      setDraftCage(state, m_before);     // the pressed point stays where it was
+      m_selected = addPoint(state, state.cage.size(), m_pressAt);
+      m_dragging = -1;
+      return;
+    }
+    // On the point itself: it is selected. A click meant to add a point right beside it (an outline
+    // a pixel or two from itself) lands there too when the view is zoomed out: say so.
+    if (!m_moved)
+      postMessage(state,
+                  "Point " + std::to_string(m_dragging) +
+                      " selected: the click was on it. To add a point this close, zoom in (mouse wheel).",
+                  false);
   }
-  // A click on a point while drawing selects it; one meant to add a point right beside it (an
-  // outline a pixel or two from itself) lands there too when the view is zoomed out: say so.
-  if (std::exchange(m_onPoint, false) && !m_moved && (e.position - m_pressAt).norm() < m_clickSlop)
-    postMessage(state,
-                "Point " + std::to_string(m_dragging) +
-                    " selected: the click was on it. To add a point this close, zoom in (mouse wheel).",
-                false);
   drag(state, e);
   if (m_moved && !(m_before.C.rows() == state.cage.C.rows() && m_before.C == state.cage.C)) commitCage(state, m_before, "move cage point");
   m_dragging = -1;
@@ -143,7 +144,7 @@ void CageTool::release(AppState& state, const PointerEvent& e) {
 void CageTool::cancel(AppState& state) {
   if (m_dragging >= 0 && m_moved) setDraftCage(state, m_before);
   m_dragging = -1;
-  m_addOnClick = false;
+  m_clickWhileDrawing = false;
 }
 
 void CageTool::deleteSelected(AppState& state) {

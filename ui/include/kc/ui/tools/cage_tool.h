@@ -32,8 +32,9 @@ class CageTool {
   bool m_moved = false;
   Vec2 m_grab = Vec2::Zero();
   Cage m_before;
-  bool m_addOnClick = false;      ///< This press on a point adds a point at m_pressAt if it is not dragged.
-  bool m_onPoint = false;         ///< This press, while drawing, landed on a point itself (other than the first).
+  /// This press, while drawing, is on a point other than the first: not dragged, it adds a point at
+  /// m_pressAt when it is beside the point (m_grab at least m_clickSlop), else says it selected it.
+  bool m_clickWhileDrawing = false;
   Vec2 m_pressAt = Vec2::Zero();
   double m_clickSlop = 0.0;       ///< How far (image pixels) a click may move and stay a click.
 };
