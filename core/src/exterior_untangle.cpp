@@ -37,10 +37,23 @@ class Repair {
  public:
   /// start, entry, P: #V + ghosts rows (ghost rows fixed); rest: #V rows (the border's rest
   /// positions); restArea: #exteriorTriangles, ghostArea: #ghosts.
-  Repair(const Points& start, const Points& entry, Points& P, const Points& rest, const Triangles& T, const ExteriorRepairTopology& topo,
-         Index exteriorTriangles, const Eigen::VectorXd& restArea, const Eigen::VectorXd& ghostArea, const ExteriorRepairOptions& o)
-      : R(start), E(entry), P(P), rest(rest), T(T), topo(topo), nt(exteriorTriangles), A(restArea), GA(ghostArea), o(o),
-        inRegion(std::size_t(P.rows()), 0), seen(std::size_t(P.rows()), 0),
+  /// free: the topology's free flags, less the vertices this repair holds (see forcedFolds).
+  Repair(const Points& start, const Points& entry, Points& P, const Points& rest, const Triangles& T,
+         const ExteriorRepairTopology& topo, const std::vector<std::uint8_t>& free, Index exteriorTriangles,
+         const Eigen::VectorXd& restArea, const Eigen::VectorXd& ghostArea, const ExteriorRepairOptions& o)
+      : R(start),
+        E(entry),
+        P(P),
+        rest(rest),
+        T(T),
+        topo(topo),
+        free(free),
+        nt(exteriorTriangles),
+        A(restArea),
+        GA(ghostArea),
+        o(o),
+        inRegion(std::size_t(P.rows()), 0),
+        seen(std::size_t(P.rows()), 0),
         seenTriangle(std::size_t(exteriorTriangles) + topo.ghosts.size(), 0) {}
 
   const std::array<int, 3>& tri(Index t) const { return t < nt ? T[std::size_t(t)] : topo.ghosts[std::size_t(t - nt)]; }
@@ -51,13 +64,13 @@ class Repair {
     std::vector<int> front;
     for (Index t : bad)
       for (int v : tri(t))
-        if (topo.free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
+        if (free[std::size_t(v)] && !inRegion[std::size_t(v)]) add(v, front);
     for (int ring = 0; ring < o.rings && !front.empty(); ++ring) {
       std::vector<int> next;
       for (int v : front)
         for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
           for (int u : tri(topo.around[std::size_t(k)]))
-            if (topo.free[std::size_t(u)] && !inRegion[std::size_t(u)]) add(u, next);
+            if (free[std::size_t(u)] && !inRegion[std::size_t(u)]) add(u, next);
       front = std::move(next);
     }
   }
@@ -75,7 +88,7 @@ class Repair {
         bad.push_back(t);
         if (outside)
           for (int u : tri(t))
-            if (topo.free[std::size_t(u)] && !inRegion[std::size_t(u)]) {
+            if (free[std::size_t(u)] && !inRegion[std::size_t(u)]) {
               outside->push_back(t);
               break;
             }
@@ -107,7 +120,7 @@ class Repair {
             if (std::abs(det) < 1e-14 * (std::abs(a11 * a22) + std::abs(a12 * a21)) || det == 0.0) continue;
             consider((r1 * a22 - a12 * r2) / det, (a11 * r2 - r1 * a21) / det);
           }
-      if (topo.free[std::size_t(v)] == 2) {
+      if (free[std::size_t(v)] == 2) {
         // A border vertex: the optimum may lie on the border line p0 + t·τ, where f_i = f_j.
         const Vec2 p0 = rest.row(v).transpose(), tau = tangent(v);
         consider(p0.x(), p0.y());
@@ -180,7 +193,7 @@ class Repair {
         for (int v : part) P.row(v) = E.row(v);
       } else {
         kept += Index(part.size());
-        for (int v : part) keptBorder += topo.free[std::size_t(v)] == 2;
+        for (int v : part) keptBorder += free[std::size_t(v)] == 2;
       }
     }
     return kept;
@@ -234,7 +247,7 @@ class Repair {
   }
   /// A border vertex stays on the image's side of its border line or beyond it (n·(p − p0) ≥ 0).
   bool allowed(int v, double x, double y) const {
-    if (topo.free[std::size_t(v)] != 2) return true;
+    if (free[std::size_t(v)] != 2) return true;
     const Vec2 n = exteriorOutwardAt(topo.frame, rest.row(v).transpose());
     return n.x() * (x - rest(v, 0)) + n.y() * (y - rest(v, 1)) >= -1e-9 * topo.spacing;
   }
@@ -267,6 +280,7 @@ class Repair {
   const Points& rest;
   const Triangles& T;
   const ExteriorRepairTopology& topo;
+  const std::vector<std::uint8_t>& free;
   Index nt;
   const Eigen::VectorXd& A;
   const Eigen::VectorXd& GA;
@@ -284,6 +298,46 @@ class Repair {
 }  // namespace
 
 namespace {
+
+/// The triangles among `folded` that fold because the cage's outline turns back: one of their
+/// edges is a piece of the outline between two points on the cage (not free) whose deformed
+/// direction opposes the next or previous piece of the same cage edge (collinear with it and in
+/// the same direction at rest). The background triangle on such a piece folds wherever its free
+/// vertex goes outside the deformed inside. (The field's weights along the cage are not linear; a
+/// kernel field's interpolant can turn a piece a fraction of a pixel long over, next to a point
+/// that it interpolates exactly.)
+std::vector<Index> foldsOnATurnedPiece(const Points& rest, const Points& deformed, const Triangles& triangles,
+                                       const ExteriorRepairTopology& topo, Index nt, const std::vector<Index>& folded) {
+  const auto onCage = [&](int v) { return !topo.free[std::size_t(v)]; };
+  const auto direction = [](const Points& P, int from, int to) -> Vec2 { return P.row(to) - P.row(from); };
+  // Whether piece a→b runs against a piece b→x of the same cage edge (x among b's exterior neighbours).
+  const auto turnedAt = [&](int a, int b) {
+    const Vec2 r = direction(rest, a, b), d = direction(deformed, a, b);
+    for (Index k = topo.start[std::size_t(b)]; k < topo.start[std::size_t(b) + 1]; ++k) {
+      const Index t = topo.around[std::size_t(k)];
+      if (t >= nt) continue;
+      for (int x : triangles[std::size_t(t)]) {
+        if (x == a || x == b || !onCage(x)) continue;
+        const Vec2 rx = direction(rest, b, x);
+        const bool sameEdge = r.dot(rx) > 0.0 && std::abs(r.x() * rx.y() - r.y() * rx.x()) <= 1e-9 * r.norm() * rx.norm();
+        if (sameEdge && d.dot(direction(deformed, b, x)) < 0.0) return true;
+      }
+    }
+    return false;
+  };
+  std::vector<Index> forced;
+  for (const Index t : folded) {
+    const std::array<int, 3>& tri = triangles[std::size_t(t)];
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[std::size_t(k)], b = tri[std::size_t((k + 1) % 3)];
+      if (onCage(a) && onCage(b) && (turnedAt(a, b) || turnedAt(b, a))) {
+        forced.push_back(t);
+        break;
+      }
+    }
+  }
+  return forced;
+}
 
 /// The border ring of `rest` on `f`: border vertices in order around the frame (empty when two
 /// border vertices coincide or a pair of ring neighbours is not an edge of `triangles`).
@@ -373,13 +427,29 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
                                          const ExteriorRepairOptions& options, const ExteriorRepairStart& start) {
   ExteriorRepairReport rep;
   const Index nt = std::min<Index>(exteriorTriangles, Index(triangles.size()));
-  std::vector<Index> bad;
+  std::vector<Index> bad, folded;
   for (Index t = 0; t < nt; ++t) {
     const double j = jacobian(deformed, triangles[std::size_t(t)], restArea(t));
     if (!(j > options.minJacobian)) bad.push_back(t);
-    if (!(j > 0.0)) ++rep.foldedBefore;
+    if (!(j > 0.0)) folded.push_back(t);
   }
+  rep.foldedBefore = Index(folded.size());
   if (rep.foldedBefore == 0) return rep;  // a pose that folds nothing is left as it is
+  // Folds the turned-over outline forces stay as the harmonic map put them, their vertices held:
+  // the repair neither grows its region from them nor counts them against the parts it untangles.
+  const std::vector<Index> forced = foldsOnATurnedPiece(rest, deformed, triangles, topology, nt, folded);
+  rep.foldedForced = Index(forced.size());
+  std::vector<std::uint8_t> held;
+  if (!forced.empty()) {
+    held = topology.free;
+    for (const Index t : forced)
+      for (int v : triangles[std::size_t(t)]) held[std::size_t(v)] = 0;
+    std::erase_if(bad, [&](Index t) { return std::binary_search(forced.begin(), forced.end(), t); });
+  }
+  if (rep.foldedForced == rep.foldedBefore) {
+    rep.foldedAfter = rep.foldedBefore;
+    return rep;
+  }
   // The ghost ring at distance G outside the frame: past the farthest harmonic position, plus a margin.
   const Index nv = deformed.rows(), ng = Index(topology.ring.size());
   const ExteriorRepairFrame& f = topology.frame;
@@ -401,7 +471,7 @@ ExteriorRepairReport repairExteriorFolds(const Points& rest, Points& deformed, c
   Points P = entry;
   Eigen::VectorXd ghostArea(Index(topology.ghosts.size()));
   for (Index k = 0; k < ghostArea.size(); ++k) ghostArea(k) = 0.5 * signedArea2(restX, topology.ghosts[std::size_t(k)]);
-  Repair r(from, entry, P, rest, triangles, topology, nt, restArea, ghostArea, options);
+  Repair r(from, entry, P, rest, triangles, topology, forced.empty() ? topology.free : held, nt, restArea, ghostArea, options);
   r.grow(bad);  // at s = 0: the region at the start positions
   r.placeNeighbours();
   if (r.region.empty()) {

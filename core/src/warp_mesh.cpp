@@ -414,7 +414,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     const Points harmonic = warm ? m_deformed : Points();
     ExteriorRepairReport r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, options,
                                                  warm ? ExteriorRepairStart{&m_previous} : ExteriorRepairStart{});
-    if (warm && r.foldedAfter > 0) {  // the short continuation did not untangle it: from rest
+    if (warm && r.foldedAfter > r.foldedForced) {  // the short continuation did not untangle it: from rest
       m_deformed = harmonic;
       r = repairExteriorFolds(m_rest, m_deformed, m_triangles, *m_repair, m_outsideTriangles, m_restArea, options);
     }
@@ -424,7 +424,7 @@ DeformReport WarpMesh::deform(const Pose& pose, DeformPass pass) {
     rep.repairBorderVertices = r.borderVertices;
     rep.repairWarmStart = r.warmStart;
     rep.repairSeconds = secondsSince(t1);
-    m_previousFoldFree = r.foldedAfter == 0;
+    m_previousFoldFree = r.foldedAfter == r.foldedForced;                            // (folds the inside forces stay in any case)
     if (pass == DeformPass::Live || m_previous.rows() > 0) m_previous = m_deformed;  // (kept once a live pass asked for it)
   }
   const Index nt = Index(m_triangles.size());

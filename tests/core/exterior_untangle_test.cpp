@@ -201,32 +201,43 @@ TEST(ExteriorRepair, APoseThatFoldsNothingIsUnchanged) {
   EXPECT_GT(checked, 10);
 }
 
+/// The L cage's pinned mesh (mean value weights, no repair) with what repairExteriorFolds takes:
+/// the vertices outside the cage, the topology with the frame, and the exterior triangles' signed
+/// rest areas.
+struct RepairSetup {
+  static constexpr int width = 120, height = 100;
+  Cage cage = lCage();
+  WarpMesh plain = pinnedMesh(cage, false, width, height);
+  const Points& rest = plain.restVertices();
+  const Triangles& T = plain.triangles();
+  Index nt = plain.outsideTriangles();
+  std::vector<std::uint8_t> movable;
+  ExteriorRepairTopology topo;
+  Eigen::VectorXd area;
+
+  RepairSetup() : movable(std::size_t(rest.rows())), area(nt) {
+    for (Index v = 0; v < rest.rows(); ++v) movable[std::size_t(v)] = plain.exteriorWeights()->exterior[std::size_t(v)];
+    const ExteriorRepairFrame frame{-0.5, -0.5, width - 0.5, height - 0.5};
+    topo = exteriorRepairTopology(rest, T, nt, movable, &frame);
+    for (Index t = 0; t < nt; ++t) area(t) = signedArea(rest, t);
+  }
+  double signedArea(const Points& P, Index t) const {
+    const auto& [a, b, c] = T[std::size_t(t)];
+    return 0.5 * ((P(b, 0) - P(a, 0)) * (P(c, 1) - P(a, 1)) - (P(b, 1) - P(a, 1)) * (P(c, 0) - P(a, 0)));
+  }
+  double jacobian(const Points& P, Index t) const { return signedArea(P, t) / area(t); }
+};
+
 /// The relaxation (exterior_relax.h) after the untangling: on poses with turns that fold the
 /// harmonic exterior and that the repair untangles, the smallest det J outside the cage rises
 /// (the untangling alone stops at slivers just above its target), nothing folds, and only the
 /// repaired region moves.
 TEST(ExteriorRepair, TheRelaxationSpreadsTheSqueezeOverTheRegion) {
-  const Cage cage = lCage();
-  const int width = 120, height = 100;
-  WarpMesh plain = pinnedMesh(cage, false, width, height);
-  const Points& rest = plain.restVertices();
-  const Triangles& T = plain.triangles();
-  const Index nt = plain.outsideTriangles();
-  std::vector<std::uint8_t> movable(std::size_t(rest.rows()));
-  for (Index v = 0; v < rest.rows(); ++v) movable[std::size_t(v)] = plain.exteriorWeights()->exterior[std::size_t(v)];
-  const ExteriorRepairFrame frame{-0.5, -0.5, width - 0.5, height - 0.5};
-  const ExteriorRepairTopology topo = exteriorRepairTopology(rest, T, nt, movable, &frame);
-  Eigen::VectorXd area(nt);
-  for (Index t = 0; t < nt; ++t) {
-    const auto& [a, b, c] = T[std::size_t(t)];
-    area(t) = 0.5 * ((rest(b, 0) - rest(a, 0)) * (rest(c, 1) - rest(a, 1)) - (rest(b, 1) - rest(a, 1)) * (rest(c, 0) - rest(a, 0)));
-  }
+  RepairSetup setup;
+  auto& [cage, plain, rest, T, nt, movable, topo, area] = setup;
   const auto minJacobian = [&](const Points& P) {
     double m = std::numeric_limits<double>::infinity();
-    for (Index t = 0; t < nt; ++t) {
-      const auto& [a, b, c] = T[std::size_t(t)];
-      m = std::min(m, 0.5 * ((P(b, 0) - P(a, 0)) * (P(c, 1) - P(a, 1)) - (P(b, 1) - P(a, 1)) * (P(c, 0) - P(a, 0))) / area(t));
-    }
+    for (Index t = 0; t < nt; ++t) m = std::min(m, setup.jacobian(P, t));
     return m;
   };
   int compared = 0, raised = 0;
@@ -259,6 +270,69 @@ TEST(ExteriorRepair, TheRelaxationSpreadsTheSqueezeOverTheRegion) {
   EXPECT_GT(compared, 5);
   EXPECT_GE(raised, compared * 9 / 10);
   EXPECT_GT(worstRelaxed, 2.0 * worstUntangled);
+}
+
+/// Where the field's map turns a piece of the cage's outline back (its weights along the cage are
+/// not linear, as a kernel field's are not), the background triangle on that piece folds wherever
+/// its free vertex goes outside the deformed inside. Such a fold next to folds the repair can
+/// untangle: the repair untangles those and leaves this one as the harmonic map put it, reported
+/// in foldedForced (it once spent its budget on it and reverted the whole region).
+TEST(ExteriorRepair, AFoldTheOutlineForcesDoesNotStopTheRepairBesideIt) {
+  RepairSetup setup;
+  auto& [cage, plain, rest, T, nt, movable, topo, area] = setup;
+  const auto folded = [&](const Points& P, Index t) { return !(setup.jacobian(P, t) > 0.0); };
+  const auto onCage = [&](int v) {
+    return !movable[std::size_t(v)] && topo.start[std::size_t(v) + 1] > topo.start[std::size_t(v)];
+  };
+  // Points w, v, u on the cage in a row along one cage edge (v–u and w–v edges of the background).
+  const auto pieceAfter = [&](int v, int u) {
+    const Vec2 r = rest.row(u) - rest.row(v);
+    for (Index k = topo.start[std::size_t(v)]; k < topo.start[std::size_t(v) + 1]; ++k)
+      if (topo.around[std::size_t(k)] < nt)
+        for (int w : T[std::size_t(topo.around[std::size_t(k)])]) {
+          const Vec2 q = rest.row(v) - rest.row(w);
+          if (w != v && onCage(w) && q.dot(r) > 0.0 && std::abs(q.x() * r.y() - q.y() * r.x()) < 1e-9 * q.norm() * r.norm())
+            return w;
+        }
+    return -1;
+  };
+  int tried = 0;
+  for (const Pose& pose : randomPoses(cage.size(), 30, 30.0, 0.0, 7)) {
+    plain.deform(pose);
+    const Points harmonic = plain.deformedVertices();
+    Points repaired = harmonic;
+    const ExteriorRepairReport clean = repairExteriorFolds(rest, repaired, T, topo, nt, area);
+    if (clean.foldedBefore == 0 || clean.foldedAfter > 0) continue;
+    // A point on the cage next to the repaired region, pulled past its neighbour along the cage
+    // edge: the piece between them turns back against the piece before it.
+    int v = -1, u = -1;
+    for (Index t = 0; t < nt && v < 0; ++t) {
+      const auto& tri = T[std::size_t(t)];
+      bool touchesRegion = false;
+      for (int w : tri) touchesRegion |= repaired.row(w) != harmonic.row(w);
+      if (!touchesRegion) continue;
+      for (int k = 0; k < 3 && v < 0; ++k) {
+        const int a = tri[std::size_t(k)], b = tri[std::size_t((k + 1) % 3)];
+        if (onCage(a) && onCage(b) && pieceAfter(a, b) >= 0) v = a, u = b;
+      }
+    }
+    if (v < 0) continue;
+    Points entry = harmonic;
+    entry.row(v) = harmonic.row(u) + 0.5 * (harmonic.row(u) - harmonic.row(v));
+    Points out = entry;
+    const ExteriorRepairReport r = repairExteriorFolds(rest, out, T, topo, nt, area);
+    ++tried;
+    EXPECT_GT(r.foldedForced, 0);
+    EXPECT_EQ(r.foldedAfter, r.foldedForced) << "pose " << tried << ": harmonic folds " << r.foldedBefore;
+    EXPECT_GT(r.regionVertices, 0);
+    // What still folds is on the turned-over piece, as the harmonic map put it.
+    for (Index t = 0; t < nt; ++t) {
+      if (!folded(out, t)) continue;
+      for (int w : T[std::size_t(t)]) EXPECT_EQ(out.row(w), entry.row(w)) << "triangle " << t;
+    }
+    if (tried == 5) break;
+  }
+  EXPECT_EQ(tried, 5);
 }
 
 }  // namespace

@@ -21,7 +21,11 @@
 /// the barrier's relaxation needs.
 ///
 /// 1. Region: the free vertices of exterior triangles with det J ≤ minJacobian, grown by `rings`
-///    rings of free neighbours (regrown when a fold reaches the region's edge).
+///    rings of free neighbours (regrown when a fold reaches the region's edge). A fold the outline
+///    forces (the field's map turns a piece of the cage's outline back against the pieces beside
+///    it on the same cage edge, so the background triangle on it folds wherever its free vertex
+///    goes outside the deformed inside) is left out: its vertices stay at the harmonic positions
+///    (ExteriorRepairReport::foldedForced).
 /// 2. Untangling (Freitag & Plassmann's local optimisation): each region vertex v whose star has
 ///    a triangle with det J ≤ minJacobian moves to the point p maximising min_k det J_k(p) over the
 ///    triangles k of its star. det J_k(p) = (c_k + g_k·p) / (2 A_k) is affine in p, so this is a
@@ -76,6 +80,10 @@ struct ExteriorRepairOptions {
 
 struct ExteriorRepairReport {
   Index foldedBefore = 0;  ///< Exterior triangles with det J ≤ 0 before the repair.
+  /// Of foldedBefore, folds the outline forces: triangles on a piece of the cage's outline that the
+  /// field's map turns back against the next piece of the same cage edge. The repair holds their
+  /// vertices and leaves them folded.
+  Index foldedForced = 0;
   Index foldedAfter = 0;   ///< … after it.
   Index foldedFixed = 0;   ///< Of foldedAfter, triangles with no free vertex (on the cage or the border only).
   Index regionVertices = 0;  ///< Vertices left moved (after the fallback).
