@@ -50,16 +50,17 @@ SizingField withSharpCorners(const Cage& cage, const SizingOptions& options, con
   if (P.empty()) return h;
   const Index n = h.graded() ? h.seeds().rows() : 0;
   Points S(n + static_cast<Index>(P.size()), 2);
-  Eigen::VectorXd sizes(S.rows());
+  Eigen::VectorXd sizes(S.rows()), slopes = Eigen::VectorXd::Constant(S.rows(), options.gradation);
   if (n > 0) {
     S.topRows(n) = h.seeds();
     sizes.head(n) = h.sizes();
+    if (h.slopes().size() > 0) slopes.head(n) = h.slopes();
   }
   for (std::size_t k = 0; k < P.size(); ++k) {
     S.row(n + static_cast<Index>(k)) = P[k].transpose();
     sizes(n + static_cast<Index>(k)) = H[k];
   }
-  return SizingField(options.hMax, options.gradation, S, sizes, h.form());
+  return SizingField(options.hMax, options.gradation, S, sizes, h.form(), slopes);
 }
 
 }  // namespace kc::app

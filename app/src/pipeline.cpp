@@ -106,7 +106,7 @@ SizingOptions bindSizingOptions(const BindParams& params) {
   o.hMin = std::min(kMinSpacing, params.spacing);
   if (!backendFor(params.backend).capabilities().outsideCage) {
     o.featureSamples = o.extraFeatureSamples = o.narrowWidth = o.extraNarrowWidth = kLbcFeatureSamples;
-    o.gradation = kLbcGradation;
+    o.gradation = o.fineGradation = kLbcGradation;
     o.outsideGaps = false;
   }
   // A gap between two parts gets kOutsideFeatureSamples where the interpolation is exact and the
@@ -140,7 +140,7 @@ std::shared_ptr<const SizingField> bindSizing(const Cage& cage, const Structure&
   // bends them: 0.55 px on random lines in the star, 0.03 px smooth); elsewhere the spacing itself,
   // which keeps the weights more local (person legs 4 px apart: 0.018 across the gap, 0.034 smooth).
   const SizingForm form = sampledLines ? SizingForm::Smooth : SizingForm::Min;
-  return std::make_shared<SizingField>(h.hMax(), h.gradation(), h.seeds(), h.sizes(), form);
+  return std::make_shared<SizingField>(h.hMax(), h.gradation(), h.seeds(), h.sizes(), form, h.slopes());
 }
 
 BindParams effectiveBindParams(const Cage& cage, const Structure& structure, const BindParams& params) {

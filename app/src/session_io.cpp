@@ -113,8 +113,12 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   if (s.W0.rows() > 0) putWeights(j["weights"], "initial", s.W0, form);  // a backend without targets has none
   if (s.sizing && s.sizing->graded()) {
     json seeds = json::array();
-    for (Index i = 0; i < s.sizing->seeds().rows(); ++i)
-      seeds.push_back({s.sizing->seeds()(i, 0), s.sizing->seeds()(i, 1), s.sizing->sizes()(i)});
+    const Eigen::VectorXd& slopes = s.sizing->slopes();  // a seed's own slope as a 4th entry where it differs
+    for (Index i = 0; i < s.sizing->seeds().rows(); ++i) {
+      json seed = {s.sizing->seeds()(i, 0), s.sizing->seeds()(i, 1), s.sizing->sizes()(i)};
+      if (slopes.size() > 0 && slopes(i) != s.sizing->gradation()) seed.push_back(slopes(i));
+      seeds.push_back(std::move(seed));
+    }
     j["sizing"] = {{"gradation", s.sizing->gradation()}, {"seeds", seeds}};
     if (s.sizing->form() == SizingForm::Smooth) j["sizing"]["form"] = "smooth";
   }
@@ -134,8 +138,9 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   return j.dump() + "\n";
 }
 
-/// The `sizing` block: {"gradation": g, "seeds": [[x, y, h], ...], "form": "smooth"} with hMax =
-/// params.spacing; without "form" (sessions written before the smooth form) the cones' minimum.
+/// The `sizing` block: {"gradation": g, "seeds": [[x, y, h] or [x, y, h, g_i], ...], "form": "smooth"}
+/// with hMax = params.spacing; g_i is the seed's cone's slope where it is not g (SizingField); without
+/// "form" (sessions written before the smooth form) the cones' minimum.
 static std::shared_ptr<const SizingField> sizingFromJson(const json& block, double hMax, const std::string& where) {
   if (!block.is_object()) throw InputError(where, "sizing must be an object");
   const double g = detail::boundedNumber(detail::require(block, "gradation", where), 1.0, where, "sizing.gradation");
@@ -149,17 +154,19 @@ static std::shared_ptr<const SizingField> sizingFromJson(const json& block, doub
     form = block["form"] == "smooth" ? SizingForm::Smooth : SizingForm::Min;
   }
   Points P(Index(seeds.size()), 2);
-  Eigen::VectorXd H(Index(seeds.size()));
+  Eigen::VectorXd H(Index(seeds.size())), G = Eigen::VectorXd::Constant(Index(seeds.size()), g);
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     const json& e = seeds[i];
     const std::string name = "sizing.seeds[" + std::to_string(i) + "]";
-    if (!e.is_array() || e.size() != 3) throw InputError(where, name + " must be [x, y, h]");
+    if (!e.is_array() || (e.size() != 3 && e.size() != 4))
+      throw InputError(where, name + " must be [x, y, h] or [x, y, h, slope]");
     P(Index(i), 0) = detail::boundedNumber(e[0], kMaxCoordinate, where, name);
     P(Index(i), 1) = detail::boundedNumber(e[1], kMaxCoordinate, where, name);
     H(Index(i)) = detail::boundedNumber(e[2], kMaxCoordinate, where, name);
+    if (e.size() == 4) G(Index(i)) = detail::boundedNumber(e[3], 1.0, where, name);
   }
   try {
-    return std::make_shared<const SizingField>(hMax, g, P, H, form);
+    return std::make_shared<const SizingField>(hMax, g, P, H, form, G);
   } catch (const std::invalid_argument& e) {
     throw InputError(where, std::string("sizing: ") + e.what());
   }

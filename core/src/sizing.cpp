@@ -136,10 +136,10 @@ FeatureGraph featureGraph(const Cage& cage, std::span<const FeatureSegment> extr
   return g;
 }
 
-/// A raw seed: position and spacing.
+/// A raw seed: position, spacing and its cone's slope.
 struct RawSeed {
   Vec2 p;
-  double h;
+  double h, g;
 };
 
 /// narrowSpacing with k and n given.
@@ -221,7 +221,7 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
   for (Index v = 0; v < g.V.rows(); ++v) {
     const std::size_t u = static_cast<std::size_t>(v);
     const double h = used[u] ? pairSpacing(shortest[u], onExtra[u] != 0, o) : o.hMax;
-    if (h < o.hMax) seeds.push_back({g.V.row(v), h});
+    if (h < o.hMax) seeds.push_back({g.V.row(v), h, o.gradation});
   }
 
   // At x on segment s: the distance to the nearest segment sharing no vertex with s (`all`), and
@@ -229,12 +229,13 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
   // outside the cage), the smallest over the pairs within R.
   struct Lfs {
     double all, h;
+    bool apart;  // h is that of a gap between two parts (outsideSpacing), not a wedge
   };
   const std::vector<std::vector<int>> wedges =
       o.outsideGaps && cage && o.wedgeDegrees > 0.0 ? wedgePartners(g, o.wedgeDegrees, *cage) : std::vector<std::vector<int>>(g.E.size());
   auto lfs = [&](const Vec2& x, int s) {
     const auto& es = g.E[static_cast<std::size_t>(s)];
-    Lfs best{R, o.hMax};
+    Lfs best{R, o.hMax, false};
     grid.forEachEdgeNear(x - Vec2::Constant(R), x + Vec2::Constant(R), [&](int t, const Vec2& a, const Vec2& b) {
       if (t == s) return;
       const auto& et = g.E[static_cast<std::size_t>(t)];
@@ -246,13 +247,18 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
       const double finest = wedge ? o.wedgeFinest * o.hMax : 0.0;  // a wedge's spacing stops there
       const bool extra = g.extra[std::size_t(s)] || g.extra[std::size_t(t)];
       double h = std::max(finest, pairSpacing(d, extra, o));
+      bool apart = false;
       if (!extra && cage && o.outsideGaps) {  // a gap between two parts (a wedge's middle always lies outside)
         const double outside = std::max(finest, outsideSpacing(d, o));
-        if (outside < std::min(h, best.h) && (wedge || outsideBetween(*cage, x, closestPointOnSegment(x, a, b)))) h = outside;
+        if (outside < std::min(h, best.h) && (wedge || outsideBetween(*cage, x, closestPointOnSegment(x, a, b)))) {
+          h = outside;
+          apart = !wedge;
+        }
       }
       if (h >= best.h) return;
       if (!wedge && !o.outsideGaps && cage && outsideBetween(*cage, x, closestPointOnSegment(x, a, b))) return;
       best.h = h;
+      best.apart = apart;
     });
     return best;
   };
@@ -264,7 +270,7 @@ std::vector<RawSeed> rawSeeds(const FeatureGraph& g, const SizingOptions& o, con
     for (;;) {
       const Vec2 x = A + (t / L) * (B - A);
       const Lfs l = lfs(x, static_cast<int>(s));
-      if (l.h < o.hMax) seeds.push_back({x, l.h});
+      if (l.h < o.hMax) seeds.push_back({x, l.h, l.apart && l.h < o.fineBelow * o.hMax ? o.fineGradation : o.gradation});
       if (t >= L) break;
       // The distance to every other segment is 1-Lipschitz along the segment: where it is far
       // above `below` the walk can jump (the spacing may jump where a gap's middle crosses the cage).
@@ -280,14 +286,19 @@ SizingField SizingField::uniform(double hMax) {
   return SizingField(hMax, kSizingGradation, Points(0, 2), Eigen::VectorXd(0));
 }
 
-SizingField::SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H, SizingForm form)
-    : m_hMax(hMax), m_g(gradation), m_form(form), m_P(P), m_H(H) {
+SizingField::SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H, SizingForm form,
+                         const Eigen::VectorXd& G)
+    : m_hMax(hMax), m_g(gradation), m_form(form), m_P(P), m_H(H), m_G(G) {
   if (!(hMax > 0.0) || !std::isfinite(hMax)) throw std::invalid_argument("sizing: hMax must be positive and finite");
   if (!(gradation > 0.0 && gradation <= 0.5)) throw std::invalid_argument("sizing: gradation must be in (0, 0.5]");
   if (P.rows() != H.size()) throw std::invalid_argument("sizing: one size per seed");
   if (!P.allFinite() || !H.allFinite()) throw std::invalid_argument("sizing: seeds must be finite");
   if (H.size() > 0 && (!(H.minCoeff() > 0.0) || H.maxCoeff() > hMax))
     throw std::invalid_argument("sizing: seed sizes must be in (0, hMax]");
+  if (G.size() != 0 && G.size() != H.size()) throw std::invalid_argument("sizing: one slope per seed, or none");
+  if (G.size() > 0 && (!G.allFinite() || G.minCoeff() < gradation || G.maxCoeff() > 0.5))
+    throw std::invalid_argument("sizing: seed slopes must be in [gradation, 0.5]");
+  if (G.size() > 0 && G.minCoeff() == G.maxCoeff() && G(0) == gradation) m_G.resize(0);  // one slope
   buildGrid();
 }
 
@@ -298,7 +309,10 @@ void SizingField::buildGrid() {
   m_nx = m_ny = 0;
   if (m_P.rows() == 0) return;
   // Seeds farther than m_reach from x leave h(x) = h̃(x) = hMax (the smooth profile's cones reach 2·hMax).
-  m_reach = ((m_form == SizingForm::Smooth ? 2.0 : 1.0) * m_hMax - (1.0 - 0.5 * m_g) * m_H.minCoeff()) / m_g;
+  // A cone's value at distance d is at least (1 − g_i/2)·h_i + g·d (g the least slope).
+  m_tipLow = kInf;
+  for (Index i = 0; i < m_P.rows(); ++i) m_tipLow = std::min(m_tipLow, (1.0 - 0.5 * slope(static_cast<int>(i))) * m_H(i));
+  m_reach = ((m_form == SizingForm::Smooth ? 2.0 : 1.0) * m_hMax - m_tipLow) / m_g;
   const double x0 = m_P.col(0).minCoeff(), y0 = m_P.col(1).minCoeff();
   const double w = m_P.col(0).maxCoeff() - x0, h = m_P.col(1).maxCoeff() - y0;
   // Cells of an eighth of the reach: queries scan rings of cells outwards and stop once no seed
@@ -323,14 +337,14 @@ void SizingField::buildGrid() {
   m_cellLow.assign(static_cast<std::size_t>(m_nx) * static_cast<std::size_t>(m_ny), kInf);
   for (Index i = 0; i < m_P.rows(); ++i) {
     double& low = m_cellLow[cellOf(i)];
-    low = std::min(low, (1.0 - 0.5 * m_g) * m_H(i));
+    low = std::min(low, (1.0 - 0.5 * slope(static_cast<int>(i))) * m_H(i));
   }
 }
 
 template <class Bound, class Visit>
 void SizingField::scanSeeds(const Vec2& x, Bound bound, Visit visit) const {
   if (m_P.rows() == 0) return;
-  const double hLow = (1.0 - 0.5 * m_g) * m_H.minCoeff();  // a lower bound of every rounded cone's tip
+  const double hLow = m_tipLow;  // a lower bound of every rounded cone's tip
   const int cx = static_cast<int>(std::floor((x.x() - m_x0) / m_cell)), cy = static_cast<int>(std::floor((x.y() - m_y0) / m_cell));
   // Cells at Chebyshev ring r lie at least (r − 1)·cell away.
   const int rings = static_cast<int>(std::ceil(m_reach / m_cell)) + 1;
@@ -364,7 +378,7 @@ double SizingField::minForm(const Vec2& x, Vec2& gradient) const {
   scanSeeds(
       x, [&] { return best; },
       [&](int s) {
-        const double v = m_H(s) + m_g * (x - Vec2(m_P.row(s))).norm();
+        const double v = m_H(s) + slope(s) * (x - Vec2(m_P.row(s))).norm();
         if (v < best) {
           best = v;
           arg = s;
@@ -373,7 +387,7 @@ double SizingField::minForm(const Vec2& x, Vec2& gradient) const {
   if (arg >= 0) {
     const Vec2 d = x - Vec2(m_P.row(arg));
     const double len = d.norm();
-    if (len > 0.0) gradient = (m_g / len) * d;
+    if (len > 0.0) gradient = (slope(arg) / len) * d;
   }
   return best;
 }
@@ -387,7 +401,7 @@ double SizingField::smoothForm(const Vec2& x, Vec2& gradient) const {
   scanSeeds(x, [&] { return cut; }, [&](int s) {
     const Vec2 d = x - Vec2(m_P.row(s));
     const double eps = 0.5 * m_H(s), root = std::sqrt(d.squaredNorm() + eps * eps);
-    const double a = m_H(s) + m_g * (root - eps);
+    const double gs = slope(s), a = m_H(s) + gs * (root - eps);
     if (a >= cut) return;
     double tau = 1.0, dtau = 0.0;  // τ(a) and dτ/da: 1 − smootherstep over [hMax, 2·hMax]
     if (a > m_hMax) {
@@ -399,7 +413,7 @@ double SizingField::smoothForm(const Vec2& x, Vec2& gradient) const {
     static_assert(p == 8.0, "rp is (hMax/a)^p by repeated squaring");
     S += tau * rp;
     // d/da [τ (hMax/a)^p] = (τ' − p τ / a) (hMax/a)^p;  ∇a = g (x − p_i) / root.
-    dS += ((dtau - p * tau / a) * rp * m_g / root) * d;
+    dS += ((dtau - p * tau / a) * rp * gs / root) * d;
   });
   const double h = m_hMax * std::pow(S, -1.0 / p);
   gradient = (-h / (p * S)) * dS;
@@ -452,18 +466,23 @@ SizingField featureSizing(const Cage& cage, std::span<const FeatureSegment> extr
   for (double n : {o.narrowWidth, o.extraNarrowWidth, o.outsideNarrowWidth})
     if (!(n >= 1.0) || !std::isfinite(n))
       throw std::invalid_argument("sizing: narrowWidth, extraNarrowWidth and outsideNarrowWidth must be at least 1");
+  if (!(o.gradation > 0.0 && o.gradation <= 0.5) || !(o.fineGradation >= o.gradation && o.fineGradation <= 0.5) ||
+      !(o.fineBelow >= 0.0))
+    throw std::invalid_argument(
+        "sizing: gradation must be in (0, 0.5], fineGradation in [gradation, 0.5] and fineBelow at least 0");
   if (!(o.wedgeDegrees >= 0.0 && o.wedgeDegrees < 90.0) || !(o.wedgeFinest > 0.0 && o.wedgeFinest <= 1.0))
     throw std::invalid_argument("sizing: wedgeDegrees must be in [0, 90) and wedgeFinest in (0, 1]");
   std::optional<CageQueries> inside;
   if (cage.closed && cage.size() >= 3) inside.emplace(cage);
   const std::vector<RawSeed> raw = rawSeeds(featureGraph(cage, extra), o, inside ? &*inside : nullptr);
   Points P(static_cast<Index>(raw.size()), 2);
-  Eigen::VectorXd H(static_cast<Index>(raw.size()));
+  Eigen::VectorXd H(static_cast<Index>(raw.size())), G(static_cast<Index>(raw.size()));
   for (std::size_t i = 0; i < raw.size(); ++i) {
     P.row(static_cast<Index>(i)) = raw[i].p.transpose();
     H(static_cast<Index>(i)) = raw[i].h;
+    G(static_cast<Index>(i)) = raw[i].g;
   }
-  return SizingField(o.hMax, o.gradation, P, H);
+  return SizingField(o.hMax, o.gradation, P, H, SizingForm::Smooth, G);
 }
 
 std::vector<double> segmentDivision(const Vec2& a, const Vec2& b, const SizingField& h) {

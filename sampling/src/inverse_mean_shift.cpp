@@ -19,10 +19,11 @@ constexpr double kGradedSlack = 3.0;
 /// The fraction of free samples that must move less than the tolerance when a graded relaxation
 /// stops (see the loop).
 constexpr double kGradedSettled = 0.95;
-/// The graded relaxation re-evaluates a sample's spacing after it moved this fraction of it.
-constexpr double kRelStale = 0.1;
+/// The graded relaxation re-evaluates a sample's spacing once it is stale by up to this fraction:
+/// after the sample moved kRelChange/g of its spacing (g the sizing's Lipschitz bound).
+constexpr double kRelChange = 0.03;
 /// The neighbour lists are rebuilt when a free sample has moved this fraction of its spacing, or
-/// its spacing has grown by this fraction, since they were built (see the loop).
+/// its spacing has grown by this fraction (at least g·kListMove), since they were built (see the loop).
 constexpr double kListMove = 0.15;
 constexpr double kListGrowth = 0.05;
 /// How far (in the sample's spacings) a free sample's distance to the cage is measured when its
@@ -96,7 +97,8 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   const SizingField* sizing = options.sizing && options.sizing->graded() ? options.sizing : nullptr;
   std::vector<double> rel;
   Points relAt;  // where each rel was evaluated
-  const double c = radius / h, g = sizing ? sizing->gradation() : 0.0;
+  const double c = radius / h, g = sizing ? sizing->lipschitz() : 0.0;
+  const double relStale = sizing ? kRelChange / g : 0.0;
 
   std::optional<CageEdgeGrid> locator;
   if (region.cage && region.cage->size() >= 2 && !region.periodic) locator.emplace(*region.cage, std::max(h, radius));
@@ -125,9 +127,12 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
   // Off the torus, each free sample keeps a neighbour list: the samples j within L·radius·h_kj/h
   // of it when the lists were built, L = listReach. A pair interacts while d < radius·h_kj/h; it
   // was listed if, since the build, neither sample moved more than kListMove of its spacing then
-  // and no spacing grew by more than kListGrowth: d_then ≤ d + kListMove·(h_k + h_j) ≤
-  // (c·(1 + kListGrowth) + 2·kListMove)·h_kj, c = radius/h, and L is that bound over c.
-  const double listReach = 1.0 + kListGrowth + 2.0 * kListMove / c, cl = listReach * c;
+  // and no spacing grew by more than `growth`: d_then ≤ d + kListMove·(h_k + h_j) ≤
+  // (c·(1 + growth) + 2·kListMove)·h_kj, c = radius/h, and L is that bound over c. A sample that
+  // moves kListMove of its spacing changes it by up to g·kListMove: `growth` is at least that, so
+  // on a steep gradation the lists are not rebuilt for growth long before they are for moves.
+  const double growth = std::max(kListGrowth, g * kListMove);
+  const double listReach = 1.0 + growth + 2.0 * kListMove / c, cl = listReach * c;
   // The list of sample k (relative spacing rk) holds the j within cl·sqrt((rk² + rj²)/2) of it, and
   // rj ≤ min(1, rk + g·d/h): the grid query's radius in units of h is the root of
   // d²(1 − cl²g²/2) − cl²g·rk·d − cl²rk² = 0, or cl·sqrt((rk² + 1)/2) where rj reaches 1 first.
@@ -150,8 +155,9 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
 
   for (int it = 0; it < options.maxIterations; ++it) {
     if (sizing) {
-      // h(x) is g-Lipschitz: re-evaluated only where a sample has moved more than kRelStale of its
-      // spacing since, which changes h there by at most g·kRelStale (3% at g = 0.3).
+      // h(x) is g-Lipschitz: re-evaluated only where a sample has moved more than kRelChange/g of
+      // its spacing since, which changes h there by at most kRelChange (a larger jump kicks the
+      // neighbours' pair bandwidths far past the tolerance and slows the settling).
       if (rel.empty()) {
         rel.resize(static_cast<std::size_t>(n));
         relAt = X;
@@ -160,7 +166,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         parallelFor(nFree, [&](Index f) {
           const Index i = firstFree + f;
           const std::size_t u = static_cast<std::size_t>(i);
-          if ((X.row(i) - relAt.row(i)).squaredNorm() <= kRelStale * kRelStale * rel[u] * rel[u] * h * h) return;
+          if ((X.row(i) - relAt.row(i)).squaredNorm() <= relStale * relStale * rel[u] * rel[u] * h * h) return;
           relAt.row(i) = X.row(i);
           rel[u] = (*sizing)(X.row(i)) / h;
         }, 256);
@@ -175,8 +181,8 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
         parallelFor(nFree, [&](Index f) {
           const Index k = firstFree + f;
           const double r0 = listRel[static_cast<std::size_t>(f)], limit = kListMove * r0 * h;
-          stale[static_cast<std::size_t>(f)] = (X.row(k) - listAt.row(k)).squaredNorm() > limit * limit ||
-                                               rel[static_cast<std::size_t>(k)] > (1.0 + kListGrowth) * r0;
+          stale[static_cast<std::size_t>(f)] =
+              (X.row(k) - listAt.row(k)).squaredNorm() > limit * limit || rel[static_cast<std::size_t>(k)] > (1.0 + growth) * r0;
         }, 1024);
         rebuild = std::find(stale.begin(), stale.end(), 1) != stale.end();
       }

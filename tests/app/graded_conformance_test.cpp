@@ -299,7 +299,33 @@ TEST(GradedConformance, SessionsKeepTheWidthProfile) {
   Points P(3, 2);
   P << 147.0, 120.0, 153.0, 60.0, 100.0, 220.0;
   EXPECT_EQ(s.field->weightsAt(P), t.field->weightsAt(P));
+  // The slit's walls grow at the fine gradation: their seeds' slopes round-trip (a 4th entry).
+  ASSERT_GT(s.sizing->slopes().size(), 0);
+  EXPECT_EQ(s.sizing->lipschitz(), kFineGradation);
+  EXPECT_EQ(t.sizing->slopes(), s.sizing->slopes());
   nlohmann::json j = nlohmann::json::parse(text);
+  {
+    nlohmann::json bad = j;
+    for (auto& seed : bad["sizing"]["seeds"])
+      if (seed.size() == 4) {
+        seed[3] = 0.7;  // steeper than any cone may be
+        break;
+      }
+    try {
+      (void)sessionFromJson(bad.dump(), "slope.kcw.json");
+      ADD_FAILURE() << "a seed slope of 0.7 loaded";
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("slope.kcw.json"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("slopes must be in [gradation, 0.5]"), std::string::npos) << e.what();
+    }
+    nlohmann::json plain = j;  // a session written before per-seed slopes: every cone at the gradation
+    for (auto& seed : plain["sizing"]["seeds"])
+      if (seed.size() == 4) seed.erase(3);
+    plain.erase("field");
+    const Session before = sessionFromJson(plain.dump(), "before.kcw.json");
+    EXPECT_EQ(before.sizing->slopes().size(), 0);
+    EXPECT_EQ(before.sizing->lipschitz(), before.sizing->gradation());
+  }
   j["sizing"].erase("form");
   j.erase("field");  // re-solved from the samples and weights with the min-form width
   const Session old = sessionFromJson(j.dump(), "old.kcw.json");

@@ -19,6 +19,7 @@ TEST(LbcGradedSolve, ASlitCageIsCertifiedWithinAThousandthInBoundedIterations) {
   SizingOptions so;
   so.hMax = 10.0;
   so.featureSamples = so.narrowWidth = so.extraNarrowWidth = 1.0;  // the LBC backend's: one triangle across a narrow place
+  so.fineGradation = so.gradation;                                 // and one gradation
   CageMeshOptions mo;
   mo.spacing = so.hMax;
   mo.sizing = std::make_shared<SizingField>(featureSizing(cage, {}, so));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include "kc/core/sizing.h"
 #include "random_point.h"
@@ -43,18 +44,28 @@ TEST(Sizing, CageWithoutNarrowPlaceIsUniform) {
 TEST(Sizing, SlitGetsItsWidthOverKAndGrowsAtMostByTheGradation) {
   const SizingField h = featureSizing(slit(3.0), {}, options(10.0));
   ASSERT_TRUE(h.graded());
-  // On the slit's walls lfs = 3, a gap outside the cage: h = 3/k.
-  EXPECT_NEAR(h(Vec2(148.5, 120)), 3.0 / kOutsideFeatureSamples, 0.05);
+  // On the slit's walls lfs = 3, a gap outside the cage: h = 3/k at its seeds, every h/2 along
+  // the wall, and at most a quarter of the fine gradation above it between them.
+  const double wall = 3.0 / kOutsideFeatureSamples;
+  EXPECT_GE(h(Vec2(148.5, 120)), wall - 1e-12);
+  EXPECT_LE(h(Vec2(148.5, 120)), wall * (1.0 + 0.25 * kFineGradation) + 1e-12);
   EXPECT_NEAR(h.hMin(), 3.0 / kOutsideFeatureSamples, 1e-9);
   // Far from it, hMax.
   EXPECT_EQ(h(Vec2(60, 240)), 10.0);
-  // |h(x) − h(y)| ≤ g |x − y| on random pairs (h is a minimum of g-Lipschitz cones).
+  // The slit is narrower than hMax/4·4 = hMax: its walls' cones grow at the fine gradation, and
+  // |h(x) − h(y)| ≤ that |x − y| on random pairs (h is a minimum of such cones).
+  EXPECT_EQ(h.lipschitz(), kFineGradation);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(0, 300);
+  double steepest = 0.0;
   for (int t = 0; t < 2000; ++t) {
     const Vec2 x = test::randomPoint(u, rng), y = x + (test::randomPoint(u, rng) - Vec2(150, 150)) * 0.05;
-    EXPECT_LE(std::abs(h(x) - h(y)), h.gradation() * (x - y).norm() + 1e-12);
+    EXPECT_LE(std::abs(h(x) - h(y)), h.lipschitz() * (x - y).norm() + 1e-12);
+    if ((x - y).norm() > 0.5) steepest = std::max(steepest, std::abs(h(x) - h(y)) / (x - y).norm());
   }
+  EXPECT_GT(steepest, kSizingGradation);  // steeper than the other narrow places'
+  // Beside the slit, h grows from its walls at the fine gradation: 3/4 + 0.45·d, d from the wall.
+  EXPECT_NEAR(h(Vec2(148.5 - 8.0, 120)), 3.0 / kOutsideFeatureSamples + kFineGradation * 8.0, 0.05);
   // The gradient agrees with finite differences where h < hMax.
   const Vec2 x(145, 120);
   Vec2 g;
@@ -247,7 +258,7 @@ TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
   EXPECT_EQ(h.profile(Vec2(60, 240)), 10.0);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0, 300);
-  const double bound = h.gradation() * (1.0 + 1.875 / kSizingSoftness);
+  const double bound = h.lipschitz() * (1.0 + 1.875 / kSizingSoftness);
   double maxRatio = 0.0;
   for (int t = 0; t < 3000; ++t) {
     const Vec2 x = test::randomPoint(u, rng);
@@ -256,7 +267,7 @@ TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
     EXPECT_LE(v, h(x) + 1e-12);
     EXPECT_GE(v, 0.5 * h(x));
     EXPECT_LE(g.norm(), bound + 1e-12);
-    maxRatio = std::max(maxRatio, g.norm() / h.gradation());
+    maxRatio = std::max(maxRatio, g.norm() / h.lipschitz());
     const double e = 1e-5;
     const Vec2 fd((h.profile(x + Vec2(e, 0)) - h.profile(x - Vec2(e, 0))) / (2 * e),
                   (h.profile(x + Vec2(0, e)) - h.profile(x - Vec2(0, e))) / (2 * e));
@@ -275,7 +286,7 @@ TEST(Sizing, SmoothProfileLiesJustBelowTheSpacingWithItsGradientBound) {
 
 TEST(Sizing, MinProfileIsTheSpacing) {
   const SizingField s = featureSizing(slit(3.0), {}, options(10.0));
-  const SizingField m(s.hMax(), s.gradation(), s.seeds(), s.sizes(), SizingForm::Min);
+  const SizingField m(s.hMax(), s.gradation(), s.seeds(), s.sizes(), SizingForm::Min, s.slopes());
   for (double x = 100; x < 200; x += 1.7) {
     const Vec2 p(x, 130);
     EXPECT_EQ(m.profile(p), s(p));
@@ -290,9 +301,62 @@ TEST(Sizing, RejectsBadInput) {
   P << 0, 0;
   EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 6.0)), std::invalid_argument);
   EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, std::nan(""))), std::invalid_argument);
+  // Per-seed slopes: one per seed, each in [gradation, 0.5].
+  EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 2.0), SizingForm::Smooth, Eigen::VectorXd::Constant(2, 0.4)),
+               std::invalid_argument);
+  EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 2.0), SizingForm::Smooth, Eigen::VectorXd::Constant(1, 0.2)),
+               std::invalid_argument);
+  EXPECT_THROW(SizingField(5.0, 0.3, P, Eigen::VectorXd::Constant(1, 2.0), SizingForm::Smooth, Eigen::VectorXd::Constant(1, 0.6)),
+               std::invalid_argument);
   SizingOptions o = options(8.0);
   o.narrowWidth = 0.5;
   EXPECT_THROW(featureSizing(slit(3.0), {}, o), std::invalid_argument);
+  o = options(8.0);
+  o.fineGradation = 0.2;  // below the gradation
+  EXPECT_THROW(featureSizing(slit(3.0), {}, o), std::invalid_argument);
+}
+
+TEST(Sizing, OnlyTheNarrowestGapsBetweenPartsGrowAtTheFineGradation) {
+  // A gap between two parts narrower than hMax (w/4 below kFineSeedFraction·hMax): its seeds grow
+  // at kFineGradation. A wider one (10 px at hMax 6: w/4 = 2.5), a wedge (the armpit) and a narrow
+  // part of the inside (a neck) keep the gradation.
+  auto slopesOf = [](const SizingField& h) {
+    std::set<double> s;
+    for (Index i = 0; i < h.seeds().rows(); ++i) s.insert(h.slopes().size() > 0 ? h.slopes()(i) : h.gradation());
+    return s;
+  };
+  const SizingField narrow = featureSizing(slit(3.0), {}, options(10.0));
+  EXPECT_TRUE(slopesOf(narrow).count(kFineGradation));
+  // Seeds of the slit's walls are the fine ones: the wall x = 148.5 at mid-height.
+  for (Index i = 0; i < narrow.seeds().rows(); ++i)
+    if (std::abs(narrow.seeds()(i, 0) - 148.5) < 1e-9 && std::abs(narrow.seeds()(i, 1) - 120.0) < 5.0) {
+      ASSERT_GT(narrow.slopes().size(), 0);
+      EXPECT_EQ(narrow.slopes()(i), kFineGradation);
+    }
+  EXPECT_EQ(slopesOf(featureSizing(slit(10.0), {}, options(6.0))), std::set<double>{kSizingGradation});
+  const Cage armpit = polygon({{100, 40}, {230, 40}, {226, 300}, {190, 300}, {180, 100}, {180, 320}, {100, 320}});
+  const SizingField wedge = featureSizing(armpit, {}, options(6.0));
+  ASSERT_TRUE(wedge.graded());
+  EXPECT_EQ(slopesOf(wedge), std::set<double>{kSizingGradation});
+  const Cage neck = polygon({{0, 0},
+                             {100, 0},
+                             {100, 48.5},
+                             {200, 48.5},
+                             {200, 0},
+                             {300, 0},
+                             {300, 100},
+                             {200, 100},
+                             {200, 51.5},
+                             {100, 51.5},
+                             {100, 100},
+                             {0, 100}});
+  EXPECT_EQ(slopesOf(featureSizing(neck, {}, options(10.0))), std::set<double>{kSizingGradation});
+  // Off: fineGradation = gradation gives one slope.
+  SizingOptions off = options(10.0);
+  off.fineGradation = off.gradation;
+  const SizingField plain = featureSizing(slit(3.0), {}, off);
+  EXPECT_EQ(plain.slopes().size(), 0);
+  EXPECT_EQ(plain.lipschitz(), kSizingGradation);
 }
 
 }  // namespace

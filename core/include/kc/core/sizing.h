@@ -7,20 +7,22 @@
 /// touch p's own (the other side of a gap, a nearby line, a point of a short edge's far end).
 ///
 /// The spacing (samplers, the LBC mesher, edge division):
-///   h(x) = min(hMax, min_i (h_i + g · |x − p_i|)),
-/// a minimum of g-Lipschitz cones: |∇h| ≤ g by construction.
+///   h(x) = min(hMax, min_i (h_i + g_i · |x − p_i|)),
+/// a minimum of cones of slope g_i (g, or kFineGradation at the seeds of the narrowest gaps):
+/// |∇h| ≤ max_i g_i by construction.
 ///
 /// The profile the kernel width follows (σ(x) = σ · h̃(x) / hMax), SizingForm::Smooth:
-///   h̃(x) = hMax · (1 + Σ_i τ(a_i) (hMax / a_i)^p)^(−1/p),  a_i = h_i + g·(√(|x − p_i|² + ε_i²) − ε_i),
+///   h̃(x) = hMax · (1 + Σ_i τ(a_i) (hMax / a_i)^p)^(−1/p),  a_i = h_i + g_i·(√(|x − p_i|² + ε_i²) − ε_i),
 /// with ε_i = h_i/2, p = kSizingSoftness and τ the C² taper 1 − smootherstep from a = hMax to 2·hMax.
 /// h̃ is C² (h has kinks: ridges between cones, the clamp at hMax, the cone tips, and a width with
 /// kinks puts kinks into every weight along a structure line, which the lines' linear fit cannot
 /// remove). h̃ ≤ h, h̃ ≥ 0.5·h (about N^(−1/p) for N near-equal cones), and
-/// |∇h̃| ≤ g·(1 + 1.875/p) (the cones' gradients in a convex combination plus the taper's slope).
+/// |∇h̃| ≤ max_i g_i·(1 + 1.875/p) (the cones' gradients in a convex combination plus the taper's slope).
 /// SizingForm::Min (binds without structure lines, sessions written before the profile): h̃ = h.
 /// Both equal hMax away from narrow places; a cage without one has no seeds: h ≡ h̃ ≡ hMax, the
 /// uniform sampling.
 
+#include <algorithm>
 #include <array>
 #include <span>
 #include <vector>
@@ -74,6 +76,15 @@ inline constexpr double kWedgeFinest = 0.125;
 /// kernel see a locally uniform sampling; the sample count of the refinement around one narrow
 /// place grows like (2π/g²)·ln(hMax/h_i), about 70 samples per factor e of refinement.
 inline constexpr double kSizingGradation = 0.3;
+/// The gradation of a gap between two parts of a closed cage finer than kFineSeedFraction·hMax (a
+/// gap narrower than hMax: legs drawn a few pixels apart), wedges excepted: its spacing, w/4 at the
+/// walls, reaches hMax in (hMax − w/4)/g, most of each part at g = kSizingGradation, and the far
+/// side's weight 1–3 px inside such a narrow gap stays well below its bound either way, while gaps
+/// of one to three hMax (refined less) and wedges need the gentler g. The samples and the far
+/// side's weight against it: docs/notes/measured-constants.md.
+inline constexpr double kFineGradation = 0.45;
+/// See kFineGradation (a fraction of hMax).
+inline constexpr double kFineSeedFraction = 0.25;
 /// p of the smooth profile: the soft minimum blends cones within about 1/p of each other (a
 /// ridge is rounded over about a/(p·g) ≈ 0.4·h either side). Smaller p is smoother (straighter
 /// structure lines) and lies further below h (more samples).
@@ -92,6 +103,8 @@ struct SizingOptions {
   double outsideFeatureSamples = kOutsideFeatureSamples;  ///< k for a gap outside a closed cage.
   double outsideNarrowWidth = kOutsideNarrowWidth;  ///< Its width limit (units of hMax); ≥ 1.
   double gradation = kSizingGradation;              ///< g in (0, 0.5].
+  double fineGradation = kFineGradation;            ///< In [gradation, 0.5] (see kFineGradation).
+  double fineBelow = kFineSeedFraction;             ///< See kFineSeedFraction (a fraction of hMax).
   double wedgeDegrees = kWedgeDegrees;   ///< See kWedgeDegrees; 0: edges that share an end never count.
   double wedgeFinest = kWedgeFinest;     ///< See kWedgeFinest (a fraction of hMax).
   /// Whether a gap whose middle lies outside a closed cage (between two legs, a wedge) is a narrow
@@ -111,9 +124,11 @@ class SizingField {
   SizingField() = default;
   /// h ≡ hMax: the uniform sampling.
   static SizingField uniform(double hMax);
-  /// From seeds: P #n×2 positions, H #n sizes (each in (0, hMax]). Throws std::invalid_argument on
-  /// non-finite values, sizes out of range, or g outside (0, 0.5].
-  SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H, SizingForm form = SizingForm::Smooth);
+  /// From seeds: P #n×2 positions, H #n sizes (each in (0, hMax]), G #n slopes (each in
+  /// [gradation, 0.5]; empty: every cone's slope is the gradation). Throws std::invalid_argument on
+  /// non-finite values, sizes or slopes out of range, or g outside (0, 0.5].
+  SizingField(double hMax, double gradation, const Points& P, const Eigen::VectorXd& H, SizingForm form = SizingForm::Smooth,
+              const Eigen::VectorXd& G = Eigen::VectorXd());
 
   /// h(x).
   double operator()(const Vec2& x) const;
@@ -131,7 +146,12 @@ class SizingField {
   double hMax() const { return m_hMax; }
   /// The smallest h anywhere (the smallest seed, or hMax).
   double hMin() const { return graded() ? m_H.minCoeff() : m_hMax; }
+  /// The cones' least slope g (every seed's, unless slopes() says otherwise).
   double gradation() const { return m_g; }
+  /// The steepest cone's slope: |∇h| ≤ lipschitz().
+  double lipschitz() const { return m_G.size() > 0 ? std::max(m_g, m_G.maxCoeff()) : m_g; }
+  /// Per-seed slopes (#seeds), or empty when every cone's slope is gradation().
+  const Eigen::VectorXd& slopes() const { return m_G; }
   SizingForm form() const { return m_form; }
   const Points& seeds() const { return m_P; }
   const Eigen::VectorXd& sizes() const { return m_H; }
@@ -140,21 +160,23 @@ class SizingField {
   void buildGrid();
 
   /// Calls visit(s) for the seeds s in rings of grid cells around x, outwards, while a seed at the
-  /// ring's distance d could have a cone below bound(): hLow·(1 − g/2) + g·d < bound().
+  /// ring's distance d could have a cone below bound(): min_i (1 − g_i/2)·h_i + g·d < bound().
   template <class Bound, class Visit>
   void scanSeeds(const Vec2& x, Bound bound, Visit visit) const;
+  double slope(int s) const { return m_G.size() > 0 ? m_G(s) : m_g; }
   double minForm(const Vec2& x, Vec2& gradient) const;
   double smoothForm(const Vec2& x, Vec2& gradient) const;
 
   double m_hMax = 1.0, m_g = kSizingGradation;
   SizingForm m_form = SizingForm::Smooth;
   Points m_P;
-  Eigen::VectorXd m_H;
+  Eigen::VectorXd m_H, m_G;
   double m_reach = 0.0;  // seeds farther than this never lower h below hMax
+  double m_tipLow = 0.0;  // min_i (1 − g_i/2)·h_i
   double m_cell = 1.0, m_x0 = 0.0, m_y0 = 0.0;
   int m_nx = 0, m_ny = 0;
   std::vector<int> m_start, m_items;
-  std::vector<double> m_cellLow;  // per cell: the lowest (1 − g/2)·h_i of its seeds (∞ when empty)
+  std::vector<double> m_cellLow;  // per cell: the lowest (1 − g_i/2)·h_i of its seeds (∞ when empty)
 };
 
 /// The spacing of a narrow place of width w (pixels) between cage edges:
