@@ -28,6 +28,10 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   EXPECT_LT(plan.minSpacing, 0.5 * plan.spacing) << "the 3 px gap is sampled finer than the rest";
   EXPECT_LE(plan.minSpacing, 3.0 / kFeatureSamples + 1e-9);
   EXPECT_GT(plan.points, 0.0);
+  // The automatic sigma shown before the bind is a range too, in the plan's proportion.
+  const auto [plannedMin, plannedMax] = plannedSigma(*s);
+  EXPECT_DOUBLE_EQ(plannedMax, app::automaticSigma(plan.spacing));
+  EXPECT_NEAR(plannedMin / plannedMax, plan.minSpacing / plan.spacing, 1e-12);
   ASSERT_TRUE(startBind(*s, true, false));
   s->worker.waitFinished();
   pollWorker(*s);
@@ -43,6 +47,9 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   char sigma[64];
   std::snprintf(sigma, sizeof sigma, "%.2f-%.2f px", session.sigma * session.sizing->hMin() / session.params.spacing, session.sigma);
   EXPECT_EQ(boundSigmaText(*s), sigma);
+  // Bind measures the spacing on the samples (3T/π): the range shown before it was about right.
+  EXPECT_NEAR(plannedMax, session.sigma, 0.2 * session.sigma);
+  EXPECT_NEAR(plannedMin, session.sigma * session.sizing->hMin() / session.params.spacing, 0.2 * plannedMin);
   // The count shown before the bind is the sampler's estimate: within a quarter of what it drew.
   const double drawn = double(s->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;

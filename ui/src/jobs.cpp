@@ -239,14 +239,25 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
 
 double autoSpacingShown(AppState& state) { return spacingPlan(state).spacing; }
 
+std::string sigmaRangeText(double sigma, double minSpacing, double spacing) {
+  const double smallest = sigma * minSpacing / spacing;
+  char text[64];
+  if (smallest < sigma - 0.005) std::snprintf(text, sizeof text, "%.2f-%.2f px", smallest, sigma);
+  else std::snprintf(text, sizeof text, "%.2f px", sigma);
+  return text;
+}
+
+std::pair<double, double> plannedSigma(AppState& state) {
+  const double spacing = state.autoSpacing ? autoSpacingShown(state) : state.bindParams.spacing;
+  const double sigma = app::automaticSigma(spacing);
+  if (state.source.empty() || !state.cageValid) return {sigma, sigma};
+  const AppState::ShownSpacing& plan = spacingPlan(state);
+  return {plan.spacing > 0.0 ? sigma * plan.minSpacing / plan.spacing : sigma, sigma};
+}
+
 std::string boundSigmaText(const AppState& state) {
   if (!state.bound || !(state.boundSigma > 0.0) || !(state.boundSpacing > 0.0)) return "";
-  // σ(x) = σ·h(x)/hMax (kc::GaussianKernel's variable width).
-  const double smallest = state.boundSigma * state.boundMinSpacing / state.boundSpacing;
-  char text[64];
-  if (smallest < state.boundSigma - 0.005) std::snprintf(text, sizeof text, "%.2f-%.2f px", smallest, state.boundSigma);
-  else std::snprintf(text, sizeof text, "%.2f px", state.boundSigma);
-  return text;
+  return sigmaRangeText(state.boundSigma, state.boundMinSpacing, state.boundSpacing);
 }
 
 bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {

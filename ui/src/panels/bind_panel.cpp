@@ -229,7 +229,8 @@ void drawBindPanel(AppState& state) {
     tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
             "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
   } else if (autoSigma) {
-    ImGui::TextDisabled("about %.2f px", app::automaticSigma(bindSpacing));
+    const auto [smallest, sigma] = plannedSigma(state);
+    ImGui::TextDisabled("about %s", sigmaRangeText(sigma, smallest, sigma).c_str());
     tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
             "Where the samples lie closer (narrow places), sigma is smaller in proportion.");
   } else {

@@ -7,6 +7,7 @@
 #include <exception>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kc/app/session.h"
@@ -46,9 +47,15 @@ app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width
 const AppState::ShownSpacing& spacingPlan(AppState& state);
 /// spacingPlan(state).spacing.
 double autoSpacingShown(AppState& state);
-/// The bound session's kernel widths as shown: "0.44-5.20 px" (graded: σ at its smallest spacing
-/// and away from narrow places) or "5.20 px"; empty when the bound weights have no kernel (LBC)
-/// or nothing is bound.
+/// Kernel widths as shown for a width sigma at `spacing` (σ(x) = σ·h(x)/hMax, kc::GaussianKernel's
+/// variable width): "0.44-5.20 px" when minSpacing is smaller, else "5.20 px".
+std::string sigmaRangeText(double sigma, double minSpacing, double spacing);
+/// The automatic kernel widths the next bind will about use, as shown before it: 3h/π at the
+/// planned spacing (spacingPlan), smaller in proportion down to its smallest spacing (Bind measures
+/// the spacing on the samples instead of h: app::automaticSigma).
+std::pair<double, double> plannedSigma(AppState& state);
+/// The bound session's kernel widths as shown (sigmaRangeText); empty when the bound weights have
+/// no kernel (LBC) or nothing is bound.
 std::string boundSigmaText(const AppState& state);
 /// Binds the draft cage with the document's lines (state.lines) over the current image with
 /// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =
