@@ -28,8 +28,8 @@ struct BindArgs {
   int heatIterations = kDefaults.kc.init.iterations;
   bool linearEdges = kDefaults.kc.linearEdges;
   bool uniformSpacing = !kDefaults.graded;
-  double locality = kDefaults.kc.init.locality;
-  double localitySpacings = kDefaults.kc.localitySpacings;
+  double locality = 0.0;  // --locality, when given, replaces --locality-spacings
+  double localitySpacings = kDefaults.kc.locality.value;
   double targetFloor = kDefaults.kc.targetFloor;
   bool noGuardLobes = !kDefaults.kc.guardLobes;
   CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
@@ -58,10 +58,15 @@ void runBind(const BindArgs& a) {
   p.backend = a.backend;
   p.kc.init.method = parseOption<InitMethod>(a.init, "--init");
   p.kc.init.iterations = a.heatIterations;
-  p.kc.init.locality = a.locality;
   requireFinite(a.localitySpacings, "--locality-spacings", "spacings");
   if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
-  p.kc.localitySpacings = a.localityOption && *a.localityOption ? 0.0 : a.localitySpacings;
+  using Rule = app::Locality::Rule;
+  if (a.localityOption && *a.localityOption)
+    p.kc.locality = a.locality > 0.0   ? app::Locality{Rule::Pixels, a.locality}
+                    : a.locality < 0.0 ? app::Locality{Rule::Automatic, 0.0}
+                                       : app::Locality{Rule::Off, 0.0};
+  else
+    p.kc.locality = a.localitySpacings > 0.0 ? app::Locality{Rule::Spacings, a.localitySpacings} : app::Locality{Rule::Off, 0.0};
   if (!(a.targetFloor >= 0.0 && a.targetFloor < app::kMaxTargetFloor))  // also NaN
     throw app::InputError("--target-floor", "must be in [0, 0.5) (0 = off)");
   p.kc.targetFloor = a.targetFloor;

@@ -159,12 +159,10 @@ class KcBackend final : public Backend {
     step("initial weights", kStageStart[2]);
     InitOptions init = kc.init;
     if (init.method == InitMethod::Lbc) init.method = InitMethod::HeatLinear;  // the exterior; the inside follows
-    // Screened (local) targets, except with structure lines made linear through the samples: their
-    // linear fit bends where the targets fall off steeply (the exact correction does not).
-    if (kc.localitySpacings > 0.0 && (s.structure.lines.empty() || kc.exactLines)) init.locality = localityLength(s.cage, params.spacing, kc.localitySpacings);
+    init.locality = locality(s.cage, params, !s.structure.lines.empty() && !kc.exactLines);
     s.W0 = initialWeights(s.samples, s.cage, K, init, &r.init);
     // Screened heat-linear targets lose their faint tail (KcParams::targetFloor).
-    if (kc.init.method == InitMethod::HeatLinear && init.locality != 0.0) floorTargets(s.samples, s.W0, kc.targetFloor);
+    if (kc.init.method == InitMethod::HeatLinear && init.locality) floorTargets(s.samples, s.W0, kc.targetFloor);
     if (kc.init.method == InitMethod::Lbc) {
       t0 = std::chrono::steady_clock::now();
       lbcTargetsInside(s, [&](const char*, double f) { step("initial weights", kStageStart[2] + (kStageStart[3] - kStageStart[2]) * f); });

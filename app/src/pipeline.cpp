@@ -19,6 +19,12 @@
 namespace kc::app {
 namespace {
 
+void checkLocality(const Locality& l) {
+  if ((l.rule == Locality::Rule::Spacings || l.rule == Locality::Rule::Pixels) && !(std::isfinite(l.value) && l.value > 0.0))
+    throw std::invalid_argument(l.rule == Locality::Rule::Spacings ? "locality spacings must be a positive number"
+                                                                   : "locality must be a positive number of pixels");
+}
+
 void checkCommonParams(int width, int height, const BindParams& p) {
   checkImageSize(width, height, "bind", "image");
   if (!(p.spacing >= kMinSpacing) || !std::isfinite(p.spacing))
@@ -26,9 +32,7 @@ void checkCommonParams(int width, int height, const BindParams& p) {
   if (!std::isfinite(p.kc.sigma) || p.kc.sigma < 0.0) throw std::invalid_argument("sigma must be positive (or 0 for automatic)");
   if (p.kc.init.iterations < 0 || p.kc.init.iterations > kMaxHeatIterations)
     throw std::invalid_argument("heat iterations must be in 0.." + std::to_string(kMaxHeatIterations) + " (0 = steady state)");
-  if (!std::isfinite(p.kc.init.locality)) throw std::invalid_argument("locality must be a finite number of pixels (0 = off)");
-  if (!(p.kc.localitySpacings >= 0.0) || !std::isfinite(p.kc.localitySpacings))
-    throw std::invalid_argument("locality spacings must be 0 (off) or a positive number");
+  checkLocality(p.kc.locality);
   if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < kMaxTargetFloor))
     throw std::invalid_argument("the target floor must be in [0, 0.5) (0 = off)");
   if (!std::isfinite(p.margin) || p.margin > kMaxCoordinate) throw std::invalid_argument("margin must be a finite number of pixels");
@@ -168,6 +172,23 @@ double localityLength(const Cage& cage, double spacing, double spacings) {
     for (double x = lo.x() + 0.5 * step; x < hi.x(); x += step)
       if (const Vec2 p(x, y); queries.inside(p)) depth = std::max(depth, queries.distance(p));
   return std::max(base, depth / 4.0);
+}
+
+std::optional<double> locality(const Cage& cage, const BindParams& params, bool sampledLines) {
+  const Locality& l = params.kc.locality;
+  checkLocality(l);
+  switch (l.rule) {
+    case Locality::Rule::Off:
+      return std::nullopt;
+    case Locality::Rule::Spacings:
+      if (sampledLines) return std::nullopt;  // their linear fit bends where the targets fall off steeply
+      return localityLength(cage, params.spacing, l.value);
+    case Locality::Rule::Pixels:
+      return l.value;
+    case Locality::Rule::Automatic:
+      return automaticLocality(cage.C);
+  }
+  return std::nullopt;
 }
 
 double automaticSigma(double spacing) { return 3.0 * spacing / std::numbers::pi; }

@@ -75,6 +75,23 @@ static json linesToJson(const Session& s) {
   return arr;
 }
 
+namespace {
+
+/// `params.locality`: the Pixels rule's length, −1 for the Automatic rule, 0 otherwise (off, or
+/// the Spacings rule, which `params.locality_spacings` holds).
+double localityPixelsKey(const Locality& l) {
+  switch (l.rule) {
+    case Locality::Rule::Pixels:
+      return l.value;
+    case Locality::Rule::Automatic:
+      return -1.0;
+    default:
+      return 0.0;
+  }
+}
+
+}  // namespace
+
 std::string sessionToJson(const Session& s, WeightsForm form) {
   const BindParams& p = s.params;
   json params = {{"spacing", p.spacing},
@@ -82,11 +99,11 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"sigma_auto", !(p.kc.sigma > 0.0)},
                  {"init", std::string(toString(p.kc.init.method))},
                  {"heat_iterations", p.kc.init.iterations},
-                 {"locality", p.kc.init.locality},
+                 {"locality", localityPixelsKey(p.kc.locality)},
                  {"method", std::string(toString(p.kc.method))},
                  {"interp", std::string(toString(p.kc.interp))},
                  {"linear_edges", p.kc.linearEdges},
-                 {"locality_spacings", p.kc.localitySpacings},
+                 {"locality_spacings", p.kc.locality.rule == Locality::Rule::Spacings ? p.kc.locality.value : 0.0},
                  {"target_floor", p.kc.targetFloor},
                  {"guard_lobes", p.kc.guardLobes},
                  {"exact_lines", p.kc.exactLines},
@@ -207,16 +224,18 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
     p.kc.init.iterations =
         static_cast<int>(detail::integerInRange(params["heat_iterations"], 0, kMaxHeatIterations, where, "params.heat_iterations"));
   }
-  if (params.contains("locality")) {
-    p.kc.init.locality = detail::boundedNumber(params["locality"], kMaxCoordinate, where, "params.locality");  // 0 off, < 0 automatic
-  } else {
-    p.kc.init.locality = 0.0;  // sessions written before the option existed
-  }
-  p.kc.localitySpacings = 0.0;  // sessions written before the option: ℓ was params.locality alone
+  // `locality_spacings` > 0: the Spacings rule; else `locality` in pixels, < 0 automatic, 0 (or
+  // absent, sessions written before either option) off.
+  double spacings = 0.0, pixels = 0.0;
   if (params.contains("locality_spacings")) {
-    p.kc.localitySpacings = detail::boundedNumber(params["locality_spacings"], kMaxCoordinate, where, "params.locality_spacings");
-    if (!(p.kc.localitySpacings >= 0.0)) throw InputError(where, "params.locality_spacings must be 0 (off) or a positive number of spacings");
+    spacings = detail::boundedNumber(params["locality_spacings"], kMaxCoordinate, where, "params.locality_spacings");
+    if (!(spacings >= 0.0)) throw InputError(where, "params.locality_spacings must be 0 (off) or a positive number of spacings");
   }
+  if (params.contains("locality")) pixels = detail::boundedNumber(params["locality"], kMaxCoordinate, where, "params.locality");
+  p.kc.locality = spacings > 0.0 ? Locality{Locality::Rule::Spacings, spacings}
+                  : pixels > 0.0 ? Locality{Locality::Rule::Pixels, pixels}
+                  : pixels < 0.0 ? Locality{Locality::Rule::Automatic, 0.0}
+                                 : Locality{Locality::Rule::Off, 0.0};
   p.kc.targetFloor = 0.0;  // sessions written before the option: the whole diffused tail
   if (params.contains("target_floor")) {
     p.kc.targetFloor = detail::boundedNumber(params["target_floor"], 1.0, where, "params.target_floor");

@@ -73,6 +73,26 @@ TEST(CliBind, BindEvalStatsOnSquare) {
   EXPECT_TRUE(contains(r.out, "Lagrange"));
 }
 
+/// `--locality` (pixels; < 0 automatic; 0 off) replaces `--locality-spacings` (0 off); the session
+/// says which rule the bind used.
+TEST(CliBind, TheLocalityFlagsChooseOneRule) {
+  const auto dir = scratchDir("cli_locality");
+  writeText(dir / "cage.json", kSquare);
+  struct Case {
+    const char* flags;
+    double spacings, pixels;
+  };
+  for (const Case& c : {Case{"", 1.5, 0.0}, Case{"--locality 0", 0.0, 0.0}, Case{"--locality 12", 0.0, 12.0},
+                        Case{"--locality -3", 0.0, -1.0}, Case{"--locality-spacings 3", 3.0, 0.0},
+                        Case{"--locality-spacings 0", 0.0, 0.0}, Case{"--locality 12 --locality-spacings 3", 0.0, 12.0}}) {
+    const CliResult r = runCli(std::string("bind --cage cage.json --size 96,96 --spacing 8 -o s.kcw.json ") + c.flags, dir);
+    ASSERT_EQ(r.code, 0) << c.flags << ": " << r.err;
+    const auto params = nlohmann::json::parse(slurp(dir / "s.kcw.json"))["params"];
+    EXPECT_EQ(params["locality_spacings"].get<double>(), c.spacings) << c.flags;
+    EXPECT_EQ(params["locality"].get<double>(), c.pixels) << c.flags;
+  }
+}
+
 TEST(CliBind, StatsMeasureHowStraightTheStructureLinesStay) {
   const auto dir = scratchDir("cli_stats_lines");
   writeText(dir / "cage.json", R"({"version": 1, "points": [[8,8],[152,8],[152,152],[8,152]], "closed": true})");

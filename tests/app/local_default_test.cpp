@@ -1,4 +1,4 @@
-// The default kc bind is local (screened targets, KcParams::localitySpacings) and guards its
+// The default kc bind is local (screened targets, KcParams::locality) and guards its
 // negative lobes (continued exterior rows, KcParams::guardLobes): painting re-derives exactly what
 // a whole re-optimization would, method switches come back to the bind's weights, and sessions
 // keep the options (older sessions read them off).
@@ -7,7 +7,11 @@
 
 #include <algorithm>
 #include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "kc/app/diagnostics.h"
 #include "kc/app/file_io.h"
@@ -16,6 +20,8 @@
 
 namespace kc::app {
 namespace {
+
+using nlohmann::json;
 
 Cage figureCage() { return loadCage(std::string(KC_SOURCE_DIR) + "/images/figure.cage.json"); }
 
@@ -30,10 +36,10 @@ BindParams defaults() {
 
 TEST(LocalDefault, IsScreenedAndGuardedAndLocalerThanBefore) {
   const BindParams p = defaults();
-  EXPECT_EQ(p.kc.localitySpacings, kLocalitySpacings);
+  EXPECT_EQ(p.kc.locality, (Locality{Locality::Rule::Spacings, kLocalitySpacings}));
   EXPECT_TRUE(p.kc.guardLobes);
   BindParams before = p;
-  before.kc.localitySpacings = 0.0;
+  before.kc.locality = {Locality::Rule::Off, 0.0};
   before.kc.guardLobes = false;
   const Diagnostics now = diagnose(bindFigure(p), 40000), old = diagnose(bindFigure(before), 40000);
   std::printf("[measured] figure h = 10: drag area %.3f (before %.3f), deepest weight %.4f (before %.4f)\n", now.drag.mean,
@@ -107,14 +113,55 @@ TEST(LocalDefault, MethodSwitchesComeBackToTheBindsWeights) {
   EXPECT_EQ((s.W - bound).cwiseAbs().maxCoeff(), 0.0);
 }
 
+/// Each rule of the targets' locality survives a session file and resolves to its length: the
+/// session keys `locality` (pixels, −1 automatic) and `locality_spacings` say which.
+TEST(LocalDefault, EveryLocalityRuleRoundTripsAndResolves) {
+  const Cage cage = figureCage();
+  Session s = bindFigure(defaults());  // a bound session; only its params change below
+  using Rule = Locality::Rule;
+  for (const Locality l :
+       {Locality{Rule::Off, 0.0}, Locality{Rule::Spacings, 3.0}, Locality{Rule::Pixels, 20.0}, Locality{Rule::Automatic, 0.0}}) {
+    BindParams p = defaults();
+    p.kc.locality = l;
+    s.params = p;
+    const json j = json::parse(sessionToJson(s))["params"];
+    EXPECT_EQ(j["locality_spacings"].get<double>(), l.rule == Rule::Spacings ? 3.0 : 0.0);
+    EXPECT_EQ(j["locality"].get<double>(), l.rule == Rule::Pixels ? 20.0 : l.rule == Rule::Automatic ? -1.0 : 0.0);
+    EXPECT_EQ(sessionFromJson(sessionToJson(s), "mem.kcw.json").params.kc.locality, l);
+    const std::optional<double> length = locality(cage, p), sampled = locality(cage, p, true);
+    switch (l.rule) {
+      case Rule::Off:
+        EXPECT_FALSE(length || sampled);
+        break;
+      case Rule::Spacings:
+        EXPECT_EQ(length, localityLength(cage, p.spacing, 3.0));
+        EXPECT_FALSE(sampled);  // lines made linear through the samples keep unscreened targets
+        break;
+      case Rule::Pixels:
+        EXPECT_TRUE(length == 20.0 && sampled == 20.0);
+        break;
+      case Rule::Automatic:
+        EXPECT_TRUE(length == automaticLocality(cage.C) && sampled == length);
+        break;
+    }
+  }
+  BindParams bad = defaults();
+  for (const Locality l : {Locality{Rule::Spacings, 0.0}, Locality{Rule::Pixels, -2.0},
+                           Locality{Rule::Pixels, std::numeric_limits<double>::quiet_NaN()}}) {
+    bad.kc.locality = l;
+    EXPECT_THROW(locality(cage, bad), std::invalid_argument);
+    EXPECT_THROW(bindFigure(bad), InputError);  // the bind names itself
+  }
+}
+
 TEST(LocalDefault, SessionsKeepTheOptionsAndOlderOnesReadThemOff) {
   const Session s = bindFigure(defaults());
   const Session back = sessionFromJson(sessionToJson(s), "mem.kcw.json");
-  EXPECT_EQ(back.params.kc.localitySpacings, kLocalitySpacings);
+  EXPECT_EQ(back.params.kc.locality, Locality{});
   EXPECT_TRUE(back.params.kc.guardLobes);
   EXPECT_EQ((back.W - s.W).cwiseAbs().maxCoeff(), 0.0);
   const Session old = loadSession(std::string(KC_SOURCE_DIR) + "/tests/data/old_format.kcw.json");
-  EXPECT_EQ(old.params.kc.localitySpacings, 0.0);
+  EXPECT_EQ(old.params.kc.locality.rule, Locality::Rule::Off);
   EXPECT_FALSE(old.params.kc.guardLobes);
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -152,8 +153,7 @@ TEST(HeatDiffusion, IterationsConvergeToTheSteadyState) {
   const Cage cage = Cage::polygon(C);
   const SampleSet S = sampleCage(cage, 1.0, 0.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
-  InitOptions unscreened;
-  unscreened.locality = 0.0;  // the iterations converge to the plain (unscreened) steady state
+  const InitOptions unscreened;  // no locality: the iterations converge to the plain (unscreened) steady state
   const Weights Wss = initialWeights(S, cage, K, unscreened);
   double previous = 1e300;
   for (int n : {10, 100, 1000}) {
@@ -211,8 +211,7 @@ TEST(HeatDiffusion, ScreeningMakesTargetsLocalAndKeepsRowsSummingToOne) {
   const Points& C = cage.C;
   const SampleSet S = sampleCage(cage, 1.0, 0.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
-  InitOptions global, local;
-  global.locality = 0.0;
+  InitOptions global, local;  // global: no locality length, unscreened
   local.locality = 4.0;
   const Weights Wg = initialWeights(S, cage, K, global), Wl = initialWeights(S, cage, K, local);
   double farGlobal = 0.0, farLocal = 0.0;
@@ -243,7 +242,6 @@ TEST(HeatDiffusionSlow, ScreeningUnderflowFallsBackPerSample) {
   const SampleSet S = sampleCage(cage, 1.0, 0.0);
   const SparseMatrix K = assembleKernelMatrix(S.X, kernelFor(1.0));
   InitOptions global, local;
-  global.locality = 0.0;
   local.locality = 1e-16;  // ~1e-31 per kernel hop: underflow ~7 hops (30 px) from the cage
   InitReport report;
   const Weights Wg = initialWeights(S, cage, K, global), Wl = initialWeights(S, cage, K, local, &report);
@@ -353,6 +351,11 @@ TEST(HeatDiffusion, RejectsBadInput) {
   SampleSet bad = S;
   bad.kind[0] = SampleKind::Interior;  // controls must come first
   EXPECT_THROW(initialWeights(bad, cage, K, InitOptions{}), std::invalid_argument);
+  for (double locality : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    InitOptions screened;
+    screened.locality = locality;  // a length is finite and > 0; "off" is no length
+    EXPECT_THROW(initialWeights(S, cage, K, screened), std::invalid_argument) << locality;
+  }
 }
 
 }  // namespace

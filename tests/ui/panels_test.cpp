@@ -410,7 +410,7 @@ TEST(BindPanel, AutoSpacingFollowsThePictureAndTheSliderWinsWhenOff) {
 }
 
 /// The locality length shown next to "Local targets" is the one Bind's screened targets will use:
-/// app::localityLength at the automatic spacing, not at the slider's (greyed) value.
+/// app::locality at the automatic spacing, not at the slider's (greyed) value.
 TEST(BindPanel, LocalityShownIsTheBindsUnderAutoSpacing) {
   AppState state;
   state.worker.setSynchronous(true);
@@ -423,11 +423,15 @@ TEST(BindPanel, LocalityShownIsTheBindsUnderAutoSpacing) {
   ASSERT_EQ(state.bindParams.spacing, 6.0);
   const double h = bindParamsFor(state, cage, 2000, 1500).spacing;
   ASSERT_GT(h, 7.0) << "the automatic spacing must differ from the slider's for this test to mean anything";
-  const double used = app::localityLength(cage, h, state.bindParams.kc.localitySpacings);
-  EXPECT_NE(used, app::localityLength(cage, 6.0, state.bindParams.kc.localitySpacings));
+  const double used = app::localityLength(cage, h, app::kLocalitySpacings);
+  EXPECT_NE(used, app::localityLength(cage, 6.0, app::kLocalitySpacings));
   EXPECT_DOUBLE_EQ(spacingPlan(state).locality, used);
-  state.bindParams.kc.localitySpacings = 3.0;  // a change of the setting is seen at once
+  state.bindParams.kc.locality.value = 3.0;  // a change of the setting is seen at once
   EXPECT_DOUBLE_EQ(spacingPlan(state).locality, app::localityLength(cage, h, 3.0));
+  state.bindParams.kc.locality = {app::Locality::Rule::Pixels, 17.0};
+  EXPECT_DOUBLE_EQ(spacingPlan(state).locality, 17.0);
+  state.bindParams.kc.locality = {app::Locality::Rule::Automatic, 0.0};
+  EXPECT_DOUBLE_EQ(spacingPlan(state).locality, automaticLocality(cage.C));
 }
 
 /// "Local targets" switches the screening and the targets' floor together: off binds the smooth,
@@ -439,10 +443,10 @@ TEST(BindPanel, LocalTargetsSwitchesTheScreeningAndTheFloor) {
   for (int k = 0; k < 2; ++k) gui.frame(draw);
   ASSERT_EQ(s->bindParams.kc.targetFloor, app::kTargetFloor);
   gui.clickLabel(*s, "Local targets", draw);
-  EXPECT_EQ(s->bindParams.kc.localitySpacings, 0.0);
+  EXPECT_EQ(s->bindParams.kc.locality.rule, app::Locality::Rule::Off);
   EXPECT_EQ(s->bindParams.kc.targetFloor, 0.0);
   gui.clickLabel(*s, "Local targets", draw);
-  EXPECT_EQ(s->bindParams.kc.localitySpacings, app::kLocalitySpacings);
+  EXPECT_EQ(s->bindParams.kc.locality, app::Locality{});
   EXPECT_EQ(s->bindParams.kc.targetFloor, app::kTargetFloor);
 }
 

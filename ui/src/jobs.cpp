@@ -210,13 +210,27 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
                     shown.params.exterior == p.exterior && shown.params.spacing == p.spacing && shown.params.graded == p.graded &&
                     shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
                     shown.params.kc.init.method == p.kc.init.method &&  // --init lbc samples at half the spacing
-                    shown.params.kc.localitySpacings == p.kc.localitySpacings &&
-                    shown.closed == state.cage.closed && shown.cageValid == state.cageValid && shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C &&
+                    shown.params.kc.locality == p.kc.locality && shown.params.kc.exactLines == p.kc.exactLines &&
+                    shown.closed == state.cage.closed && shown.cageValid == state.cageValid &&
+                    shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C &&
                     sameLines(shown.lines, state.lines) && sameRigid(shown.lines, state.lines);
   if (!same) {
     const int w = state.source.width, h = state.source.height;
-    shown = {state.cage.C, w, h, p, state.lines, state.bindParams.spacing, state.bindParams.spacing, 0.0,
-             p.kc.localitySpacings * state.bindParams.spacing, state.cage.closed, state.cageValid};
+    const app::Locality& l = p.kc.locality;
+    const double locality = l.rule == app::Locality::Rule::Spacings ? l.value * state.bindParams.spacing
+                            : l.rule == app::Locality::Rule::Pixels ? l.value
+                                                                    : 0.0;  // refined below for a valid cage
+    shown = {state.cage.C,
+             w,
+             h,
+             p,
+             state.lines,
+             state.bindParams.spacing,
+             state.bindParams.spacing,
+             0.0,
+             locality,
+             state.cage.closed,
+             state.cageValid};
     if (state.cageValid && w > 0 && h > 0) {
       try {
         // The parameters and the sizing field the bind will sample or mesh with (the LBC backend
@@ -228,7 +242,7 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
         shown.spacing = shown.minSpacing = used.spacing;
         if (const auto sizing = app::bindSizing(state.cage, structure, used)) shown.minSpacing = sizing->hMin();
         shown.points = mesh ? estimateMeshVertices(state.cage, used.spacing) : app::estimateBindCost(state.cage, structure, w, h, used).samples;
-        shown.locality = used.kc.localitySpacings > 0.0 ? app::localityLength(state.cage, used.spacing, used.kc.localitySpacings) : 0.0;
+        shown.locality = app::locality(state.cage, used, !structure.lines.empty() && !used.kc.exactLines).value_or(0.0);
       } catch (const std::exception&) {
         // A cage or lines the bind refuses: the bind says why; the panel shows the spacing alone.
       }

@@ -209,6 +209,8 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
     throw std::invalid_argument("initial weights: K is " + std::to_string(K.rows()) + "×" + std::to_string(K.cols()) +
                                 " but there are " + std::to_string(n) + " samples");
   if (options.iterations < 0) throw std::invalid_argument("initial weights: iterations must be ≥ 0");
+  if (options.locality && !(std::isfinite(*options.locality) && *options.locality > 0.0))
+    throw std::invalid_argument("initial weights: the locality length must be a finite number > 0 (none = unscreened)");
   if (options.method == InitMethod::Lbc)
     throw std::invalid_argument("initial weights: LBC targets are solved on a mesh of the cage (app's kc backend), not here");
   const Points& X = S.X;
@@ -234,8 +236,7 @@ Weights initialWeights(const SampleSet& S, const Cage& cage, const SparseMatrix&
   // Diffusion operator P = D⁻¹R, R = K restricted to the shape (rows normalized to sum 1).
   const SparseRowMatrix R = diffusionOperator(S, cage, K);
   const Eigen::VectorXd D = R * Eigen::VectorXd::Ones(n);
-  const double locality = options.locality >= 0.0 ? options.locality : automaticLocality(C);
-  const double mu = locality > 0.0 && options.method == InitMethod::HeatLinear ? screeningFor(R, D, X, locality) : 0.0;
+  const double mu = options.locality && options.method == InitMethod::HeatLinear ? screeningFor(R, D, X, *options.locality) : 0.0;
 
   // Two stages: inside/on-cage samples first, then exterior ones (which depend on the former,
   // never the reverse). Each stage's unknowns with no path to a known sample fall back.

@@ -252,26 +252,21 @@ void drawBindPanel(AppState& state) {
   if (p.kc.init.method == InitMethod::Lbc) lbcControls(state);
   if (p.kc.init.method == InitMethod::HeatLinear) {
     // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
-    bool screened = p.kc.localitySpacings > 0.0 || p.kc.init.locality != 0.0;
+    bool screened = p.kc.locality.rule != app::Locality::Rule::Off;
     if (checkbox(state, "Local targets", &screened,
                  "A point pulls mostly on the parts of the shape near it (screened heat diffusion, its faint far tail "
                  "dropped), about as locally as LBC (recommended). Off: smooth influences that reach further. Takes effect "
                  "at the next Bind.")) {
-      p.kc.localitySpacings = screened ? app::kLocalitySpacings : 0.0;
+      p.kc.locality = screened ? app::Locality{} : app::Locality{app::Locality::Rule::Off, 0.0};
       p.kc.targetFloor = screened ? app::kTargetFloor : 0.0;
-      p.kc.init.locality = 0.0;
     }
     if (screened) {
       ImGui::SameLine();
       // In spacings (follows the spacing the bind will use, the default) or, once edited, in pixels.
-      float locality = static_cast<float>(p.kc.localitySpacings > 0.0 ? spacingPlan(state).locality
-                                          : p.kc.init.locality < 0.0 ? automaticLocality(state.cage.C)
-                                                                    : p.kc.init.locality);
+      float locality = static_cast<float>(spacingPlan(state).locality);
       ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px")) {
-        p.kc.init.locality = std::max(1.0f, locality);
-        p.kc.localitySpacings = 0.0;
-      }
+      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px"))
+        p.kc.locality = {app::Locality::Rule::Pixels, std::max(1.0f, locality)};
       tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings, more in a deep shape "
               "with few points.");
     }

@@ -2,6 +2,7 @@
 /// The bind pipeline: cage → (backend) → coordinate field (ARCHITECTURE.md data flow).
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <span>
 #include <vector>
@@ -151,7 +152,7 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
 OptimizeReport reoptimize(Session& session, Method method, std::span<const Index> subset = {},
                           std::vector<Index>* changedColumns = nullptr);
 
-/// The locality length (pixels) of a kc bind's screened targets (KcParams::localitySpacings = S):
+/// The locality length (pixels) of a kc bind's screened targets under the Spacings rule, S spacings:
 /// ℓ = max(S·spacing, D/4), D the cage's depth, the largest distance from a point inside the cage
 /// to its edges (on a grid of step spacing/2, at most ~20,000 points). The targets decay like
 /// exp(−d/ℓ) from the cage inwards; where the deepest point keeps much less than e^−4 ≈ 2% of the
@@ -159,6 +160,13 @@ OptimizeReport reoptimize(Session& session, Method method, std::span<const Index
 /// the optimizer turns it into lobes (docs/notes/measured-constants.md). A cage with no inside (open
 /// sticks) has D = 0.
 double localityLength(const Cage& cage, double spacing, double spacings);
+
+/// The locality length (pixels) a kc bind with `params` screens its heat-linear targets with
+/// (kc::InitOptions::locality), or none (unscreened): params.kc.locality's rule resolved on `cage`
+/// at params.spacing, the spacing the bind samples at. `sampledLines`: the bind has structure lines
+/// made linear through the samples (params.kc.exactLines false), where the Spacings rule is off.
+/// Throws std::invalid_argument for a Spacings or Pixels value that is not finite and > 0.
+std::optional<double> locality(const Cage& cage, const BindParams& params, bool sampledLines = false);
 
 /// The rows of session.W a re-optimization of `rows` re-derives (sorted): `rows`, and with
 /// params.kc.guardLobes the continued exterior rows next to the cage (ExteriorContinuation) that

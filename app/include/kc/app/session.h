@@ -21,11 +21,27 @@
 
 namespace kc::app {
 
-/// Default locality length of the kc backend's targets, in sample spacings (KcParams::
-/// localitySpacings). Shorter lengths are more local (the drag area of `kcwarp-cli stats` falls
+/// Default locality length of the kc backend's targets, in sample spacings (Locality::Rule::
+/// Spacings). Shorter lengths are more local (the drag area of `kcwarp-cli stats` falls
 /// towards the LBC backend's), but targets that fall off within about one sample spacing ring
 /// between the samples: 1.5 spacings is the shortest length that does not deepen the lobes.
 inline constexpr double kLocalitySpacings = 1.5;
+
+/// How far the kc backend's heat-linear targets reach inside the shape: the locality length ℓ
+/// of the screened diffusion (kc::InitOptions::locality), by one of four rules. Resolved to ℓ
+/// in pixels, or none, by app::locality (pipeline.h).
+struct Locality {
+  enum class Rule {
+    Off,        ///< Unscreened targets (4.13): smooth, global, harmonic-like.
+    Spacings,   ///< ℓ = max(value·spacing, D/4), D the cage's depth (localityLength). The default.
+    Pixels,     ///< ℓ = value pixels.
+    Automatic,  ///< ℓ = kc::kAutoLocalityFraction of the cage's bounding-box diagonal.
+  };
+  Rule rule = Rule::Spacings;
+  double value = kLocalitySpacings;  ///< Spacings or pixels (finite, > 0) for those rules; unused otherwise.
+  bool operator==(const Locality&) const = default;
+};
+
 /// Default floor of the kc backend's screened targets (KcParams::targetFloor, kc::floorTargets):
 /// the diffused heat's tail below 3% of a sample's weight is dropped before the per-sample
 /// optimization. A drag then moves little more than what the LBC backend's weights move
@@ -40,7 +56,7 @@ inline constexpr double kMaxTargetFloor = 0.5;
 /// Bind parameters of the kernel-coordinate backend ("kc").
 struct KcParams {
   double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28, T measured).
-  InitOptions init;        ///< W0: method, diffusion iterations, locality.
+  InitOptions init;        ///< W0: method, diffusion iterations (the locality length comes from `locality`).
   Method method = Method::QP;
   InterpMode interp = InterpMode::Exact;
   /// `--linear-edges`: the field is made linear along every edge of the cage's loops (not the
@@ -48,16 +64,15 @@ struct KcParams {
   /// edge samples; deepens the negative lobes near the controls (docs/ARCHITECTURE.md). Sessions
   /// written before the option (no `params.linear_edges`) read false.
   bool linearEdges = false;
-  /// Screened heat-linear targets (InitOptions::locality) with the locality length
-  /// ℓ = max(localitySpacings · BindParams::spacing, D/4), D the cage's depth (localityLength in
-  /// pipeline.h), so that dragging one control moves about its own part of the picture
-  /// (kLocalitySpacings); 0: ℓ is init.locality (pixels, 0 = unscreened). Used
-  /// with HeatLinear targets only, and not in binds with structure lines (unscreened there).
-  /// Sessions written before the option (no `params.locality_spacings`) read 0.
-  double localitySpacings = kLocalitySpacings;
+  /// How far the heat-linear targets reach (init.locality is not read: the bind sets it from this,
+  /// app::locality). Screened targets make dragging one control move about its own part of the
+  /// picture. The Spacings rule is not applied in binds with structure lines made linear through
+  /// the samples (exactLines false): unscreened there. Sessions written before the option (no
+  /// `params.locality_spacings`) read `params.locality` alone (pixels, < 0 automatic, 0 off).
+  Locality locality;
   /// The floor of screened heat-linear targets (kc::floorTargets; kTargetFloor), in [0, kMaxTargetFloor): 0
-  /// keeps the whole diffused tail. Applied where the targets are screened (localitySpacings or
-  /// init.locality). Sessions written before the option (no `params.target_floor`) read 0.
+  /// keeps the whole diffused tail. Applied where the targets are screened (`locality`). Sessions
+  /// written before the option (no `params.target_floor`) read 0.
   double targetFloor = kTargetFloor;
   /// Bound the field's negative lobes inside the cage: the exterior rows next to the cage continue
   /// the inside across it (ExteriorContinuation), and sharp outside corners are sampled finer

@@ -163,7 +163,7 @@ struct AppState {
     /// What the next bind uses (spacingPlan()): the spacing h away from narrow places, the
     /// smallest h of its sizing field (== spacing for a uniform bind) and the estimated number of
     /// samples (kc) or mesh vertices (LBC); the screened targets' locality length in pixels
-    /// (app::localityLength at that spacing; 0 when params.kc.localitySpacings is 0).
+    /// (app::locality with those parameters; 0 when the targets are not screened).
     double spacing = 0.0, minSpacing = 0.0, points = 0.0, locality = 0.0;
     bool closed = false, cageValid = false;  ///< the draft cage's (an open cage binds as sticks)
   } shownSpacing;

@@ -2,6 +2,8 @@
 /// Initial (target) weights W0 (thesis 4.6): inverse squared distance (4.10) and heat diffusion
 /// with impulse initialization (4.11–4.12) or with fixed linear weights on edges (4.13).
 
+#include <optional>
+
 #include "kc/core/cage.h"
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
@@ -35,23 +37,23 @@ struct InitOptions {
   int iterations = 0;
   /// p of (4.10), in the units of X; ≤ 0 picks a tenth of the cage's bounding-box diagonal.
   double inverseDistanceP = 0.0;
-  /// Locality length ℓ (units of X) of HeatLinear's steady state. 0 (default) = the unscreened
-  /// steady state of (4.13) (harmonic-like, smooth, monotone, global weights). > 0 solves the
-  /// screened diffusion ((1+μ)D − K) W = …, in which heat from an edge decays like exp(−d/ℓ) with
-  /// the distance d travelled inside the shape, normalizes each row to sum 1, and then moves each
-  /// free row to reproduce its position with corrections proportional to its own targets
-  /// (min Σ (w_i − w0_i)²/w0_i s.t. Cw = x, 1ᵀw = 1, w ≥ 0), so the per-sample QP leaves it as is
-  /// inside the control hull. < 0 = ℓ automatic, kAutoLocalityFraction of the cage's bounding-box
-  /// diagonal. More local weights, but reproduction still recruits extreme controls a little far
-  /// away (a faint, non-monotone halo ~1e-2; docs/notes/measured-constants.md).
-  double locality = 0.0;
+  /// Locality length ℓ (units of X, finite and > 0) of HeatLinear's steady state; none (default) =
+  /// the unscreened steady state of (4.13) (harmonic-like, smooth, monotone, global weights). A
+  /// length solves the screened diffusion ((1+μ)D − K) W = …, in which heat from an edge decays
+  /// like exp(−d/ℓ) with the distance d travelled inside the shape, normalizes each row to sum 1,
+  /// and then moves each free row to reproduce its position with corrections proportional to its
+  /// own targets (min Σ (w_i − w0_i)²/w0_i s.t. Cw = x, 1ᵀw = 1, w ≥ 0), so the per-sample QP
+  /// leaves it as is inside the control hull. More local weights, but reproduction still recruits
+  /// extreme controls a little far away (a faint, non-monotone halo ~1e-2). Ignored by the other
+  /// methods. initialWeights throws std::invalid_argument for a length that is not finite and > 0.
+  std::optional<double> locality;
 };
 
-/// Automatic locality length as a fraction of the cage's bounding-box diagonal (≈ 25 px on the
-/// bundled 320×400 figure).
+/// A locality length as a fraction of the cage's bounding-box diagonal (≈ 25 px on the bundled
+/// 320×400 figure): the "automatic" length of kcwarp's `--locality -1`.
 inline constexpr double kAutoLocalityFraction = 0.05;
 
-/// The automatic locality length for control points C: kAutoLocalityFraction of their
+/// The bounding-box locality length for control points C: kAutoLocalityFraction of their
 /// bounding-box diagonal.
 double automaticLocality(const Points& C);
 
