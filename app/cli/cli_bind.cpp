@@ -1,8 +1,11 @@
 // kcwarp-cli bind: cage + image → session file (samples, W0, W).
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <optional>
 
 #include "cli_common.h"
 #include "kc/app/errors.h"
@@ -35,10 +38,48 @@ struct BindArgs {
   CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
   std::uint64_t seed = kDefaults.seed;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
-  std::string lbcTau = nameOf(kDefaults.lbc.tau);
-  double lbcTolerance = app::LbcParams{}.tolerance;
-  int lbcMaxIterations = app::LbcParams{}.maxIterations;
+  /// The backends' described parameters (--<block>-<key>): "<backend>\n<key>" → the text given.
+  std::map<std::string, std::string> backendValues;
+  std::map<std::string, CLI::Option*> backendOptions;
 };
+
+/// Sets the backends' parameters given on the command line (each refused with its flag's name).
+void setBackendParameters(const BindArgs& a, app::BindParams& p) {
+  for (const std::string_view name : app::backendNames()) {
+    const app::Backend& backend = app::backendFor(name);
+    for (const app::BackendParameter& parameter : backend.parameters()) {
+      const std::string id = std::string(name) + "\n" + parameter.key;
+      const auto option = a.backendOptions.find(id);
+      if (option == a.backendOptions.end() || option->second->count() == 0) continue;
+      const std::string flag = option->second->get_name();
+      const std::optional<double> value = app::parseParameter(parameter, a.backendValues.at(id));
+      if (!value) throw app::InputError(flag, "must be " + app::parameterRange(parameter));
+      app::asUserInput(flag, [&] { app::setParameter(backend, parameter, p, *value); });
+    }
+  }
+}
+
+/// --<block>-<key> for each described parameter of each backend, its default shown.
+void addBackendOptions(CLI::App* sub, BindArgs* a) {
+  for (const std::string_view name : app::backendNames()) {
+    const app::Backend& backend = app::backendFor(name);
+    for (const app::BackendParameter& parameter : backend.parameters()) {
+      std::string flag = "--" + std::string(backend.parameterBlock()) + "-" + parameter.key;
+      std::replace(flag.begin(), flag.end(), '_', '-');
+      const std::string id = std::string(name) + "\n" + parameter.key;
+      std::string help = parameter.help;
+      if (parameter.type == app::BackendParameter::Type::Choice) {
+        help += ":";
+        for (std::size_t k = 0; k < parameter.choices.size(); ++k) help += (k ? " | " : " ") + parameter.choices[k];
+      }
+      a->backendValues[id] = app::parameterText(parameter, parameter.defaultValue);
+      const char* type = parameter.type == app::BackendParameter::Type::Number    ? "FLOAT"
+                         : parameter.type == app::BackendParameter::Type::Integer ? "INT"
+                                                                                  : "TEXT";
+      a->backendOptions[id] = sub->add_option(flag, a->backendValues[id], help)->type_name(type)->capture_default_str();
+    }
+  }
+}
 
 void runBind(const BindArgs& a) {
   const Cage cage = app::loadCage(a.cage);
@@ -77,11 +118,7 @@ void runBind(const BindArgs& a) {
   p.graded = !a.uniformSpacing;
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   p.exterior = parseOption<sampling::ExteriorExtent>(a.exterior, "--exterior");
-  p.lbc.tau = parseOption<LbcTau>(a.lbcTau, "--lbc-tau");
-  requireFinite(a.lbcTolerance, "--lbc-tolerance", "");
-  if (!(a.lbcTolerance > 0.0)) throw app::InputError("--lbc-tolerance", "must be positive");
-  p.lbc.tolerance = a.lbcTolerance;
-  p.lbc.maxIterations = a.lbcMaxIterations;
+  setBackendParameters(a, p);
   app::asUserInput("--backend", [&] { app::backendFor(p.backend); });
   app::Structure st;  // read before anything is printed: a bad file stops the bind with its one message
   if (!a.structure.empty()) {
@@ -200,17 +237,12 @@ void addBindCommand(CLI::App& app) {
   sub->add_flag("--linear-edges", a->linearEdges,
                 "Post-process the samples near every edge of the cage's loops (not sticks) so that the field is linear "
                 "along it, not only at its samples (thesis 5.3.3; deepens the negative lobes near the controls)");
-  sub->add_option("--backend", a->backend,
-                  "Weight backend: kc (kernel coordinates) | lbc (local barycentric coordinates on a mesh of the cage interior, "
-                  "edge length --spacing; no weights outside the cage: warps cannot use --outside deform)")
-      ->capture_default_str();
-  sub->add_option("--lbc-tau", a->lbcTau, "LBC locality weighting tau(D) of the geodesic distance: square | const | linear | sqrt")
-      ->capture_default_str();
-  sub->add_option("--lbc-tolerance", a->lbcTolerance, "LBC stopping rule: RMS primal and dual ADMM residuals (per unit area)")
-      ->capture_default_str();
-  sub->add_option("--lbc-max-iterations", a->lbcMaxIterations, "LBC iteration cap (not converged by then: the bind fails)")
-      ->check(CLI::Range(1, 10'000'000))
-      ->capture_default_str();
+  std::string backends;
+  for (const std::string_view name : app::backendNames())
+    backends +=
+        (backends.empty() ? "" : " | ") + std::string(name) + " (" + std::string(app::backendFor(name).description()) + ")";
+  sub->add_option("--backend", a->backend, "Weight backend: " + backends)->capture_default_str();
+  addBackendOptions(sub, a.get());
   sub->add_option("--sampler", a->sampler, "Sampling: blue-noise | grid")->capture_default_str();
   sub->add_option("--margin", a->margin, "Sampled margin around the image in pixels (<0 = automatic)");
   sub->add_option("--exterior", a->exterior,

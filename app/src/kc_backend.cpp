@@ -122,6 +122,12 @@ namespace {
 class KcBackend final : public Backend {
  public:
   std::string_view name() const override { return "kc"; }
+  std::string_view displayName() const override { return "KC"; }
+  std::string_view description() const override { return "kernel coordinates"; }
+  std::string_view tooltip() const override {
+    return "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush, switch the "
+           "method (QP / QEC / L1) and move everything outside the cage.";
+  }
 
   BackendCapabilities capabilities() const override {
     BackendCapabilities c;
@@ -295,16 +301,6 @@ const Backend& kcBackend() {
   static const KcBackend kc;
   return kc;
 }
-
-const Backend& backendFor(std::string_view name) {
-  for (const Backend* b : {&kcBackend(), &lbcBackend()})
-    if (name == b->name()) return *b;
-  std::string names;
-  for (const std::string_view n : backendNames()) names += (names.empty() ? "" : ", ") + std::string(n);
-  throw std::invalid_argument("backend '" + std::string(name) + "' is not available (available: " + names + ")");
-}
-
-std::vector<std::string_view> backendNames() { return {"kc", "lbc"}; }
 
 std::string unsupportedStructure(const Structure& structure, const BackendCapabilities& caps, bool paintedRigidity) {
   const bool lines = !structure.lines.empty() && !caps.lines;

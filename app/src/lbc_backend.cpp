@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "backends.h"
 #include "kc/app/pipeline.h"
@@ -86,9 +87,64 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
 
 namespace {
 
+/// LbcTau's position in its names' table (the Choice parameter's value).
+std::size_t tauIndex(LbcTau tau) {
+  std::size_t k = 0;
+  while (k + 1 < EnumNames<LbcTau>::table.size() && EnumNames<LbcTau>::table[k].first != tau) ++k;
+  return k;
+}
+
 class LbcBackend final : public Backend {
  public:
   std::string_view name() const override { return "lbc"; }
+  std::string_view displayName() const override { return "LBC"; }
+  std::string_view description() const override {
+    return "local barycentric coordinates on a mesh of the cage interior, edge length --spacing; no weights outside the cage: "
+           "warps cannot use --outside deform";
+  }
+  std::string_view tooltip() const override {
+    return "Local barycentric coordinates (LBC paper): each point pulls only on the part of the shape near it. Computed once "
+           "on a triangle mesh of the cage's inside: no brush, no method switch, and no influence outside the cage (the "
+           "outside is kept or pinned).";
+  }
+  std::string_view parameterBlock() const override { return "lbc"; }
+
+  std::vector<BackendParameter> parameters() const override {
+    using Type = BackendParameter::Type;
+    const LbcParams defaults;
+    const auto named = [](const char* key, const char* label, const char* help, const char* tooltip) {
+      BackendParameter p;
+      p.key = key, p.label = label, p.help = help, p.tooltip = tooltip;
+      return p;
+    };
+    std::vector<BackendParameter> list{
+        named("tau", "LBC locality", "LBC locality weighting tau(D) of the geodesic distance",
+              "How strongly an influence far from its point is penalized (tau of the distance inside the shape, LBC eq. "
+              "11): square: most local (recommended); linear and sqrt: less local; const: no distance weighting."),
+        named("tolerance", "LBC tolerance", "LBC stopping rule: RMS primal and dual ADMM residuals (per unit area)",
+              "When the solver may stop: its residuals (RMS per point, picture scaled to size 1) below this, and the result "
+              "certified within 0.1% of the best possible. Smaller: slower, barely different (default 1e-3)."),
+        named("max_iterations", "Max iterations", "LBC iteration cap (not converged by then: the bind fails)",
+              "The solver gives up after this many iterations and Bind reports it (default 20000).")};
+    BackendParameter& tau = list[0];
+    tau.type = Type::Choice;
+    for (const auto& [value, name] : EnumNames<LbcTau>::table) tau.choices.emplace_back(name);
+    tau.defaultValue = static_cast<double>(tauIndex(defaults.tau));
+    tau.get = [](const BindParams& p) { return static_cast<double>(tauIndex(p.lbc.tau)); };
+    tau.set = [](BindParams& p, double v) { p.lbc.tau = EnumNames<LbcTau>::table[static_cast<std::size_t>(v)].first; };
+    BackendParameter& tolerance = list[1];
+    tolerance.min = 1e-12, tolerance.max = 1.0, tolerance.logarithmic = true;
+    tolerance.defaultValue = defaults.tolerance;
+    tolerance.get = [](const BindParams& p) { return p.lbc.tolerance; };
+    tolerance.set = [](BindParams& p, double v) { p.lbc.tolerance = v; };
+    BackendParameter& iterations = list[2];
+    iterations.type = Type::Integer;
+    iterations.min = 1, iterations.max = 100'000'000;
+    iterations.defaultValue = static_cast<double>(defaults.maxIterations);
+    iterations.get = [](const BindParams& p) { return static_cast<double>(p.lbc.maxIterations); };
+    iterations.set = [](BindParams& p, double v) { p.lbc.maxIterations = static_cast<int>(v); };
+    return list;
+  }
 
   BackendCapabilities capabilities() const override {
     BackendCapabilities c;

@@ -77,6 +77,50 @@ static json linesToJson(const Session& s) {
 
 namespace {
 
+/// params.<block> of `backend`: each described parameter's value (a choice by name).
+json parametersToJson(const Backend& backend, const BindParams& p) {
+  json block = json::object();
+  for (const BackendParameter& parameter : backend.parameters()) {
+    const double v = parameterValue(backend, parameter, p);
+    switch (parameter.type) {
+      case BackendParameter::Type::Choice:
+        block[parameter.key] = parameterText(parameter, v);
+        break;
+      case BackendParameter::Type::Integer:
+        block[parameter.key] = static_cast<long long>(v);
+        break;
+      case BackendParameter::Type::Number:
+        block[parameter.key] = v;
+        break;
+    }
+  }
+  return block;
+}
+
+/// Reads params.<block> of `backend` when the file has it; an absent key keeps its default.
+void parametersFromJson(const Backend& backend, const json& params, BindParams& p, const std::string& where) {
+  const std::string block(backend.parameterBlock());
+  if (!params.contains(block)) return;
+  const json& values = params[block];
+  if (!values.is_object()) throw InputError(where, "params." + block + " must be an object");
+  for (const BackendParameter& parameter : backend.parameters()) {
+    if (!values.contains(parameter.key)) continue;
+    const json& v = values[parameter.key];
+    const std::string what = "params." + block + "." + parameter.key;
+    std::optional<double> value;
+    if (parameter.type == BackendParameter::Type::Choice)
+      value = v.is_string() ? parseParameter(parameter, v.get<std::string>()) : std::nullopt;
+    else if (v.is_number()) value = v.get<double>();
+    if (!value)
+      throw InputError(where, what + " has an unknown value " + detail::quoted(v) + " (" + parameterRange(parameter) + ")");
+    try {
+      setParameter(backend, parameter, p, *value);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, what + " " + e.what());
+    }
+  }
+}
+
 /// `params.locality`: the Pixels rule's length, −1 for the Automatic rule, 0 otherwise (off, or
 /// the Spacings rule, which `params.locality_spacings` holds).
 double localityPixelsKey(const Locality& l) {
@@ -114,8 +158,8 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
                  {"seed", p.seed},
                  {"graded", p.graded}};
   if (s.lbcMeshSpacing > 0.0) params["lbc_mesh_spacing"] = s.lbcMeshSpacing;
-  if (p.backend == "lbc")
-    params["lbc"] = {{"tau", std::string(toString(p.lbc.tau))}, {"tolerance", p.lbc.tolerance}, {"max_iterations", p.lbc.maxIterations}};
+  if (const Backend& backend = backendFor(p.backend); !backend.parameterBlock().empty())
+    params[std::string(backend.parameterBlock())] = parametersToJson(backend, p);
   json j = {{"version", 1},
             {"cage", detail::cageToJson(s.cage)},
             {"image_size", {s.imageWidth, s.imageHeight}},
@@ -208,15 +252,9 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
                 ? detail::boundedNumber(detail::require(params, "sigma", where), kMaxCoordinate, where, "params.sigma")
                 : 0.0;
   if (kernel && !(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
-  if (params.contains("lbc")) {
-    const json& l = params["lbc"];
-    if (!l.is_object()) throw InputError(where, "params.lbc must be an object");
-    p.lbc.tau = parseEnum(l, "tau", LbcTau::Square, where);
-    if (l.contains("tolerance")) p.lbc.tolerance = detail::boundedNumber(l["tolerance"], 1.0, where, "params.lbc.tolerance");
-    if (!(p.lbc.tolerance > 0)) throw InputError(where, "params.lbc.tolerance must be positive");
-    if (l.contains("max_iterations"))
-      p.lbc.maxIterations = static_cast<int>(detail::integerInRange(l["max_iterations"], 1, 100'000'000, where, "params.lbc.max_iterations"));
-  }
+  for (const std::string_view name : backendNames())
+    if (const Backend& backend = backendFor(name); !backend.parameterBlock().empty())
+      parametersFromJson(backend, params, p, where);
   const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
   p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
   p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, where);

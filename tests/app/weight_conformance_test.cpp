@@ -90,6 +90,19 @@ BackendCase lbc(std::string name, LbcTau tau) {
   return c;
 }
 
+/// The test backend of tests/support/mvc_backend.cpp (mean value coordinates, registered there):
+/// exact barycentric on the cage interior, linear on the edges, positive in the star (star-shaped
+/// about its centre), down to −0.12 in the figure's concave parts (measured 2026-12-06, × 1.05).
+BackendCase mvc() {
+  BackendCase c;
+  c.name = "mvc_test_backend";
+  c.bind = binder([](BindParams& p) { p.backend = "mvc"; });
+  c.outsideCage = false;
+  c.edgeLinearity = {{"checker", 1e-12}, {"star", 1e-12}, {"figure", 1e-12}};
+  c.negativeLobe = {{"checker", 1e-15}, {"star", 1e-15}, {"figure", 0.13}};
+  return c;
+}
+
 const BackendCase& caseNamed(const std::string& name);
 
 class WeightConformance : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {
@@ -202,6 +215,7 @@ const BackendCase kCases[] = {
     kc("kc_qp_exact_lbc_init", Method::QP, InterpMode::Exact, InitMethod::Lbc,
        {{"checker", 0.002}, {"star", 0.023}, {"figure", 0.07}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.052}}),
     lbc("lbc_square", LbcTau::Square),
+    mvc(),
 };
 
 const BackendCase& caseNamed(const std::string& name) {

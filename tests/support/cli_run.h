@@ -41,11 +41,12 @@ inline std::filesystem::path scratchDir(const std::string& name) {
   return dir;
 }
 
-/// Runs `kcwarp-cli <args>` (args already shell-quoted where needed) in `dir`.
-inline CliResult runCli(const std::string& args, const std::filesystem::path& dir) {
+/// Runs `kcwarp-cli <args>` (args already shell-quoted where needed) in `dir`; `cli`: another
+/// build of it (a test executable with a test backend linked in).
+inline CliResult runCli(const std::string& args, const std::filesystem::path& dir, const std::string& cli = KC_CLI_PATH) {
   const auto out = dir / "cli.stdout", err = dir / "cli.stderr";
-  const std::string cmd = "cd '" + dir.string() + "' && '" + std::string(KC_CLI_PATH) + "' " + args + " > '" + out.string() +
-                          "' 2> '" + err.string() + "' < /dev/null";
+  const std::string cmd =
+      "cd '" + dir.string() + "' && '" + cli + "' " + args + " > '" + out.string() + "' 2> '" + err.string() + "' < /dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -434,6 +434,22 @@ TEST(BindPanel, LocalityShownIsTheBindsUnderAutoSpacing) {
   EXPECT_DOUBLE_EQ(spacingPlan(state).locality, automaticLocality(cage.C));
 }
 
+/// A backend registered by a file of its own (tests/support/mvc_backend.cpp, linked into this test)
+/// gets its radio button beside KC and LBC, and its described parameter as the panel's widget.
+TEST(BindPanel, ARegisteredBackendShowsItsSwitchAndItsParameters) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  for (const char* label : {"KC", "LBC", "MVC", "Auto sigma"}) EXPECT_TRUE(s->widgets.count(label)) << label;
+  EXPECT_FALSE(s->widgets.count("MVC snap"));
+  gui.clickLabel(*s, "MVC", draw);
+  EXPECT_EQ(s->bindParams.backend, "mvc");
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_TRUE(s->widgets.count("MVC snap"));
+  EXPECT_FALSE(s->widgets.count("Auto sigma"));  // the kc backend's own parameters are gone
+}
+
 /// "Local targets" switches the screening and the targets' floor together: off binds the smooth,
 /// far-reaching targets, on again the local default.
 TEST(BindPanel, LocalTargetsSwitchesTheScreeningAndTheFloor) {

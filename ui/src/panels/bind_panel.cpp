@@ -31,22 +31,17 @@ bool enumCombo(const char* label, E& value, const E (&values)[N], const char* ti
   return changed;
 }
 
-/// The backend switch: kernel coordinates or local barycentric coordinates for the next Bind.
+/// The backend switch: one radio button per backend (app::backendNames) for the next Bind.
 void backendSwitch(AppState& state) {
   app::BindParams& p = state.bindParams;
   ImGui::TextUnformatted("Weights");
   tooltip("Which method computes the influence of each cage point at the next Bind.");
-  ImGui::SameLine();
-  if (radio(state, "KC##backend", p.backend == "kc",
-            "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush, "
-            "switch the method (QP / QEC / L1) and move everything outside the cage."))
-    p.backend = "kc";
-  ImGui::SameLine();
-  if (radio(state, "LBC##backend", p.backend == "lbc",
-            "Local barycentric coordinates (LBC paper): each point pulls only on the part of the shape near it. "
-            "Computed once on a triangle mesh of the cage's inside: no brush, no method switch, and no "
-            "influence outside the cage (the outside is kept or pinned)."))
-    p.backend = "lbc";
+  for (const std::string_view name : app::backendNames()) {
+    const app::Backend& backend = app::backendFor(name);
+    ImGui::SameLine();
+    const std::string label = std::string(backend.displayName()) + "##backend";
+    if (radio(state, label.c_str(), p.backend == name, std::string(backend.tooltip()).c_str())) p.backend = std::string(name);
+  }
 }
 
 /// "2.1-11.3 px" for a graded spacing (the smallest and the largest), "11.3 px" for one spacing.
@@ -89,23 +84,39 @@ std::string plannedSpacingTip(const AppState::ShownSpacing& plan, bool mesh) {
   return text;
 }
 
-/// The LBC solver's parameters (the "lbc" backend, and Initialization = lbc of the kc backend).
-void lbcControls(AppState& state) {
-  app::LbcParams& l = state.bindParams.lbc;
-  static constexpr LbcTau taus[] = {LbcTau::Square, LbcTau::Constant, LbcTau::Linear, LbcTau::Sqrt};
-  enumCombo("LBC locality", l.tau, taus,
-            "How strongly an influence far from its point is penalized (tau of the distance inside the shape, LBC eq. 11): "
-            "square: most local (recommended); linear and sqrt: less local; const: no distance weighting.");
-  markWidget(state, "LBC locality");
-  float tolerance = static_cast<float>(l.tolerance);
-  if (ImGui::SliderFloat("LBC tolerance", &tolerance, 1e-5f, 1e-1f, "%.0e", ImGuiSliderFlags_Logarithmic))
-    l.tolerance = std::clamp(static_cast<double>(tolerance), 1e-5, 1e-1);
-  labelled(state, "LBC tolerance",
-           "When the solver may stop: its residuals (RMS per point, picture scaled to size 1) below this, and the "
-           "result certified within 0.1% of the best possible. Smaller: slower, barely different (default 1e-3).");
-  int iterations = l.maxIterations;
-  if (ImGui::InputInt("Max iterations", &iterations, 1000, 10000)) l.maxIterations = std::clamp(iterations, 1, 1'000'000);
-  labelled(state, "Max iterations", "The solver gives up after this many iterations and Bind reports it (default 20000).");
+/// A backend's described parameters (app::BackendParameter), one widget each.
+void parameterControls(AppState& state, const app::Backend& backend) {
+  app::BindParams& p = state.bindParams;
+  for (const app::BackendParameter& parameter : backend.parameters()) {
+    const char* label = parameter.label.c_str();
+    const double value = app::parameterValue(backend, parameter, p);
+    double changed = value;
+    switch (parameter.type) {
+      case app::BackendParameter::Type::Choice:
+        if (ImGui::BeginCombo(label, app::parameterText(parameter, value).c_str())) {
+          for (std::size_t k = 0; k < parameter.choices.size(); ++k)
+            if (ImGui::Selectable(parameter.choices[k].c_str(), double(k) == value)) changed = double(k);
+          ImGui::EndCombo();
+        }
+        break;
+      case app::BackendParameter::Type::Integer: {
+        int v = static_cast<int>(value);
+        const int step =
+            static_cast<int>(std::max(1.0, std::pow(10.0, std::floor(std::log10(std::max(1.0, parameter.max))) - 5)));
+        if (ImGui::InputInt(label, &v, step, 10 * step)) changed = std::clamp(double(v), parameter.min, parameter.max);
+        break;
+      }
+      case app::BackendParameter::Type::Number: {
+        float v = static_cast<float>(value);
+        if (ImGui::SliderFloat(label, &v, static_cast<float>(parameter.min), static_cast<float>(parameter.max),
+                               parameter.logarithmic ? "%.0e" : "%.3g", parameter.logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
+          changed = std::clamp(double(v), parameter.min, parameter.max);
+        break;
+      }
+    }
+    labelled(state, label, parameter.tooltip.c_str());
+    if (changed != value) app::setParameter(backend, parameter, p, changed);
+  }
 }
 
 /// The cage's status and the Bind row (Previous / Next bind, the cage-edited hint): above the
@@ -173,7 +184,8 @@ void drawBindPanel(AppState& state) {
   app::BindParams& p = state.bindParams;
   drawBindButtons(state);
   backendSwitch(state);
-  const bool lbc = p.backend == "lbc";
+  const app::Backend& backend = app::backendFor(p.backend);
+  const bool lbc = !backend.capabilities().outsideCage;  // a mesh of the cage's inside: the mesh wording
   ImGui::PushItemWidth(150);
   checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(lbc).c_str());
   const bool planned = !state.source.empty() && state.cageValid;
@@ -210,8 +222,8 @@ void drawBindPanel(AppState& state) {
       tooltip(plannedSpacingTip(plan, lbc).c_str());
     }
   }
-  if (lbc) {
-    lbcControls(state);
+  if (!backend.capabilities().targets) {  // the kc backend's parameters below
+    parameterControls(state, backend);
     ImGui::PopItemWidth();
     drawBoundSummary(state);
     return;
@@ -249,7 +261,7 @@ void drawBindPanel(AppState& state) {
             "inverse-distance: nearer points pull harder;\n"
             "lbc: the local influences of LBC inside the cage (as local as LBC, still paintable; slower Bind).");
   markWidget(state, "Initialization");
-  if (p.kc.init.method == InitMethod::Lbc) lbcControls(state);
+  if (p.kc.init.method == InitMethod::Lbc) parameterControls(state, app::backendFor("lbc"));  // its solver's parameters
   if (p.kc.init.method == InitMethod::HeatLinear) {
     // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
     bool screened = p.kc.locality.rule != app::Locality::Rule::Off;

@@ -6,6 +6,7 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -44,12 +45,46 @@ struct BackendCapabilities {
   std::string why;           ///< Why the missing capabilities are missing (tooltip text).
 };
 
+/// One bind parameter of a backend, described once: `kcwarp-cli bind`'s flag, the session file's
+/// key and the Bind panel's widget are made from it (backend_parameters.cpp).
+struct BackendParameter {
+  enum class Type {
+    Number,   ///< A real number in [min, max].
+    Integer,  ///< An integer in [min, max].
+    Choice,   ///< One of `choices`, by name; the value is its index.
+  };
+  std::string key;      ///< The key in the session's params.<block> and the flag --<block>-<key, '_' as '-'>.
+  std::string label;    ///< The Bind panel's label.
+  std::string help;     ///< The CLI's help text.
+  std::string tooltip;  ///< The Bind panel's tooltip (plain words).
+  Type type = Type::Number;
+  double min = 0.0, max = 0.0;       ///< The accepted range (Number, Integer), inclusive.
+  bool logarithmic = false;          ///< The panel's slider is logarithmic (Number).
+  std::vector<std::string> choices;  ///< Choice: the names, written and parsed as such.
+  double defaultValue = 0.0;         ///< What BindParams{} holds.
+  /// Where the value lives in BindParams (a backend's own struct); when empty, in
+  /// BindParams::values under "<block>.<key>".
+  std::function<double(const BindParams&)> get;
+  std::function<void(BindParams&, double)> set;
+};
+
 class Backend {
  public:
   virtual ~Backend() = default;
   /// The name in params.backend and `--backend`.
   virtual std::string_view name() const = 0;
   virtual BackendCapabilities capabilities() const = 0;
+  /// The name of the GUI's backend switch ("KC", "LBC").
+  virtual std::string_view displayName() const = 0;
+  /// What it computes, for `kcwarp-cli bind --help` and the GUI's tooltip (one sentence, no period).
+  virtual std::string_view description() const = 0;
+  /// The GUI's tooltip of the backend switch (plain words).
+  virtual std::string_view tooltip() const { return description(); }
+  /// The name of the parameters' block: the session's params.<block>, the CLI's --<block>-* flags;
+  /// "" when the backend describes no parameters.
+  virtual std::string_view parameterBlock() const { return {}; }
+  /// The backend's own bind parameters (the ones every backend shares are BindParams' fields).
+  virtual std::vector<BackendParameter> parameters() const { return {}; }
   /// Fills everything of `s` a bind computes: samples, σ, W0 (when the backend has targets), W, the
   /// field and s.reports. s.cage, s.params and the image size are set; `step` reports progress
   /// (and throws kc::Cancelled). Throws std::invalid_argument for parameters the backend rejects.
@@ -66,8 +101,26 @@ class Backend {
 
 /// The backend called `name`; throws std::invalid_argument naming the available ones.
 const Backend& backendFor(std::string_view name);
-/// Names of every available backend ("kc", "lbc").
+/// Names of every available backend: "kc", "lbc", then the registered ones in registration order.
 std::vector<std::string_view> backendNames();
+/// Makes `backend` available under its name to the CLI, the session files and the GUI (a static
+/// object of the caller's, alive until exit). Returns true, so that one line at namespace scope
+/// registers a backend:  const bool registered = kc::app::registerBackend(theBackend());
+/// Throws std::invalid_argument when the name or the parameter block is taken.
+bool registerBackend(const Backend& backend);
+/// The value of `backend`'s `parameter` in `params` (its default when BindParams::values lacks it).
+double parameterValue(const Backend& backend, const BackendParameter& parameter, const BindParams& params);
+/// Sets `backend`'s `parameter` in `params` to `value`; throws std::invalid_argument ("must be
+/// <parameterRange>") and sets nothing when the value is not one the parameter accepts.
+void setParameter(const Backend& backend, const BackendParameter& parameter, BindParams& params, double value);
+/// What `parameter` accepts, in words: "a number in [1e-12, 1]", "an integer in [1, 20]", "one of
+/// square, const".
+std::string parameterRange(const BackendParameter& parameter);
+/// The value `parameter` has in text (a choice's name, a number as written), and back (nullopt:
+/// not a value of its type; the range is checked by setParameter).
+std::string parameterText(const BackendParameter& parameter, double value);
+std::optional<double> parseParameter(const BackendParameter& parameter, std::string_view text);
+
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
 /// weights.initial → no targets, painting or method switches).
 BackendCapabilities sessionCapabilities(const Session& s);

@@ -2,6 +2,8 @@
 /// The session: everything needed to reproduce a warp (ARCHITECTURE.md, Session file).
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -114,7 +116,10 @@ struct BindParams {
   /// false: one spacing everywhere (`--uniform-spacing`; sessions written before grading existed).
   bool graded = true;
   KcParams kc;             ///< Used when backend == "kc".
-  LbcParams lbc;           ///< Used when backend == "lbc".
+  LbcParams lbc;           ///< Used when backend == "lbc" (and by the kc backend's LBC targets).
+  /// The parameters of backends that keep no struct here (BackendParameter without get/set), by
+  /// "<block>.<key>"; a parameter missing from the map has its default.
+  std::map<std::string, double, std::less<>> values;
 };
 
 /// BindParams{} with the whole frame sampled (exterior = Frame): the thesis's set-up, which the

@@ -1,0 +1,120 @@
+// The backends kcwarp knows (the built-in ones and those registered with registerBackend) and the
+// generic handling of a backend's described parameters (BackendParameter).
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "backends.h"
+#include "kc/app/backend.h"
+#include "kc/app/text.h"
+
+namespace kc::app {
+namespace {
+
+std::vector<const Backend*>& registry() {
+  static std::vector<const Backend*> backends{&kcBackend(), &lbcBackend()};
+  return backends;
+}
+
+std::string valuesKey(const Backend& backend, const BackendParameter& parameter) {
+  return std::string(backend.parameterBlock()) + "." + parameter.key;
+}
+
+}  // namespace
+
+const Backend& backendFor(std::string_view name) {
+  for (const Backend* b : registry())
+    if (name == b->name()) return *b;
+  std::string names;
+  for (const std::string_view n : backendNames()) names += (names.empty() ? "" : ", ") + std::string(n);
+  throw std::invalid_argument("backend '" + std::string(name) + "' is not available (available: " + names + ")");
+}
+
+std::vector<std::string_view> backendNames() {
+  std::vector<std::string_view> names;
+  for (const Backend* b : registry()) names.push_back(b->name());
+  return names;
+}
+
+bool registerBackend(const Backend& backend) {
+  for (const Backend* b : registry()) {
+    if (b->name() == backend.name())
+      throw std::invalid_argument("backend '" + std::string(backend.name()) + "' is registered twice");
+    if (!backend.parameterBlock().empty() && b->parameterBlock() == backend.parameterBlock())
+      throw std::invalid_argument("backend '" + std::string(backend.name()) + "': parameter block '" +
+                                  std::string(backend.parameterBlock()) + "' is taken by '" + std::string(b->name()) + "'");
+  }
+  registry().push_back(&backend);
+  return true;
+}
+
+double parameterValue(const Backend& backend, const BackendParameter& parameter, const BindParams& params) {
+  if (parameter.get) return parameter.get(params);
+  const auto it = params.values.find(valuesKey(backend, parameter));
+  return it == params.values.end() ? parameter.defaultValue : it->second;
+}
+
+std::string parameterRange(const BackendParameter& parameter) {
+  switch (parameter.type) {
+    case BackendParameter::Type::Choice: {
+      std::string list;
+      for (const std::string& c : parameter.choices) list += (list.empty() ? "" : ", ") + c;
+      return "one of " + list;
+    }
+    case BackendParameter::Type::Integer: {
+      char text[64];
+      std::snprintf(text, sizeof text, "an integer in [%.0f, %.0f]", parameter.min, parameter.max);
+      return text;
+    }
+    case BackendParameter::Type::Number:
+      break;
+  }
+  return "a number in [" + shortNumber(parameter.min) + ", " + shortNumber(parameter.max) + "]";
+}
+
+void setParameter(const Backend& backend, const BackendParameter& parameter, BindParams& params, double value) {
+  const bool whole = std::isfinite(value) && value == std::round(value);
+  const bool ok = parameter.type == BackendParameter::Type::Choice
+                      ? whole && value >= 0.0 && value < static_cast<double>(parameter.choices.size())
+                      : std::isfinite(value) && value >= parameter.min && value <= parameter.max &&
+                            (parameter.type != BackendParameter::Type::Integer || whole);
+  if (!ok) throw std::invalid_argument("must be " + parameterRange(parameter));
+  if (parameter.set) parameter.set(params, value);
+  else params.values[valuesKey(backend, parameter)] = value;
+}
+
+std::string parameterText(const BackendParameter& parameter, double value) {
+  if (parameter.type == BackendParameter::Type::Choice) {
+    const auto k = static_cast<std::size_t>(value);
+    return value >= 0.0 && k < parameter.choices.size() ? parameter.choices[k] : "unknown";
+  }
+  char text[32];
+  if (parameter.type == BackendParameter::Type::Integer) {
+    std::snprintf(text, sizeof text, "%.0f", value);
+    return text;
+  }
+  for (int digits = 15; digits <= 17; ++digits) {  // the shortest text that reads back as `value`
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+std::optional<double> parseParameter(const BackendParameter& parameter, std::string_view text) {
+  if (parameter.type == BackendParameter::Type::Choice) {
+    for (std::size_t k = 0; k < parameter.choices.size(); ++k)
+      if (parameter.choices[k] == text) return static_cast<double>(k);
+    return std::nullopt;
+  }
+  const std::string s(text);
+  char* end = nullptr;
+  const double value = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace kc::app
