@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "kc/app/pipeline.h"
@@ -107,10 +108,22 @@ void parameterControls(AppState& state, const app::Backend& backend) {
         break;
       }
       case app::BackendParameter::Type::Number: {
-        float v = static_cast<float>(value);
-        if (ImGui::SliderFloat(label, &v, static_cast<float>(parameter.min), static_cast<float>(parameter.max),
-                               parameter.logarithmic ? "%.0e" : "%.3g", parameter.logarithmic ? ImGuiSliderFlags_Logarithmic : 0))
-          changed = std::clamp(double(v), parameter.min, parameter.max);
+        if (!parameter.logarithmic) {
+          float v = static_cast<float>(value);
+          if (ImGui::SliderFloat(label, &v, static_cast<float>(parameter.min), static_cast<float>(parameter.max), "%.3g"))
+            changed = std::clamp(double(v), parameter.min, parameter.max);
+          break;
+        }
+        // A slider over log10 of the value, showing the value (ImGui's own logarithmic slider
+        // squeezes ranges that start far below 1 against its left end); values snap to one digit.
+        char shown[32];
+        std::snprintf(shown, sizeof shown, "%.0e", value);
+        float e = static_cast<float>(std::log10(value));
+        if (ImGui::SliderFloat(label, &e, static_cast<float>(std::log10(parameter.min)),
+                               static_cast<float>(std::log10(parameter.max)), shown)) {
+          std::snprintf(shown, sizeof shown, "%.0e", std::pow(10.0, double(e)));
+          changed = std::clamp(std::strtod(shown, nullptr), parameter.min, parameter.max);
+        }
         break;
       }
     }
