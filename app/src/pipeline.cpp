@@ -409,7 +409,7 @@ OptimizeReport reoptimize(Session& session, Method method, std::span<const Index
 void refreshField(Session& session) { backendFor(session.params.backend).rebuildField(session); }
 
 void releaseFactorization(Session& session) {
-  if (auto* kernel = dynamic_cast<KernelField*>(session.field.get())) kernel->releaseFactorization();
+  if (session.field) session.field->releaseWorkspace();
 }
 
 }  // namespace kc::app

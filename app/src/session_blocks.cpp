@@ -172,14 +172,16 @@ Weights getWeights(const json& block, const std::string& key, Index n, Index m, 
 
 json fieldToJson(const Session& s, WeightsForm form) {
   if (!s.field) return nullptr;
-  if (const auto* mesh = dynamic_cast<const MeshField*>(s.field.get())) {
+  if (s.field->kind() == "mesh") {
+    const auto* mesh = static_cast<const MeshField*>(s.field.get());
     json tris = json::array();
     for (const auto& t : mesh->triangles()) tris.push_back({t[0], t[1], t[2]});
     json block = {{"kind", "mesh"}, {"vertices", pointsToJson(mesh->vertices())}, {"triangles", tris}};
     putWeights(block, "weights", mesh->vertexWeights(), form);
     return block;
   }
-  if (const auto* kernel = dynamic_cast<const KernelField*>(s.field.get())) {
+  if (s.field->kind() == "kernel") {
+    const auto* kernel = static_cast<const KernelField*>(s.field.get());
     const KernelInterpolator& k = kernel->interpolator();
     json block = {{"kind", "kernel"},
                   {"nodes", "samples"},

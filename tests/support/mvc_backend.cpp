@@ -28,6 +28,7 @@ class MvcField final : public CoordinateField {
   Index nodes() const override { return m_C.rows(); }
   bool ready() const override { return true; }
   FieldDomain domain() const override { return FieldDomain::Mesh; }
+  std::string_view kind() const override { return "mvc"; }
 
   bool contains(const Vec2& p) const override {  // even-odd rule, points on an edge inside
     bool inside = false;

@@ -6,6 +6,7 @@
 /// and MeshField (a triangle mesh with per-vertex weights, barycentric interpolation).
 
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "kc/core/kernel/kernel_matrix.h"
@@ -37,6 +38,11 @@ class CoordinateField {
 
   /// Which kind of domain the field has.
   virtual FieldDomain domain() const = 0;
+  /// The field's kind, as a session file's `field.kind` names it ("kernel", "mesh").
+  virtual std::string_view kind() const = 0;
+  /// Frees memory that only update() needs (a factorization); the field evaluates as before and
+  /// update() rebuilds it. Default: nothing to free.
+  virtual void releaseWorkspace() {}
   /// True when p lies in the domain (always for FieldDomain::Plane).
   virtual bool contains(const Vec2& p) const = 0;
 

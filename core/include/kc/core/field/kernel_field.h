@@ -44,6 +44,8 @@ class KernelField final : public CoordinateField {
   void gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const override;
   RowMatrix coefficientColumns(std::span<const Index> columns = {}) const override;
   FieldDomain domain() const override { return FieldDomain::Plane; }
+  std::string_view kind() const override { return "kernel"; }
+  void releaseWorkspace() override { releaseFactorization(); }
   bool contains(const Vec2&) const override { return true; }
 
   /// U, B for the sample weights W (#S×m): all columns (solve, 6.2) when `columns` is empty or the

@@ -28,6 +28,7 @@ class MeshField final : public CoordinateField {
   void gradientOperators(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const override;
   RowMatrix coefficientColumns(std::span<const Index> columns = {}) const override;
   FieldDomain domain() const override { return FieldDomain::Mesh; }
+  std::string_view kind() const override { return "mesh"; }
   bool contains(const Vec2& p) const override { return locate(p) >= 0; }
   /// Copies columns `columns` (all when empty) of the vertex weights W (#V×m).
   void update(const Weights& W, std::span<const Index> columns = {}) override;
