@@ -192,6 +192,29 @@ TEST(PinnedOutside, AStickFiguresLimbsMoveWithTheFieldAndTheBorderStays) {
     EXPECT_EQ((F.row(corner) - R.row(corner)).norm(), 0.0);
 }
 
+/// While a point is dragged (DeformPass::Live), each repair of the background's folds continues from
+/// the last picture when that one had no fold, and ends fold-free; a final pass starts from rest.
+/// The L's arm corner (control 3) pulled past its distance to the border folds the harmonic
+/// background next to it (see armPose).
+TEST(PinnedOutside, ALiveDragRepairsFromTheLastFoldFreePicture) {
+  WarpMesh mesh = meshWithMeanValue(lCage(), OutsideMode::Pinned);
+  Pose pose = restPose(8);
+  int folding = 0;
+  for (int k = 1; k <= 12; ++k) {
+    pose[3] = {Vec2(2.0 * k, -2.0 * k), 0.0};
+    const DeformReport r = mesh.deform(pose, DeformPass::Live);
+    EXPECT_EQ(r.repairedFolds, 0) << "step " << k;
+    if (r.harmonicFolds == 0) continue;
+    ++folding;
+    EXPECT_TRUE(r.repairWarmStart) << "step " << k << ": the picture before had no fold";
+  }
+  ASSERT_GE(folding, 3) << "the drag must fold the harmonic background for this test to mean anything";
+  const DeformReport final = mesh.deform(pose, DeformPass::Final);
+  EXPECT_GT(final.harmonicFolds, 0);
+  EXPECT_EQ(final.repairedFolds, 0);
+  EXPECT_FALSE(final.repairWarmStart);
+}
+
 TEST(PinnedOutside, ParsesAndIsTheDefault) {
   OutsideMode m = OutsideMode::Deform;
   EXPECT_TRUE(parseName("pinned", m));
