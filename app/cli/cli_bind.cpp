@@ -128,10 +128,11 @@ void runBind(const BindArgs& a) {
   }
   if (a.spacingOption && a.spacingOption->count() == 0) {
     p.spacing = app::automaticSpacing(cage, w, h, p);
-    if (p.kc.init.method == InitMethod::Lbc && p.backend == "kc")
-      std::printf("spacing: automatic %.3g px, the LBC mesh %.3g px (a sample budget of %.0f over the cage and a band around it "
-                  "sets the mesh; the samples are %.3g times as far apart; --spacing overrides)\n",
-                  p.spacing, p.spacing / app::kLbcTargetSampling, app::kAutoSpacingSamples, app::kLbcTargetSampling);
+    if (const double mesh = app::weightSpacing(p); mesh != p.spacing)  // the kc backend's LBC targets
+      std::printf(
+          "spacing: automatic %.3g px, the LBC mesh %.3g px (a sample budget of %.0f over the cage and a band around it "
+          "sets the mesh; the samples are %.3g times as far apart; --spacing overrides)\n",
+          p.spacing, mesh, app::kAutoSpacingSamples, p.spacing / mesh);
     else if (p.spacing != a.spacing && !app::backendFor(p.backend).capabilities().outsideCage)
       std::printf("spacing: automatic %.3g px (an LBC mesh of about %.0f vertices over the cage interior; --spacing overrides)\n",
                   p.spacing, app::kAutoLbcVertices);
@@ -139,7 +140,7 @@ void runBind(const BindArgs& a) {
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
                   p.spacing, app::kAutoSpacingSamples);
   }
-  if (const std::string warning = p.backend == "kc" ? app::narrowFeatureWarning(cage, p.spacing, p) : ""; !warning.empty()) {
+  if (const std::string warning = app::backendFor(p.backend).narrowPlaceWarning(cage, p); !warning.empty()) {
     std::fflush(stdout);
     std::fprintf(stderr, "kcwarp-cli: warning: %s\n", warning.c_str());
   }

@@ -124,6 +124,13 @@ class KcBackend final : public Backend {
   std::string_view name() const override { return "kc"; }
   std::string_view displayName() const override { return "KC"; }
   std::string_view description() const override { return "kernel coordinates"; }
+  /// With LBC targets (`--init lbc`) the weights' detail is the LBC mesh's, coarser than the samples.
+  double weightSpacing(const BindParams& params) const override {
+    return params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
+  }
+  std::string narrowPlaceWarning(const Cage& cage, const BindParams& params) const override {
+    return narrowFeatureWarning(cage, params.spacing, params);
+  }
   std::string_view tooltip() const override {
     return "Kernel coordinates: smooth influences over the whole picture. You can paint them with the brush, switch the "
            "method (QP / QEC / L1) and move everything outside the cage.";

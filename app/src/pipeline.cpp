@@ -253,9 +253,7 @@ sampling::ExteriorExtent exteriorFor(OutsideMode outside) {
   return outside == OutsideMode::Deform ? sampling::ExteriorExtent::Frame : sampling::ExteriorExtent::Band;
 }
 
-double weightSpacing(const BindParams& params) {
-  return params.backend == "kc" && params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
-}
+double weightSpacing(const BindParams& params) { return backendFor(params.backend).weightSpacing(params); }
 
 double automaticSpacing(const Cage& cage, int width, int height, const BindParams& params, double budget) {
   if (!backendFor(params.backend).capabilities().outsideCage) {  // the LBC mesh of the cage interior

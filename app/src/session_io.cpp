@@ -302,7 +302,7 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
   if (params.contains("lbc_mesh_spacing")) {
     s.lbcMeshSpacing = detail::boundedNumber(params["lbc_mesh_spacing"], kMaxCoordinate, where, "params.lbc_mesh_spacing");
     if (!(s.lbcMeshSpacing > 0.0)) throw InputError(where, "params.lbc_mesh_spacing must be a positive number of pixels");
-  } else if (p.backend == "kc" && p.kc.init.method == InitMethod::Lbc) {
+  } else if (backendFor(p.backend).weightSpacing(p) != p.spacing) {  // the kc backend's LBC targets
     s.lbcMeshSpacing = p.spacing;  // written before the samples were made denser than the LBC mesh: the mesh was at h
   }
   if (params.contains("margin")) p.margin = detail::boundedNumber(params["margin"], kMaxCoordinate, where, "params.margin");

@@ -296,7 +296,7 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
   const app::Structure lines = app::keptStructure(state.lines, app::backendFor(params.backend).capabilities());
   const app::Structure boundLines = previous ? previous->structure : app::Structure{};
   const std::string narrow =
-      params.backend == "kc" ? app::narrowFeatureWarning(cage, params.spacing, app::effectiveBindParams(cage, lines, params)) : "";
+      app::backendFor(params.backend).narrowPlaceWarning(cage, app::effectiveBindParams(cage, lines, params));
   const std::string image = state.imagePath;
   const bool upright = state.imageUpright;
   WarpMeshOptions meshOptions = app::warpMeshOptionsFor(w, h, app::weightSpacing(params), state.outside);

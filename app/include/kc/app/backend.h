@@ -85,6 +85,12 @@ class Backend {
   virtual std::string_view parameterBlock() const { return {}; }
   /// The backend's own bind parameters (the ones every backend shares are BindParams' fields).
   virtual std::vector<BackendParameter> parameters() const { return {}; }
+  /// The spacing of the weights' detail a bind with `params` gives, which the warp mesh follows
+  /// (app::weightSpacing). Default: params.spacing.
+  virtual double weightSpacing(const BindParams& params) const { return params.spacing; }
+  /// A warning that the cage has a place narrower than a bind with `params` resolves ("" when
+  /// none, the default): `kcwarp-cli bind` prints it, the GUI shows it.
+  virtual std::string narrowPlaceWarning(const Cage&, const BindParams&) const { return {}; }
   /// Fills everything of `s` a bind computes: samples, σ, W0 (when the backend has targets), W, the
   /// field and s.reports. s.cage, s.params and the image size are set; `step` reports progress
   /// (and throws kc::Cancelled). Throws std::invalid_argument for parameters the backend rejects.
