@@ -38,9 +38,13 @@ struct BindArgs {
   CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
   std::uint64_t seed = kDefaults.seed;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
-  /// The backends' described parameters (--<block>-<key>): "<backend>\n<key>" → the text given.
-  std::map<std::string, std::string> backendValues;
-  std::map<std::string, CLI::Option*> backendOptions;
+  /// The backends' described parameters (--<block>-<key>), by "<backend>\n<key>": the text given
+  /// (the default's when not) and the option, which says whether it was given.
+  struct BackendOption {
+    std::string text;
+    CLI::Option* option = nullptr;
+  };
+  std::map<std::string, BackendOption> backendOptions;
 };
 
 /// Sets the backends' parameters given on the command line (each refused with its flag's name).
@@ -49,10 +53,10 @@ void setBackendParameters(const BindArgs& a, app::BindParams& p) {
     const app::Backend& backend = app::backendFor(name);
     for (const app::BackendParameter& parameter : backend.parameters()) {
       const std::string id = std::string(name) + "\n" + parameter.key;
-      const auto option = a.backendOptions.find(id);
-      if (option == a.backendOptions.end() || option->second->count() == 0) continue;
-      const std::string flag = option->second->get_name();
-      const std::optional<double> value = app::parseParameter(parameter, a.backendValues.at(id));
+      const auto found = a.backendOptions.find(id);
+      if (found == a.backendOptions.end() || found->second.option->count() == 0) continue;
+      const std::string flag = found->second.option->get_name();
+      const std::optional<double> value = app::parseParameter(parameter, found->second.text);
       if (!value) throw app::InputError(flag, "must be " + app::parameterRange(parameter));
       app::asUserInput(flag, [&] { app::setParameter(backend, parameter, p, *value); });
     }
@@ -72,11 +76,12 @@ void addBackendOptions(CLI::App* sub, BindArgs* a) {
         help += ":";
         for (std::size_t k = 0; k < parameter.choices.size(); ++k) help += (k ? " | " : " ") + parameter.choices[k];
       }
-      a->backendValues[id] = app::parameterText(parameter, parameter.defaultValue);
+      BindArgs::BackendOption& o = a->backendOptions[id];
+      o.text = app::parameterText(parameter, parameter.defaultValue);
       const char* type = parameter.type == app::BackendParameter::Type::Number    ? "FLOAT"
                          : parameter.type == app::BackendParameter::Type::Integer ? "INT"
                                                                                   : "TEXT";
-      a->backendOptions[id] = sub->add_option(flag, a->backendValues[id], help)->type_name(type)->capture_default_str();
+      o.option = sub->add_option(flag, o.text, help)->type_name(type)->capture_default_str();
     }
   }
 }

@@ -109,7 +109,14 @@ class LbcBackend final : public Backend {
   }
   std::string_view parameterBlock() const override { return "lbc"; }
 
-  std::vector<BackendParameter> parameters() const override {
+  const std::vector<BackendParameter>& parameters() const override {
+    static const std::vector<BackendParameter> described = describe();
+    return described;
+  }
+
+ private:
+  /// The tau, tolerance and iteration cap of LbcParams, described once (parameters()).
+  static std::vector<BackendParameter> describe() {
     using Type = BackendParameter::Type;
     const LbcParams defaults;
     const auto named = [](const char* key, const char* label, const char* help, const char* tooltip) {
@@ -146,6 +153,7 @@ class LbcBackend final : public Backend {
     return list;
   }
 
+ public:
   BackendCapabilities capabilities() const override {
     BackendCapabilities c;
     c.why = "LBC weights are solved once on a mesh of the cage interior: there are no per-sample target weights to "

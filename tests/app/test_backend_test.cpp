@@ -35,7 +35,7 @@ TEST(TestBackend, BindsThroughThePipelineWithItsParameter) {
   app::BindParams p;
   p.backend = "mvc";
   const app::Backend& mvc = app::backendFor("mvc");
-  const app::BackendParameter snap = mvc.parameters().front();
+  const app::BackendParameter& snap = mvc.parameters().front();  // kept by the backend
   EXPECT_EQ(app::parameterValue(mvc, snap, p), 1e-9);  // its default, not stored
   app::setParameter(mvc, snap, p, 1e-6);
   EXPECT_EQ(p.values.at("mvc.snap"), 1e-6);

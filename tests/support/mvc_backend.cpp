@@ -145,17 +145,20 @@ class MvcBackend final : public app::Backend {
 
   /// One parameter, stored in BindParams::values: the distance (pixels) within which a point counts
   /// as on the cage (Lagrange at a vertex, linear along an edge).
-  std::vector<app::BackendParameter> parameters() const override {
-    app::BackendParameter snap;
-    snap.key = "snap";
-    snap.label = "MVC snap";
-    snap.help = "Distance in pixels within which a point counts as on the cage";
-    snap.tooltip = "Points this close to the cage take the cage's own weights.";
-    snap.min = 1e-12;
-    snap.max = 1.0;
-    snap.logarithmic = true;
-    snap.defaultValue = 1e-9;
-    return {snap};
+  const std::vector<app::BackendParameter>& parameters() const override {
+    static const std::vector<app::BackendParameter> described = [] {
+      app::BackendParameter snap;
+      snap.key = "snap";
+      snap.label = "MVC snap";
+      snap.help = "Distance in pixels within which a point counts as on the cage";
+      snap.tooltip = "Points this close to the cage take the cage's own weights.";
+      snap.min = 1e-12;
+      snap.max = 1.0;
+      snap.logarithmic = true;
+      snap.defaultValue = 1e-9;
+      return std::vector<app::BackendParameter>{snap};
+    }();
+    return described;
   }
 
   app::BackendCapabilities capabilities() const override {

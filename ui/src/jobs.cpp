@@ -216,21 +216,15 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
                     sameLines(shown.lines, state.lines) && sameRigid(shown.lines, state.lines);
   if (!same) {
     const int w = state.source.width, h = state.source.height;
-    const app::Locality& l = p.kc.locality;
-    const double locality = l.rule == app::Locality::Rule::Spacings ? l.value * state.bindParams.spacing
-                            : l.rule == app::Locality::Rule::Pixels ? l.value
-                                                                    : 0.0;  // refined below for a valid cage
-    shown = {state.cage.C,
-             w,
-             h,
-             p,
-             state.lines,
-             state.bindParams.spacing,
-             state.bindParams.spacing,
-             0.0,
-             locality,
-             state.cage.closed,
-             state.cageValid};
+    shown = {
+        state.cage.C,   w, h, p, state.lines, state.bindParams.spacing, state.bindParams.spacing, 0.0, 0.0, state.cage.closed,
+        state.cageValid};
+    try {  // at the slider's spacing until the bind's is known (below)
+      app::BindParams slider = p;
+      slider.spacing = state.bindParams.spacing;
+      shown.locality = app::locality(state.cage, slider).value_or(0.0);
+    } catch (const std::exception&) {  // a locality the bind refuses: it says why
+    }
     if (state.cageValid && w > 0 && h > 0) {
       try {
         // The parameters and the sizing field the bind will sample or mesh with (the LBC backend

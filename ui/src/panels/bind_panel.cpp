@@ -198,15 +198,15 @@ void drawBindPanel(AppState& state) {
   drawBindButtons(state);
   backendSwitch(state);
   const app::Backend& backend = app::backendFor(p.backend);
-  const bool lbc = !backend.capabilities().outsideCage;  // a mesh of the cage's inside: the mesh wording
+  const bool mesh = !backend.capabilities().outsideCage;  // the weights live on a mesh of the cage's inside
   ImGui::PushItemWidth(150);
-  checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(lbc).c_str());
+  checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(mesh).c_str());
   const bool planned = !state.source.empty() && state.cageValid;
   if (state.autoSpacing && planned) {
     const AppState::ShownSpacing& plan = spacingPlan(state);
     ImGui::SameLine();
     ImGui::TextDisabled("%s", spacingRange(plan.minSpacing, plan.spacing).c_str());
-    tooltip(plannedSpacingTip(plan, lbc).c_str());
+    tooltip(plannedSpacingTip(plan, mesh).c_str());
   }
   // What the next bind uses: the automatic spacing under Auto spacing, else the slider's.
   const double bindSpacing = state.autoSpacing && planned ? spacingPlan(state).spacing : p.spacing;
@@ -216,11 +216,11 @@ void drawBindPanel(AppState& state) {
   if (ImGui::SliderFloat("Spacing h", &spacing, 2.0f, 40.0f, "%.1f px", ImGuiSliderFlags_Logarithmic)) p.spacing = spacing;
   ImGui::EndDisabled();
   std::string tip = state.autoSpacing ? "Chosen automatically (Auto spacing); untick Auto spacing to set it."
-                    : lbc ? "Edge length of the triangle mesh of the cage's inside away from narrow places, in pixels. "
-                            "Smaller: finer detail, slower Bind. Larger: faster, coarser."
-                          : "Distance between the sample points the weights are computed at, away from narrow places, in "
-                            "pixels. Smaller: finer detail, slower Bind. Larger: faster, smoother.";
-  if (!lbc && p.kc.init.method == InitMethod::Lbc) {
+                    : mesh ? "Edge length of the triangle mesh of the cage's inside away from narrow places, in pixels. "
+                             "Smaller: finer detail, slower Bind. Larger: faster, coarser."
+                           : "Distance between the sample points the weights are computed at, away from narrow places, in "
+                             "pixels. Smaller: finer detail, slower Bind. Larger: faster, smoother.";
+  if (!mesh && p.kc.init.method == InitMethod::Lbc) {
     char line[128];
     std::snprintf(line, sizeof line, " With LBC initialization the LBC mesh's edges are %.3g times this spacing.",
                   1.0 / app::kLbcTargetSampling);
@@ -232,7 +232,7 @@ void drawBindPanel(AppState& state) {
     const AppState::ShownSpacing& plan = spacingPlan(state);
     if (plan.minSpacing < plan.spacing - 0.05) {
       ImGui::TextDisabled("Used: %s", spacingRange(plan.minSpacing, plan.spacing).c_str());
-      tooltip(plannedSpacingTip(plan, lbc).c_str());
+      tooltip(plannedSpacingTip(plan, mesh).c_str());
     }
   }
   if (!backend.capabilities().targets) {  // the kc backend's parameters below

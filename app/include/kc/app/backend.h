@@ -83,8 +83,12 @@ class Backend {
   /// The name of the parameters' block: the session's params.<block>, the CLI's --<block>-* flags;
   /// "" when the backend describes no parameters.
   virtual std::string_view parameterBlock() const { return {}; }
-  /// The backend's own bind parameters (the ones every backend shares are BindParams' fields).
-  virtual std::vector<BackendParameter> parameters() const { return {}; }
+  /// The backend's own bind parameters (the ones every backend shares are BindParams' fields):
+  /// built once and kept (the Bind panel reads them every frame).
+  virtual const std::vector<BackendParameter>& parameters() const {
+    static const std::vector<BackendParameter> none;
+    return none;
+  }
   /// The spacing of the weights' detail a bind with `params` gives, which the warp mesh follows
   /// (app::weightSpacing). Default: params.spacing.
   virtual double weightSpacing(const BindParams& params) const { return params.spacing; }
