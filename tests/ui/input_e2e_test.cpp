@@ -2,7 +2,8 @@
 // slowed on purpose (--slow-frames), clicked by xdotool faster than it draws. The window's mouse
 // callbacks queue each press and release with its position (AppState::pointerInputs), so every
 // click reaches the tool, where ImGui's once-per-frame mouse would merge those of one frame; keys
-// tapped between two frames reach the shortcuts and the file dialog (AppState::tappedKeys), and
+// tapped between two frames reach the shortcuts and the file dialog (AppState::tappedKeys), the
+// side panel's widgets get a button change per frame (feedMouse in window.cpp), and
 // input that arrives while the window draws its last frames after an event gets frames of its own.
 #include <cmath>
 #include <fstream>
@@ -57,6 +58,48 @@ TEST_F(GuiSession, CageClicksFasterThanTheFramesAllArrive) {
   const std::vector<double> ms = frameTimes(dir / "frames.csv");
   ASSERT_GE(ms.size(), 2u);
   EXPECT_GE(*std::min_element(ms.begin(), ms.end()), 290.0);
+}
+
+TEST_F(GuiSession, SidePanelClicksFasterThanTheFramesAllArrive) {
+  // Frames of 300 ms; the Bind panel's three check boxes clicked once each, 100 ms apart, three
+  // times over: two or three clicks fall in each frame, on different widgets. Each box must flip
+  // with each click (ImGui alone would see one click per frame, at the last place, or a press on
+  // one box released on the next).
+  startOnPlainPicture(600, 400, {"--slow-frames", "300"});
+  json s = waitFor([](const json& j) { return !j.value("image_size", json::array()).empty() && j.value("idle", false); });
+  const std::vector<std::string> boxes = {"Auto spacing", "Auto sigma", "Local targets"};
+  const std::vector<std::string> keys = {"auto_spacing", "auto_sigma", "local_targets"};
+  std::vector<Vec2> at;
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    ASSERT_TRUE(s["widgets"].contains(boxes[k])) << boxes[k] << " not drawn";
+    ASSERT_TRUE(s["bind_switches"][keys[k]].get<bool>()) << keys[k] << " is off at start";
+    // A check box's item takes its label too: a click on the item's centre flips it.
+    const double cx = s["widgets"][boxes[k]][0], cy = s["widgets"][boxes[k]][1];
+    at.emplace_back(cx, cy);
+  }
+  const int wx = s["window"][0], wy = s["window"][1];
+  for (int round = 1; round <= 3; ++round) {
+    for (const Vec2& p : at) {
+      xdo("mousemove " + std::to_string(int(std::lround(p.x())) + wx) + " " + std::to_string(int(std::lround(p.y())) + wy) +
+          " click 1");
+      pause(100);
+    }
+    const bool on = round % 2 == 0;
+    bool ok = false;
+    s = waitUntil(
+        [&](const json& j) {
+          if (!j.value("idle", false)) return false;
+          for (const std::string& k : keys)
+            if (j["bind_switches"][k].get<bool>() != on) return false;
+          return true;
+        },
+        10, ok);
+    EXPECT_TRUE(ok) << "round " << round << ": " << s["bind_switches"].dump();
+  }
+  shutDown();
+  const std::vector<double> ms = frameTimes(dir / "frames.csv");
+  ASSERT_GE(ms.size(), 2u);
+  EXPECT_GE(*std::min_element(ms.begin(), ms.end()), 290.0) << "the frames were not slowed";
 }
 
 TEST_F(GuiSession, ADragFasterThanTheFramesEndsWhereTheMouseWasReleased) {

@@ -26,6 +26,9 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
               : state.tool == Tool::Rigid ? "rigid"
                                           : "cage";
   j["method"] = std::string(app::toString(state.method));
+  j["bind_switches"] = {{"auto_spacing", state.autoSpacing},  // the Bind panel's kc check boxes
+                        {"auto_sigma", !(state.bindParams.kc.sigma > 0.0)},
+                        {"local_targets", state.bindParams.kc.locality.rule != app::Locality::Rule::Off}};
   j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
   j["lbc_mesh"] = state.reports.lbcMesh;         // LBC mesh vertices of the bound session, 0 when not LBC
   j["window"] = {window[0], window[1], window[2], window[3]};

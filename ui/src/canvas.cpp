@@ -178,7 +178,9 @@ void handleCanvasInput(AppState& state) {
     }
   }
   // A release the queue did not carry (the window lost the button while unfocused) ends the drag.
-  if (state.pointerQueued && drag.button >= 0 && !io.MouseDown[drag.button]) {
+  // GLFW's state, not ImGui's: ImGui is given the queued buttons a change per frame (feedMouse).
+  if (state.pointerQueued && drag.button >= 0 && glfwGetCurrentContext() &&
+      glfwGetMouseButton(glfwGetCurrentContext(), drag.button) != GLFW_PRESS) {
     state.pointerInputs.push_back({PointerInput::Kind::Release, drag.button, drag.lastScreen, io.KeyShift, io.KeyCtrl});
     handleCanvasInput(state);
     return;

@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -177,11 +178,15 @@ struct KeyEvent {
 };
 
 /// What the window's callbacks reach through GLFW's user pointer: the state, the key and
-/// character events not yet given to ImGui (feedKeys), and a count of every input event (the frame
-/// pacing draws a few frames after each, also after one that arrived while it polled).
+/// character events and the mouse events not yet given to ImGui (feedKeys, feedMouse), and a count
+/// of every input event (the frame pacing draws a few frames after each, also after one that
+/// arrived while it polled).
 struct WindowInput {
   AppState* state = nullptr;
   std::deque<KeyEvent> keys;
+  std::deque<PointerInput> mouse;
+  std::array<bool, 3> down{};  ///< The buttons as ImGui was last given them (feedMouse).
+  Vec2 at = Vec2::Zero();      ///< The position ImGui was last given (feedMouse).
   unsigned long events = 0;
 };
 
@@ -231,9 +236,37 @@ bool feedKeys(GLFWwindow* window, WindowInput& input) {
   return input.keys.size() != queued;
 }
 
+/// Gives ImGui the queued mouse events as far as this frame can take them (after ImGui's backend
+/// read the mouse, before ImGui::NewFrame). ImGui 1.86 reads the mouse once per frame: two clicks
+/// within one frame would be one, at the later place, and a press on one widget with its release
+/// on the next a drag between them. So a button changes at most once per frame, at the position it
+/// changed at, after the moves before it; what is left stays queued (the window draws on while it
+/// is). The canvas reads the same events all at once (AppState::pointerInputs), so both the side
+/// panel and the tools get every click at any frame rate. With nothing queued ImGui keeps what its
+/// backend read.
+void feedMouse(WindowInput& input) {
+  ImGuiIO& io = ImGui::GetIO();
+  if (input.mouse.empty()) {
+    for (std::size_t b = 0; b < input.down.size(); ++b) input.down[b] = io.MouseDown[b];
+    return;
+  }
+  while (!input.mouse.empty()) {
+    const PointerInput e = input.mouse.front();
+    input.mouse.pop_front();
+    input.at = e.screen;
+    if (e.kind == PointerInput::Kind::Move) continue;
+    bool& down = input.down[static_cast<std::size_t>(e.button)];
+    if (down == (e.kind == PointerInput::Kind::Press)) continue;
+    down = !down;
+    break;
+  }
+  io.MousePos = ImVec2(static_cast<float>(input.at.x()), static_cast<float>(input.at.y()));
+  for (std::size_t b = 0; b < input.down.size(); ++b) io.MouseDown[b] = input.down[b];
+}
+
 /// The window's input callbacks for `input`, installed after ImGui's backend installed its own:
-/// keys and characters are queued for feedKeys; mouse buttons and moves are forwarded and queued
-/// in order with their positions for the canvas (AppState::pointerInputs); dropped files are kept
+/// keys and characters are queued for feedKeys; mouse buttons and moves are queued in order with
+/// their positions for the canvas (AppState::pointerInputs) and for ImGui (feedMouse); dropped files are kept
 /// (AppState::droppedPaths). Every event counts in WindowInput::events.
 void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
   glfwSetWindowUserPointer(window, &input);
@@ -253,7 +286,7 @@ void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
   });
   input.state->pointerQueued = true;
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
-    ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);
+    ImGui_ImplGlfw_MouseButtonCallback(w, button, action, mods);  // buttons beyond the queue's three
     auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
     ++in->events;
     AppState* st = in->state;
@@ -265,6 +298,7 @@ void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
     }
     st->pointerInputs.push_back({action == GLFW_PRESS ? PointerInput::Kind::Press : PointerInput::Kind::Release, button,
                                  *st->pointerAt, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0});
+    in->mouse.push_back(st->pointerInputs.back());
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
     auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
@@ -272,6 +306,7 @@ void installInputCallbacks(GLFWwindow* window, WindowInput& input) {
     AppState* st = in->state;
     st->pointerAt = Vec2(x, y);
     st->pointerInputs.push_back({PointerInput::Kind::Move, 0, Vec2(x, y)});
+    in->mouse.push_back(st->pointerInputs.back());
   });
   glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
     AppState* st = static_cast<WindowInput*>(glfwGetWindowUserPointer(w))->state;
@@ -302,13 +337,13 @@ struct FramePacing {
   double jobSince = 0.0;  // seconds (nowSeconds) when the running job was first seen
 
   /// Polls or waits for events as above. `waitsForever`: a signal can wake a wait without timeout.
-  /// Key events still queued (feedKeys) get the next frame at once.
+  /// Key and mouse events still queued (feedKeys, feedMouse) get the next frame at once.
   void waitForEvents(const AppState& state, const WindowInput& input, bool waitsForever) {
     const bool busy = state.worker.busy();
     if (busy && !wasBusy) jobSince = nowSeconds();
     wasBusy = busy;
     const double quietLeft = busy ? kQuietJobSeconds - (nowSeconds() - jobSince) : 0.0;
-    if (!input.keys.empty() || state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
+    if (!input.keys.empty() || !input.mouse.empty() || state.canvasDrag.button >= 0 || (settleFrames > 0 && quietLeft <= 0.0)) {
       const unsigned long before = input.events;
       glfwPollEvents();
       // Input in this poll, and a drag's end, get their settle frames too (the release's full
@@ -402,6 +437,7 @@ int runWindow(const WindowOptions& o) {
       if (feedKeys(window, input)) pacing.settleFrames = 3;  // the frames ImGui takes to answer them
       ImGui_ImplOpenGL3_NewFrame();
       ImGui_ImplGlfw_NewFrame();
+      feedMouse(input);
       ImGui::NewFrame();
       const bool deformed = drawFrame(*state);
       ImGui::Render();
