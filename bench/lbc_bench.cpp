@@ -85,7 +85,7 @@ void BM_LbcSolve(benchmark::State& state) {
   state.counters["vertices"] = double(mesh.size());
   state.counters["controls"] = double(mesh.controls);
   state.counters["iterations"] = report.iterations;
-  state.counters["converged"] = report.status == LbcStatus::Converged;
+  state.counters["converged"] = report.status == SolveStatus::Ok;
   state.counters["objective"] = report.objective;
   state.counters["gap_pct"] = 100.0 * (report.objective - report.lowerBound) / report.lowerBound;
   state.counters["primal"] = report.primalResidual;

@@ -73,7 +73,7 @@ void runBatch(benchmark::State& state, Solve solve) {
       const SampleReport r = solve(p.frame, Vec2(p.X.row(j)), std::span<const double>(p.W0.row(j).data(), ms),
                                    std::span<double>(p.W.row(j).data(), ms));
       iterations += r.iterations;
-      notOptimal += r.status != SampleStatus::Optimal;
+      notOptimal += r.status != SolveStatus::Ok;
     }
     benchmark::DoNotOptimize(p.W.data());
     benchmark::ClobberMemory();

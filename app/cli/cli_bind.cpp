@@ -151,7 +151,7 @@ void runBind(const BindArgs& a) {
   }
 
   app::BindReport r;
-  app::BindProgress progress;
+  kc::StageProgress progress;
   if (stderrIsTerminal())
     progress = [](const char* stage, double f) {
       std::fprintf(stderr, "\r%-20s %3.0f%%", stage, 100.0 * f);

@@ -90,6 +90,7 @@ void runSample(const SampleArgs& a) {
     o.progress = [](double f) {
       std::fprintf(stderr, "\rrelaxing samples %3.0f%%", 100.0 * f);
       if (f >= 1.0) std::fprintf(stderr, "\n");
+      return true;
     };
   if (!a.png.empty()) {
     const std::int64_t pad = 2 * static_cast<std::int64_t>(std::ceil(std::max(0.0, std::min(sampling::resolvedMargin(o), 1e9))));

@@ -184,7 +184,7 @@ void addStatsCommand(CLI::App& app) {
     if (s.reports.lbcMesh > 0) {
       const LbcReport& r = s.reports.lbc;
       j["solver"]["lbc"] = {{"mesh_vertices", s.reports.lbcMesh},
-                            {"converged", r.status == LbcStatus::Converged},
+                            {"converged", r.status == SolveStatus::Ok},
                             {"iterations", r.iterations},
                             {"primal_residual", r.primalResidual},
                             {"dual_residual", r.dualResidual},

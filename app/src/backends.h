@@ -55,7 +55,7 @@ void installLineCorrection(const Session& s, KernelField& field);
 /// s.rigidity, holding controls and line samples. Does nothing without a positive ρ.
 /// Throws std::invalid_argument when s.rigidity does not have one entry per sample. `progress`
 /// (optional) is the QP's (RigidityQpOptions::progress: false cancels with kc::Cancelled).
-RigidityReport applyRigidity(Session& s, KernelField& field, const std::function<bool(double)>& progress = {});
+RigidityReport applyRigidity(Session& s, KernelField& field, const Progress& progress = {});
 /// Gives rows `rows` of s.W their unconstrained weights again (per-sample optimization from W0
 /// with the session's method; lines re-applied when there are lines) and re-solves the field's
 /// changed columns, which are appended to `columns`.

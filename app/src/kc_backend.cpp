@@ -148,7 +148,10 @@ class KcBackend final : public Backend {
 
     step("sampling", 0.0);
     sampling::SamplingOptions so = samplingOptions(s.imageWidth, s.imageHeight, params);
-    so.progress = [&](double f) { step("sampling", kStageStart[1] * f); };  // step throws to cancel
+    so.progress = [&](double f) {
+      step("sampling", kStageStart[1] * f);  // throws kc::Cancelled to stop
+      return true;
+    };
     if (!exactLines(params)) so.lines = s.structure.lines;  // exact lines: the field's correction, not samples
     so.sizing = s.sizing = bindSizing(s.cage, s.structure, params);
     so.gradedLines = gradedSampling(params);
@@ -186,7 +189,7 @@ class KcBackend final : public Backend {
     auto field = std::make_unique<KernelField>();
     r.factor = field->compute(s.samples.X, kernel, kc.interp, std::move(K));
     r.factor.assembleSeconds += assembleSeconds;
-    if (r.factor.status != FactorStatus::Ok)
+    if (r.factor.status != SolveStatus::Ok)
       throw std::invalid_argument("the kernel matrix cannot be factorized (sigma " + std::to_string(s.sigma) + ", spacing " +
                                   std::to_string(params.spacing) + "): " + r.factor.advice);
 
@@ -234,7 +237,7 @@ class KcBackend final : public Backend {
     }
     auto field = std::make_unique<KernelField>();
     const InterpolatorReport r = field->compute(s.samples.X, kernelFor(s.sigma, s.params.spacing, s.sizing), s.params.kc.interp);
-    if (r.status != FactorStatus::Ok)
+    if (r.status != SolveStatus::Ok)
       throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
     field->update(s.W);
     installLineCorrection(s, *field);

@@ -24,7 +24,7 @@ std::vector<char> rigidHeldSamples(const SampleSet& samples) {
   return keep;
 }
 
-RigidityReport applyRigidity(Session& s, KernelField& field, const std::function<bool(double)>& progress) {
+RigidityReport applyRigidity(Session& s, KernelField& field, const Progress& progress) {
   if (std::none_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) return {};
   if (Index(s.rigidity.size()) != s.samples.size())
     throw std::invalid_argument("the session's rigidity has " + std::to_string(s.rigidity.size()) + " entries for " +
@@ -63,7 +63,7 @@ void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index>
   if (!columns.empty()) field.update(s.W, columns);
 }
 
-RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const RigidityProgress& progress) {
+RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const StageProgress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   auto* field = dynamic_cast<KernelField*>(s.field.get());
   if (!field || !s.hasField()) throw std::invalid_argument("rigid regions need a session bound with the kernel backend (kc)");

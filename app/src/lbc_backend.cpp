@@ -50,7 +50,7 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   mo.sizing = bindSizing(cage, Structure{}, params);
   b.mesh = meshCageInterior(cage, mo);
   b.sizing = mo.sizing;
-  if (b.mesh.status != CageMeshStatus::Ok)
+  if (b.mesh.status != SolveStatus::Ok)
     throw std::invalid_argument("the LBC mesh of this cage at spacing " + shortNumber(params.spacing) + " px would have more than " +
                                 std::to_string(kMaxLbcVertices) + " vertices; use a larger --spacing");
   b.meshSeconds = secondsSince(t0);
@@ -61,23 +61,17 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
   options.tau = lbc.tau;
   options.tolerance = lbc.tolerance;
   options.maxIterations = lbc.maxIterations;
-  double shown = 0.0;
-  options.progress = [&](const LbcProgress& p) {
-    // Progress by the residual's way down to the tolerance (log scale), or the iteration share;
-    // never backwards (ADMM's residuals need not fall at every iteration).
-    const double worst = std::max(p.primalResidual, p.dualResidual);
-    const double byResidual = std::log(std::max(worst, lbc.tolerance)) / std::log(lbc.tolerance);
-    const double f = shown = std::clamp(std::max({shown, byResidual, double(p.iteration) / lbc.maxIterations}), 0.0, 1.0);
+  options.progress = [&](double f) {
     step("LBC iterations", kStageStart[2] + (1.0 - kStageStart[2]) * f);  // throws kc::Cancelled to stop
     return true;
   };
   step("LBC iterations", kStageStart[2]);
   b.result = solver.solve(options);
   const LbcReport& rep = b.result.report;
-  if (rep.status == LbcStatus::Failed)
+  if (rep.status == SolveStatus::Singular)
     throw std::invalid_argument("the LBC system of this cage's mesh cannot be factorized (degenerate triangles); "
                                 "try another --spacing");
-  if (rep.status == LbcStatus::NotConverged)
+  if (rep.status == SolveStatus::NotConverged)
     throw std::invalid_argument("LBC did not converge within " + std::to_string(rep.iterations) + " iterations (residuals " +
                                 shortNumber(rep.primalResidual) + ", " + shortNumber(rep.dualResidual) + ", tolerance " + shortNumber(lbc.tolerance) +
                                 "); raise the iteration cap (--lbc-max-iterations; the Bind panel's Max iterations) or the tolerance "
@@ -171,7 +165,7 @@ class LbcBackend final : public Backend {
     r.sampling.interior = mesh.interior();
     r.sampling.seconds = b.meshSeconds;
     r.factor = {};
-    r.factor.status = FactorStatus::Ok;
+    r.factor.status = SolveStatus::Ok;
     r.factor.factorSeconds = rep.factorSeconds;
     r.init = {};
     r.init.seconds = rep.geodesicSeconds;

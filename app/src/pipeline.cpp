@@ -345,14 +345,13 @@ void checkBindCost(const BindCost& c, const BindParams& params) {
                               shortNumber(double(kMaxKernelNonZeros)) + " non-zeros, " + byteText(double(kMaxBindBytes)) + "): " + advice);
 }
 
-
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report,
-             const BindProgress& progress) {
+             const StageProgress& progress) {
   return app::bind(cage, Structure{}, width, height, params, report, progress);
 }
 
-Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& requested,
-             BindReport* report, const BindProgress& progress) {
+Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& requested, BindReport* report,
+             const StageProgress& progress) {
   // Structure lines keep the uniform sampling where its rules accept the cage and the lines.
   const BindParams params = asUserInput("bind", [&] { return effectiveBindParams(cage, structure, requested); });
   const auto t0 = std::chrono::steady_clock::now();

@@ -16,7 +16,7 @@ namespace {
 std::vector<std::string> SolverReports::problems() const {
   std::vector<std::string> out;
   if (lbcMesh > 0) {
-    if (lbc.status != LbcStatus::Converged)
+    if (lbc.status != SolveStatus::Ok)
       out.push_back(format("LBC: not converged after %d iterations (primal %.2e, dual %.2e)", lbc.iterations,
                            lbc.primalResidual, lbc.dualResidual));
     if (lbc.projectionFailures > 0)

@@ -288,7 +288,7 @@ json reportsToJson(const SolverReports& r) {
   if (r.lbcMesh > 0) {
     const LbcReport& l = r.lbc;
     j["lbc"] = {{"mesh_vertices", r.lbcMesh},
-                {"converged", l.status == LbcStatus::Converged},
+                {"converged", l.status == SolveStatus::Ok},
                 {"iterations", l.iterations},
                 {"primal_residual", l.primalResidual},
                 {"dual_residual", l.dualResidual},
@@ -328,7 +328,7 @@ SolverReports reportsFromJson(const json& block) {
   r.optimize.maxIterations = get("optimize", "max_iterations", 0);
   if (block.contains("lbc") && block["lbc"].is_object()) {
     r.lbcMesh = get("lbc", "mesh_vertices", Index{0});
-    r.lbc.status = get("lbc", "converged", false) ? LbcStatus::Converged : LbcStatus::NotConverged;
+    r.lbc.status = get("lbc", "converged", false) ? SolveStatus::Ok : SolveStatus::NotConverged;
     r.lbc.iterations = get("lbc", "iterations", 0);
     r.lbc.primalResidual = get("lbc", "primal_residual", 0.0);
     r.lbc.dualResidual = get("lbc", "dual_residual", 0.0);

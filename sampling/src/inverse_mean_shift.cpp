@@ -268,7 +268,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
                                  ? std::log(firstMove / std::max(largest, tolerance)) / std::log(firstMove / tolerance)
                                  : 1.0;
       shown = std::max({shown, static_cast<double>(it + 1) / options.maxIterations, std::clamp(towards, 0.0, 0.99)});
-      options.progress(shown);  // every iteration: a cancel (a throw) is seen within one iteration
+      if (!options.progress(shown)) throw Cancelled();  // every iteration: a cancel is seen within one iteration
     }
     if (largest < tolerance) {
       report.converged = true;
@@ -288,7 +288,7 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
       }
     }
   }
-  if (options.progress) options.progress(1.0);
+  if (options.progress && !options.progress(1.0)) throw Cancelled();
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

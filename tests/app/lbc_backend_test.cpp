@@ -45,7 +45,7 @@ TEST(LbcBackend, BindsAMeshFieldWithItsReportAndCapabilities) {
   EXPECT_EQ(mesh->vertexWeights(), s.W);
   EXPECT_EQ(s.W0.rows(), 0);
   EXPECT_EQ(s.reports.lbcMesh, s.samples.size());
-  EXPECT_EQ(s.reports.lbc.status, LbcStatus::Converged);
+  EXPECT_EQ(s.reports.lbc.status, SolveStatus::Ok);
   EXPECT_GT(s.reports.lbc.iterations, 0);
   EXPECT_FALSE(s.outside.has_value()) << "warps default to the pinned border, as a kc session's do";
   const BackendCapabilities c = sessionCapabilities(s);

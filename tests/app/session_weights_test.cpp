@@ -219,7 +219,7 @@ TEST(SessionWeights, ALoadedFieldIsFactorizedWhenEdited) {
   field.update(W, columns);
   EXPECT_TRUE(field.factorized());
   KernelField fresh;
-  ASSERT_EQ(fresh.compute(s.samples.X, field.interpolator().kernel(), field.interpolator().mode()).status, FactorStatus::Ok);
+  ASSERT_EQ(fresh.compute(s.samples.X, field.interpolator().kernel(), field.interpolator().mode()).status, SolveStatus::Ok);
   fresh.update(W);
   const Points P = probePoints();
   EXPECT_LT((field.weightsAt(P) - fresh.weightsAt(P)).cwiseAbs().maxCoeff(), 1e-9);

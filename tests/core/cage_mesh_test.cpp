@@ -24,7 +24,7 @@ TEST(CageMesh, ControlsFirstEdgePointsOnTheirEdgesAndAreaOfTheCage) {
   CageMeshOptions options;
   options.spacing = 9.0;
   const CageMesh mesh = meshCageInterior(cage, options);
-  ASSERT_EQ(mesh.status, CageMeshStatus::Ok);
+  ASSERT_EQ(mesh.status, SolveStatus::Ok);
   const Index m = cage.size();
   ASSERT_EQ(mesh.controls, m);
   EXPECT_GT(mesh.size(), 400);
@@ -84,7 +84,7 @@ TEST(CageMesh, PointsTheMesherAddsOnTheCageAreRecorded) {
   CageMeshOptions options;
   options.spacing = 40.0;
   const CageMesh mesh = meshCageInterior(Cage::polygon(C), options);
-  ASSERT_EQ(mesh.status, CageMeshStatus::Ok);
+  ASSERT_EQ(mesh.status, SolveStatus::Ok);
   int added = 0;  // edge points that are not the pre-split ones (t ≠ p / ⌈length/h⌉)
   for (Index v = mesh.controls; v < mesh.boundary; ++v) {
     const int k = mesh.edge(v, 0), l = mesh.edge(v, 1);
@@ -116,7 +116,7 @@ TEST(CageMesh, ASizingFieldGradesTheMeshAtTheNarrowPlaceOnly) {
   const CageMesh uniform = meshCageInterior(cage, options);
   options.sizing = sizing;
   const CageMesh mesh = meshCageInterior(cage, options);
-  ASSERT_EQ(mesh.status, CageMeshStatus::Ok);
+  ASSERT_EQ(mesh.status, SolveStatus::Ok);
   // Every triangle within the local spacing at its centroid, none thinner than the angle bound
   // (the slit's corners are right angles); finer than 10 px only near the slit.
   double worst = 0.0, smallest = 180.0, area = 0.0, finestAway = so.hMax;
@@ -165,7 +165,7 @@ TEST(CageMesh, RefusesWhatItCannotMesh) {
   options.spacing = 0.5;
   options.maxVertices = 1000;
   const CageMesh mesh = meshCageInterior(test::starCage(), options);
-  EXPECT_EQ(mesh.status, CageMeshStatus::TooManyVertices);
+  EXPECT_EQ(mesh.status, SolveStatus::TooLarge);
   EXPECT_EQ(mesh.size(), 0);
 }
 

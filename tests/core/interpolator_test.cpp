@@ -25,7 +25,7 @@ TEST_P(InterpolatorModes, LagrangePropertyAtSamples) {
   // w(x_j) = W_j (3.4, 3.21): the interpolant takes the prescribed weights at every sample.
   const Points X = jitteredGrid(20, 3.0, 0.2, 11, Vec2(100.0, 250.0));
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(3.0), GetParam()).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(3.0), GetParam()).status, SolveStatus::Ok);
   const Weights W = randomWeights(X.rows(), 5, 12);
   const Weights w = interp.evaluate(interp.solve(W), X);
   EXPECT_LE((w - W).cwiseAbs().maxCoeff(), 1e-10);
@@ -35,7 +35,7 @@ TEST_P(InterpolatorModes, ThesisModeMatchesDenseInverse) {
   // U = K⁻¹(W − P B) against a dense reference solve of the same (augmented) system.
   const Points X = jitteredGrid(12, 1.0, 0.25, 13);
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(1.0), GetParam()).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(1.0), GetParam()).status, SolveStatus::Ok);
   const Weights W = randomWeights(X.rows(), 3, 14);
   const KernelCoefficients coef = interp.solve(W);
   const Index n = X.rows();
@@ -58,7 +58,7 @@ TEST_P(InterpolatorModes, ThesisModeMatchesDenseInverse) {
 TEST_P(InterpolatorModes, GradientMatchesFiniteDifferences) {
   const Points X = jitteredGrid(15, 2.0, 0.2, 15);
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(2.0), GetParam()).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(2.0), GetParam()).status, SolveStatus::Ok);
   const KernelCoefficients coef = interp.solve(randomWeights(X.rows(), 4, 16));
   const Points P = randomPointsIn(50, 2.0, 26.0, 17);
   Weights gx, gy;
@@ -82,7 +82,7 @@ TEST_P(InterpolatorModes, ThreadCountDoesNotChangeResults) {
   for (int t : {1, 2}) {
     ScopedThreadCount threads(t);
     KernelInterpolator interp;
-    ASSERT_EQ(interp.compute(X, kernelFor(1.0), GetParam()).status, FactorStatus::Ok);
+    ASSERT_EQ(interp.compute(X, kernelFor(1.0), GetParam()).status, SolveStatus::Ok);
     const KernelCoefficients coef = interp.solve(W);
     w[t - 1] = interp.evaluate(coef, P);
     interp.evaluateGradient(coef, P, gx[t - 1], gy[t - 1]);
@@ -100,7 +100,7 @@ TEST(Interpolator, ExactModeReproducesLinearFunctionsOnRandomSamples) {
   // reproduced everywhere, not only at the samples (irregular samples, far from the origin).
   const Points X = jitteredGrid(25, 4.0, 0.35, 21, Vec2(500.0, 300.0));
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(4.0), InterpMode::Exact).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(4.0), InterpMode::Exact).status, SolveStatus::Ok);
   Weights W(X.rows(), 3);
   W.col(0).setOnes();
   W.col(1) = 0.3 - 0.01 * X.col(0).array() + 0.02 * X.col(1).array();
@@ -116,7 +116,7 @@ TEST(Interpolator, ThesisModeIsOnlyApproximatelyLinear) {
   // Guards the mode switch: the plain form is not exact for constants near the border.
   const Points X = jitteredGrid(25, 4.0, 0.35, 21);
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(4.0), InterpMode::Thesis).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(4.0), InterpMode::Thesis).status, SolveStatus::Ok);
   const KernelCoefficients coef = interp.solve(Weights::Ones(X.rows(), 1));
   EXPECT_EQ(coef.B.cwiseAbs().maxCoeff(), 0.0);
   const Weights w = interp.evaluate(coef, randomPointsIn(500, 0.0, 96.0, 23));
@@ -127,7 +127,7 @@ TEST(Interpolator, JacobianMatchesFiniteDifferencesOfDeformation) {
   const Points X = jitteredGrid(15, 2.0, 0.2, 24);
   const int m = 4;
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, kernelFor(2.0), InterpMode::Exact).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, kernelFor(2.0), InterpMode::Exact).status, SolveStatus::Ok);
   const KernelCoefficients coef = interp.solve(randomWeights(X.rows(), m, 25));
   std::mt19937 rng(26);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -179,7 +179,7 @@ TEST(Interpolator, SigmaTooLargeIsReportedNotThrown) {
     k.sigma = 10.0;  // 10× the spacing
     InterpolatorReport rep;
     ASSERT_NO_THROW(rep = interp.compute(X, k, mode));
-    EXPECT_NE(rep.status, FactorStatus::Ok);
+    EXPECT_NE(rep.status, SolveStatus::Ok);
     EXPECT_FALSE(interp.ok());
     EXPECT_NE(rep.advice.find("sigma"), std::string::npos) << rep.advice;
     EXPECT_THROW(interp.solve(Weights::Ones(X.rows(), 1)), std::logic_error);
@@ -191,7 +191,7 @@ TEST(Interpolator, ReportsSizesAndStartsNotComputed) {
   EXPECT_FALSE(interp.ok());
   const Points X = jitteredGrid(10, 1.0, 0.1, 29);
   const InterpolatorReport rep = interp.compute(X, kernelFor(1.0));
-  EXPECT_EQ(rep.status, FactorStatus::Ok);
+  EXPECT_EQ(rep.status, SolveStatus::Ok);
   EXPECT_TRUE(rep.advice.empty());
   EXPECT_EQ(rep.nonZeros, assembleKernelMatrix(X, kernelFor(1.0)).nonZeros());
   EXPECT_EQ(interp.mode(), InterpMode::Exact);
@@ -203,7 +203,7 @@ TEST(Interpolator, CollinearSamplesInExactModeAreReported) {
   for (int i = 0; i < 30; ++i) X.row(i) << i, 2.0 * i;
   KernelInterpolator interp;
   const InterpolatorReport rep = interp.compute(X, kernelFor(1.0), InterpMode::Exact);
-  EXPECT_EQ(rep.status, FactorStatus::Singular);
+  EXPECT_EQ(rep.status, SolveStatus::Singular);
   EXPECT_FALSE(rep.advice.empty());
 }
 
@@ -212,7 +212,7 @@ TEST(Interpolator, RefinementKeepsTheInterpolantAndShrinksTheResidual) {
   const Weights W = randomWeights(X.rows(), 3, 32);
   for (InterpMode mode : {InterpMode::Exact, InterpMode::Thesis}) {
     KernelInterpolator interp;
-    ASSERT_EQ(interp.compute(X, kernelFor(1.0), mode).status, FactorStatus::Ok);
+    ASSERT_EQ(interp.compute(X, kernelFor(1.0), mode).status, SolveStatus::Ok);
     const KernelCoefficients a = interp.solve(W), b = interp.solve(W, 2);
     const Weights wa = interp.evaluate(a, X), wb = interp.evaluate(b, X);
     EXPECT_LE((wa - wb).cwiseAbs().maxCoeff(), 1e-10);
@@ -227,7 +227,7 @@ TEST(Interpolator, RejectsBadInput) {
   k.sigma = -1.0;
   EXPECT_THROW(interp.compute(X, k), std::invalid_argument);
   EXPECT_THROW(interp.compute(Points(0, 2), kernelFor(1.0)), std::invalid_argument);
-  ASSERT_TRUE(interp.compute(X, kernelFor(1.0)).status == FactorStatus::Ok);
+  ASSERT_TRUE(interp.compute(X, kernelFor(1.0)).status == SolveStatus::Ok);
   EXPECT_THROW(interp.solve(Weights::Ones(X.rows() + 1, 2)), std::invalid_argument);
   Weights W = Weights::Ones(X.rows(), 2);
   W(0, 0) = std::nan("");

@@ -26,9 +26,9 @@ Bound bindBoth(InterpMode mode) {
   Bound b;
   b.X = test::jitteredGrid(18, 3.0, 0.2, 5);
   b.W = randomWeights(b.X.rows(), 4, 6);
-  EXPECT_EQ(b.field.compute(b.X, kernelFor(3.0), mode).status, FactorStatus::Ok);
+  EXPECT_EQ(b.field.compute(b.X, kernelFor(3.0), mode).status, SolveStatus::Ok);
   b.field.update(b.W);
-  EXPECT_EQ(b.interp.compute(b.X, kernelFor(3.0), mode).status, FactorStatus::Ok);
+  EXPECT_EQ(b.interp.compute(b.X, kernelFor(3.0), mode).status, SolveStatus::Ok);
   b.coef = b.interp.solve(b.W);
   return b;
 }
@@ -90,7 +90,7 @@ TEST_P(KernelFieldModes, ColumnUpdateEqualsAFullSolve) {
   const std::vector<Index> cols = {2};
   b.field.update(W2, cols);
   KernelField full;
-  ASSERT_EQ(full.compute(b.X, kernelFor(3.0), GetParam()).status, FactorStatus::Ok);
+  ASSERT_EQ(full.compute(b.X, kernelFor(3.0), GetParam()).status, SolveStatus::Ok);
   full.update(W2);
   const Points P = randomPoints(200, 0.0, 50.0, 11);
   const Weights a = b.field.weightsAt(P), f = full.weightsAt(P);

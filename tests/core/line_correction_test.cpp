@@ -36,7 +36,7 @@ std::unique_ptr<SquareField> squareField() {
     const double u = X(i, 0) / kSquareSide, v = X(i, 1) / kSquareSide;
     W.row(i) << (1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v;
   }
-  EXPECT_EQ(s->field.compute(X, test::kernelFor(3.0), InterpMode::Exact).status, FactorStatus::Ok);
+  EXPECT_EQ(s->field.compute(X, test::kernelFor(3.0), InterpMode::Exact).status, SolveStatus::Ok);
   s->field.update(W);
   return s;
 }

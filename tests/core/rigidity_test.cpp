@@ -222,7 +222,7 @@ void bindSquare(Square& s, InterpMode mode) {
   }
   const WeightOptimizer opt(s.C);
   opt.optimize(s.S, W0, s.W, {});
-  ASSERT_EQ(s.field.compute(s.S.X, test::kernelFor(3.0), mode).status, FactorStatus::Ok);
+  ASSERT_EQ(s.field.compute(s.S.X, test::kernelFor(3.0), mode).status, SolveStatus::Ok);
   s.field.update(s.W);
 }
 
@@ -272,7 +272,7 @@ TEST(Rigidity, FlattensTheRegionKeepsPropertiesAndLeavesFarWeights) {
   EXPECT_LE((s.field.weightsAt(s.C) - Weights::Identity(8, 8)).cwiseAbs().maxCoeff(), 1e-9);
   // Reloading from W gives the same field (the field is the interpolant of the stored W).
   KernelField reloaded;
-  ASSERT_EQ(reloaded.compute(s.S.X, test::kernelFor(3.0)).status, FactorStatus::Ok);
+  ASSERT_EQ(reloaded.compute(s.S.X, test::kernelFor(3.0)).status, SolveStatus::Ok);
   reloaded.update(W);
   EXPECT_LE((reloaded.weightsAt(P) - after).cwiseAbs().maxCoeff(), 1e-10);
 }

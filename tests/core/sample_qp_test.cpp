@@ -206,7 +206,7 @@ void expectKkt(const Problem& p, const Eigen::VectorXd& w, double tol) {
 bool expectMatchesReference(const Problem& p, const std::string& what) {
   SampleReport r;
   const Eigen::VectorXd w = solve(p, &r);
-  EXPECT_EQ(r.status, SampleStatus::Optimal) << what;
+  EXPECT_EQ(r.status, SolveStatus::Ok) << what;
   expectKkt(p, w, 1e-9);
   EXPECT_GE(kktMargin(p, w), -1e-9) << what << "\nw = " << w.transpose();
   if (!kClpReference) return true;
@@ -296,7 +296,7 @@ TEST(SampleQpSlow, SolvesSamplesOnHullEdgesAndVertices) {
       const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
       SampleReport r;
       const Eigen::VectorXd w = solve(p, &r);
-      ASSERT_EQ(r.status, SampleStatus::Optimal) << what << ", iterations " << r.iterations;
+      ASSERT_EQ(r.status, SolveStatus::Ok) << what << ", iterations " << r.iterations;
       EXPECT_GE(w.minCoeff(), 0.0) << what;
       EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
       EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-12) << what;
@@ -341,7 +341,7 @@ TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
       const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
       SampleReport r;
       Eigen::VectorXd w = solve(p, &r);
-      ASSERT_EQ(r.status, SampleStatus::Optimal) << what << ", iterations " << r.iterations;
+      ASSERT_EQ(r.status, SolveStatus::Ok) << what << ", iterations " << r.iterations;
       EXPECT_GE(w.minCoeff(), 0.0) << what;
       EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
       double objective = 0.0;
@@ -350,7 +350,7 @@ TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
       }
       p.x += Vec2(0.5, -2.0);  // just outside
       w = solve(p, &r);
-      ASSERT_EQ(r.status, SampleStatus::Infeasible) << what;
+      ASSERT_EQ(r.status, SolveStatus::Infeasible) << what;
       EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
       EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
     }
@@ -365,7 +365,7 @@ TEST(SampleQp, FeasibleTargetIsReturnedUnchanged) {
   const Problem p{C, C.transpose() * w0, w0};
   SampleReport r;
   const Eigen::VectorXd w = solve(p, &r);
-  EXPECT_EQ(r.status, SampleStatus::Optimal);
+  EXPECT_EQ(r.status, SolveStatus::Ok);
   EXPECT_EQ(r.iterations, 0);
   EXPECT_LE((w - w0).lpNorm<Eigen::Infinity>(), 1e-14);
 }
@@ -378,7 +378,7 @@ TEST(SampleQp, InfeasibleUsesTheSmallestLowerBoundShift) {
     p.x = Vec2(3.0 * std::cos(trial), 3.0 * std::sin(trial));  // outside [-1, 1]²
     SampleReport r;
     const Eigen::VectorXd w = solve(p, &r);
-    ASSERT_EQ(r.status, SampleStatus::Infeasible);
+    ASSERT_EQ(r.status, SolveStatus::Infeasible);
     ASSERT_TRUE(w.allFinite());
     EXPECT_NEAR(w.sum(), 1.0, 1e-12);
     EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-12);
@@ -406,7 +406,7 @@ TEST(SampleQp, FallbackIsContinuousAcrossTheHull) {
   const Eigen::VectorXd wIn = solve({C, mid - 1e-7 * out, w0});
   SampleReport r;
   const Eigen::VectorXd wOut = solve({C, mid + 1e-7 * out, w0}, &r);
-  EXPECT_EQ(r.status, SampleStatus::Infeasible);
+  EXPECT_EQ(r.status, SolveStatus::Infeasible);
   EXPECT_LE((wIn - wOut).lpNorm<Eigen::Infinity>(), 1e-5);
 }
 
@@ -432,7 +432,7 @@ TEST(SampleQp, AnExteriorSampleOutsideTheHullWithMostTargetsZeroIsSolved) {
   w0(28) = 0.033355298238978814;
   w0(33) = 0.043285544569320815;
   const SampleReport r = sampleQp(frame, xh, {w0.data(), 44}, {w.data(), 44});
-  EXPECT_EQ(r.status, SampleStatus::Infeasible);
+  EXPECT_EQ(r.status, SolveStatus::Infeasible);
   EXPECT_LE(r.residual, 1e-12);
   EXPECT_NEAR(w.sum(), 1.0, 1e-12);
   Vec2 reproduced = Vec2::Zero();

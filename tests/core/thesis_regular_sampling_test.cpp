@@ -55,7 +55,7 @@ struct Figures {
 Figures measure(const RegularSetup& s, InterpMode mode, bool withLagrange) {
   KernelInterpolator interp;
   const InterpolatorReport rep = interp.compute(s.X, s.kernel, mode);
-  EXPECT_EQ(rep.status, FactorStatus::Ok) << rep.advice;
+  EXPECT_EQ(rep.status, SolveStatus::Ok) << rep.advice;
   Figures f;
   // The dual functions interpolate any W linearly, so Σ a_j(x)·1 and Σ a_j(x) x_j are the
   // interpolants of the columns [1 x y].

@@ -135,7 +135,7 @@ TEST(VariableKernel, ExactInterpolationReproducesLinearFunctions) {
   GaussianKernel k = GaussianKernel::forSpacing(8.0 * 3.0 / 3.14159, 8.0);
   k.width = width;
   KernelInterpolator interp;
-  ASSERT_EQ(interp.compute(X, k, InterpMode::Exact).status, FactorStatus::Ok);
+  ASSERT_EQ(interp.compute(X, k, InterpMode::Exact).status, SolveStatus::Ok);
   // W = [1, x, y]: reproduced at arbitrary points.
   Weights W(X.rows(), 3);
   W.col(0).setOnes();

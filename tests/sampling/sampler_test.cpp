@@ -52,7 +52,10 @@ TEST(Sampler, MarginDefaultsToThreeSpacingsAndCanBeSet) {
 TEST(Sampler, ReportCountsAndProgress) {
   SamplingOptions o = options(SamplerKind::BlueNoise);
   std::vector<double> progress;
-  o.progress = [&](double f) { progress.push_back(f); };
+  o.progress = [&](double f) {
+    progress.push_back(f);
+    return true;
+  };
   SamplingReport r;
   const SampleSet S = sample(test::starCage(), o, &r);
   EXPECT_EQ(r.controls + r.edge + r.interior + r.exterior, S.size());
@@ -63,13 +66,19 @@ TEST(Sampler, ReportCountsAndProgress) {
   for (std::size_t k = 1; k < progress.size(); ++k) EXPECT_GE(progress[k], progress[k - 1]);
 }
 
-TEST(Sampler, ProgressCallbackCanCancelByThrowing) {
+TEST(Sampler, ProgressCallbackCancels) {
+  // Returning false stops the relaxation with kc::Cancelled; a callback's own exception passes through.
   SamplingOptions o = options(SamplerKind::BlueNoise);
-  struct Cancelled {};
-  o.progress = [](double f) {
-    if (f > 0.0) throw Cancelled{};
+  int calls = 0;
+  o.progress = [&](double) { return ++calls < 3; };
+  EXPECT_THROW(sample(test::starCage(), o), kc::Cancelled);
+  EXPECT_EQ(calls, 3);
+  struct Stop {};
+  o.progress = [](double f) -> bool {
+    if (f > 0.0) throw Stop{};
+    return true;
   };
-  EXPECT_THROW(sample(test::starCage(), o), Cancelled);
+  EXPECT_THROW(sample(test::starCage(), o), Stop);
 }
 
 /// A small square cage in a big picture: its band is much smaller than the frame.

@@ -24,7 +24,7 @@ DualErrors dualErrors(const Points& X, InterpMode mode) {
   GaussianKernel kernel;
   kernel.sigma = 2.5;
   const InterpolatorReport rep = interp.compute(X, kernel, mode);
-  EXPECT_EQ(rep.status, FactorStatus::Ok) << rep.advice;
+  EXPECT_EQ(rep.status, SolveStatus::Ok) << rep.advice;
   Weights W(X.rows(), 3);
   W.col(0).setOnes();
   W.col(1) = X.col(0);

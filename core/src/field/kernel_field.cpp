@@ -32,7 +32,8 @@ void KernelField::update(const Weights& W, std::span<const Index> columns) {
     const Points X = m_interp.samples();
     const GaussianKernel kernel = m_interp.kernel();
     const InterpolatorReport r = m_interp.compute(X, kernel, m_interp.mode());
-    if (r.status != FactorStatus::Ok) throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
+    if (r.status != SolveStatus::Ok)
+      throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
   }
   if (!m_interp.ok()) throw std::logic_error("kernel field: update() without a successful compute()");
   if (columns.empty() || m_coef.U.rows() != W.rows() || m_coef.U.cols() != W.cols())

@@ -110,27 +110,27 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
 
   t0 = std::chrono::steady_clock::now();
   impl->llt.compute(std::move(K));
-  report.status = FactorStatus::Ok;
+  report.status = SolveStatus::Ok;
   if (impl->llt.outOfMemory()) {
-    report.status = FactorStatus::OutOfMemory;
+    report.status = SolveStatus::OutOfMemory;
     report.advice = "the Cholesky factor of the kernel matrix (" + std::to_string(X.rows()) + " samples, " +
                     std::to_string(report.nonZeros) + " non-zeros) does not fit in memory: use a larger spacing or a smaller sigma";
   } else if (!impl->llt.ok()) {
-    report.status = FactorStatus::NotPositiveDefinite;
+    report.status = SolveStatus::Singular;
     report.advice = kSigmaAdvice;
   } else {
     const double ratio = impl->llt.pivotRatio();
     if (!(ratio > 0.0) || !std::isfinite(ratio)) {
-      report.status = FactorStatus::NotPositiveDefinite;
+      report.status = SolveStatus::Singular;
       report.advice = kSigmaAdvice;
     } else if (ratio < kMinRelativePivot) {
-      report.status = FactorStatus::Singular;
+      report.status = SolveStatus::Singular;
       report.advice =
           "the kernel matrix is numerically singular: sigma is too large for the sample spacing "
           "(keep sigma near 3·spacing/π, thesis 3.28), or samples nearly coincide";
     }
   }
-  if (report.status == FactorStatus::Ok && mode == InterpMode::Exact) {
+  if (report.status == SolveStatus::Ok && mode == InterpMode::Exact) {
     const Index n = X.rows();
     impl->center = X.colwise().mean().transpose();
     const double extent = (X.rowwise() - impl->center.transpose()).cwiseAbs().maxCoeff();
@@ -145,13 +145,13 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
     impl->schur.compute(S);
     const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S, Eigen::EigenvaluesOnly).eigenvalues();
     if (!(ev(0) > 1e-12 * ev(2))) {
-      report.status = FactorStatus::Singular;
+      report.status = SolveStatus::Singular;
       report.advice = "the samples are collinear: the linear part of the exact interpolant is undetermined "
                       "(use the thesis interpolation or add samples off the line)";
     }
   }
   report.factorSeconds = secondsSince(t0);
-  impl->ok = report.status == FactorStatus::Ok;
+  impl->ok = report.status == SolveStatus::Ok;
   impl->evaluable = impl->ok;
   m_impl = std::move(impl);
   return report;

@@ -185,7 +185,7 @@ CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options) {
   out.controls = m;
   if (!(options.sizing ? refine(cdt, GradedCriteria(bound, options.spacing, *options.sizing), options.maxVertices)
                        : refine(cdt, Criteria(bound, options.spacing), options.maxVertices))) {
-    out.status = CageMeshStatus::TooManyVertices;
+    out.status = SolveStatus::TooLarge;
     return out;
   }
 

@@ -228,7 +228,7 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   d.tau = tau;
   d.m = mesh.controls;
   if (d.m < 3) throw std::invalid_argument("LBC: the cage needs at least 3 control points");
-  if (mesh.status != CageMeshStatus::Ok || mesh.T.empty() || mesh.size() < d.m)
+  if (mesh.status != SolveStatus::Ok || mesh.T.empty() || mesh.size() < d.m)
     throw std::invalid_argument("LBC: the cage mesh is empty (the mesher did not finish)");
   d.r = d.m - 3;
   d.nb = mesh.boundary;
@@ -368,7 +368,7 @@ LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, 
                                      std::span<double>(&W(nb + v, 0), std::size_t(m)));
     moved[std::size_t(v)] = (W.row(nb + v) - Z.row(v)).cwiseAbs().maxCoeff();
     changed[std::size_t(v)] = moved[std::size_t(v)] > 0.0;
-    failed[std::size_t(v)] = qp.status != SampleStatus::Optimal;
+    failed[std::size_t(v)] = qp.status != SolveStatus::Ok;
   }, 64);
   for (Index v = 0; v < n; ++v) {
     out.projected += changed[std::size_t(v)];
@@ -512,7 +512,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   rep.geodesicSeconds = d.geodesicSeconds;
   rep.factorSeconds = d.factorSeconds;
   if (!d.ok) {
-    rep.status = LbcStatus::Failed;
+    rep.status = SolveStatus::Singular;
     return res;
   }
   Impl::Admm admm(d, d.startingIterate(options.harmonicStart), options.relaxation, options.penalty);
@@ -537,7 +537,8 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   if (d.n > 0 && d.r > 0) {
     const double norm = 1.0 / (double(d.m) * d.domainArea);
     int nextGapCheck = 0;
-    rep.status = LbcStatus::NotConverged;
+    double shown = 0.0;  // the progress reported
+    rep.status = SolveStatus::NotConverged;
     admm.firstStep();
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
@@ -549,7 +550,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
       threads.record(k, secondsSince(iterationStart));
       if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
         if (!(options.gapTolerance > 0.0)) {
-          rep.status = LbcStatus::Converged;
+          rep.status = SolveStatus::Ok;
           break;
         }
         // Certified stop: the returned weights' objective within gapTolerance of a lower bound.
@@ -558,16 +559,19 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         rep.lowerBound = d.dualBound(admm.U1, admm.mu);
         rep.certifySeconds += secondsSince(tc);
         if (rep.objective - rep.lowerBound <= options.gapTolerance * std::abs(rep.lowerBound)) {
-          rep.status = LbcStatus::Converged;
+          rep.status = SolveStatus::Ok;
           certified = true;
           break;
         }
         nextGapCheck = k + std::max(20, k / 5);  // a geometric schedule
       }
-      if (options.progress && k % 10 == 0 &&
-          !options.progress({k, rep.primalResidual, rep.dualResidual})) {
-        rep.status = LbcStatus::Cancelled;
-        break;
+      if (options.progress && k % 10 == 0) {
+        // The residuals' way down to the tolerance (log scale) or the iteration share; never
+        // backwards (ADMM's residuals need not fall at every iteration).
+        const double worst = std::max(rep.primalResidual, rep.dualResidual);
+        const double byResidual = std::log(std::max(worst, options.tolerance)) / std::log(options.tolerance);
+        shown = std::clamp(std::max({shown, byResidual, double(k) / options.maxIterations}), 0.0, 1.0);
+        if (!options.progress(shown)) throw Cancelled();
       }
       if (options.adaptivePenalty) {  // residual balancing
         if (rep.primalResidual > 10.0 * rep.dualResidual) admm.scalePenalty(2.0);

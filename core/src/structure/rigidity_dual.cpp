@@ -7,12 +7,11 @@
 
 namespace kc::detail {
 
-Tick progressTick(const std::function<bool(double)>& progress, const double& stage) {
+Tick progressTick(const Progress& progress, const double& stage) {
   return [&progress, &stage] {
     if (progress && !progress(std::clamp(stage, 0.0, 1.0))) throw Cancelled();
   };
 }
-
 
 bool blockedCholesky(Eigen::Ref<Eigen::MatrixXd> A, const Tick& tick, Index block) {
   const Index n = A.rows();

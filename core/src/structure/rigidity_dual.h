@@ -24,7 +24,7 @@ using Tick = std::function<void()>;
 
 /// The solvers' Tick: reports `stage` (read at each call, clamped to [0, 1]) to `progress` when it
 /// is set, and throws kc::Cancelled when it returns false.
-Tick progressTick(const std::function<bool(double)>& progress, const double& stage);
+Tick progressTick(const Progress& progress, const double& stage);
 
 /// A = L Lᵀ in place for a symmetric positive definite A (n×n; the lower triangle is read, L is
 /// left in it), right-looking by panels of `block` columns (factor the diagonal block, solve the

@@ -68,8 +68,8 @@ OptimizeReport WeightOptimizer::optimize(const SampleSet& S, const Weights& W0, 
         case Method::QP: r = sampleQp(m_frame, xh, w0, w, options.qp); break;
         case Method::L1: r = sampleL1(m_frame, xh, w0, w, options.l1); break;
       }
-      if (r.status == SampleStatus::Infeasible) ++localInfeasible;
-      if (r.status == SampleStatus::Failed) ++localFailed;
+      if (r.status == SolveStatus::Infeasible) ++localInfeasible;
+      if (r.status == SolveStatus::NotConverged) ++localFailed;
       localMax = std::max(localMax, r.iterations);
     }
     infeasible += localInfeasible;

@@ -176,7 +176,7 @@ SampleReport sampleL1(const ControlFrame& frame, const Vec2& xh, std::span<const
     if (report.residual <= tol * (1.0 + r.lpNorm<Eigen::Infinity>())) return report;
   }
   sampleQec(frame, xh, w0, w);
-  report.status = SampleStatus::Failed;
+  report.status = SolveStatus::NotConverged;
   report.residual = 0.0;
   return report;
 }

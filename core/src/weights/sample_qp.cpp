@@ -350,7 +350,7 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
     report.residual /= beta;
     if (excess > options.hullTolerance) {
       for (Index i = 0; i < m; ++i) w[i] = w[i] / beta - t;
-      report.status = SampleStatus::Infeasible;
+      report.status = SolveStatus::Infeasible;
     } else {
       // On the hull boundary up to rounding: t is a rounding-level shift, so keep w ≥ 0 exact.
       for (Index i = 0; i < m; ++i) w[i] = std::max(0.0, w[i] / beta - t);
@@ -361,7 +361,7 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
   // partition of unity and reproduction exact and moves w only by the small residual, so the
   // weights keep the QP's character (local, non-negative up to that residual).
   sampleQec(frame, xh, w, w);
-  report.status = SampleStatus::Failed;
+  report.status = SolveStatus::NotConverged;
   return report;
 }
 

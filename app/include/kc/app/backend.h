@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "kc/core/cancel.h"
+#include "kc/core/solve.h"
 #include "kc/app/session.h"
 #include "kc/core/structure/linear_along.h"
 #include "kc/core/structure/rigidity.h"

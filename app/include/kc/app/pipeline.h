@@ -10,11 +10,9 @@
 #include "kc/app/backend.h"
 #include "kc/app/limits.h"
 #include "kc/app/session.h"
+#include "kc/core/solve.h"
 
 namespace kc::app {
-
-/// Progress of a bind: stage name and fraction in [0, 1]. Return false to cancel.
-using BindProgress = std::function<bool(const char* stage, double fraction)>;
 
 /// Automatic sampling margin in `thesis` interpolation mode, in sample spacings (the exact mode
 /// uses the sampler's default of about 3h): on a cage that spans its image, 10h brings the
@@ -139,11 +137,11 @@ double automaticSigma(double spacing);
 /// InputError for bad input (invalid cage, bad parameters, unknown backend, too many samples, a
 /// kernel matrix that cannot be factorized with these σ and spacing, with the report's advice).
 Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report = nullptr,
-             const BindProgress& progress = {});
+             const StageProgress& progress = {});
 /// The same with structure lines kept straight and parallel (thesis 5.3): InputError when the
 /// lines do not fit the cage (checkStructure) or the backend has no `lines` capability.
 Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params,
-             BindReport* report = nullptr, const BindProgress& progress = {});
+             BindReport* report = nullptr, const StageProgress& progress = {});
 
 /// Re-optimizes rows `subset` of session.W (all when empty) from session.W0 with `method`, then
 /// updates the coordinate field's columns that changed (all of them when the subset is empty).

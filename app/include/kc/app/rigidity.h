@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "kc/core/cancel.h"
+#include "kc/core/solve.h"
 #include "kc/app/session.h"
 #include "kc/core/structure/rigidity.h"
 
@@ -20,9 +20,6 @@ struct RigidityUpdate {
   std::vector<Index> columns;   ///< Controls whose field columns changed (update a FieldSampler with these).
   double seconds = 0.0;
 };
-
-/// Progress of setRigidity: stage name and fraction in [0, 1]; return false to cancel.
-using RigidityProgress = std::function<bool(const char* stage, double fraction)>;
 
 /// Sets the per-sample rigidity of a bound kernel session and re-solves only around it:
 /// `rho` (#S entries, each in [0, 1]; 0 = not rigid) replaces session.rigidity; the samples
@@ -37,7 +34,7 @@ using RigidityProgress = std::function<bool(const char* stage, double fraction)>
 /// kc::Cancelled is thrown.
 /// Throws std::invalid_argument when the session is not a bound kernel session with target
 /// weights (weights.initial), or rho has the wrong size or a value outside [0, 1].
-RigidityUpdate setRigidity(Session& session, std::span<const double> rho, const RigidityProgress& progress = {});
+RigidityUpdate setRigidity(Session& session, std::span<const double> rho, const StageProgress& progress = {});
 
 /// The thesis's Fig 6.37 set-up on a five-pointed star cage of 10 points (tips at even indices,
 /// like the bundled images/star): the rigid region is the inner part of the bottom-right leg

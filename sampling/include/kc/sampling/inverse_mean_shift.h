@@ -6,6 +6,7 @@
 
 #include "kc/core/cage.h"
 #include "kc/core/sizing.h"
+#include "kc/core/solve.h"
 #include "kc/core/types.h"
 #include "kc/sampling/boundary.h"
 
@@ -22,8 +23,9 @@ struct InverseMeanShiftOptions {
   double clearance = 0.35;     ///< A free sample stays this far (· h) from the cage and the domain boundary.
   /// Called after every iteration with an estimate of the fraction done (non-decreasing, the
   /// larger of the iteration budget used and the log-scale progress of the largest move towards
-  /// the tolerance), and with 1 at the end. It may throw to cancel (outside parallel loops).
-  std::function<void(double)> progress;
+  /// the tolerance), and with 1 at the end. Returning false throws kc::Cancelled (outside parallel
+  /// loops; the callback may also throw).
+  Progress progress;
   /// Graded sampling: when set and graded(), each sample k relaxes at its local spacing
   /// h_k = (*sizing)(x_k) instead of `spacing` (which is then sizing->hMax()): the pair k, j uses
   /// the bandwidth s·h_kj/h with h_kj² = (h_k² + h_j²)/2 (symmetric: the forces balance, which the

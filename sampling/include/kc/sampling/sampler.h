@@ -7,6 +7,7 @@
 #include <string>
 
 #include "kc/core/cage.h"
+#include "kc/core/solve.h"
 #include "kc/core/types.h"
 #include "kc/sampling/boundary.h"
 #include "kc/sampling/blue_noise.h"
@@ -63,8 +64,8 @@ struct SamplingOptions {
   double band = -1.0;
   std::uint64_t seed = 1;
   /// Progress callback for long relaxations (fraction in [0, 1]); may be empty. Called on the
-  /// calling thread, outside parallel loops: it may throw to cancel (the exception propagates).
-  std::function<void(double)> progress;
+  /// calling thread, outside parallel loops: returning false throws kc::Cancelled.
+  Progress progress;
   /// Blue noise: density and inverse mean shift parameters (λ, s, stopping rule); defaults
   /// derive from h. relax.spacing and relax.progress are taken from the fields above.
   BlueNoiseOptions blueNoise;

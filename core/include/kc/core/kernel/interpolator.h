@@ -9,6 +9,7 @@
 
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
+#include "kc/core/solve.h"
 
 namespace kc {
 
@@ -23,10 +24,8 @@ struct EnumNames<InterpMode> {
       {{InterpMode::Exact, "exact"}, {InterpMode::Thesis, "thesis"}}};
 };
 
-enum class FactorStatus { Ok, NotComputed, NotPositiveDefinite, Singular, OutOfMemory };
-
 struct InterpolatorReport {
-  FactorStatus status = FactorStatus::NotComputed;
+  SolveStatus status = SolveStatus::NotComputed;  ///< Ok, NotComputed, Singular or OutOfMemory.
   std::string advice;       ///< What to change when status != Ok (e.g. "σ too large for the spacing").
   Index nonZeros = 0;       ///< Non-zeros of K.
   double assembleSeconds = 0.0;

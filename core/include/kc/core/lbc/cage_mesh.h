@@ -11,22 +11,18 @@
 #include "kc/core/cage.h"
 #include "kc/core/sizing.h"
 #include "kc/core/types.h"
+#include "kc/core/solve.h"
 
 namespace kc {
 
 struct CageMeshOptions {
   double spacing = 8.0;          ///< h: longest triangle edge; cage edges are pre-split at ≈ h (pixels).
   double minAngleDegrees = 20.0; ///< Smallest triangle angle the mesher aims for (≤ 20.7° always terminates).
-  Index maxVertices = 2'000'000; ///< The mesher stops with status TooManyVertices past this count.
+  Index maxVertices = 2'000'000;  ///< The mesher stops with status TooLarge past this count.
   /// The local spacing h(x) of a graded mesh (featureSizing): cage edges are divided by
   /// segmentDivision and a triangle is refined while its longest edge exceeds min(spacing, h(c))
   /// at its centroid c. Null: the uniform mesh at `spacing`.
   std::shared_ptr<const SizingField> sizing;
-};
-
-enum class CageMeshStatus {
-  Ok,
-  TooManyVertices,  ///< Refinement would exceed maxVertices (spacing too small for the cage).
 };
 
 /// A triangle mesh of the cage interior, vertices ordered controls | cage-edge points | interior.
@@ -39,7 +35,7 @@ struct CageMesh {
   Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edge;
   /// #V: edge parameter t of an edge point, V = (1 − t) c_k + t c_l exactly; 0 elsewhere.
   Eigen::VectorXd t;
-  CageMeshStatus status = CageMeshStatus::Ok;
+  SolveStatus status = SolveStatus::Ok;  ///< Ok or TooLarge (MeshOptions::maxVertices).
 
   Index size() const { return V.rows(); }
   Index interior() const { return V.rows() - boundary; }
@@ -52,7 +48,7 @@ struct CageMesh {
 /// and angles ≥ minAngleDegrees. Points the mesher adds on the cage are recorded with their edge and edge
 /// parameter (and put exactly on the edge). Throws std::invalid_argument for an open cage, an
 /// edge graph that is not the cage polygon, or an invalid cage (validateCage), or a spacing that
-/// is not positive and finite. On status TooManyVertices the mesh is empty.
+/// is not positive and finite. On status TooLarge the mesh is empty.
 CageMesh meshCageInterior(const Cage& cage, const CageMeshOptions& options = {});
 
 /// A constrained Delaunay triangulation of `points` (#P×2) in which every segment (a pair of

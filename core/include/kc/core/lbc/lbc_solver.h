@@ -14,6 +14,7 @@
 #include "kc/core/lbc/cage_mesh.h"
 #include "kc/core/names.h"
 #include "kc/core/lbc/mesh_operators.h"
+#include "kc/core/solve.h"
 
 namespace kc {
 
@@ -28,20 +29,6 @@ struct EnumNames<LbcTau> {
 
 /// τ(x) for x ∈ [0, 1]: x², 1, x, √x.
 double lbcTau(LbcTau tau, double x);
-
-enum class LbcStatus {
-  Converged,     ///< Primal and dual RMS residuals ≤ tolerance.
-  NotConverged,  ///< maxIterations reached first; the weights are the last iterate or, if lower in
-                 ///< objective, one checked before (still exact barycentric).
-  Cancelled,     ///< The progress callback returned false; the weights as for NotConverged.
-  Failed,        ///< A factorization failed (the mesh is degenerate); weights are empty.
-};
-
-/// Progress of the ADMM iteration, handed to LbcOptions::progress.
-struct LbcProgress {
-  int iteration = 0;
-  double primalResidual = 0.0, dualResidual = 0.0;
-};
 
 struct LbcOptions {
   LbcTau tau = LbcTau::Square;  ///< τ of φ (eq. 13); LbcSolver takes it at construction.
@@ -66,12 +53,17 @@ struct LbcOptions {
   double gapTolerance = 1e-3;
   /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
   bool certify = false;
-  /// Called every 10 iterations; return false to cancel. Called on the calling thread.
-  std::function<bool(const LbcProgress&)> progress;
+  /// Called every 10 iterations with the residuals' way down to `tolerance` (log scale) or the
+  /// share of maxIterations done, whichever is further, never decreasing; returning false throws
+  /// kc::Cancelled. Called on the calling thread.
+  Progress progress;
 };
 
 struct LbcReport {
-  LbcStatus status = LbcStatus::Converged;
+  /// Ok (residuals ≤ tolerance and the gap certified), NotConverged (maxIterations first: the
+  /// weights are the last iterate or, if lower in objective, one checked before, still exact
+  /// barycentric) or Singular (a factorization failed, the mesh is degenerate: no weights).
+  SolveStatus status = SolveStatus::Ok;
   int iterations = 0;
   double primalResidual = 0.0, dualResidual = 0.0;  ///< At the last iteration (see LbcOptions::tolerance).
   double penalty = 0.0;                             ///< μ at the end.
@@ -98,7 +90,7 @@ struct LbcResult {
 class LbcSolver {
  public:
   /// mesh: from meshCageInterior (status Ok). Throws std::invalid_argument for an empty mesh or
-  /// fewer than 3 controls. A failed factorization is reported by solve() (status Failed).
+  /// fewer than 3 controls. A failed factorization is reported by solve() (status Singular).
   LbcSolver(const CageMesh& mesh, LbcTau tau);
   ~LbcSolver();
   LbcSolver(const LbcSolver&) = delete;

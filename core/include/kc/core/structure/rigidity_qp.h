@@ -16,7 +16,7 @@
 #include <exception>
 #include <functional>
 
-#include "kc/core/cancel.h"
+#include "kc/core/solve.h"
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
 
@@ -57,7 +57,7 @@ struct RigidityQpOptions {
   double rankTolerance = 1e-12;  ///< Relative eigenvalue below which A's Schur complement is treated as singular.
   /// Called with the share done (in [0, 1]) between the solver's steps (at least every ~0.1 s on a
   /// 2,000-node problem); returning false stops the solve with kc::Cancelled.
-  std::function<bool(double fraction)> progress;
+  Progress progress;
 };
 
 struct RigidityQpReport {

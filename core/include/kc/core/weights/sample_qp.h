@@ -4,15 +4,9 @@
 #include <span>
 
 #include "kc/core/weights/sample_qec.h"
+#include "kc/core/solve.h"
 
 namespace kc {
-
-/// Outcome of one per-sample solve (shared by the QP and L1 solvers).
-enum class SampleStatus {
-  Optimal,     ///< KKT conditions certified to the tolerance.
-  Infeasible,  ///< QP only: x outside the control points' convex hull; fallback solution returned.
-  Failed,      ///< No certified optimum within the iteration limit; the solver's documented fallback returned.
-};
 
 struct QpOptions {
   int maxIterations = 100;      ///< Newton iterations (each one O(m)).
@@ -21,7 +15,7 @@ struct QpOptions {
 };
 
 struct SampleReport {
-  SampleStatus status = SampleStatus::Optimal;
+  SolveStatus status = SolveStatus::Ok;  ///< Ok (KKT certified), Infeasible (QP only), NotConverged.
   int iterations = 0;
   double residual = 0.0;  ///< |A w − b|∞ of the returned w (normalized units).
 };
@@ -55,7 +49,7 @@ struct SampleReport {
 /// cycles among rounding-level weights) counts as certified. If Newton is not certified within
 /// maxIterations otherwise (not seen in the tests, which include samples
 /// on hull edges and vertices for m up to 3,000), w = the last iterate projected onto Aw = b
-/// (exact constraints, moved only by the residual) and status Failed; report.residual is the
+/// (exact constraints, moved only by the residual) and status NotConverged; report.residual is the
 /// iterate's residual before that projection.
 ///
 /// w0, w: length m; w must not alias w0. xh: normalized position (ControlFrame::normalize).
