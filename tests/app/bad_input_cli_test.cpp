@@ -25,10 +25,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const char* kSquare = R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})";
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
 struct Timed {
   CliResult r;
   double seconds = 0.0;

@@ -13,10 +13,6 @@
 namespace kc::test {
 namespace {
 
-const char* kSquare = R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})";
-
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
 TEST(CliBind, BindEvalStatsOnSquare) {
   const auto dir = scratchDir("cli_bind");
   writeText(dir / "cage.json", kSquare);

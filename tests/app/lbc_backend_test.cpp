@@ -21,13 +21,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kImages = std::string(KC_SOURCE_DIR) + "/images/";
+const std::string kImageDir = std::string(KC_SOURCE_DIR) + "/images/";
 
 Session bindStar(double spacing = 10.0) {
   BindParams p;
   p.backend = "lbc";
   p.spacing = spacing;
-  return bind(loadCage(kImages + "star.cage.json"), 320, 320, p);
+  return bind(loadCage(kImageDir + "star.cage.json"), 320, 320, p);
 }
 
 /// The star bound with the LBC backend once for the tests that only read it.
@@ -70,7 +70,7 @@ TEST(LbcBackend, CancelStopsTheAdmmIterationsAtTheNextReport) {
     if (++reports == 3) cancelled = true;  // the first report is the stage's start, before the loop
     return !cancelled;
   };
-  EXPECT_THROW(bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, progress), Cancelled);
+  EXPECT_THROW(bind(loadCage(kImageDir + "star.cage.json"), 320, 320, p, nullptr, progress), Cancelled);
   EXPECT_TRUE(cancelled);
   EXPECT_EQ(afterCancel, 0) << "no report after the cancel: the bind stopped at once";
   EXPECT_FALSE(done);
@@ -80,7 +80,7 @@ TEST(LbcBackend, CancelStopsTheAdmmIterationsAtTheNextReport) {
     if (std::string(stage) == "LBC iterations") ++total;
     return true;
   };
-  const Session s = bind(loadCage(kImages + "star.cage.json"), 320, 320, p, nullptr, count);
+  const Session s = bind(loadCage(kImageDir + "star.cage.json"), 320, 320, p, nullptr, count);
   EXPECT_GT(total, 5) << s.reports.lbc.iterations << " iterations";
 }
 
@@ -133,7 +133,7 @@ TEST(LbcBackend, WarpRefusesDeformAndKeepsTheOutsideFixed) {
 TEST(LbcBackend, KernelCoordinatesOnLbcTargets) {
   // --init lbc: the targets inside the cage are the LBC weights (exact barycentric, w ≥ 0, far
   // fewer controls above 10⁻³/m than heat-linear targets); the KC field is bound as usual.
-  const Cage cage = loadCage(kImages + "star.cage.json");
+  const Cage cage = loadCage(kImageDir + "star.cage.json");
   BindParams p;
   p.spacing = 14.0;
   p.kc.targetFloor = 0.0;  // against the whole diffused heat
@@ -192,7 +192,7 @@ TEST(LbcBackend, KernelCoordinatesOnLbcTargetsAreAsLocalAsBoundedBiharmonicWeigh
   // cage (`kcwarp-cli stats`): bounded biharmonic weights on this cage 4.6 (the goal), measured
   // 4.31 here; 4.82 when the samples shared the mesh's spacing (7.8 px), so sampling as coarsely
   // as the mesh again, or targets that spread, fail this. The exact properties hold inside.
-  const Cage cage = loadCage(kImages + "star.cage.json");
+  const Cage cage = loadCage(kImageDir + "star.cage.json");
   BindParams p;
   p.kc.init.method = InitMethod::Lbc;
   p.spacing = automaticSpacing(cage, 320, 320, p);

@@ -10,6 +10,7 @@
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/metrics.h"
 #include "kc/core/parallel.h"
+#include "point_problems.h"
 
 namespace kc {
 namespace {
@@ -66,7 +67,7 @@ Cage squareWithMidpoints(double side) {
   return Cage::polygon(C);
 }
 
-GaussianKernel kernelFor(double h) { return GaussianKernel::forSpacing(3.0 * h / std::numbers::pi, h); }
+using test::kernelFor;
 
 /// U-shaped cage: two arms separated by a notch 3 units wide (narrower than the kernel's reach).
 Cage uCage() {

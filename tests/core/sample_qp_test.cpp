@@ -26,9 +26,7 @@ using test::Problem;
 using test::randomControls;
 using test::randomInside;
 
-Eigen::VectorXd solve(const Problem& p, SampleReport* report = nullptr) {
-  return test::solveSample(sampleQp, p, report);
-}
+Eigen::VectorXd solveQp(const Problem& p, SampleReport* report = nullptr) { return test::solveSample(sampleQp, p, report); }
 
 /// CLP is left out of sanitized builds (scripts/sanitize.sh), which run the unit tests once per
 /// release: its nonlinear primal can cycle without end on a degenerate problem (see clpSolve),
@@ -205,7 +203,7 @@ void expectKkt(const Problem& p, const Eigen::VectorXd& w, double tol) {
 /// delivers a feasible answer (returns false when it does not).
 bool expectMatchesReference(const Problem& p, const std::string& what) {
   SampleReport r;
-  const Eigen::VectorXd w = solve(p, &r);
+  const Eigen::VectorXd w = solveQp(p, &r);
   EXPECT_EQ(r.status, SolveStatus::Ok) << what;
   expectKkt(p, w, 1e-9);
   EXPECT_GE(kktMargin(p, w), -1e-9) << what << "\nw = " << w.transpose();
@@ -295,7 +293,7 @@ TEST(SampleQpSlow, SolvesSamplesOnHullEdgesAndVertices) {
       for (int i = 0; i < m; ++i) p.w0(i) = trial % 3 == 2 ? 2.0 * u(rng) - 1.0 : u(rng) / m;  // mixed signs or positive
       const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
       SampleReport r;
-      const Eigen::VectorXd w = solve(p, &r);
+      const Eigen::VectorXd w = solveQp(p, &r);
       ASSERT_EQ(r.status, SolveStatus::Ok) << what << ", iterations " << r.iterations;
       EXPECT_GE(w.minCoeff(), 0.0) << what;
       EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
@@ -340,7 +338,7 @@ TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
       for (int j = 0; j < m; ++j) p.w0(j) = trial % 3 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;
       const std::string what = "m=" + std::to_string(m) + " trial " + std::to_string(trial);
       SampleReport r;
-      Eigen::VectorXd w = solve(p, &r);
+      Eigen::VectorXd w = solveQp(p, &r);
       ASSERT_EQ(r.status, SolveStatus::Ok) << what << ", iterations " << r.iterations;
       EXPECT_GE(w.minCoeff(), 0.0) << what;
       EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
@@ -349,7 +347,7 @@ TEST(SampleQp, SolvesSamplesOnEdgesWithCollinearControls) {
         EXPECT_NEAR((w - p.w0).squaredNorm(), objective, 1e-9 * (1.0 + objective)) << what;
       }
       p.x += Vec2(0.5, -2.0);  // just outside
-      w = solve(p, &r);
+      w = solveQp(p, &r);
       ASSERT_EQ(r.status, SolveStatus::Infeasible) << what;
       EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
       EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-10) << what;
@@ -364,7 +362,7 @@ TEST(SampleQp, FeasibleTargetIsReturnedUnchanged) {
   w0 /= w0.sum();
   const Problem p{C, C.transpose() * w0, w0};
   SampleReport r;
-  const Eigen::VectorXd w = solve(p, &r);
+  const Eigen::VectorXd w = solveQp(p, &r);
   EXPECT_EQ(r.status, SolveStatus::Ok);
   EXPECT_EQ(r.iterations, 0);
   EXPECT_LE((w - w0).lpNorm<Eigen::Infinity>(), 1e-14);
@@ -377,7 +375,7 @@ TEST(SampleQp, InfeasibleUsesTheSmallestLowerBoundShift) {
     Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd::Constant(m, 1.0 / m)};
     p.x = Vec2(3.0 * std::cos(trial), 3.0 * std::sin(trial));  // outside [-1, 1]²
     SampleReport r;
-    const Eigen::VectorXd w = solve(p, &r);
+    const Eigen::VectorXd w = solveQp(p, &r);
     ASSERT_EQ(r.status, SolveStatus::Infeasible);
     ASSERT_TRUE(w.allFinite());
     EXPECT_NEAR(w.sum(), 1.0, 1e-12);
@@ -403,9 +401,9 @@ TEST(SampleQp, FallbackIsContinuousAcrossTheHull) {
   const ControlFrame frame(C);
   const Vec2 out = frame.hullExcess(frame.normalize(mid + 1e-7 * n)) > 0.0 ? n : Vec2(-n);
   Eigen::VectorXd w0 = Eigen::VectorXd::LinSpaced(9, 0.1, 0.9);
-  const Eigen::VectorXd wIn = solve({C, mid - 1e-7 * out, w0});
+  const Eigen::VectorXd wIn = solveQp({C, mid - 1e-7 * out, w0});
   SampleReport r;
-  const Eigen::VectorXd wOut = solve({C, mid + 1e-7 * out, w0}, &r);
+  const Eigen::VectorXd wOut = solveQp({C, mid + 1e-7 * out, w0}, &r);
   EXPECT_EQ(r.status, SolveStatus::Infeasible);
   EXPECT_LE((wIn - wOut).lpNorm<Eigen::Infinity>(), 1e-5);
 }

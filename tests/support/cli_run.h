@@ -56,6 +56,11 @@ inline CliResult runCli(const std::string& args, const std::filesystem::path& di
 }
 
 /// Number of lines in s (a trailing newline does not start a new line).
+/// A square cage, 64 px on a side, as a cage file.
+inline constexpr const char* kSquare = R"({"version": 1, "points": [[16,16],[80,16],[80,80],[16,80]], "closed": true})";
+
+inline bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
 inline int lineCount(const std::string& s) {
   int n = 0;
   for (char c : s) n += c == '\n';

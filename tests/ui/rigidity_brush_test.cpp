@@ -21,7 +21,7 @@
 namespace kc::ui {
 namespace {
 
-PointerEvent at(const Vec2& p, bool ctrl = false) {
+PointerEvent pointerAt(const Vec2& p, bool ctrl = false) {
   PointerEvent e;
   e.position = p;
   e.ctrl = ctrl;
@@ -34,10 +34,10 @@ void finish(AppState& s) {
 }
 
 /// A stroke from a to b with the rigidity tool, then the job's result applied.
-void stroke(AppState& s, const Vec2& a, const Vec2& b, bool ctrl = false) {
-  s.rigidTool.press(s, at(a, ctrl));
-  for (int k = 1; k <= 8; ++k) s.rigidTool.drag(s, at(a + (b - a) * (k / 8.0), ctrl));
-  s.rigidTool.release(s, at(b, ctrl));
+void rigidityStroke(AppState& s, const Vec2& a, const Vec2& b, bool ctrl = false) {
+  s.rigidTool.press(s, pointerAt(a, ctrl));
+  for (int k = 1; k <= 8; ++k) s.rigidTool.drag(s, pointerAt(a + (b - a) * (k / 8.0), ctrl));
+  s.rigidTool.release(s, pointerAt(b, ctrl));
   finish(s);
 }
 
@@ -101,7 +101,7 @@ TEST(RigidityBrush, AStrokePaintsRhoAndReSolvesOnlyNearIt) {
   s->rigidBrush.strength = 1.0;
   const Weights W = s->session->W, W0 = s->session->W0;
   ASSERT_EQ(rigidCount(s->session->rigidity), 0);
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   ASSERT_TRUE(s->session) << lastMessage(*s);
   // The status line in plain words; the solver's own (method, rounds) in the diagnostics' details.
   EXPECT_EQ(lastMessage(*s).rfind("Rigidity: ", 0), 0u) << lastMessage(*s);
@@ -164,7 +164,7 @@ TEST(RigidityBrush, UndoAndRedoRestoreRhoAndWeightsExactly) {
   const Weights W = s->session->W;
   const RowMatrix coef = s->session->field->coefficients();
   const Weights meshW = s->meshSource->W;
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   const std::vector<double> rho = s->session->rigidity;
   const Weights Wafter = s->session->W;
   const RowMatrix coefAfter = s->session->field->coefficients();
@@ -187,9 +187,9 @@ TEST(RigidityBrush, UndoAndRedoRestoreRhoAndWeightsExactly) {
 TEST(RigidityBrush, EraseAndClearTakeRhoAway) {
   auto s = rigidState();
   const Weights W = s->session->W;
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   const Index painted = rigidCount(s->session->rigidity);
-  stroke(*s, kA, 0.5 * (kA + kB), /*ctrl=*/true);  // Ctrl erases half the stroke
+  rigidityStroke(*s, kA, 0.5 * (kA + kB), /*ctrl=*/true);  // Ctrl erases half the stroke
   const Index left = rigidCount(s->session->rigidity);
   EXPECT_LT(left, painted);
   EXPECT_GT(left, 0);
@@ -210,9 +210,9 @@ TEST(RigidityBrush, CancelDuringTheSolvePutsTheSessionBack) {
   s->worker.setStageHook([&gate](const std::string& stage) { gate(stage); });
   const Weights W = s->session->W;
   const RowMatrix coef = s->session->field->coefficients();
-  s->rigidTool.press(*s, at(kA));
-  s->rigidTool.drag(*s, at(kB));
-  s->rigidTool.release(*s, at(kB));
+  s->rigidTool.press(*s, pointerAt(kA));
+  s->rigidTool.drag(*s, pointerAt(kB));
+  s->rigidTool.release(*s, pointerAt(kB));
   EXPECT_TRUE(s->worker.busy());
   EXPECT_GT(rigidCount(s->rigidity), 0) << "the tint shows the stroke while it is solved";
   gate.waitInside();
@@ -231,7 +231,7 @@ TEST(RigidityBrush, CancelDuringTheSolvePutsTheSessionBack) {
 
 TEST(RigidityBrush, SessionsKeepTheRigidity) {
   auto s = rigidState();
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   const std::filesystem::path dir = test::scratchDir("rigidity_brush_session");
   const std::string path = (dir / "rigid.kcw.json").string();
   ASSERT_TRUE(startSaveSession(*s, path));
@@ -246,7 +246,7 @@ TEST(RigidityBrush, SessionsKeepTheRigidity) {
   // The reopened session takes further strokes, and undo of one gives the reopened weights back.
   const Weights reopened = t->session->W;
   selectTool(*t, Tool::Rigid);
-  stroke(*t, Vec2(60, 200), Vec2(100, 200));
+  rigidityStroke(*t, Vec2(60, 200), Vec2(100, 200));
   EXPECT_GT(rigidCount(t->session->rigidity), rigidCount(s->session->rigidity));
   ASSERT_TRUE(undo(*t));
   finish(*t);
@@ -257,7 +257,7 @@ TEST(RigidityBrush, SessionsKeepTheRigidity) {
 TEST(RigidityBrush, APaintedRegionSurvivesTheReBindOfALineEdit) {
   auto s = rigidState();
   s->autoSpacing = false;
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   const std::vector<double> before = s->session->rigidity;
   const SampleSet oldSamples = s->samples;
   app::Structure lines = s->lines;
@@ -351,7 +351,7 @@ TEST(RigidityBrush, GreyedForLbcAndBeforeABind) {
 TEST(RigidityPanel, WidgetsSayWhatTheyDoAndTheTintCoversThePaintedPart) {
   test::HeadlessImGui gui;
   auto s = rigidState();
-  stroke(*s, kA, kB);
+  rigidityStroke(*s, kA, kB);
   auto draw = [&] { drawFrame(*s); };
   gui.frame(draw);
   gui.frame(draw);  // the side panel gets its scroll bar in the second frame: the layout settles
