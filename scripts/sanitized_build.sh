@@ -26,6 +26,6 @@ generator=()  # Ninja for a new build folder, as scripts/build.sh
 [ ! -f "$dir/CMakeCache.txt" ] && command -v ninja > /dev/null && generator=(-G Ninja)
 # Configured every time (it is quick when nothing changed), so targets added since are known.
 CC=clang CXX=clang++ cmake -S . -B "$dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Debug -DKC_BUILD_GUI=OFF -DKC_BUILD_BENCH=OFF \
-    -DKC_BUILD_FUZZ=ON "${launcher[@]}" -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
+    -DKC_BUILD_FUZZ=ON -DKC_TEST_OPTIMIZATION= "${launcher[@]}" -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
     -DCMAKE_CXX_FLAGS_DEBUG="$opt -gline-tables-only" -DCMAKE_EXE_LINKER_FLAGS="$linker" > /dev/null
 cmake --build "$dir" -j"$(nproc 2>/dev/null || echo 2)" --target "$@"
