@@ -125,6 +125,9 @@ class KcBackend final : public Backend {
   std::string_view displayName() const override { return "KC"; }
   std::string_view description() const override { return "kernel coordinates"; }
   /// With LBC targets (`--init lbc`) the weights' detail is the LBC mesh's, coarser than the samples.
+  const Backend* targetsBackend(const BindParams& params) const override {
+    return params.kc.init.method == InitMethod::Lbc ? &backendFor("lbc") : nullptr;
+  }
   double weightSpacing(const BindParams& params) const override {
     return params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
   }

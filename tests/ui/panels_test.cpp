@@ -450,6 +450,23 @@ TEST(BindPanel, ARegisteredBackendShowsItsSwitchAndItsParameters) {
   EXPECT_FALSE(s->widgets.count("Auto sigma"));  // the kc backend's own parameters are gone
 }
 
+/// Under Initialization = lbc the kc panel shows the LBC solver's parameters (the kc backend names
+/// the backend its targets come from); under heat-linear it does not.
+TEST(BindPanel, LbcInitializationShowsTheLbcSolversParameters) {
+  EXPECT_EQ(app::backendFor("kc").targetsBackend(app::BindParams{}), nullptr);
+  EXPECT_EQ(app::backendFor("lbc").targetsBackend(app::BindParams{}), nullptr);
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  s->bindParams.kc.init.method = InitMethod::HeatLinear;
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_FALSE(s->widgets.count("LBC locality"));
+  s->bindParams.kc.init.method = InitMethod::Lbc;
+  EXPECT_EQ(app::backendFor("kc").targetsBackend(s->bindParams), &app::backendFor("lbc"));
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_TRUE(s->widgets.count("LBC locality"));
+}
+
 /// "Local targets" switches the screening and the targets' floor together: off binds the smooth,
 /// far-reaching targets, on again the local default.
 TEST(BindPanel, LocalTargetsSwitchesTheScreeningAndTheFloor) {

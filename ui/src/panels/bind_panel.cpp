@@ -274,7 +274,7 @@ void drawBindPanel(AppState& state) {
             "inverse-distance: nearer points pull harder;\n"
             "lbc: the local influences of LBC inside the cage (as local as LBC, still paintable; slower Bind).");
   markWidget(state, "Initialization");
-  if (p.kc.init.method == InitMethod::Lbc) parameterControls(state, app::backendFor("lbc"));  // its solver's parameters
+  if (const app::Backend* targets = backend.targetsBackend(p)) parameterControls(state, *targets);  // its solver's parameters
   if (p.kc.init.method == InitMethod::HeatLinear) {
     // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
     bool screened = p.kc.locality.rule != app::Locality::Rule::Off;

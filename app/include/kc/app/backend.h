@@ -89,6 +89,10 @@ class Backend {
     static const std::vector<BackendParameter> none;
     return none;
   }
+  /// The backend whose parameters also shape a bind with `params` (its targets come from that
+  /// backend's solver: the kc backend with LBC initialization), which the Bind panel shows under
+  /// Initialization; null (the default) when none.
+  virtual const Backend* targetsBackend(const BindParams&) const { return nullptr; }
   /// The spacing of the weights' detail a bind with `params` gives, which the warp mesh follows
   /// (app::weightSpacing). Default: params.spacing.
   virtual double weightSpacing(const BindParams& params) const { return params.spacing; }
