@@ -124,10 +124,11 @@ class KcBackend final : public Backend {
   std::string_view name() const override { return "kc"; }
   std::string_view displayName() const override { return "KC"; }
   std::string_view description() const override { return "kernel coordinates"; }
-  /// With LBC targets (`--init lbc`) the weights' detail is the LBC mesh's, coarser than the samples.
+  /// With LBC targets (`--init lbc`) the LBC solver's parameters shape the bind too.
   const Backend* targetsBackend(const BindParams& params) const override {
     return params.kc.init.method == InitMethod::Lbc ? &backendFor("lbc") : nullptr;
   }
+  /// With LBC targets the weights' detail is the LBC mesh's, coarser than the samples.
   double weightSpacing(const BindParams& params) const override {
     return params.kc.init.method == InitMethod::Lbc ? params.spacing / kLbcTargetSampling : params.spacing;
   }

@@ -264,10 +264,8 @@ InverseMeanShiftReport relaxInverseMeanShift(Points& X, Index firstFree, const R
       // The largest move shrinks roughly geometrically from the first iteration's to the
       // tolerance: log progress between them, never behind the iteration budget, never backwards.
       if (it == 0) firstMove = std::max(largest, tolerance);
-      const double towards = firstMove > tolerance && largest > 0.0
-                                 ? std::log(firstMove / std::max(largest, tolerance)) / std::log(firstMove / tolerance)
-                                 : 1.0;
-      shown = std::max({shown, static_cast<double>(it + 1) / options.maxIterations, std::clamp(towards, 0.0, 0.99)});
+      const double towards = logProgress(largest, firstMove, tolerance);
+      shown = std::max({shown, static_cast<double>(it + 1) / options.maxIterations, std::min(towards, 0.99)});
       if (!options.progress(shown)) throw Cancelled();  // every iteration: a cancel is seen within one iteration
     }
     if (largest < tolerance) {

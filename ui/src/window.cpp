@@ -407,7 +407,8 @@ int runWindow(const WindowOptions& o) {
     state->nativeDialogs = true;
     state->recentFilesPath = defaultRecentFilesPath();
     state->recentFiles = loadRecentFiles(state->recentFilesPath);
-    WindowInput input{state.get(), {}};
+    WindowInput input;
+    input.state = state.get();
     installInputCallbacks(window, input);
     state->recoveryPath = o.recoveryPath.empty() ? defaultRecoveryPath() : o.recoveryPath;
     state->exportPath = o.exportPath;

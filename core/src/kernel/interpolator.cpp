@@ -115,20 +115,14 @@ InterpolatorReport KernelInterpolator::compute(const Points& X, const GaussianKe
     report.status = SolveStatus::OutOfMemory;
     report.advice = "the Cholesky factor of the kernel matrix (" + std::to_string(X.rows()) + " samples, " +
                     std::to_string(report.nonZeros) + " non-zeros) does not fit in memory: use a larger spacing or a smaller sigma";
-  } else if (!impl->llt.ok()) {
-    report.status = SolveStatus::Singular;
+  } else if (const double ratio = impl->llt.ok() ? impl->llt.pivotRatio() : 0.0; !(ratio > 0.0) || !std::isfinite(ratio)) {
+    report.status = SolveStatus::Singular;  // not positive definite
     report.advice = kSigmaAdvice;
-  } else {
-    const double ratio = impl->llt.pivotRatio();
-    if (!(ratio > 0.0) || !std::isfinite(ratio)) {
-      report.status = SolveStatus::Singular;
-      report.advice = kSigmaAdvice;
-    } else if (ratio < kMinRelativePivot) {
-      report.status = SolveStatus::Singular;
-      report.advice =
-          "the kernel matrix is numerically singular: sigma is too large for the sample spacing "
-          "(keep sigma near 3·spacing/π, thesis 3.28), or samples nearly coincide";
-    }
+  } else if (ratio < kMinRelativePivot) {
+    report.status = SolveStatus::Singular;
+    report.advice =
+        "the kernel matrix is numerically singular: sigma is too large for the sample spacing "
+        "(keep sigma near 3·spacing/π, thesis 3.28), or samples nearly coincide";
   }
   if (report.status == SolveStatus::Ok && mode == InterpMode::Exact) {
     const Index n = X.rows();

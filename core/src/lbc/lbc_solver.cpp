@@ -566,11 +566,10 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         nextGapCheck = k + std::max(20, k / 5);  // a geometric schedule
       }
       if (options.progress && k % 10 == 0) {
-        // The residuals' way down to the tolerance (log scale) or the iteration share; never
-        // backwards (ADMM's residuals need not fall at every iteration).
-        const double worst = std::max(rep.primalResidual, rep.dualResidual);
-        const double byResidual = std::log(std::max(worst, options.tolerance)) / std::log(options.tolerance);
-        shown = std::clamp(std::max({shown, byResidual, double(k) / options.maxIterations}), 0.0, 1.0);
+        // The residuals' way down from 1 to the tolerance or the iteration share; never backwards
+        // (ADMM's residuals need not fall at every iteration).
+        const double byResidual = logProgress(std::max(rep.primalResidual, rep.dualResidual), 1.0, options.tolerance);
+        shown = std::min(std::max({shown, byResidual, double(k) / options.maxIterations}), 1.0);
         if (!options.progress(shown)) throw Cancelled();
       }
       if (options.adaptivePenalty) {  // residual balancing

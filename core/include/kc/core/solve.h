@@ -2,6 +2,8 @@
 /// The one vocabulary of kcwarp's numerical solves: their outcome (SolveStatus), how they report
 /// progress (Progress, StageProgress) and how they are stopped (Cancelled).
 
+#include <algorithm>
+#include <cmath>
 #include <exception>
 #include <functional>
 
@@ -22,6 +24,16 @@ enum class SolveStatus {
 /// How far a long computation is, `fraction` in [0, 1], never decreasing. Returning false asks it
 /// to stop: it throws Cancelled at its next check. Called on the computation's thread.
 using Progress = std::function<bool(double fraction)>;
+
+/// The share done of an iteration that stops once a quantity, falling roughly geometrically from
+/// `start`, reaches `target`: log(start / value) / log(start / target) in [0, 1]; 1 once value ≤
+/// target, 0 while start ≤ target < value. (The sampler's relaxation and the LBC iteration report
+/// it, at least their iteration share, never decreasing.)
+inline double logProgress(double value, double start, double target) {
+  if (!(value > target)) return 1.0;
+  if (!(start > target)) return 0.0;
+  return std::clamp(std::log(start / value) / std::log(start / target), 0.0, 1.0);
+}
 
 /// Progress of a computation of named stages (a bind, a rigidity stroke): `stage` names the stage
 /// running, `fraction` the whole computation's share done.
