@@ -61,6 +61,38 @@ SampleSet gridSamples(const Cage& cage, double h, double x0, double y0, double x
   return S;
 }
 
+/// Appends exterior samples at `points` to S; returns the index of the first.
+Index addExteriorSamples(SampleSet& S, const std::vector<Vec2>& points) {
+  const Index first = S.size(), n = static_cast<Index>(points.size());
+  S.X.conservativeResize(first + n, 2);
+  S.edge.conservativeResize(first + n, 2);
+  for (Index k = 0; k < n; ++k) {
+    S.X.row(first + k) = points[static_cast<std::size_t>(k)].transpose();
+    S.edge.row(first + k) << -1, -1;
+    S.kind.push_back(SampleKind::Exterior);
+  }
+  return first;
+}
+
+constexpr double kSceneSpacing = 10.0;
+
+/// A polygon's grid samples (gridSamples, h = kSceneSpacing, over box = {x0, y0, x1, y1}) with
+/// exterior samples added at `extra` (from index `first` on), and their continuation.
+struct Scene {
+  Cage cage;
+  SampleSet S;
+  Index first = 0;
+  ExteriorContinuation c;
+};
+Scene polygonScene(const Points& C, const std::array<double, 4>& box, const std::vector<Vec2>& extra) {
+  Scene s;
+  s.cage = Cage::polygon(C);
+  s.S = gridSamples(s.cage, kSceneSpacing, box[0], box[1], box[2], box[3]);
+  s.first = addExteriorSamples(s.S, extra);
+  s.c = ExteriorContinuation(s.S, s.cage, kSceneSpacing, nullptr);
+  return s;
+}
+
 /// Rows that sum to 1 and reproduce their positions, from random targets (QEC keeps them exact).
 Weights randomExactRows(const SampleSet& S, const Cage& cage, unsigned seed) {
   std::mt19937 rng(seed);
@@ -158,21 +190,32 @@ TEST(ExteriorContinuation, ContinuesInAWideOutsideWedge) {
   // other within the band (a notch, whose walls face each other: LeavesNarrowGapsAndFarRowsAlone).
   Points C(5, 2);
   C << 10, 10, 90, 10, 85, 50, 90, 90, 10, 90;
-  const Cage cage = Cage::polygon(C);
-  const double h = 10.0;
-  SampleSet S = gridSamples(cage, h, -20, -20, 120, 120);
-  const Index first = S.size();
-  const std::vector<Vec2> wedge{{88.0, 50.0}, {88.3, 47.0}, {88.3, 53.0}};
-  S.X.conservativeResize(first + Index(wedge.size()), 2);
-  S.edge.conservativeResize(first + Index(wedge.size()), 2);
-  for (std::size_t k = 0; k < wedge.size(); ++k) {
-    S.X.row(first + Index(k)) = wedge[k].transpose();
-    S.edge.row(first + Index(k)) << -1, -1;
-    S.kind.push_back(SampleKind::Exterior);
-  }
-  const ExteriorContinuation c(S, cage, h, nullptr);
+  const auto [cage, S, first, c] = polygonScene(C, {-20, -20, 120, 120}, {{88.0, 50.0}, {88.3, 47.0}, {88.3, 53.0}});
   for (Index i = first; i < S.size(); ++i)
     EXPECT_TRUE(std::binary_search(c.rows().begin(), c.rows().end(), i)) << "row " << i << " at " << S.X.row(i);
+}
+
+TEST(ExteriorContinuation, TheFarSideOfAConvexPartIsNoGapWall) {
+  // A leg whose right side (x = 40) flares out to a foot at its bottom. A sample 6 px right of the
+  // leg, 18 px above the foot's outer corner, sees that corner across the outside, but the cage
+  // between the two walls turns towards the inside (round the foot), so the corner bounds no gap:
+  // the row keeps the single-side share of its optimized weights, smoothstep(d / band), where
+  // counting the corner as a gap's far wall would leave it nearly all of them.
+  Points C(5, 2);
+  C << 20, 0, 40, 0, 40, 70, 46, 84, 14, 86;
+  const auto [cage, S, row, c] = polygonScene(C, {-30, -30, 90, 120}, {{46.0, 66.0}});
+  ASSERT_TRUE(std::binary_search(c.rows().begin(), c.rows().end(), row));
+  // keep = the change of the continued row per unit change of the row's own optimized weights.
+  Weights A = randomExactRows(S, cage, 3), B = A;
+  B.row(row) = randomExactRows(S, cage, 4).row(row);
+  const Eigen::RowVectorXd own = A.row(row) - B.row(row);
+  c.apply(A);
+  c.apply(B);
+  Index k = 0;
+  own.cwiseAbs().maxCoeff(&k);
+  const double keep = (A(row, k) - B(row, k)) / own(k);
+  const double u = 6.0 / (ExteriorContinuationOptions{}.bandSpacings * kSceneSpacing);
+  EXPECT_NEAR(keep, u * u * (3.0 - 2.0 * u), 1e-9);
 }
 
 TEST(ExteriorContinuation, ARefinedGapBlendsItsTwoWallsAndNextToAWallContinuesThatWallAlone) {

@@ -20,6 +20,39 @@ constexpr double kOneSideCosine = 0.5;
 /// In the two-sided blend of a refined gap, the fraction of the gap's width next to each wall
 /// that continues that wall alone (see the header).
 constexpr double kGapWall = 0.2;
+/// The least turn towards the outside (radians, 60°) of the cage between two walls of a gap.
+constexpr double kPocketTurn = 1.0471975511965976;
+
+/// Turning of a closed polygon: prefix[k] = Σ_{v < k} τ_v, τ_v the turn at vertex v (radians,
+/// positive towards the inside: a convex vertex), prefix[m] = 2π. Empty for a cage that is not
+/// one closed polygon i → i+1 (mod m) (an edge graph: the pocket test is not made there).
+std::vector<double> polygonTurning(const Cage& cage, const std::vector<std::array<int, 2>>& edges) {
+  const int m = static_cast<int>(cage.size());
+  bool polygon = cage.closed && static_cast<int>(edges.size()) == m;
+  for (int i = 0; polygon && i < m; ++i) polygon = edges[static_cast<std::size_t>(i)] == std::array<int, 2>{i, (i + 1) % m};
+  if (!polygon) return {};
+  const double orientation = signedArea(cage.C) > 0.0 ? 1.0 : -1.0;
+  std::vector<double> prefix(static_cast<std::size_t>(m) + 1, 0.0);
+  for (int v = 0; v < m; ++v) {
+    const Vec2 d1 = (cage.C.row(v) - cage.C.row((v + m - 1) % m)).transpose();
+    const Vec2 d2 = (cage.C.row((v + 1) % m) - cage.C.row(v)).transpose();
+    const double turn = std::atan2(d1.x() * d2.y() - d1.y() * d2.x(), d1.dot(d2));
+    prefix[static_cast<std::size_t>(v) + 1] = prefix[static_cast<std::size_t>(v)] + orientation * turn;
+  }
+  return prefix;
+}
+
+/// True when edges a and b (of the polygon `turning` describes) bound a pocket of the outside: the
+/// way along the cage from one to the other that turns least towards the inside turns towards
+/// the outside by kPocketTurn or more. Always true without turning data.
+bool boundsPocket(const std::vector<double>& turning, int a, int b) {
+  if (turning.empty()) return true;
+  const std::size_t m = turning.size() - 1;
+  const auto ua = static_cast<std::size_t>(a) + 1, ub = static_cast<std::size_t>(b) + 1;
+  // Forward from edge a to edge b: the turns at vertices a+1 … b (mod m).
+  const double forward = b > a ? turning[ub] - turning[ua] : turning[m] - turning[ua] + turning[ub];
+  return std::min(forward, turning[m] - forward) <= -kPocketTurn;
+}
 
 /// The nearest point to x on the loop edges within `radius` (its edge, ends and parameter), and
 /// the width of the gap x lies in: the distance to the nearest point of a stick or of any other
@@ -29,6 +62,10 @@ constexpr double kGapWall = 0.2;
 /// than 60° apart, seen from x) with nothing of the cage between: the walls of a wide, nearly
 /// flat outside wedge, such as where a leg's side turns out to the toe. Walls facing each other
 /// across a gap or a wedge narrower than 120° lie farther apart round x.
+/// On a closed polygon, a wall also bounds a gap only when the cage between the two walls (the
+/// way round it that turns least towards the inside) turns towards the outside by at least 60°:
+/// the walls of a pocket of the outside (a gap between two legs, an armpit), not those round a
+/// convex part (a leg's side and the sole of its foot, seen past the heel).
 struct Nearest {
   double distance = std::numeric_limits<double>::infinity();
   double other = std::numeric_limits<double>::infinity();
@@ -41,7 +78,7 @@ struct Nearest {
 };
 
 Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<int, 2>>& edges, const std::vector<char>& onLoop,
-                         const CageQueries& cage, const Vec2& x, double radius) {
+                         const CageQueries& cage, const std::vector<double>& turning, const Vec2& x, double radius) {
   Nearest n;
   const Vec2 r(radius, radius);
   auto closest = [&](const Vec2& a, const Vec2& b, double& t) {
@@ -78,6 +115,7 @@ Nearest nearestLoopPoint(const CageEdgeGrid& grid, const std::vector<std::array<
       if (cage.inside(0.5 * (x + q))) return;
       const bool sameSide = (q - x).normalized().dot((n.point - x).normalized()) >= kOneSideCosine;
       if (sameSide && !cage.segmentCrosses(x, q)) return;
+      if (!boundsPocket(turning, n.edge, e)) return;
     }
     n.other = d;
     n.otherA = loop ? edges[static_cast<std::size_t>(e)][0] : -1;
@@ -141,6 +179,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
   const std::vector<char> onLoop = loopEdgeFlags(cage);
   const CageEdgeGrid edgeGrid(cage, options.bandSpacings * spacing);
   const CageQueries queries(cage);
+  const std::vector<double> turning = polygonTurning(cage, edges);
   auto h = [&](const Vec2& x) { return sizing ? (*sizing)(x) : spacing; };
 
   std::vector<Term> terms(exterior.size());
@@ -149,7 +188,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
     const Index i = exterior[static_cast<std::size_t>(k)];
     const Vec2 x = S.X.row(i).transpose();
     const double hx = h(x), band = options.bandSpacings * hx;
-    const Nearest p = nearestLoopPoint(edgeGrid, edges, onLoop, queries, x, 2.0 * band);
+    const Nearest p = nearestLoopPoint(edgeGrid, edges, onLoop, queries, turning, x, 2.0 * band);
     if (p.edge < 0 || !(p.distance > 0.0)) return;
     auto smoothstep = [](double u) {
       u = std::clamp(u, 0.0, 1.0);

@@ -19,7 +19,9 @@
 /// so the result keeps partition of unity and reproduction exact; it may be negative outside.
 /// Rows whose mirror falls outside the cage (past a thin part) keep w_opt, and so do rows in a gap
 /// narrower than the band: α is multiplied by smoothstep((d + d′)/band − 1), d′ the distance to the
-/// other side (another loop edge seen across the outside, or a stick), because continuing either
+/// other side (another loop edge seen across the outside, or a stick; on a closed polygon only a
+/// wall the cage reaches from this one by turning 60° or more towards the outside, a pocket such
+/// as a gap between legs, not the far side of a convex part such as a foot), because continuing either
 /// side into a narrow gap would steepen the weights across it, and a stick's linear weights are
 /// the data next to it.
 ///
