@@ -49,7 +49,7 @@ StageTimes profile(const Cage& cage, int w, int h) {
   const auto t0 = Clock::now();
   std::string stage;
   double last = 0.0;
-  app::bind(cage, w, h, app::frameBindParams(), nullptr, [&](const char* s, double) {
+  app::bind(cage, w, h, app::frameBindParams(), [&](const char* s, double) {
     const double now = secondsBetween(t0, Clock::now());
     if (stage != s) {
       if (!stage.empty()) t.end[stage] = now;
@@ -76,7 +76,7 @@ double cancelLatency(const Cage& cage, int w, int h, double at) {
   });
   bool cancelled = false;
   try {
-    app::bind(cage, w, h, app::frameBindParams(), nullptr, [&](const char*, double) { return !cancel.load(); });
+    app::bind(cage, w, h, app::frameBindParams(), [&](const char*, double) { return !cancel.load(); });
   } catch (const Cancelled&) {
     cancelled = true;
   }

@@ -62,10 +62,9 @@ void benchBind(const BenchArgs& a) {
   std::vector<double> t[8];
   Index n = 0;
   for (int r = 0; r < a.repeats; ++r) {
-    app::BindReport rep;
-    const app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p, &rep);
+    const app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p);
     n = s.samples.size();
-    const app::BindTimings& b = s.timings;
+    const app::BindTimings& b = s.report.timings;
     const double v[8] = {b.sampling, b.assemble, b.factor, b.init, b.optimize, b.solve, b.total, 0};
     for (int k = 0; k < 7; ++k) t[k].push_back(v[k]);
   }

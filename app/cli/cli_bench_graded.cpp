@@ -116,7 +116,7 @@ void bindOnce(Timed& t, const Cage& cage, int w, int h, const app::BindParams& p
     const auto t0 = std::chrono::steady_clock::now();
     t.session = app::bind(cage, w, h, p);
     t.runs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    t.stages.push_back(t.session.timings);
+    t.stages.push_back(t.session.report.timings);
     t.samples = t.session.samples.size();
     t.hMax = p.spacing;
     t.hMin = t.session.sizing ? t.session.sizing->hMin() : p.spacing;

@@ -55,17 +55,17 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
       double c0 = cpu();
       plain = app::bind(cage, w, h, p);
       cPlain.push_back(cpu() - c0);
-      tPlain.push_back(plain.timings.total);
+      tPlain.push_back(plain.report.timings.total);
       c0 = cpu();
       lined = app::bind(cage, st, w, h, p);
       cLines.push_back(cpu() - c0);
-      tLines.push_back(lined.timings.total);
+      tLines.push_back(lined.report.timings.total);
     }
     for (auto* v : {&tLines, &tPlain, &cLines, &cPlain}) std::sort(v->begin(), v->end());
     const double cpuRatio = cLines[cLines.size() / 2] / cPlain[cPlain.size() / 2];
     sumCpu += cpuRatio;
-    sumSamplingLines += lined.timings.sampling, sumSamplingPlain += plain.timings.sampling;
-    sumTotalLines += lined.timings.total, sumTotalPlain += plain.timings.total;
+    sumSamplingLines += lined.report.timings.sampling, sumSamplingPlain += plain.report.timings.sampling;
+    sumTotalLines += lined.report.timings.total, sumTotalPlain += plain.report.timings.total;
     const app::LineFigures with = app::measureLines(lined, st.lines, 50), without = app::measureLines(plain, st.lines, 50);
     const app::FoldFigures folds = app::measureFolds(lined, 50);
     if (!plainFolds) plainFolds = app::measureFolds(plain, 50);
@@ -74,7 +74,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
     const double ratio = tLines[tLines.size() / 2] / tPlain[tPlain.size() / 2];
     sumRatio += ratio;
     char iterations[32];
-    std::snprintf(iterations, sizeof iterations, "%d / %d", lined.reports.sampling.iterations, plain.reports.sampling.iterations);
+    std::snprintf(iterations, sizeof iterations, "%d / %d", lined.report.sampling.iterations, plain.report.sampling.iterations);
     char foldText[2][32];
     std::snprintf(foldText[0], sizeof foldText[0], "%d / %ld", folds.foldedPoses, long(folds.flipped));
     std::snprintf(foldText[1], sizeof foldText[1], "%d / %ld", plainFolds->foldedPoses, long(plainFolds->flipped));
@@ -121,9 +121,9 @@ void benchEdges(const std::string& folder, int repeats) {
     app::Session lined, plain;
     for (int r = 0; r < repeats; ++r) {
       plain = app::bind(cage, w, h, plainParams);
-      tPlain.push_back(plain.timings.total);
+      tPlain.push_back(plain.report.timings.total);
       lined = app::bind(cage, w, h, edgeParams);
-      tEdges.push_back(lined.timings.total);
+      tEdges.push_back(lined.report.timings.total);
     }
     std::sort(tEdges.begin(), tEdges.end());
     std::sort(tPlain.begin(), tPlain.end());

@@ -150,7 +150,6 @@ void runBind(const BindArgs& a) {
     std::fprintf(stderr, "kcwarp-cli: warning: %s\n", warning.c_str());
   }
 
-  app::BindReport r;
   kc::StageProgress progress;
   if (stderrIsTerminal())
     progress = [](const char* stage, double f) {
@@ -160,18 +159,19 @@ void runBind(const BindArgs& a) {
     };
   if (!a.structure.empty())
     app::checkStructure(st, cage, p.spacing, a.structure, app::gradedSampling(p) || app::exactLines(p));
-  app::Session s = app::bind(cage, st, w, h, p, &r, progress);
+  app::Session s = app::bind(cage, st, w, h, p, progress);
+  const app::BindReport& r = s.report;
   if (!a.image.empty()) s.image = app::imagePathForSession(a.image, a.output);
   app::releaseFactorization(s);  // not needed to save: the save's text then never meets the factor in memory
   app::saveSession(a.output, s);
 
-  if (s.reports.lbcMesh > 0) {
+  if (r.meshVertices() > 0) {
     std::printf("bound %ld control points, LBC mesh of %ld vertices (%ld on the cage), tau %s\n", static_cast<long>(cage.size()),
                 static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.controls + r.sampling.edge),
                 std::string(app::toString(p.lbc.tau)).c_str());
     if (s.sizing)
       std::printf("graded: mesh spacing %.3g-%.3g px for the cage's narrow places\n", s.sizing->hMin(), s.sizing->hMax());
-    std::printf("%s\n", s.reports.summary().c_str());
+    std::printf("%s\n", r.summary().c_str());
   } else {
     std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
                 static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
@@ -179,9 +179,9 @@ void runBind(const BindArgs& a) {
     if (s.sizing)
       std::printf("graded: spacing %.3g-%.3g px (sigma %.3g-%.3g px) for the cage's narrow places\n", s.sizing->hMin(),
                   s.sizing->hMax(), s.sigma * s.sizing->hMin() / s.sizing->hMax(), s.sigma);
-    std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), s.reports.summary().c_str());
+    std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), r.summary().c_str());
   }
-  const app::BindTimings& t = s.timings;
+  const app::BindTimings& t = r.timings;
   if (!st.rigid.empty())
     std::printf("rigid: %zu regions, %ld samples, rigidity energy %.4g -> %.4g (%ld nodes, %ld controls, %d %s%s, %.3f s)\n",
                 st.rigid.size(), static_cast<long>(r.rigidity.region), r.rigidity.energyBefore, r.rigidity.energyAfter,

@@ -133,7 +133,8 @@ void runStructure(const Example& e, const app::Session& plain, const std::string
   }
   files.set((fs::path(out) / (e.name + ".structure.png")).string(), png(sideBySide(halves[0], halves[1])));
   say(report, "structure: %zu lines (%s.structure.json), bind %.3f s with them against %.3f s without (%.2fx)\n",
-      e.structure.lines.size(), e.name.c_str(), s.timings.total, plain.timings.total, s.timings.total / plain.timings.total);
+      e.structure.lines.size(), e.name.c_str(), s.report.timings.total, plain.report.timings.total,
+      s.report.timings.total / plain.report.timings.total);
   for (std::size_t k = 0; k < e.structure.lines.size(); ++k) {
     const StructureLine& l = e.structure.lines[k];
     say(report, "      line %zu (%.0f px): bend without / with the lines %.3f / %.4f px (pose without rotations), "
@@ -167,8 +168,8 @@ void runLbc(const Example& e, const app::Session& kc, const app::Diagnostics& kc
   files.set((fs::path(out) / (e.name + ".lbc.heatmap-log.png")).string(), png(app::weightHeatmap(s, control, ho)));
   const double kcObjective = lbcObjective(kc, params);
   say(report, "-- LBC (local barycentric coordinates) on the same cage, spacing %.3g px, tau %s: bind %.3f s\n", params.spacing,
-      std::string(app::toString(params.lbc.tau)).c_str(), s.timings.total);
-  say(report, "%s\n%s", s.reports.summary().c_str(), lbcSolverText(s, "   ").c_str());
+      std::string(app::toString(params.lbc.tau)).c_str(), s.report.timings.total);
+  say(report, "%s\n%s", s.report.summary().c_str(), s.report.backend ? s.report.backend->details(s.params, "   ").c_str() : "");
   say(report, "%-44s %12s %12s\n", "locality inside the cage (LBC eq. 19-21)", "KC", "LBC");
   const auto P = [](const LocalityStats& l, double t) -> double {  // P(t) as tabulated by diagnose()
     for (std::size_t k = 0; k < l.t.size(); ++k)
@@ -183,7 +184,7 @@ void runLbc(const Example& e, const app::Session& kc, const app::Diagnostics& kc
     say(report, "  Q(%zu), fraction with >= %zu controls above%*s %12.3f %12.3f\n", k, k, 4, "", kcDiag.locality.Q[k], d.locality.Q[k]);
   say(report, "%-44s %11.1f%% %11.1f%%\n", "  compact weights / dense (LBC Table 1)", 100.0 * kcDiag.compactFraction,
       100.0 * d.compactFraction);
-  say(report, "%-44s %12.4g %12.4g\n", "  objective (LBC eq. 14) on the LBC mesh", kcObjective, s.reports.lbc.objective);
+  say(report, "%-44s %12.4g %12.4g\n", "  objective (LBC eq. 14) on the LBC mesh", kcObjective, lbcObjective(s, params));
   say(report, "      heatmap %s.lbc.heatmap-log.png shows LBC's w%ld (log scale)\n", e.name.c_str(), long(control));
 }
 
@@ -197,10 +198,9 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   const Pose& pose = e.pose;
   const Image& source = e.source;
 
-  app::BindReport br;
   app::BindParams params;
   params.exterior = app::exteriorFor(outside);
-  app::Session s = app::bind(cage, source.width, source.height, params, &br);
+  app::Session s = app::bind(cage, source.width, source.height, params);
   const std::string sessionPath = (fs::path(out) / (name + ".kcw.json")).string();
   s.image = app::imagePathForSession(base + ".png", sessionPath);
   s.pose = pose;
@@ -232,11 +232,11 @@ void runExample(const Example& e, const std::string& out, OutsideMode outside, i
   files.set((fs::path(out) / (name + ".samples.png")).string(), png(samples));
 
   const app::Diagnostics d = app::diagnose(s);
-  const app::BindTimings& t = s.timings;
+  const app::BindTimings& t = s.report.timings;
   say(report, "\n== %s: %dx%d image, %ld control points, %ld samples, sigma %.3g px, method %s\n", name.c_str(),
       source.width, source.height, long(cage.size()), long(s.samples.size()), s.sigma,
       std::string(app::toString(s.params.kc.method)).c_str());
-  say(report, "%s\n", s.reports.summary().c_str());
+  say(report, "%s\n", s.report.summary().c_str());
   say(report, "bind %.3f s (sampling %.3f, kernel %.3f, factor %.3f, init %.3f, optimize %.3f, solve %.3f)\n", t.total,
       t.sampling, t.assemble, t.factor, t.init, t.optimize, t.solve);
   say(report, "%-34s %12s %12s %12s\n", "property", "samples", "inside", "image");

@@ -38,11 +38,4 @@ std::string localityText(const app::Diagnostics& d, const char* indent) {
   return out;
 }
 
-std::string lbcSolverText(const app::Session& s, const char* indent) {
-  const LbcReport& r = s.reports.lbc;
-  return format("%sLBC solver: stops at residuals <= %s and a certified gap <= %s%%; objective %.6g (LBC eq. 14, picture "
-                "scaled to diameter 1) >= lower bound %.6g; penalty %s; largest change by the projection to w >= 0 %.2e\n",
-                indent, shortNumber(s.params.lbc.tolerance).c_str(), shortNumber(100.0 * LbcOptions{}.gapTolerance).c_str(), r.objective, r.lowerBound, shortNumber(r.penalty).c_str(), r.maxProjection);
-}
-
 }  // namespace kc::cli

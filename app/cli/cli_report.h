@@ -19,9 +19,4 @@ std::string localityText(const app::Diagnostics& d, const char* indent);
 /// weight at those points. localityText ends with it.
 std::string dragText(const app::Diagnostics& d, const char* indent);
 
-/// What SolverReports::summary() leaves out of an LBC solve (lbcMesh > 0), one line starting with
-/// `indent`: the stopping rule, the objective (LBC eq. 14) and its certified lower bound, the
-/// penalty, the largest change made by the projection to w ≥ 0.
-std::string lbcSolverText(const app::Session& s, const char* indent);
-
 }  // namespace kc::cli

@@ -30,7 +30,7 @@ void printHeader(const app::Session& s, const std::string& path) {
   Index counts[5] = {0, 0, 0, 0, 0};
   for (SampleKind k : s.samples.kind) ++counts[static_cast<int>(k)];
   std::printf("session %s\n", path.c_str());
-  if (s.reports.lbcMesh > 0) {
+  if (s.report.meshVertices() > 0) {
     std::printf("  %ld control points, LBC mesh of the cage interior: %ld vertices (%ld on cage edges, %ld interior), image %dx%d\n",
                 static_cast<long>(s.cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(counts[1]),
                 static_cast<long>(counts[3]), s.imageWidth, s.imageHeight);
@@ -52,7 +52,7 @@ void printHeader(const app::Session& s, const std::string& path) {
 void printProperties(const app::Session& s, const app::Diagnostics& d) {
   const app::PropertyRow* rows[] = {&d.samples, &d.inside, &d.image};
   const int columns = d.outsideWeights ? 3 : 2;
-  std::printf("%-38s %14s %14s", "property", s.reports.lbcMesh > 0 ? "mesh vertices" : "samples (W)", "inside cage");
+  std::printf("%-38s %14s %14s", "property", s.report.meshVertices() > 0 ? "mesh vertices" : "samples (W)", "inside cage");
   if (d.outsideWeights) std::printf(" %14s", "whole image");
   std::printf("\n");
   auto row = [&](const char* name, auto field, const char* fmt) {
@@ -66,7 +66,7 @@ void printProperties(const app::Session& s, const app::Diagnostics& d) {
   row("negative weights    (< -1e-6)", [](const app::PropertyRow& r) { return static_cast<long>(r.negatives); }, " %14ld");
   row("points", [](const app::PropertyRow& r) { return static_cast<long>(r.points); }, " %14ld");
   if (!d.outsideWeights) {
-    if (s.params.exterior == sampling::ExteriorExtent::Band && s.reports.lbcMesh == 0)
+    if (s.params.exterior == sampling::ExteriorExtent::Band && s.report.meshVertices() == 0)
       std::printf("%-38s only in a band around the cage (bound with --exterior band: warps keep or pin the\n"
                   "%-38s outside; --outside deform is refused, bind with --exterior frame for it)\n", "outside the cage", "");
     else
@@ -98,11 +98,11 @@ void printText(const app::Session& s, const app::Diagnostics& d, const std::stri
   printProperties(s, d);
   printLines(s);
   std::printf("\nlocality inside the cage (LBC eq. 19-21, every %d px):\n%s", d.pixelStep, localityText(d, "  ").c_str());
-  std::printf("\n%s\n", s.reports.summary().c_str());
-  if (s.reports.lbcMesh > 0) std::printf("%s", lbcSolverText(s, "  ").c_str());
-  for (const std::string& p : s.reports.problems()) std::printf("  warning: %s\n", p.c_str());
-  const app::BindTimings& t = s.timings;
-  if (s.reports.lbcMesh > 0)
+  std::printf("\n%s\n", s.report.summary().c_str());
+  if (s.report.backend) std::printf("%s", s.report.backend->details(s.params, "  ").c_str());
+  for (const std::string& p : s.report.problems()) std::printf("  warning: %s\n", p.c_str());
+  const app::BindTimings& t = s.report.timings;
+  if (s.report.meshVertices() > 0)
     std::printf("\ntimings (s): mesh %.3f  geodesics %.3f  factor %.3f  ADMM %.3f  bind total %.3f\n", t.sampling, t.init,
                 t.factor, t.optimize, t.total);
   else
@@ -129,7 +129,7 @@ void addStatsCommand(CLI::App& app) {
       printText(s, d, a->session);
       return;
     }
-    const app::BindTimings& t = s.timings;
+    const app::BindTimings& t = s.report.timings;
     json j = {{"backend", s.params.backend},
               {"controls", s.cage.size()},
               {"samples", s.samples.size()},
@@ -165,34 +165,31 @@ void addStatsCommand(CLI::App& app) {
                   {"area_fraction", d.drag.fraction},
                   {"min_weight", d.drag.minWeight}}}}},
               {"solver",
-               {{"samples_optimized", s.reports.optimize.solved},
-                {"outside_control_hull", s.reports.optimize.infeasible},
-                {"not_optimal", s.reports.optimize.failed},
-                {"max_iterations", s.reports.optimize.maxIterations},
-                {"unreachable_targets", s.reports.init.fallbackSamples},
-                {"unscreened_targets", s.reports.init.unscreenedSamples},
-                {"sampling_converged", s.reports.sampling.converged},
-                {"problems", s.reports.problems()}}},
+               {{"samples_optimized", s.report.optimize.solved},
+                {"outside_control_hull", s.report.optimize.infeasible},
+                {"not_optimal", s.report.optimize.failed},
+                {"max_iterations", s.report.optimize.maxIterations},
+                {"unreachable_targets", s.report.init.fallbackSamples},
+                {"unscreened_targets", s.report.init.unscreenedSamples},
+                {"sampling_converged", s.report.sampling.converged},
+                {"problems", s.report.problems()}}},
               {"timings",
-               {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
-                {"optimize", t.optimize}, {"solve", t.solve}, {"total", t.total}, {"evaluate", d.evalSeconds}}}};
+               {{"sampling", t.sampling},
+                {"assemble", t.assemble},
+                {"factor", t.factor},
+                {"init", t.init},
+                {"optimize", t.optimize},
+                {"solve", t.solve},
+                {"total", t.total},
+                {"evaluate", d.evalSeconds}}}};
     if (!s.structure.lines.empty() && s.hasField()) {
       const app::LineFigures f = app::measureLines(s, s.structure.lines, kLineTrials, kLineTranslation);
       j["lines"] = {{"count", s.structure.lines.size()}, {"bend_px", f.deviation}, {"parallel_angle_deg", f.angle},
                     {"trials", kLineTrials}, {"max_translation_px", kLineTranslation}};
     }
-    if (s.reports.lbcMesh > 0) {
-      const LbcReport& r = s.reports.lbc;
-      j["solver"]["lbc"] = {{"mesh_vertices", s.reports.lbcMesh},
-                            {"converged", r.status == SolveStatus::Ok},
-                            {"iterations", r.iterations},
-                            {"primal_residual", r.primalResidual},
-                            {"dual_residual", r.dualResidual},
-                            {"penalty", r.penalty},
-                            {"objective", r.objective},
-                            {"lower_bound", r.lowerBound},
-                            {"projected_vertices", r.projectedVertices},
-                            {"max_projection", r.maxProjection}};
+    if (s.report.backend)
+      s.report.backend->toJson(j["solver"][std::string(app::backendFor(s.params.backend).parameterBlock())], false);
+    if (s.report.meshVertices() > 0) {
       for (const char* kcOnly : {"sigma", "init", "method", "interp"}) j.erase(kcOnly);
       j["lbc"] = {{"tau", std::string(app::toString(s.params.lbc.tau))},
                   {"tolerance", s.params.lbc.tolerance},

@@ -146,8 +146,9 @@ class KcBackend final : public Backend {
     return c;
   }
 
-  void bind(Session& s, BindReport& r, const BindStep& step) const override {
+  void bind(Session& s, const BindStep& step) const override {
     const BindParams& params = s.params;
+    BindReport& r = s.report;
     const KcParams& kc = params.kc;
 
     step("sampling", 0.0);
@@ -226,9 +227,8 @@ class KcBackend final : public Backend {
     r.lines = applyLines(s, *field);
     s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
     r.rigidity = applyRigidity(s, *field);
-    r.solveSeconds = secondsSince(ts);
+    r.timings.solve = secondsSince(ts);
     s.field = std::move(field);
-    s.reports = {r.sampling, r.init, r.optimize, {}, 0};
   }
 
   void rebuildField(Session& s) const override {
@@ -282,7 +282,7 @@ class KcBackend final : public Backend {
       for (std::size_t k = 0; k < rows.size(); ++k) before.row(static_cast<Index>(k)) = s.W.row(rows[k]);
     const OptimizeReport r = optimizeRows(s, method, whole ? std::span<const Index>{} : std::span<const Index>(rows), continuation);
     s.params.kc.method = method;
-    if (whole) s.reports.optimize = r;
+    if (whole) s.report.optimize = r;
 
     std::vector<Index> columns;
     for (Index c = 0; c < m; ++c) {

@@ -8,7 +8,11 @@
 #include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <limits>
+#include <type_traits>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "backends.h"
 #include "kc/app/pipeline.h"
@@ -27,6 +31,90 @@ constexpr double kStageStart[] = {0.0, 0.05, 0.15};
 /// Mesh vertices kcwarp accepts for one LBC bind (≈ 16 kB per vertex for 30 controls).
 constexpr Index kMaxLbcVertices = 400'000;
 
+/// The LBC solve of a bind (BackendReport): the solver's report and the mesh's size.
+class LbcBindReport final : public BackendReport {
+ public:
+  LbcBindReport(const LbcReport& report, Index vertices) : m_r(report), m_vertices(vertices) {}
+
+  Index meshVertices() const override { return m_vertices; }
+  std::string summary() const override {
+    return format(
+        "LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g (certified within "
+        "%.3g%% of the optimum), %ld vertices projected to w >= 0",
+        static_cast<long>(m_vertices), m_r.iterations, m_r.primalResidual, m_r.dualResidual, m_r.objective,
+        100.0 * (m_r.objective - m_r.lowerBound) / std::abs(m_r.lowerBound), static_cast<long>(m_r.projectedVertices));
+  }
+  std::vector<std::string> problems() const override {
+    std::vector<std::string> out;
+    if (m_r.status != SolveStatus::Ok)
+      out.push_back(format("LBC: not converged after %d iterations (primal %.2e, dual %.2e)", m_r.iterations, m_r.primalResidual,
+                           m_r.dualResidual));
+    if (m_r.projectionFailures > 0)
+      out.push_back(
+          format("LBC: %ld vertices not projected to w >= 0 with certainty", static_cast<long>(m_r.projectionFailures)));
+    return out;
+  }
+  std::string brief() const override {
+    return format("%ld mesh vertices, %d iterations", static_cast<long>(m_vertices), m_r.iterations);
+  }
+  std::string details(const BindParams& params, const char* indent) const override {
+    return format(
+        "%sLBC solver: stops at residuals <= %s and a certified gap <= %s%%; objective %.6g (LBC eq. 14, picture "
+        "scaled to diameter 1) >= lower bound %.6g; penalty %s; largest change by the projection to w >= 0 %.2e\n",
+        indent, shortNumber(params.lbc.tolerance).c_str(), shortNumber(100.0 * LbcOptions{}.gapTolerance).c_str(), m_r.objective,
+        m_r.lowerBound, shortNumber(m_r.penalty).c_str(), m_r.maxProjection);
+  }
+  void toJson(nlohmann::json& j, bool session) const override {
+    j = {{"mesh_vertices", m_vertices},
+         {"converged", m_r.status == SolveStatus::Ok},
+         {"iterations", m_r.iterations},
+         {"primal_residual", m_r.primalResidual},
+         {"dual_residual", m_r.dualResidual},
+         {"penalty", m_r.penalty},
+         {"objective", m_r.objective},
+         {"lower_bound", m_r.lowerBound},
+         {"projected_vertices", m_r.projectedVertices},
+         {"max_projection", m_r.maxProjection}};
+    if (!session) return;
+    if (!std::isfinite(m_r.lowerBound)) j["lower_bound"] = nullptr;
+    j["projection_failures"] = m_r.projectionFailures;
+    j["seconds"] = {{"geodesics", m_r.geodesicSeconds}, {"factor", m_r.factorSeconds}, {"iterations", m_r.iterationSeconds}};
+  }
+
+  /// The report a session's reports.lbc object holds (missing or mistyped keys: their defaults).
+  static std::shared_ptr<const BackendReport> fromJson(const nlohmann::json& j) {
+    if (!j.is_object()) return nullptr;
+    auto get = [&](const char* key, auto fallback) {
+      if (!j.contains(key)) return fallback;
+      const nlohmann::json& v = j[key];
+      if constexpr (std::is_same_v<decltype(fallback), bool>) return v.is_boolean() ? v.get<bool>() : fallback;
+      else return v.is_number() ? v.get<decltype(fallback)>() : fallback;
+    };
+    LbcReport r;
+    r.status = get("converged", false) ? SolveStatus::Ok : SolveStatus::NotConverged;
+    r.iterations = get("iterations", 0);
+    r.primalResidual = get("primal_residual", 0.0);
+    r.dualResidual = get("dual_residual", 0.0);
+    r.penalty = get("penalty", 0.0);
+    r.objective = get("objective", 0.0);
+    r.lowerBound = get("lower_bound", -std::numeric_limits<double>::infinity());
+    r.projectedVertices = get("projected_vertices", Index{0});
+    r.maxProjection = get("max_projection", 0.0);
+    r.projectionFailures = get("projection_failures", Index{0});
+    if (j.contains("seconds") && j["seconds"].is_object()) {
+      const nlohmann::json& t = j["seconds"];
+      auto seconds = [&](const char* key) { return t.contains(key) && t[key].is_number() ? t[key].get<double>() : 0.0; };
+      r.geodesicSeconds = seconds("geodesics");
+      r.factorSeconds = seconds("factor");
+      r.iterationSeconds = seconds("iterations");
+    }
+    return std::make_shared<LbcBindReport>(r, get("mesh_vertices", Index{0}));
+  }
+
+ private:
+  LbcReport m_r;
+  Index m_vertices = 0;
+};
 
 }  // namespace
 
@@ -155,8 +243,9 @@ class LbcBackend final : public Backend {
     return c;
   }
 
-  void bind(Session& s, BindReport& r, const BindStep& step) const override {
+  void bind(Session& s, const BindStep& step) const override {
     LbcBind b = solveLbcForBind(s.cage, s.params, step);
+    BindReport& r = s.report;
     const CageMesh& mesh = b.mesh;
     const LbcReport& rep = b.result.report;
     r.sampling = {};
@@ -174,6 +263,7 @@ class LbcBackend final : public Backend {
     r.optimize.maxIterations = rep.iterations;
     r.optimize.failed = rep.projectionFailures;
     r.optimize.seconds = rep.iterationSeconds;
+    r.backend = std::make_shared<LbcBindReport>(rep, mesh.size());
 
     s.sigma = 0.0;
     s.sizing = b.sizing;
@@ -184,7 +274,10 @@ class LbcBackend final : public Backend {
     s.W0.resize(0, 0);
     s.W = b.result.W;
     s.field = std::make_unique<MeshField>(mesh.V, mesh.T, std::move(b.result.W));
-    s.reports = SolverReports{r.sampling, r.init, r.optimize, rep, mesh.size()};
+  }
+
+  std::shared_ptr<const BackendReport> readReport(const nlohmann::json& block) const override {
+    return LbcBindReport::fromJson(block);
   }
 
   void rebuildField(Session& s) const override {

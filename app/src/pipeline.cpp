@@ -345,12 +345,11 @@ void checkBindCost(const BindCost& c, const BindParams& params) {
                               shortNumber(double(kMaxKernelNonZeros)) + " non-zeros, " + byteText(double(kMaxBindBytes)) + "): " + advice);
 }
 
-Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report,
-             const StageProgress& progress) {
-  return app::bind(cage, Structure{}, width, height, params, report, progress);
+Session bind(const Cage& cage, int width, int height, const BindParams& params, const StageProgress& progress) {
+  return app::bind(cage, Structure{}, width, height, params, progress);
 }
 
-Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& requested, BindReport* report,
+Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& requested,
              const StageProgress& progress) {
   // Structure lines keep the uniform sampling where its rules accept the cage and the lines.
   const BindParams params = asUserInput("bind", [&] { return effectiveBindParams(cage, structure, requested); });
@@ -374,9 +373,6 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
     validateRigidRegions(cage, structure.rigid);
     return b;
   });
-  BindReport local;
-  BindReport& r = report ? *report : local;
-
   Session s;
   s.cage = cage;
   s.structure = structure;
@@ -385,14 +381,19 @@ Session bind(const Cage& cage, const Structure& structure, int width, int height
   s.imageHeight = height;
   // The backend throws std::invalid_argument for parameters it rejects (documented in backend.h).
   asUserInput("bind", [&] {
-    backend.bind(s, r, [&](const char* stage, double f) {
+    backend.bind(s, [&](const char* stage, double f) {
       if (progress && !progress(stage, f)) throw Cancelled();
     });
   });
   if (progress && !progress("done", 1.0)) throw Cancelled();
-  r.totalSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  s.timings = {r.sampling.seconds, r.factor.assembleSeconds, r.factor.factorSeconds, r.init.seconds,
-               r.optimize.seconds,  r.solveSeconds,           r.totalSeconds};
+  // The stages' times from their reports; the field's solve (timings.solve) the backend set itself.
+  BindReport& r = s.report;
+  r.timings.sampling = r.sampling.seconds;
+  r.timings.assemble = r.factor.assembleSeconds;
+  r.timings.factor = r.factor.factorSeconds;
+  r.timings.init = r.init.seconds;
+  r.timings.optimize = r.optimize.seconds;
+  r.timings.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

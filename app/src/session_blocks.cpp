@@ -266,7 +266,7 @@ void checkWeightRows(const Weights& W, const Points& X, const Points& C, const s
   }
 }
 
-json reportsToJson(const SolverReports& r) {
+json reportsToJson(const BindReport& r, const Backend& backend) {
   json problems = json::array();
   for (const std::string& p : r.problems()) problems.push_back(p);
   json j = {{"sampling",
@@ -285,26 +285,12 @@ json reportsToJson(const SolverReports& r) {
             {"failed", r.optimize.failed},
             {"max_iterations", r.optimize.maxIterations}}},
           {"problems", problems}};
-  if (r.lbcMesh > 0) {
-    const LbcReport& l = r.lbc;
-    j["lbc"] = {{"mesh_vertices", r.lbcMesh},
-                {"converged", l.status == SolveStatus::Ok},
-                {"iterations", l.iterations},
-                {"primal_residual", l.primalResidual},
-                {"dual_residual", l.dualResidual},
-                {"penalty", l.penalty},
-                {"objective", l.objective},
-                {"lower_bound", std::isfinite(l.lowerBound) ? json(l.lowerBound) : json(nullptr)},
-                {"projected_vertices", l.projectedVertices},
-                {"max_projection", l.maxProjection},
-                {"projection_failures", l.projectionFailures},
-                {"seconds", {{"geodesics", l.geodesicSeconds}, {"factor", l.factorSeconds}, {"iterations", l.iterationSeconds}}}};
-  }
+  if (r.backend && !backend.parameterBlock().empty()) r.backend->toJson(j[std::string(backend.parameterBlock())], true);
   return j;
 }
 
-SolverReports reportsFromJson(const json& block) {
-  SolverReports r;
+BindReport reportsFromJson(const json& block, const Backend& backend) {
+  BindReport r;
   if (!block.is_object()) return r;
   auto get = [&](const char* section, const char* key, auto fallback) {
     if (!block.contains(section) || !block[section].is_object() || !block[section].contains(key)) return fallback;
@@ -326,19 +312,8 @@ SolverReports reportsFromJson(const json& block) {
   r.optimize.infeasible = get("optimize", "infeasible", Index{0});
   r.optimize.failed = get("optimize", "failed", Index{0});
   r.optimize.maxIterations = get("optimize", "max_iterations", 0);
-  if (block.contains("lbc") && block["lbc"].is_object()) {
-    r.lbcMesh = get("lbc", "mesh_vertices", Index{0});
-    r.lbc.status = get("lbc", "converged", false) ? SolveStatus::Ok : SolveStatus::NotConverged;
-    r.lbc.iterations = get("lbc", "iterations", 0);
-    r.lbc.primalResidual = get("lbc", "primal_residual", 0.0);
-    r.lbc.dualResidual = get("lbc", "dual_residual", 0.0);
-    r.lbc.penalty = get("lbc", "penalty", 0.0);
-    r.lbc.objective = get("lbc", "objective", 0.0);
-    r.lbc.lowerBound = get("lbc", "lower_bound", -std::numeric_limits<double>::infinity());
-    r.lbc.projectedVertices = get("lbc", "projected_vertices", Index{0});
-    r.lbc.maxProjection = get("lbc", "max_projection", 0.0);
-    r.lbc.projectionFailures = get("lbc", "projection_failures", Index{0});
-  }
+  if (const std::string name(backend.parameterBlock()); !name.empty() && block.contains(name))
+    r.backend = backend.readReport(block[name]);
   return r;
 }
 

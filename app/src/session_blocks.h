@@ -3,6 +3,7 @@
 
 #include "json_util.h"
 #include "kc/app/file_io.h"
+#include "kc/app/backend.h"
 #include "kc/app/session.h"
 
 namespace kc::app::detail {
@@ -28,9 +29,11 @@ void checkWeightRows(const Weights& W, const Points& X, const Points& C, const s
 inline constexpr double kUnityTolerance = 1e-9;
 inline constexpr double kReproductionTolerance = 1e-9;
 
-json reportsToJson(const SolverReports& r);
-/// Missing entries keep their defaults (older files have no reports block).
-SolverReports reportsFromJson(const json& block);
+/// The session's `reports` block: the stages a user must see, and the backend's own report under
+/// reports.<its parameter block>.
+json reportsToJson(const BindReport& r, const Backend& backend);
+/// Missing entries keep their defaults (older files have no reports block); the backend reads its own.
+BindReport reportsFromJson(const json& block, const Backend& backend);
 
 /// One row per sample, one column per control point (the JSON form older files use).
 json weightsToJson(const Weights& W);

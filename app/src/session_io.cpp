@@ -184,7 +184,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
     if (s.sizing->form() == SizingForm::Smooth) j["sizing"]["form"] = "smooth";
   }
   if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
-  j["reports"] = detail::reportsToJson(s.reports);
+  j["reports"] = detail::reportsToJson(s.report, backendFor(s.params.backend));
   if (std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) {
     json idx = json::array(), rho = json::array();
     for (std::size_t i = 0; i < s.rigidity.size(); ++i)
@@ -193,7 +193,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   }
   if (!s.pose.empty()) j["pose"] = detail::poseToJson(s.pose);
   if (s.outside) j["outside"] = std::string(toString(*s.outside));
-  const BindTimings& t = s.timings;
+  const BindTimings& t = s.report.timings;
   j["timings"] = {{"sampling", t.sampling}, {"assemble", t.assemble}, {"factor", t.factor}, {"init", t.init},
                   {"optimize", t.optimize}, {"solve", t.solve},       {"total", t.total}};
   return j.dump() + "\n";
@@ -456,12 +456,13 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
       throw InputError(where, "outside must be one of " + nameList<OutsideMode>());
     s.outside = mode;
   }
+  if (j.contains("reports")) s.report = detail::reportsFromJson(j["reports"], backendFor(s.params.backend));
   if (j.contains("timings") && j["timings"].is_object()) {
     const json& t = j["timings"];
     auto get = [&](const char* k) { return t.contains(k) && t[k].is_number() ? t[k].get<double>() : 0.0; };
-    s.timings = {get("sampling"), get("assemble"), get("factor"), get("init"), get("optimize"), get("solve"), get("total")};
+    s.report.timings = {get("sampling"), get("assemble"), get("factor"), get("init"),
+                        get("optimize"), get("solve"),    get("total")};
   }
-  if (j.contains("reports")) s.reports = detail::reportsFromJson(j["reports"]);
   if (j.contains("sizing") && !j["sizing"].is_null()) s.sizing = sizingFromJson(j["sizing"], s.params.spacing, where);
   fieldOfSession(j, s, where);
   return s;

@@ -125,11 +125,11 @@ TEST(GradedLines, MeetingLinesShareASampleInAGradedSampling) {
 double expectStraightGraded(const Cage& cage, const std::vector<StructureLine>& lines, int width, int height) {
   Structure st;
   st.lines = lines;
-  BindReport r;
-  const Session s = app::bind(cage, st, width, height, BindParams{}, &r);
+  const Session s = app::bind(cage, st, width, height, BindParams{});
+  const BindReport& r = s.report;
   EXPECT_TRUE(s.params.graded);  // graded (a sizing field only where some place is narrow)
   const LineFigures f = measureLines(s, st.lines, 20, 40.0);
-  std::printf("%ld samples, bind %.2f s (lines %.2f s, %ld fit points), bent %.3g px\n", long(s.samples.size()), r.totalSeconds,
+  std::printf("%ld samples, bind %.2f s (lines %.2f s, %ld fit points), bent %.3g px\n", long(s.samples.size()), r.timings.total,
               r.lines.seconds, long(r.lines.fitPoints), f.deviation);
   EXPECT_LE(f.deviation, 0.1);
   EXPECT_LE(f.unity, 1e-9);

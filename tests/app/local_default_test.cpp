@@ -71,10 +71,10 @@ TEST(LocalDefault, TheBundledFigureBindsWithEverySampleSolved) {
   const Image picture = loadImage(std::string(KC_SOURCE_DIR) + "/images/figure.png");
   BindParams p = defaults();
   p.spacing = automaticSpacing(figureCage(), picture.width, picture.height, p);
-  BindReport r;
-  const Session s = app::bind(figureCage(), Structure{}, picture.width, picture.height, p, &r);
-  EXPECT_EQ(s.reports.optimize.failed, 0);
-  EXPECT_FALSE(s.reports.anyProblem()) << s.reports.summary();
+  const Session s = app::bind(figureCage(), Structure{}, picture.width, picture.height, p);
+  const BindReport& r = s.report;
+  EXPECT_EQ(s.report.optimize.failed, 0);
+  EXPECT_FALSE(s.report.anyProblem()) << s.report.summary();
 }
 
 TEST(LocalDefault, PaintingReDerivesWhatAWholeReoptimizationGives) {

@@ -281,20 +281,20 @@ TEST(Session, SemanticallyWrongSessionsAreRefusedNamingTheCheck) {
 TEST(Session, SolverReportsAreSavedAndRead) {
   const auto dir = test::scratchDir("session_reports");
   Session s = smallSession();
-  EXPECT_GT(s.reports.optimize.solved, 0);
-  s.reports.optimize.failed = 3;
-  s.reports.init.fallbackSamples = 2;
+  EXPECT_GT(s.report.optimize.solved, 0);
+  s.report.optimize.failed = 3;
+  s.report.init.fallbackSamples = 2;
   const std::string path = (dir / "r.kcw.json").string();
   saveSession(path, s);
   const auto j = nlohmann::json::parse(readTextFile(path));
   EXPECT_EQ(j["reports"]["optimize"]["failed"], 3);
   EXPECT_EQ(j["reports"]["problems"].size(), 2u);
   const Session t = loadSession(path);
-  EXPECT_EQ(t.reports.optimize.failed, 3);
-  EXPECT_EQ(t.reports.optimize.solved, s.reports.optimize.solved);
-  EXPECT_EQ(t.reports.init.fallbackSamples, 2);
-  EXPECT_TRUE(t.reports.anyProblem());
-  EXPECT_NE(t.reports.summary().find("WARNING"), std::string::npos);
+  EXPECT_EQ(t.report.optimize.failed, 3);
+  EXPECT_EQ(t.report.optimize.solved, s.report.optimize.solved);
+  EXPECT_EQ(t.report.init.fallbackSamples, 2);
+  EXPECT_TRUE(t.report.anyProblem());
+  EXPECT_NE(t.report.summary().find("WARNING"), std::string::npos);
 }
 
 TEST(Session, OldFormatSessionStillLoads) {
@@ -307,7 +307,7 @@ TEST(Session, OldFormatSessionStillLoads) {
   ASSERT_TRUE(s.hasField());
   EXPECT_NE(dynamic_cast<const KernelField*>(s.field.get()), nullptr);
   EXPECT_EQ(s.W0.rows(), s.samples.size());
-  EXPECT_FALSE(s.reports.anyProblem());
+  EXPECT_FALSE(s.report.anyProblem());
   // The rebuilt field interpolates the stored weights (Lagrange at the samples) and is a partition of unity.
   const Weights W = s.field->weightsAt(s.samples.X);
   EXPECT_LT((W - s.W).cwiseAbs().maxCoeff(), 1e-9);

@@ -43,8 +43,8 @@ void expectTableSixSixProperties(Method method, double h, Index points) {
   BindParams p;
   p.spacing = h;
   p.kc.method = method;
-  BindReport r;
-  const Session s = bind(cage, 320, 400, p, &r);
+  const Session s = bind(cage, 320, 400, p);
+  const BindReport& r = s.report;
   // The head is sampled (it got none while an open cage had no inside).
   Index head = 0;
   for (Index i = 0; i < s.samples.size(); ++i)

@@ -69,9 +69,19 @@ TEST(TestBackend, BindsFromTheCommandLineAndItsSessionIsRead) {
   const auto params = nlohmann::json::parse(slurp(dir / "s.kcw.json"))["params"];
   EXPECT_EQ(params["backend"], "mvc");
   EXPECT_EQ(params["mvc"]["snap"].get<double>(), 1e-7);
+  EXPECT_NE(r.out.find("solver: mean value coordinates of 10 control points, snap 1e-07 px; no failures"), std::string::npos)
+      << r.out;
+  // Its own report, saved in the session's reports.<block> and shown by stats, which never name it.
+  const auto reports = nlohmann::json::parse(slurp(dir / "s.kcw.json"))["reports"];
+  EXPECT_EQ(reports["mvc"], (nlohmann::json{{"controls", 10}, {"snap", 1e-7}}));
+  r = runCli("stats --session s.kcw.json", dir, KC_MVC_CLI_PATH);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("solver: mean value coordinates of 10 control points"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  MVC: closed-form weights, nothing iterated"), std::string::npos) << r.out;
   r = runCli("stats --session s.kcw.json --json", dir, KC_MVC_CLI_PATH);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto stats = nlohmann::json::parse(r.out);
+  EXPECT_EQ(stats["solver"]["mvc"]["controls"], 10);
   EXPECT_LE(stats["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
   EXPECT_LE(stats["properties"]["inside"]["reproduction"].get<double>(), 1e-7);
   r = runCli("bind --backend mvc --mvc-snap 5 --cage '" + kImages + "star.cage.json' --size 320,320 -o t.kcw.json", dir,

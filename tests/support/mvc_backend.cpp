@@ -1,15 +1,18 @@
 // A test backend: mean value coordinates (Floater 2003; Hormann and Floater 2006 for any simple
 // polygon) inside a closed polygonal cage. It proves that a backend is one class and one
 // registration line: nothing else in kcwarp names it, yet `kcwarp-cli bind --backend mvc` binds
-// with it, sessions save and load it, its parameter shows in the Bind panel, and the conformance
-// suite runs on it. Linked into the test executables that use it (tests/CMakeLists.txt).
+// with it, sessions save and load it and its report, `stats` shows that report, its parameter
+// shows in the Bind panel, and the conformance suite runs on it. Linked into the test executables that use it (tests/CMakeLists.txt).
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "kc/app/backend.h"
 #include "kc/core/field/field.h"
@@ -135,6 +138,33 @@ class MvcField final : public CoordinateField {
   double m_tolerance;
 };
 
+/// The mvc backend's own report: the controls it bound and the snap distance it used.
+class MvcReport final : public app::BackendReport {
+ public:
+  MvcReport(Index controls, double snap) : m_controls(controls), m_snap(snap) {}
+  std::string summary() const override {
+    return "mean value coordinates of " + std::to_string(m_controls) + " control points, snap " + shortText(m_snap) + " px";
+  }
+  std::string brief() const override { return std::to_string(m_controls) + " control points"; }
+  std::string details(const app::BindParams&, const char* indent) const override {
+    return std::string(indent) + "MVC: closed-form weights, nothing iterated\n";
+  }
+  void toJson(nlohmann::json& out, bool) const override { out = {{"controls", m_controls}, {"snap", m_snap}}; }
+  static std::shared_ptr<const app::BackendReport> fromJson(const nlohmann::json& j) {
+    if (!j.is_object() || !j.contains("controls") || !j.contains("snap")) return nullptr;
+    return std::make_shared<MvcReport>(j["controls"].get<Index>(), j["snap"].get<double>());
+  }
+
+ private:
+  static std::string shortText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+  }
+  Index m_controls;
+  double m_snap;
+};
+
 /// The "mvc" backend: one closed polygon, no samples beyond its controls, no targets.
 class MvcBackend final : public app::Backend {
  public:
@@ -167,7 +197,7 @@ class MvcBackend final : public app::Backend {
     return c;
   }
 
-  void bind(app::Session& s, app::BindReport& report, const app::BindStep& step) const override {
+  void bind(app::Session& s, const app::BindStep& step) const override {
     step("coordinates", 0.0);
     const Index m = s.cage.size();
     const auto edges = cageEdges(s.cage);
@@ -183,10 +213,15 @@ class MvcBackend final : public app::Backend {
     s.W = Weights::Identity(m, m);
     s.W0.resize(0, 0);
     rebuildField(s);
-    report.sampling = {};
-    report.sampling.controls = m;
-    report.optimize = {};
-    report.optimize.solved = m;
+    s.report.sampling = {};
+    s.report.sampling.controls = m;
+    s.report.optimize = {};
+    s.report.optimize.solved = m;
+    s.report.backend = std::make_shared<MvcReport>(m, app::parameterValue(*this, parameters().front(), s.params));
+  }
+
+  std::shared_ptr<const app::BackendReport> readReport(const nlohmann::json& block) const override {
+    return MvcReport::fromJson(block);
   }
 
   void rebuildField(app::Session& s) const override {

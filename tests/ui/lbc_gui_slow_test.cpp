@@ -92,7 +92,7 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   auto draw = [&] { drawFrame(*s); };
   const app::Session& bound = *s->session;
   EXPECT_EQ(bound.params.backend, "lbc");
-  EXPECT_GT(bound.reports.lbcMesh, 6);
+  EXPECT_GT(bound.report.meshVertices(), 6);
   EXPECT_EQ(s->tool, Tool::Pose);
   EXPECT_FALSE(s->capabilities.painting || s->capabilities.methods || s->capabilities.outsideCage);
   EXPECT_NE(s->messages.back().text.find("with LBC"), std::string::npos) << s->messages.back().text;

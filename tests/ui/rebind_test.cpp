@@ -139,7 +139,7 @@ TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   s->worker.waitFinished();
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  ASSERT_GT(s->reports.lbcMesh, 0) << (s->messages.empty() ? "" : s->messages.back().text);
+  ASSERT_GT(s->reports.meshVertices(), 0) << (s->messages.empty() ? "" : s->messages.back().text);
   // One click back to the KC bind (the Bind panel's "Previous bind"), one forward to LBC again.
   gui.frame(draw);
   gui.clickLabel(*s, "Previous bind", draw);
@@ -148,7 +148,7 @@ TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   EXPECT_TRUE(s->capabilities.painting);
   gui.frame(draw);
   gui.clickLabel(*s, "Next bind", draw);
-  EXPECT_GT(s->reports.lbcMesh, 0);
+  EXPECT_GT(s->reports.meshVertices(), 0);
   EXPECT_EQ(s->bindParams.backend, "lbc");
 }
 
@@ -186,7 +186,7 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   s->worker.waitFinished();
   pollWorker(*s);
   ASSERT_NE(s->session, kc) << (s->messages.empty() ? "" : s->messages.back().text);
-  EXPECT_GT(s->reports.lbcMesh, 0);
+  EXPECT_GT(s->reports.meshVertices(), 0);
   EXPECT_TRUE(s->session->structure.lines.empty());
   for (const auto& m : s->messages) {  // nothing refused after the person said yes
     EXPECT_FALSE(m.error) << m.text;

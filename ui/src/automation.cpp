@@ -30,7 +30,7 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
                         {"auto_sigma", !(state.bindParams.kc.sigma > 0.0)},
                         {"local_targets", state.bindParams.kc.locality.rule != app::Locality::Rule::Off}};
   j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
-  j["lbc_mesh"] = state.reports.lbcMesh;         // LBC mesh vertices of the bound session, 0 when not LBC
+  j["lbc_mesh"] = state.reports.meshVertices();  // LBC mesh vertices of the bound session, 0 when not LBC
   j["window"] = {window[0], window[1], window[2], window[3]};
   json controls = json::array();
   if (state.bound) {

@@ -31,7 +31,7 @@ void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
   state.method = state.session->params.kc.method;
-  state.reports = state.session->reports;
+  state.reports = state.session->report;
   if (mesh) {
     state.mesh = std::move(*mesh);
     ++state.meshRevision;
@@ -71,12 +71,13 @@ void postSolverProblems(AppState& st, const OptimizeReport& r, const char* what)
 /// The status line after a bind: what was computed, at how many points, in how long.
 std::string bindSummary(const app::Session& s) {
   char text[200];
-  if (s.reports.lbcMesh > 0)
-    std::snprintf(text, sizeof text, "Bound %ld control points with LBC: %ld mesh vertices, %d iterations, %.2f s.",
-                  long(s.cage.size()), long(s.reports.lbcMesh), s.reports.lbc.iterations, s.timings.total);
+  if (s.report.backend)
+    std::snprintf(text, sizeof text, "Bound %ld control points with %s: %s, %.2f s.", long(s.cage.size()),
+                  std::string(app::backendFor(s.params.backend).displayName()).c_str(), s.report.backend->brief().c_str(),
+                  s.report.timings.total);
   else
     std::snprintf(text, sizeof text, "Bound %ld control points, %ld samples in %.2f s.", long(s.cage.size()),
-                  long(s.samples.size()), s.timings.total);
+                  long(s.samples.size()), s.report.timings.total);
   return text;
 }
 
@@ -153,7 +154,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.capabilities = app::sessionCapabilities(s);
   if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
   if (state.tool == Tool::Rigid && !rigidityProblem(state).empty()) state.tool = Tool::Pose;
-  state.reports = s.reports;
+  state.reports = s.report;
   state.bindParams = s.params;
   // Lines the uniform rules accept are sampled uniformly (app::effectiveBindParams), and the session
   // records that; the GUI asks for graded binds, so the line tool and the next bind keep the graded
@@ -167,7 +168,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   refreshBoundRigidity(state, s);
   state.boundSpacing = s.params.spacing;
   state.boundMinSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
-  state.boundSigma = s.reports.lbcMesh > 0 ? 0.0 : s.sigma;
+  state.boundSigma = s.report.meshVertices() > 0 ? 0.0 : s.sigma;
   state.sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
@@ -180,7 +181,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   if (state.activeControl >= s.cage.size() || state.activeControl < 0) state.activeControl = 0;
   state.undo.clear();
   state.diagnostics.reset();
-  state.timings.bindSeconds = s.timings.total;
+  state.timings.bindSeconds = s.report.timings.total;
   state.weightsReproducible = fromOptimizer;
 }
 
@@ -318,45 +319,48 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
     restoreLines(st);
     postMessage(st, "Bind cancelled.", false);
   };
-  state.worker.submit("Binding", [=](JobContext& ctx) -> Worker::Apply {
-    try {
-      app::BindReport report;
-      auto s = std::make_shared<app::Session>(
-          app::bind(cage, lines, w, h, params, &report, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
-      s->image = image;
-      s->imageUpright = upright;
-      s->outside = meshOptions.outside;
-      if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
-      DisplayMesh display = buildDisplayMesh(*s, meshOptions);
-      return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
-        if (keepPoseAndHistory) {
-          installKeepingPose(st, s, display);
-        } else if (previous) {
-          installReplacing(st, previous, s, display);
-        } else {
-          installSession(st, s, display, true);
-          st.tool = Tool::Pose;
+  state.worker.submit(
+      "Binding",
+      [=](JobContext& ctx) -> Worker::Apply {
+        try {
+          auto s = std::make_shared<app::Session>(
+              app::bind(cage, lines, w, h, params, [&](const char* stage, double f) { return ctx.progress(stage, 0.9 * f); }));
+          s->image = image;
+          s->imageUpright = upright;
+          s->outside = meshOptions.outside;
+          if (!ctx.progress("warp mesh", 0.92)) throw Cancelled();
+          DisplayMesh display = buildDisplayMesh(*s, meshOptions);
+          return [s, display, markUnsaved, narrow, keepPoseAndHistory, previous](AppState& st) {
+            if (keepPoseAndHistory) {
+              installKeepingPose(st, s, display);
+            } else if (previous) {
+              installReplacing(st, previous, s, display);
+            } else {
+              installSession(st, s, display, true);
+              st.tool = Tool::Pose;
+            }
+            st.unsaved = st.unsaved || markUnsaved;
+            postMessage(st, bindSummary(*s), false);
+            if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
+            for (const std::string& p : s->report.problems()) postMessage(st, "Bind: " + p, true);
+          };
+        } catch (const Cancelled&) {
+          return cancelled;
+        } catch (const std::exception& e) {
+          const std::string text = "Bind failed: " + failureText(e, "",
+                                                                 "this cage at this spacing needs more memory than is free; "
+                                                                 "use a larger spacing or a smaller picture");
+          return [previous, text, restoreLines](AppState& st) {
+            if (previous) {
+              st.session = previous;
+              st.outside = st.mesh.options().outside;
+            }
+            restoreLines(st);
+            postMessage(st, text, true);
+          };
         }
-        st.unsaved = st.unsaved || markUnsaved;
-        postMessage(st, bindSummary(*s), false);
-        if (!narrow.empty()) postMessage(st, "Note: " + narrow + ".", false);
-        for (const std::string& p : s->reports.problems()) postMessage(st, "Bind: " + p, true);
-      };
-    } catch (const Cancelled&) {
-      return cancelled;
-    } catch (const std::exception& e) {
-      const std::string text = "Bind failed: " + failureText(e, "", "this cage at this spacing needs more memory than is free; "
-                                                                   "use a larger spacing or a smaller picture");
-      return [previous, text, restoreLines](AppState& st) {
-        if (previous) {
-          st.session = previous;
-          st.outside = st.mesh.options().outside;
-        }
-        restoreLines(st);
-        postMessage(st, text, true);
-      };
-    }
-  }, cancelled);
+      },
+      cancelled);
   return true;
 }
 

@@ -135,10 +135,12 @@ bool swapBoundDocument(AppState& state, const BindEdit& edit) {
   setPose(state, next.pose);
   selectTool(state, tool);
   const app::Session& b = *state.session;
-  postMessage(state, b.reports.lbcMesh > 0 ? "Back to the LBC bind (" + std::to_string(b.reports.lbcMesh) + " mesh vertices)."
-                                           : "Back to the " + app::upperCase(b.params.backend) + " bind (" +
-                                                 std::to_string(b.samples.size()) + " samples).",
-              false);
+  const Index vertices = b.report.meshVertices();
+  postMessage(
+      state,
+      "Back to the " + std::string(app::backendFor(b.params.backend).displayName()) + " bind (" +
+          (vertices > 0 ? std::to_string(vertices) + " mesh vertices)." : std::to_string(b.samples.size()) + " samples)."),
+      false);
   return true;
 }
 

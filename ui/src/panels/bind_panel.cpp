@@ -174,13 +174,13 @@ void drawBindButtons(AppState& state) {
 /// What the bound session was computed with; Load / Save cage.
 void drawBoundSummary(AppState& state) {
   if (state.bound) {  // what the bound session was computed with
-    const bool mesh = state.reports.lbcMesh > 0;
+    const bool mesh = state.reports.meshVertices() > 0;
     const std::string sigma = boundSigmaText(state);
     // Wrapped at the panel's edge: with a graded sigma the line is longer than the panel is wide.
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped("Bound: spacing %s,%s%s %ld %s", spacingRange(state.boundMinSpacing, state.boundSpacing).c_str(),
                        sigma.empty() ? "" : " sigma ", sigma.empty() ? "" : (sigma + ",").c_str(),
-                       long(mesh ? state.reports.lbcMesh : state.samples.size()), mesh ? "mesh points" : "samples");
+                       long(mesh ? state.reports.meshVertices() : state.samples.size()), mesh ? "mesh points" : "samples");
     ImGui::PopStyleColor();
     tooltip("The spacing the weights of the bound picture were computed at (closer where the cage is narrow), their "
             "smoothing width sigma (smaller in proportion where the spacing is) and how many points they were computed "

@@ -147,8 +147,8 @@ void drawDiagnosticsPanel(AppState& state) {
   ImGui::Text("Mesh: %ld vertices, %zu triangles (%.1f px)", long(state.mesh.restVertices().rows()), state.mesh.triangles().size(),
               state.mesh.options().spacing);
   labelled(state, "Mesh", "The picture is drawn as a grid of small triangles that follow the pose; the grid spacing in pixels.");
-  if (state.reports.lbcMesh > 0) {
-    ImGui::Text("LBC mesh: %ld vertices, controls: %ld", long(state.reports.lbcMesh), long(state.boundCage.size()));
+  if (const Index vertices = state.reports.meshVertices(); vertices > 0) {
+    ImGui::Text("Mesh: %ld vertices, controls: %ld", long(vertices), long(state.boundCage.size()));
     labelled(state, "LBC mesh", "Vertices of the triangle mesh of the cage's inside that LBC computed the weights at, "
                                 "and the number of cage points.");
   } else {

@@ -14,22 +14,8 @@
 
 #include "kc/core/solve.h"
 #include "kc/app/session.h"
-#include "kc/core/structure/linear_along.h"
-#include "kc/core/structure/rigidity.h"
 
 namespace kc::app {
-
-/// What one bind did, stage by stage (the solver outcomes are also kept in Session::reports).
-struct BindReport {
-  sampling::SamplingReport sampling;
-  InterpolatorReport factor;
-  InitReport init;
-  OptimizeReport optimize;
-  double solveSeconds = 0.0;   ///< Coefficients of the field from W (and the lines' post-processing).
-  LinearityReport lines;       ///< Structure lines (thesis 5.3.3); empty without lines.
-  RigidityReport rigidity;     ///< Rigid regions (thesis 5.4, docs/rigidity.md); empty without them.
-  double totalSeconds = 0.0;
-};
 
 /// Announces a bind stage (name, fraction in [0, 1]); throws kc::Cancelled when asked to stop.
 using BindStep = std::function<void(const char* stage, double fraction)>;
@@ -100,9 +86,13 @@ class Backend {
   /// none, the default): `kcwarp-cli bind` prints it, the GUI shows it.
   virtual std::string narrowPlaceWarning(const Cage&, const BindParams&) const { return {}; }
   /// Fills everything of `s` a bind computes: samples, σ, W0 (when the backend has targets), W, the
-  /// field and s.reports. s.cage, s.params and the image size are set; `step` reports progress
-  /// (and throws kc::Cancelled). Throws std::invalid_argument for parameters the backend rejects.
-  virtual void bind(Session& s, BindReport& report, const BindStep& step) const = 0;
+  /// field and s.report (its stages' reports and times but timings.total, and the backend's own
+  /// report). s.cage, s.params and the image size are set; `step` reports progress (and throws
+  /// kc::Cancelled). Throws std::invalid_argument for parameters the backend rejects.
+  virtual void bind(Session& s, const BindStep& step) const = 0;
+  /// The backend's own report from the session's `reports.<parameterBlock()>` object (as
+  /// BackendReport::toJson wrote it); null (the default) for a backend without one.
+  virtual std::shared_ptr<const BackendReport> readReport(const nlohmann::json&) const { return nullptr; }
   /// Rebuilds s.field from what a session file holds (samples, W, params, the field block already
   /// parsed into s.field when it was self-contained). Throws InputError-worthy
   /// std::invalid_argument with the reason when the field cannot be rebuilt.

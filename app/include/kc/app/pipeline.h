@@ -133,15 +133,15 @@ void checkBindCost(const BindCost& cost, const BindParams& params);
 /// uses the measured mean nearest-neighbour spacing of the samples (sampling::suggestSigma).
 double automaticSigma(double spacing);
 
-/// Binds a cage over an image of width×height pixels with the backend params.backend. Throws
+/// Binds a cage over an image of width×height pixels with the backend params.backend; what the
+/// bind did is the session's `report` (with its total time). Throws
 /// InputError for bad input (invalid cage, bad parameters, unknown backend, too many samples, a
 /// kernel matrix that cannot be factorized with these σ and spacing, with the report's advice).
-Session bind(const Cage& cage, int width, int height, const BindParams& params, BindReport* report = nullptr,
-             const StageProgress& progress = {});
+Session bind(const Cage& cage, int width, int height, const BindParams& params, const StageProgress& progress = {});
 /// The same with structure lines kept straight and parallel (thesis 5.3): InputError when the
 /// lines do not fit the cage (checkStructure) or the backend has no `lines` capability.
 Session bind(const Cage& cage, const Structure& structure, int width, int height, const BindParams& params,
-             BindReport* report = nullptr, const StageProgress& progress = {});
+             const StageProgress& progress = {});
 
 /// Re-optimizes rows `subset` of session.W (all when empty) from session.W0 with `method`, then
 /// updates the coordinate field's columns that changed (all of them when the subset is empty).

@@ -9,12 +9,16 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "kc/app/structure.h"
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
 #include "kc/core/field/field.h"
 #include "kc/core/kernel/interpolator.h"
 #include "kc/core/lbc/lbc_solver.h"
+#include "kc/core/structure/linear_along.h"
+#include "kc/core/structure/rigidity.h"
 #include "kc/core/types.h"
 #include "kc/core/warp_mesh.h"
 #include "kc/core/weights/heat_diffusion.h"
@@ -133,25 +137,56 @@ inline BindParams frameBindParams() {
 // The names of InitMethod, Method, InterpMode, SamplerKind and LbcTau (kc/core/names.h), also as app::.
 using kc::toString;
 
-/// Seconds spent in each stage of the bind that produced a session (saved with it).
+/// Seconds spent in each stage of a bind (saved with the session as its `timings` block).
 struct BindTimings {
   double sampling = 0.0, assemble = 0.0, factor = 0.0, init = 0.0, optimize = 0.0, solve = 0.0, total = 0.0;
 };
 
-/// The solver outcomes of the bind (and of the last whole re-optimization) that a user must see:
-/// saved as the session's `reports` block, shown by bind, stats, demo and the GUI.
-struct SolverReports {
+/// A backend's own account of a bind, beyond the stages every bind has (the LBC backend's ADMM
+/// solve). Made by the backend's bind; written to the session's `reports.<block>` (block =
+/// Backend::parameterBlock()) by toJson and read back by Backend::readReport; shown through
+/// these functions by `kcwarp-cli bind`/`stats`/`demo` and the GUI, which never look inside.
+class BackendReport {
+ public:
+  virtual ~BackendReport() = default;
+  /// The vertices of a mesh backend's field (its samples are the mesh's vertices); 0: none.
+  virtual Index meshVertices() const { return 0; }
+  /// The solver's line of BindReport::summary(), e.g. "LBC on 1134 vertices, 2076 ADMM iterations, …".
+  virtual std::string summary() const = 0;
+  /// Failures a user must see, one line each (BindReport::problems()).
+  virtual std::vector<std::string> problems() const { return {}; }
+  /// The few words of the GUI's bind message, e.g. "1134 mesh vertices, 2076 iterations".
+  virtual std::string brief() const = 0;
+  /// What summary() leaves out (`kcwarp-cli stats` and `demo`): lines starting with `indent`,
+  /// with the bind's parameters the solver ran with.
+  virtual std::string details(const BindParams& params, const char* indent) const = 0;
+  /// The session's `reports.<block>` (session = true) or `kcwarp-cli stats --json`'s
+  /// `solver.<block>` (false) as a JSON object.
+  virtual void toJson(nlohmann::json& out, bool session) const = 0;
+};
+
+/// What one bind did, and the last whole re-optimization since: each stage's report, its time and
+/// the backend's own report. The session keeps it (Session::report) and saves the stages the user
+/// must see as its `reports` block and the times as its `timings` block; factor, lines and
+/// rigidity live in memory only.
+struct BindReport {
   sampling::SamplingReport sampling;
   InitReport init;
   OptimizeReport optimize;
-  /// The LBC solve (backend "lbc"); `lbcMesh` = mesh vertices, 0 when the session is not LBC's.
-  LbcReport lbc;
-  Index lbcMesh = 0;
+  InterpolatorReport factor;
+  LinearityReport lines;    ///< Structure lines (thesis 5.3.3); empty without lines.
+  RigidityReport rigidity;  ///< Rigid regions (thesis 5.4, docs/rigidity.md); empty without them.
+  BindTimings timings;
+  std::shared_ptr<const BackendReport> backend;  ///< Null for a backend without one (kc).
+
+  /// backend->meshVertices(), 0 without a backend report.
+  Index meshVertices() const { return backend ? backend->meshVertices() : 0; }
   /// True when some stage failed or fell back (the GUI's warning colour).
   bool anyProblem() const;
-  /// One line per problem, e.g. "QP: 3 samples did not converge (QEC fallback)"; empty when none.
+  /// One line per problem, e.g. "optimization: 3 samples not solved to optimality …"; empty when none.
   std::vector<std::string> problems() const;
-  /// One line for the summary: "solver: all N samples solved" or the problems joined by "; ".
+  /// One line: "solver: …" (the backend's summary, else the per-sample optimization's) and the
+  /// problems, or "no failures".
   std::string summary() const;
 };
 
@@ -188,8 +223,7 @@ struct Session {
   /// before the samples were made denser than that mesh read their sample spacing (their mesh was
   /// at it). 0: not such a session, or one built in memory: weightSpacing(params).
   double lbcMeshSpacing = 0.0;
-  BindTimings timings;         ///< How long the bind took.
-  SolverReports reports;       ///< What the solvers reported.
+  BindReport report;  ///< What the bind did (BindReport).
   /// The coordinate field: the only way to weights at points. Built by the backend (bind) or
   /// from the session file's field block; null before.
   std::unique_ptr<CoordinateField> field;

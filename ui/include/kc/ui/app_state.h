@@ -142,7 +142,7 @@ struct AppState {
   Method method = Method::QP;              ///< The session's current optimization method.
   /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
   app::BackendCapabilities capabilities;
-  app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
+  app::BindReport reports;                 ///< Display copy of the session's bind report.
   std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
   /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
   /// re-optimization; not for a session file, which may come from another version).
