@@ -40,10 +40,10 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   ASSERT_TRUE(session.sizing);
   EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
   EXPECT_DOUBLE_EQ(session.sizing->hMin(), plan.minSpacing);
-  EXPECT_DOUBLE_EQ(s->boundSpacing, plan.spacing);
-  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->bound->spacing, plan.spacing);
+  EXPECT_DOUBLE_EQ(s->bound->minSpacing, plan.minSpacing);
   // The sigma shown after the bind is the session's, as a range: σ·h(x)/hMax at the smallest h.
-  EXPECT_DOUBLE_EQ(s->boundSigma, session.sigma);
+  EXPECT_DOUBLE_EQ(s->bound->sigma, session.sigma);
   char sigma[64];
   std::snprintf(sigma, sizeof sigma, "%.2f-%.2f px", session.sigma * session.sizing->hMin() / session.params.spacing, session.sigma);
   EXPECT_EQ(boundSigmaText(*s), sigma);
@@ -51,12 +51,12 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   EXPECT_NEAR(plannedMax, session.sigma, 0.2 * session.sigma);
   EXPECT_NEAR(plannedMin, session.sigma * session.sizing->hMin() / session.params.spacing, 0.2 * plannedMin);
   // The count shown before the bind is the sampler's estimate: within a quarter of what it drew.
-  const double drawn = double(s->samples.size());
+  const double drawn = double(s->bound->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
   // The sample plot colours each sample by the session's h there.
-  ASSERT_EQ(s->sampleSpacing.size(), s->samples.size());
-  EXPECT_NEAR(s->sampleSpacing.minCoeff(), plan.minSpacing, 0.5 * plan.minSpacing);
-  EXPECT_DOUBLE_EQ(s->sampleSpacing.maxCoeff(), plan.spacing);
+  ASSERT_EQ(s->bound->sampleSpacing.size(), s->bound->samples.size());
+  EXPECT_NEAR(s->bound->sampleSpacing.minCoeff(), plan.minSpacing, 0.5 * plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->bound->sampleSpacing.maxCoeff(), plan.spacing);
 }
 
 TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
@@ -95,8 +95,8 @@ AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bo
   EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
   EXPECT_DOUBLE_EQ(session.sizing ? session.sizing->hMin() : session.params.spacing, plan.minSpacing);
   EXPECT_EQ(session.params.graded && session.sizing, plan.minSpacing < plan.spacing);
-  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
-  const double drawn = double(s->samples.size());
+  EXPECT_DOUBLE_EQ(s->bound->minSpacing, plan.minSpacing);
+  const double drawn = double(s->bound->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
   return plan;
 }

@@ -40,12 +40,9 @@ void clearDocument(AppState& state) {
   state.imageUpright = true;
   ++state.sourceRevision;
   state.session.reset();
-  state.bound = false;
-  state.boundCage = Cage{};
-  state.samples = SampleSet{};
-  state.sampleSpacing.resize(0);
+  state.bound.reset();
+  state.solvingRigidity.reset();
   state.lines = {};
-  state.boundLines.clear();
   state.lineSelection.clear();
   state.lineTool.cancel(state);
   state.mesh = WarpMesh{};

@@ -41,7 +41,7 @@ void commitPose(AppState& state, const Pose& before, std::string label) {
 void resetPose(AppState& state) {
   if (!state.bound) return;
   const Pose before = state.pose;
-  setPose(state, restPose(state.boundCage.size()));
+  setPose(state, restPose(state.bound->cage.size()));
   commitPose(state, before, "reset pose");
 }
 
@@ -77,7 +77,7 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
         using T = std::decay_t<decltype(edit)>;
         if constexpr (std::is_same_v<T, PoseEdit>) {
           const Pose& p = forward ? edit.after : edit.before;
-          if (p.size() != static_cast<std::size_t>(state.boundCage.size()) && !p.empty()) return false;
+          if (!p.empty() && (!state.bound || p.size() != static_cast<std::size_t>(state.bound->cage.size()))) return false;
           setPose(state, p);
         } else if constexpr (std::is_same_v<T, CageEdit>) {
           setDraftCage(state, forward ? edit.after : edit.before);
@@ -208,11 +208,11 @@ bool updateDeformation(AppState& state) {
 }
 
 app::BackendCapabilities shownCapabilities(const AppState& state) {
-  if (state.bound) return state.capabilities;
+  if (state.bound) return state.bound->capabilities;
   try {
     return app::backendFor(state.bindParams.backend).capabilities();
   } catch (const std::invalid_argument&) {
-    return state.capabilities;  // an unknown name: the bind itself reports it
+    return {};  // an unknown name: the bind itself reports it
   }
 }
 

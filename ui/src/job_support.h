@@ -25,7 +25,7 @@ double msSince(std::chrono::steady_clock::time_point t0);
 void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0);
 
 /// Installs a new display mesh (after a weight change; none when `mesh` is null) and hands the
-/// session and the mesh's weight source back; refreshes the display copies (method, reports,
+/// session and the mesh's weight source back, with a new bound snapshot of it (method, reports,
 /// lines, rigidity).
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source);
 

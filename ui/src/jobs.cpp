@@ -30,15 +30,12 @@ void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0
 
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
-  state.method = state.session->params.kc.method;
-  state.reports = state.session->reports;
+  state.bound = makeBoundSnapshot(*state.session);
   if (mesh) {
     state.mesh = std::move(*mesh);
     ++state.meshRevision;
   }
   if (source) state.meshSource = std::move(source);
-  refreshBoundLines(state, *state.session);
-  refreshBoundRigidity(state, *state.session);
   state.diagnostics.reset();
 }
 
@@ -115,15 +112,13 @@ bool lostByRebind(const UndoEntry& e) {
 /// weights from a file).
 void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
   const Pose pose = st.pose;
-  const Cage cageBefore = st.boundCage;
+  const std::shared_ptr<const BoundSnapshot> before = st.bound ? st.bound : std::make_shared<const BoundSnapshot>();
+  const std::vector<double> oldRigidity = boundRigidity(st);
   const Tool tool = st.tool;
   const std::vector<int> selection = st.lineSelection;
-  const SampleSet oldSamples = st.samples;
-  const std::vector<double> oldRigidity = st.rigidity;
-  const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  setPose(st, carriedPose(cageBefore, pose, s->cage));
+  setPose(st, carriedPose(before->cage, pose, s->cage));
   st.tool = tool;
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
@@ -131,7 +126,7 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   st.undo = std::move(history);
   if (dropped > 0)
     postMessage(st, "The new bind changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
-  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+  carryRigidityTo(st, before->samples, oldRigidity, before->spacing, *s);
 }
 
 }  // namespace
@@ -146,14 +141,10 @@ DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions&
 void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display, bool fromOptimizer) {
   const app::Session& s = *session;
   state.session = std::move(session);
-  state.bound = true;
-  state.boundCage = s.cage;
-  state.samples = s.samples;
-  state.method = s.params.kc.method;
-  state.capabilities = app::sessionCapabilities(s);
-  if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
+  state.bound = makeBoundSnapshot(s);
+  state.solvingRigidity.reset();
+  if (state.tool == Tool::Brush && !state.bound->capabilities.painting) state.tool = Tool::Pose;
   if (state.tool == Tool::Rigid && !rigidityProblem(state).empty()) state.tool = Tool::Pose;
-  state.reports = s.reports;
   state.bindParams = s.params;
   // Lines the uniform rules accept are sampled uniformly (app::effectiveBindParams), and the session
   // records that; the GUI asks for graded binds, so the line tool and the next bind keep the graded
@@ -163,12 +154,6 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.bindParams.kc.exactLines = true;
   state.lines = s.structure;
   state.lineSelection.clear();
-  refreshBoundLines(state, s);
-  refreshBoundRigidity(state, s);
-  state.boundSpacing = s.params.spacing;
-  state.boundMinSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
-  state.boundSigma = s.reports.lbcMesh > 0 ? 0.0 : s.sigma;
-  state.sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
@@ -264,8 +249,8 @@ std::pair<double, double> plannedSigma(AppState& state) {
 }
 
 std::string boundSigmaText(const AppState& state) {
-  if (!state.bound || !(state.boundSigma > 0.0) || !(state.boundSpacing > 0.0)) return "";
-  return sigmaRangeText(state.boundSigma, state.boundMinSpacing, state.boundSpacing);
+  if (!state.bound || !(state.bound->sigma > 0.0) || !(state.bound->spacing > 0.0)) return "";
+  return sigmaRangeText(state.bound->sigma, state.bound->minSpacing, state.bound->spacing);
 }
 
 bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
@@ -552,7 +537,7 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
 
 bool startMethod(AppState& state, Method method, bool record) {
   if (!state.session || !state.meshSource || !canStart(state, "switch method")) return false;
-  const Method before = state.method;
+  const Method before = state.bound->method;
   // W is a function of (W0, method) row by row (the optimizer reads only W0), so the undo entry
   // holds the two methods and undo re-optimizes, instead of storing W before and after; W itself
   // is kept only when it did not come from this optimizer.
@@ -577,7 +562,7 @@ bool startMethod(AppState& state, Method method, bool record) {
 
 bool switchMethod(AppState& state, Method method) {
   if (!state.session || !canStart(state, "switch method")) return false;
-  if (method == state.method) return true;
+  if (method == state.bound->method) return true;
   return startMethod(state, method, true);
 }
 

@@ -35,14 +35,12 @@ void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vecto
 void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display) {
   auto before = std::make_shared<BoundDocument>(
       BoundDocument{std::move(previous), std::make_shared<WarpMesh>(std::move(st.mesh)), st.meshSource, st.pose, st.weightsReproducible});
-  const Cage cageBefore = st.boundCage;
+  const std::shared_ptr<const BoundSnapshot> bound = st.bound ? st.bound : std::make_shared<const BoundSnapshot>();
+  const std::vector<double> oldRigidity = boundRigidity(st);
   const Tool tool = st.tool == Tool::Cage ? Tool::Pose : st.tool;
-  const SampleSet oldSamples = st.samples;
-  const std::vector<double> oldRigidity = st.rigidity;
-  const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  setPose(st, carriedPose(cageBefore, before->pose, s->cage));
+  setPose(st, carriedPose(bound->cage, before->pose, s->cage));
   selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
   history.push({"bind again", BindEdit{std::move(before)}});
   // Each BindEdit holds a whole session and mesh: the oldest go, with the edits before them.
@@ -54,7 +52,7 @@ void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Se
       break;
     }
   st.undo = std::move(history);
-  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+  carryRigidityTo(st, bound->samples, oldRigidity, bound->spacing, *s);
 }
 
 std::string rebindQuestion(const AppState& state) {
@@ -84,7 +82,7 @@ std::vector<std::string> strokesLostByRebind(const AppState& state) {
 std::string structureLeftOut(const AppState& state) {
   const app::Backend& backend = app::backendFor(state.bindParams.backend);
   // Rigid parts painted with the rigidity brush count as rigid regions: they do not carry over either.
-  const bool painted = state.bound && anyRigid(state.rigidity);
+  const bool painted = state.bound && anyRigid(boundRigidity(state));
   const std::string missing = app::unsupportedStructure(state.lines, backend.capabilities(), painted);
   if (missing.empty()) return "";
   const std::string name = app::upperCase(std::string(backend.name()));

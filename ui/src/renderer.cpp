@@ -241,7 +241,7 @@ void Renderer::updateDisplayTexture(AppState& state, int limit) {
 }
 
 void Renderer::updateMask(const AppState& state) {
-  const Points& C = state.boundCage.C;
+  const Points& C = state.bound->cage.C;
   if (m_maskTexture && m_maskCage.rows() == C.rows() && m_maskCage == C) return;
   // The cage's polygon at the display texture's resolution: texel centre i is at picture
   // x = (i + 0.5)/scale − 0.5.

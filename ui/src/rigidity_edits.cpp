@@ -36,9 +36,10 @@ void reweightMesh(const app::Session& s, AppState::MeshSource& source, WarpMesh&
   mesh.setWeights(source.W);
 }
 
-/// The display ρ after a job: the session's, and the tint follows.
+/// The ρ shown after a job: the bound snapshot's (takeBack's, or after a failure the one from
+/// before the job, whose ρ the session is back to), and the tint follows.
 void showSessionRigidity(AppState& st) {
-  if (st.session) refreshBoundRigidity(st, *st.session);
+  st.solvingRigidity.reset();
   ++st.rigidityRevision;
 }
 
@@ -75,6 +76,12 @@ bool anyRigid(const std::vector<double>& rho) {
   return std::any_of(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
 }
 
+const std::vector<double>& boundRigidity(const AppState& state) {
+  static const std::vector<double> none;
+  if (state.solvingRigidity) return *state.solvingRigidity;
+  return state.bound ? state.bound->rigidity : none;
+}
+
 std::string rigidityProblem(const AppState& state) {
   const app::BackendCapabilities caps = shownCapabilities(state);
   if (!caps.rigidity)
@@ -83,29 +90,6 @@ std::string rigidityProblem(const AppState& state) {
   if (!state.bound) return "bind a cage first: the brush paints the samples of a bound picture";
   if (!caps.targets) return caps.why;
   return {};
-}
-
-void refreshBoundRigidity(AppState& state, const app::Session& s) {
-  state.rigidity = s.rigidity;
-  state.boundRigid.clear();
-  if (!s.hasField()) return;
-  constexpr int kPerEdge = 16;
-  for (const RigidRegion& r : s.structure.rigid) {
-    const Index n = r.polygon.rows();
-    if (n < 3) continue;
-    AppState::BoundLine outline;
-    outline.X.resize(n * kPerEdge + 1, 2);
-    for (Index k = 0; k < n; ++k)
-      for (int j = 0; j < kPerEdge; ++j)
-        outline.X.row(k * kPerEdge + j) = r.polygon.row(k) + (r.polygon.row((k + 1) % n) - r.polygon.row(k)) * (double(j) / kPerEdge);
-    outline.X.row(n * kPerEdge) = r.polygon.row(0);
-    try {
-      outline.W = s.field->weightsAt(outline.X);
-    } catch (const std::exception&) {
-      continue;
-    }
-    state.boundRigid.push_back(std::move(outline));
-  }
 }
 
 std::vector<double> carryRigidity(const SampleSet& from, const std::vector<double>& rho, const SampleSet& to,
@@ -139,7 +123,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
   std::vector<double> before = s->rigidity;
   before.resize(static_cast<std::size_t>(s->samples.size()), 0.0);
-  state.rigidity = rho;  // the tint shows the stroke while it is solved
+  state.solvingRigidity = rho;  // the tint shows the stroke while it is solved
   ++state.rigidityRevision;
   state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, record, t0](JobContext& ctx) -> Worker::Apply {
     const Weights W = s->W;
@@ -206,7 +190,7 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
   auto mesh = std::make_shared<WarpMesh>(state.mesh);
   const std::vector<double> rho = forward ? edit.after : edit.before;
   const Weights R = forward ? edit.WAfter : edit.WBefore;
-  state.rigidity = rho;
+  state.solvingRigidity = rho;
   ++state.rigidityRevision;
   state.worker.submit("Restoring rigidity", [s, source, mesh, rho, R, rows = edit.rows, columns = edit.columns](JobContext&) -> Worker::Apply {
     try {
@@ -232,8 +216,9 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
 }
 
 bool clearRigidity(AppState& state) {
-  if (!anyRigid(state.rigidity)) return false;
-  return startRigidity(state, std::vector<double>(state.rigidity.size(), 0.0), "clear rigidity");
+  const std::vector<double>& rho = boundRigidity(state);
+  if (!anyRigid(rho)) return false;
+  return startRigidity(state, std::vector<double>(rho.size(), 0.0), "clear rigidity");
 }
 
 }  // namespace kc::ui

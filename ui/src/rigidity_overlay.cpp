@@ -23,7 +23,7 @@ constexpr double kTintAlpha = 150.0;
 
 /// ρ as the canvas shows it: the stroke being painted, else the session's.
 const std::vector<double>& shownRigidity(const AppState& state) {
-  return state.rigidTool.active() ? state.rigidTool.stroke() : state.rigidity;
+  return state.rigidTool.active() ? state.rigidTool.stroke() : boundRigidity(state);
 }
 
 /// ρ at the display mesh's rest vertices: a smooth average of the samples' ρ within R = 1.5 h,
@@ -36,10 +36,10 @@ void updateTint(AppState& state) {
   tint.rhoRevision = state.rigidityRevision;
   tint.vertexRho.clear();
   const std::vector<double>& rho = shownRigidity(state);
-  const Points& X = state.samples.X;
+  const Points& X = state.bound->samples.X;
   if (!anyRigid(rho) || rho.size() != static_cast<std::size_t>(X.rows())) return;
   const Points& V = state.mesh.restVertices();
-  const double R = 1.5 * (state.boundSpacing > 0.0 ? state.boundSpacing : 6.0);
+  const double R = 1.5 * (state.bound->spacing > 0.0 ? state.bound->spacing : 6.0);
   // Vertices with no rigid sample within R stay 0 (the test is a query of the few rigid samples).
   std::vector<Index> rigid;
   for (Index s = 0; s < X.rows(); ++s)
@@ -82,10 +82,11 @@ void drawTint(AppState& state, ImDrawList* dl) {
 
 /// The rigid polygons' outlines, through their points moved by the field.
 void drawOutlines(const AppState& state, ImDrawList* dl) {
-  const bool rest = !showsWarp(state) || isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.boundCage.size());
-  for (const AppState::BoundLine& o : state.boundRigid) {
-    if (o.W.cols() != state.boundCage.size()) continue;
-    const Points P = rest ? o.X : deformPoints(o.W, o.X, state.boundCage.C, state.pose);
+  const bool rest =
+      !showsWarp(state) || isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.bound->cage.size());
+  for (const BoundLine& o : state.bound->rigidOutlines) {
+    if (o.W.cols() != state.bound->cage.size()) continue;
+    const Points P = rest ? o.X : deformPoints(o.W, o.X, state.bound->cage.C, state.pose);
     std::vector<ImVec2> s;
     for (Index i = 0; i < P.rows(); ++i) s.push_back(im(state.view.toScreen(P.row(i).transpose())));
     const int n = static_cast<int>(s.size());

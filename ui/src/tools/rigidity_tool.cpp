@@ -61,10 +61,10 @@ void RigidityTool::press(AppState& state, const PointerEvent& e) {
     postMessage(state, "Busy: wait for the current job to finish before painting rigidity.", false);
     return;
   }
-  const std::size_t n = static_cast<std::size_t>(state.samples.size());
+  const std::size_t n = static_cast<std::size_t>(state.bound->samples.size());
   m_active = true;
   m_erase = state.rigidBrush.erase != e.ctrl;
-  m_rho0 = state.rigidity;
+  m_rho0 = boundRigidity(state);
   m_rho0.resize(n, 0.0);
   m_cover.assign(n, 0.0);
   m_rho = m_rho0;
@@ -73,7 +73,7 @@ void RigidityTool::press(AppState& state, const PointerEvent& e) {
 }
 
 void RigidityTool::dab(AppState& state, const Vec2& c) {
-  paintRigidityDab(m_rho0, m_cover, m_rho, state.samples, c, state.rigidBrush.radius, state.rigidBrush.softness,
+  paintRigidityDab(m_rho0, m_cover, m_rho, state.bound->samples, c, state.rigidBrush.radius, state.rigidBrush.softness,
                    state.rigidBrush.strength, m_erase);
   ++state.rigidityRevision;
 }

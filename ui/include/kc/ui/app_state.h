@@ -17,6 +17,7 @@
 #include "kc/app/session.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/warp_mesh.h"
+#include "kc/ui/bound_snapshot.h"
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/cage_tool.h"
@@ -136,17 +137,13 @@ struct AppState {
   std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
   /// The bound session; null when nothing is bound or while a worker job holds it.
   std::shared_ptr<app::Session> session;
-  bool bound = false;                      ///< A session exists (possibly held by a job).
-  Cage boundCage;                          ///< Display copy of the session's cage.
-  SampleSet samples;                       ///< Display copy of the session's samples.
-  Method method = Method::QP;              ///< The session's current optimization method.
-  /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
-  app::BackendCapabilities capabilities;
-  app::SolverReports reports;              ///< Display copy of the session's solver outcomes.
-  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
+  /// What is shown of the bound session (also while a job holds it); null when nothing is bound.
+  /// Made by makeBoundSnapshot when a bind, an opened session or a job's result is installed.
+  std::shared_ptr<const BoundSnapshot> bound;
   /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
   /// re-optimization; not for a session file, which may come from another version).
   bool weightsReproducible = false;
+  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
   app::BindParams bindParams;              ///< Bind panel values (next bind).
   /// Bind chooses the spacing from a sample budget (app::automaticSpacing, as kcwarp-cli does
   /// without --spacing): 6 px up to about a megapixel, wider beyond, so a big picture binds in
@@ -167,36 +164,16 @@ struct AppState {
     double spacing = 0.0, minSpacing = 0.0, points = 0.0, locality = 0.0;
     bool closed = false, cageValid = false;  ///< the draft cage's (an open cage binds as sticks)
   } shownSpacing;
-  Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
+  Cage cage;  ///< Draft cage of the cage tool (== bound->cage after a bind).
   bool cageValid = false;
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).
   /// Structure lines kept straight / parallel (thesis 5.3): the next bind's lines; after a bind or
   /// open, the bound session's. Edited by the line tool (editLines), which re-binds.
   app::Structure lines;
-  /// Display copy of the bound session's lines: each line's sample positions X (#n×2, a → b) and
-  /// their weights W (#n×m), so the pose view draws the deformed lines while a job holds the session.
-  struct BoundLine {
-    Points X;
-    Weights W;
-    int group = -1;
-  };
-  std::vector<BoundLine> boundLines;
-  /// Display copy of the bound session's per-sample rigidity ρ (#S, or empty: none); while a
-  /// rigidity job runs, the ρ it is solving for.
-  std::vector<double> rigidity;
-  std::uint64_t rigidityRevision = 0;      ///< Bumped when `rigidity` or the stroke being painted changes.
-  /// The rigid regions' polygons (structure.rigid) as outlines: points along each edge and their
-  /// weights (#n×m), drawn deformed with the pose like boundLines.
-  std::vector<BoundLine> boundRigid;
-  double boundSpacing = 0.0;               ///< The bound session's sample spacing h (pixels).
-  /// The bound session's smallest local spacing (its sizing field's; == boundSpacing when uniform).
-  double boundMinSpacing = 0.0;
-  /// The bound session's kernel width σ where the spacing is boundSpacing (pixels; smaller in
-  /// proportion where the spacing is); 0 when the bound weights have no kernel (LBC).
-  double boundSigma = 0.0;
-  /// The local spacing h(x) at each of `samples` (#S; boundSpacing everywhere when uniform): the
-  /// sample plot's colours.
-  Eigen::VectorXd sampleSpacing;
+  /// While a rigidity job runs, the ρ it is solving for (#S), shown instead of the session's
+  /// (boundRigidity()).
+  std::optional<std::vector<double>> solvingRigidity;
+  std::uint64_t rigidityRevision = 0;      ///< Bumped when the ρ shown or the stroke being painted changes.
   Pose pose;                               ///< Current pose, one handle per bound control point.
   std::uint64_t poseRevision = 0;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").

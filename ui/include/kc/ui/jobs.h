@@ -118,8 +118,9 @@ struct DisplayMesh {
 /// The display mesh of a bound session, keeping the field sampler at its vertices.
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options);
 
-/// Makes `session` (bound for `source`) the document: display copies, mesh, pose, undo cleared;
-/// the Bind panel takes the session's parameters (graded when it has lines, see jobs.cpp).
+/// Makes `session` (bound for `source`) the document: its snapshot (AppState::bound), mesh, pose,
+/// undo cleared; the Bind panel takes the session's parameters (graded when it has lines, see
+/// jobs.cpp).
 /// fromOptimizer: the session's W came from this optimizer (a bind), not from a file.
 void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display,
                     bool fromOptimizer = false);
