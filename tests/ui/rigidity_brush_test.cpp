@@ -311,7 +311,7 @@ TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
   test::HeadlessImGui gui;
   auto draw = [&] { drawFrame(*s); };
   gui.frame(draw);
-  const std::vector<float>& tint = s->rigidTint.vertexRho;
+  const std::vector<float>& tint = s->rigidTint.value();
   const Points& V = s->mesh.restVertices();
   ASSERT_EQ(tint.size(), static_cast<std::size_t>(V.rows()));
   float inside = 1.0f, outside = 0.0f;
@@ -324,10 +324,10 @@ TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
   EXPECT_EQ(outside, 0.0f);
   // View > Rigid regions off: the pose tool draws no tint.
   s->show.rigid = false;
-  const auto revision = s->rigidTint.rhoRevision;
-  ++s->rigidityRevision;
+  const auto key = s->rigidTint.key();
+  s->rigidityVersion.bump();
   gui.frame(draw);
-  EXPECT_EQ(s->rigidTint.rhoRevision, revision) << "the tint was recomputed while hidden";
+  EXPECT_EQ(s->rigidTint.key(), key) << "the tint was recomputed while hidden";
 }
 
 TEST(RigidityBrush, GreyedForLbcAndBeforeABind) {
@@ -360,7 +360,7 @@ TEST(RigidityPanel, WidgetsSayWhatTheyDoAndTheTintCoversThePaintedPart) {
   std::erase_if(s->widgets, [&](const auto& w) { return std::find(labels.begin(), labels.end(), w.first) == labels.end(); });
   EXPECT_EQ(gui.widgetsWithoutTooltip(*s, draw), "");
   // The tint: ρ at the display mesh's vertices, positive on the stroke, 0 far from it.
-  const std::vector<float>& tint = s->rigidTint.vertexRho;
+  const std::vector<float>& tint = s->rigidTint.value();
   const Points& V = s->mesh.restVertices();
   ASSERT_EQ(tint.size(), static_cast<std::size_t>(V.rows()));
   float onStroke = 0.0f, away = 0.0f;
@@ -376,7 +376,7 @@ TEST(RigidityPanel, WidgetsSayWhatTheyDoAndTheTintCoversThePaintedPart) {
   finish(*s);
   gui.frame(draw);
   EXPECT_EQ(rigidCount(s->session->rigidity), 0);
-  EXPECT_TRUE(s->rigidTint.vertexRho.empty());
+  EXPECT_TRUE(s->rigidTint.value().empty());
 }
 
 }  // namespace

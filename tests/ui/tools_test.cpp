@@ -61,11 +61,11 @@ TEST(PoseTool, ADragDeformsLiveAndTheReleaseDeformsInFull) {
   s->poseTool.press(*s, at(c1.x(), c1.y()));
   s->poseTool.drag(*s, at(c1.x() + 25, c1.y() - 10));
   EXPECT_TRUE(updateDeformation(*s));
-  EXPECT_TRUE(s->deformedLive) << "while dragging the repair starts from the previous picture";
+  EXPECT_TRUE(s->deformed.key()->live) << "while dragging the repair starts from the previous picture";
   EXPECT_FALSE(updateDeformation(*s)) << "nothing changed";
   s->poseTool.release(*s, at(c1.x() + 25, c1.y() - 10));
   EXPECT_TRUE(updateDeformation(*s)) << "the release deforms again with the full repair";
-  EXPECT_FALSE(s->deformedLive);
+  EXPECT_FALSE(s->deformed.key()->live);
   EXPECT_FALSE(updateDeformation(*s));
   WarpMesh fresh = s->mesh;  // the picture after the release is the export's
   fresh.deform(s->pose, DeformPass::Final);

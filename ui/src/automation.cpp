@@ -90,8 +90,8 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["hide_cage"] = state.hideCage;
   j["pose_translate"] = nlohmann::json::array();
   for (const HandlePose& h : state.pose) j["pose_translate"].push_back({h.translate.x(), h.translate.y()});
-  j["mesh_revision"] = state.meshRevision;
-  j["pose_revision"] = state.poseRevision;
+  j["mesh_revision"] = state.meshVersion.count();
+  j["pose_revision"] = state.poseVersion.count();
   j["flipped_triangles"] = state.deformReport.flippedTriangles;
   j["screenshots"] = screenshots;
   j["exports"] = exports;

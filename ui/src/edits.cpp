@@ -24,7 +24,7 @@ void postMessage(AppState& state, std::string text, bool error) {
 
 void setPose(AppState& state, Pose pose) {
   state.pose = std::move(pose);
-  ++state.poseRevision;
+  state.poseVersion.bump();
 }
 
 void commitPose(AppState& state, const Pose& before, std::string label) {
@@ -190,7 +190,9 @@ bool updateDeformation(AppState& state) {
   // While a control is dragged the background's fold repair starts from the previous picture
   // (cheap, follows the drag); after the release the pose gets the full repair, as in the export.
   const bool live = state.tool == Tool::Pose && state.poseTool.active() && !state.poseTool.selectingRect();
-  if (state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && (live || !state.deformedLive))
+  // A full deform of this pose and mesh also serves a live one.
+  if (state.deformed.current({state.poseVersion, state.meshVersion, false}) ||
+      (live && state.deformed.current({state.poseVersion, state.meshVersion, true})))
     return false;
   if (state.pose.size() != static_cast<std::size_t>(state.mesh.cage().size())) return false;
   try {
@@ -198,12 +200,9 @@ bool updateDeformation(AppState& state) {
   } catch (const std::exception& e) {
     postMessage(state, std::string("Deformation failed: ") + e.what(), true);
   }
-  state.deformedLive = live;
   if (!live) tellFolds(state);
   state.timings.deformMs = state.deformReport.seconds * 1e3;
-  state.deformedPose = state.poseRevision;
-  state.deformedMesh = state.meshRevision;
-  ++state.deformCount;
+  state.deformed.set({state.poseVersion, state.meshVersion, live});
   return true;
 }
 

@@ -33,7 +33,7 @@ void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePt
   state.bound = makeBoundSnapshot(*state.session);
   if (mesh) {
     state.mesh = std::move(*mesh);
-    ++state.meshRevision;
+    state.meshVersion.bump();
   }
   if (source) state.meshSource = std::move(source);
   state.diagnostics.reset();
@@ -159,7 +159,7 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
   state.mesh = std::move(*display.mesh);
   state.meshSource = std::move(display.source);
-  ++state.meshRevision;
+  state.meshVersion.bump();
   state.selection.clear();
   state.pivot.reset();
   if (state.activeControl >= s.cage.size() || state.activeControl < 0) state.activeControl = 0;
@@ -505,7 +505,7 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
   // A stroke that would fold the shown picture is made gentler (FoldGuard), when the picture shown
   // is the full deform of the present pose.
   std::shared_ptr<FoldGuard> guard;
-  if (!e->rows.empty() && state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && !state.deformedLive)
+  if (!e->rows.empty() && state.deformed.current({state.poseVersion, state.meshVersion, false}))
     guard = std::make_shared<FoldGuard>(FoldGuard{state.pose, state.deformReport.flippedTriangles, e->W0Before, e->W0After});
   return submitReoptimize(
       state, e->rows, e->methodAfter, "Re-optimizing",

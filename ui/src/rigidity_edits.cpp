@@ -40,7 +40,7 @@ void reweightMesh(const app::Session& s, AppState::MeshSource& source, WarpMesh&
 /// before the job, whose ρ the session is back to), and the tint follows.
 void showSessionRigidity(AppState& st) {
   st.solvingRigidity.reset();
-  ++st.rigidityRevision;
+  st.rigidityVersion.bump();
 }
 
 /// What the main thread does after a cancelled rigidity job: the session back, the stroke taken back.
@@ -124,7 +124,7 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
   std::vector<double> before = s->rigidity;
   before.resize(static_cast<std::size_t>(s->samples.size()), 0.0);
   state.solvingRigidity = rho;  // the tint shows the stroke while it is solved
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
   state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, record, t0](JobContext& ctx) -> Worker::Apply {
     const Weights W = s->W;
     const std::vector<double> stored = s->rigidity;
@@ -191,7 +191,7 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
   const std::vector<double> rho = forward ? edit.after : edit.before;
   const Weights R = forward ? edit.WAfter : edit.WBefore;
   state.solvingRigidity = rho;
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
   state.worker.submit("Restoring rigidity", [s, source, mesh, rho, R, rows = edit.rows, columns = edit.columns](JobContext&) -> Worker::Apply {
     try {
       scatterRows(s->W, rows, R);

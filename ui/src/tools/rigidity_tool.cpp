@@ -75,7 +75,7 @@ void RigidityTool::press(AppState& state, const PointerEvent& e) {
 void RigidityTool::dab(AppState& state, const Vec2& c) {
   paintRigidityDab(m_rho0, m_cover, m_rho, state.bound->samples, c, state.rigidBrush.radius, state.rigidBrush.softness,
                    state.rigidBrush.strength, m_erase);
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
 }
 
 void RigidityTool::dabsTo(AppState& state, const Vec2& p) {
@@ -96,12 +96,12 @@ void RigidityTool::release(AppState& state, const PointerEvent& e) {
   m_rho.clear();
   m_rho0.clear();
   m_cover.clear();
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
   if (changed) startRigidity(state, std::move(after), m_erase ? "erase rigidity" : "paint rigidity");
 }
 
 void RigidityTool::cancel(AppState& state) {
-  if (m_active) ++state.rigidityRevision;
+  if (m_active) state.rigidityVersion.bump();
   m_active = false;
   m_rho.clear();
   m_rho0.clear();

@@ -18,6 +18,7 @@
 #include "kc/core/rasterize.h"
 #include "kc/core/warp_mesh.h"
 #include "kc/ui/bound_snapshot.h"
+#include "kc/ui/cached.h"
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/cage_tool.h"
@@ -108,6 +109,14 @@ struct PointerInput {
   bool shift = false, ctrl = false;  ///< Modifiers held (Press, Release; a Move takes the frame's).
 };
 
+/// Which deform the display mesh shows: of which pose and mesh, and whether it was a DeformPass::Live
+/// one (during a pose drag: once the drag ends, the pose is deformed again with the full repair, as
+/// the export does).
+struct DeformKey {
+  Version pose, mesh;
+  bool live = false;
+  bool operator==(const DeformKey&) const = default;
+};
 
 struct AppState;
 
@@ -134,7 +143,7 @@ struct AppState {
   /// `source` is the picture turned as its Exif orientation says (app::Session::imageUpright);
   /// false for the picture of a session written before kcwarp read the orientation.
   bool imageUpright = true;
-  std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
+  Version sourceVersion;  ///< Of `source` (the display texture's upload).
   /// The bound session; null when nothing is bound or while a worker job holds it.
   std::shared_ptr<app::Session> session;
   /// What is shown of the bound session (also while a job holds it); null when nothing is bound.
@@ -173,9 +182,9 @@ struct AppState {
   /// While a rigidity job runs, the ρ it is solving for (#S), shown instead of the session's
   /// (boundRigidity()).
   std::optional<std::vector<double>> solvingRigidity;
-  std::uint64_t rigidityRevision = 0;      ///< Bumped when the ρ shown or the stroke being painted changes.
+  Version rigidityVersion;                 ///< Of the ρ shown (boundRigidity() or the stroke being painted).
   Pose pose;                               ///< Current pose, one handle per bound control point.
-  std::uint64_t poseRevision = 0;
+  Version poseVersion;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").
   OutsideMode outside = OutsideMode::Pinned;
   WarpMesh mesh;                           ///< Display warp mesh (weights at its vertices).
@@ -186,12 +195,9 @@ struct AppState {
     Weights W;
   };
   std::shared_ptr<MeshSource> meshSource;
-  std::uint64_t meshRevision = 0;          ///< Bumped when mesh or its weights change.
-  std::uint64_t deformedPose = ~0ull, deformedMesh = ~0ull;  ///< Revisions of the last deform().
-  /// The last deform() was a DeformPass::Live one (during a pose drag): once the drag ends, the
-  /// pose is deformed again with the full repair, as the export does.
-  bool deformedLive = false;
-  std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
+  Version meshVersion;  ///< Of `mesh` and its weights.
+  /// The display mesh's deform (DeformKey); the renderer uploads the positions once per key.
+  CachedEffect<DeformKey> deformed;
   DeformReport deformReport;
   /// Folded triangles of the last full deform the status bar was told of (updateDeformation): a
   /// deform that folds more says so in plain words with its fix; one that unfolds says that too.
@@ -224,12 +230,9 @@ struct AppState {
   CageTool cageTool;
   LineTool lineTool;
   RigidityTool rigidTool;
-  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), recomputed when the mesh
-  /// or ρ changes.
-  struct RigidityTint {
-    std::uint64_t meshRevision = ~0ull, rhoRevision = ~0ull;
-    std::vector<float> vertexRho;
-  } rigidTint;
+  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), of (meshVersion,
+  /// rigidityVersion).
+  Cached<std::vector<float>, std::pair<Version, Version>> rigidTint;
   Worker worker;
   std::vector<Message> messages;
   Timings timings;
