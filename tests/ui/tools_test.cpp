@@ -363,7 +363,7 @@ TEST(MethodSwitch, KeepsWeightsThatDidNotComeFromTheOptimizer) {
 TEST(Jobs, ReoptimizationBorrowsTheMeshWeightsLikeTheSession) {
   auto s = test::boundState();
   ASSERT_TRUE(s->meshSource);
-  const AppState::MeshSource* source = s->meshSource.get();
+  const Document::MeshSource* source = s->meshSource.get();
   ASSERT_TRUE(switchMethod(*s, Method::QEC));
   // While the job holds them, the main thread has neither the session nor the mesh's weights.
   EXPECT_EQ(s->session, nullptr);

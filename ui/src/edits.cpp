@@ -17,25 +17,25 @@ double nowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void postMessage(AppState& state, std::string text, bool error) {
-  if (state.messages.size() >= 8) state.messages.erase(state.messages.begin());
-  state.messages.push_back({app::oneLine(text, kMaxMessageBytes), error});
+void postMessage(Interaction& interaction, std::string text, bool error) {
+  if (interaction.messages.size() >= 8) interaction.messages.erase(interaction.messages.begin());
+  interaction.messages.push_back({app::oneLine(text, kMaxMessageBytes), error});
 }
 
-void setPose(AppState& state, Pose pose) {
-  state.pose = std::move(pose);
-  state.poseVersion.bump();
+void setPose(Document& doc, Pose pose) {
+  doc.pose = std::move(pose);
+  doc.poseVersion.bump();
 }
 
-void commitPose(AppState& state, const Pose& before, std::string label) {
-  if (before.size() == state.pose.size()) {
+void commitPose(Document& doc, const Pose& before, std::string label) {
+  if (before.size() == doc.pose.size()) {
     bool same = true;
     for (std::size_t i = 0; i < before.size() && same; ++i)
-      same = before[i].translate == state.pose[i].translate && before[i].rotate == state.pose[i].rotate;
+      same = before[i].translate == doc.pose[i].translate && before[i].rotate == doc.pose[i].rotate;
     if (same) return;
   }
-  state.undo.push({std::move(label), PoseEdit{before, state.pose}});
-  state.unsaved = true;
+  doc.undo.push({std::move(label), PoseEdit{before, doc.pose}});
+  doc.unsaved = true;
 }
 
 void resetPose(AppState& state) {
@@ -45,27 +45,27 @@ void resetPose(AppState& state) {
   commitPose(state, before, "reset pose");
 }
 
-void setDraftCage(AppState& state, Cage cage) {
-  state.cage = std::move(cage);
-  if (!cageComplete(state.cage)) {
-    state.cageValid = false;
-    state.cageStatus = state.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
-                                             : "The cage is open: click its first point to close it.";
+void setDraftCage(Document& doc, Cage cage) {
+  doc.cage = std::move(cage);
+  if (!cageComplete(doc.cage)) {
+    doc.cageValid = false;
+    doc.cageStatus = doc.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
+                                         : "The cage is open: click its first point to close it.";
     return;
   }
   try {
-    validateCage(state.cage);
-    state.cageValid = true;
-    state.cageStatus.clear();
+    validateCage(doc.cage);
+    doc.cageValid = true;
+    doc.cageStatus.clear();
   } catch (const std::invalid_argument& e) {
-    state.cageValid = false;
-    state.cageStatus = e.what();
+    doc.cageValid = false;
+    doc.cageStatus = e.what();
   }
 }
 
-void commitCage(AppState& state, const Cage& before, std::string label) {
-  state.undo.push({std::move(label), CageEdit{before, state.cage}});
-  state.unsaved = true;
+void commitCage(Document& doc, const Cage& before, std::string label) {
+  doc.undo.push({std::move(label), CageEdit{before, doc.cage}});
+  doc.unsaved = true;
 }
 
 namespace {
@@ -206,10 +206,10 @@ bool updateDeformation(AppState& state) {
   return true;
 }
 
-app::BackendCapabilities shownCapabilities(const AppState& state) {
-  if (state.bound) return state.bound->capabilities;
+app::BackendCapabilities shownCapabilities(const Document& doc) {
+  if (doc.bound) return doc.bound->capabilities;
   try {
-    return app::backendFor(state.bindParams.backend).capabilities();
+    return app::backendFor(doc.bindParams.backend).capabilities();
   } catch (const std::invalid_argument&) {
     return {};  // an unknown name: the bind itself reports it
   }

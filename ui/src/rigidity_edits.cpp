@@ -30,7 +30,7 @@ void changedRowsAndColumns(const Weights& A, const Weights& B, std::vector<Index
 }
 
 /// Re-weights the display mesh in `columns` from the session's field (worker thread).
-void reweightMesh(const app::Session& s, AppState::MeshSource& source, WarpMesh& mesh, const std::vector<Index>& columns) {
+void reweightMesh(const app::Session& s, Document::MeshSource& source, WarpMesh& mesh, const std::vector<Index>& columns) {
   if (columns.empty()) return;  // (an empty list would mean every column)
   source.sampler.updateColumns(*s.field, columns, source.W);
   mesh.setWeights(source.W);
@@ -76,18 +76,18 @@ bool anyRigid(const std::vector<double>& rho) {
   return std::any_of(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
 }
 
-const std::vector<double>& boundRigidity(const AppState& state) {
+const std::vector<double>& boundRigidity(const Document& doc) {
   static const std::vector<double> none;
-  if (state.solvingRigidity) return *state.solvingRigidity;
-  return state.bound ? state.bound->rigidity : none;
+  if (doc.solvingRigidity) return *doc.solvingRigidity;
+  return doc.bound ? doc.bound->rigidity : none;
 }
 
-std::string rigidityProblem(const AppState& state) {
-  const app::BackendCapabilities caps = shownCapabilities(state);
+std::string rigidityProblem(const Document& doc) {
+  const app::BackendCapabilities caps = shownCapabilities(doc);
   if (!caps.rigidity)
     return "rigid regions are kept by KC weights only (choose KC in the Bind panel and bind again)" +
            (caps.why.empty() ? std::string() : ": " + caps.why);
-  if (!state.bound) return "bind a cage first: the brush paints the samples of a bound picture";
+  if (!doc.bound) return "bind a cage first: the brush paints the samples of a bound picture";
   if (!caps.targets) return caps.why;
   return {};
 }

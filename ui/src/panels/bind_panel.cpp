@@ -71,7 +71,7 @@ std::string autoSpacingTip(bool mesh) {
 }
 
 /// The tooltip of the spacing the next bind uses: its range and its sample (or mesh point) count.
-std::string plannedSpacingTip(const AppState::ShownSpacing& plan, bool mesh) {
+std::string plannedSpacingTip(const Document::ShownSpacing& plan, bool mesh) {
   char text[400];
   const char* points = mesh ? "mesh points" : "samples";
   if (plan.minSpacing < plan.spacing - 0.05)
@@ -203,7 +203,7 @@ void drawBindPanel(AppState& state) {
   checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(mesh).c_str());
   const bool planned = !state.source.empty() && state.cageValid;
   if (state.autoSpacing && planned) {
-    const AppState::ShownSpacing& plan = spacingPlan(state);
+    const Document::ShownSpacing& plan = spacingPlan(state);
     ImGui::SameLine();
     ImGui::TextDisabled("%s", spacingRange(plan.minSpacing, plan.spacing).c_str());
     tooltip(plannedSpacingTip(plan, mesh).c_str());
@@ -229,7 +229,7 @@ void drawBindPanel(AppState& state) {
   tooltip(tip.c_str());
   if (!state.autoSpacing && planned) {
     // A graded bind samples narrow places more finely than the slider says.
-    const AppState::ShownSpacing& plan = spacingPlan(state);
+    const Document::ShownSpacing& plan = spacingPlan(state);
     if (plan.minSpacing < plan.spacing - 0.05) {
       ImGui::TextDisabled("Used: %s", spacingRange(plan.minSpacing, plan.spacing).c_str());
       tooltip(plannedSpacingTip(plan, mesh).c_str());

@@ -1,7 +1,8 @@
 #pragma once
-/// The one object the GUI reads and writes each frame (STYLE.md, Immediate-mode UI): the document
-/// (image, session, draft cage, pose, undo history) and the interaction state (tool, view,
-/// selection, brush, overlays, messages, timings). No globals.
+/// The one object the GUI reads and writes each frame (STYLE.md, Immediate-mode UI), in four parts:
+/// the document (picture, session, draft cage, pose, undo history), how it is shown (view, show
+/// options, heatmap), the interaction (tool, selection, brushes, dialogs, messages) and the jobs
+/// (worker, timings). No globals.
 
 #include <cstdint>
 #include <functional>
@@ -136,8 +137,10 @@ struct PendingAction {
   std::string question = {};
 };
 
-struct AppState {
-  // --- Document -------------------------------------------------------------------------------
+/// The document: the picture, the bound session and what is shown of it, the draft cage, the lines,
+/// the pose, the display warp mesh, the outside mode, the undo history, the paths and the unsaved
+/// state (autosave).
+struct Document {
   Image source;                            ///< The picture (RGBA8), full resolution (the export's; drawn from textures sized for the screen).
   std::string imagePath;
   /// `source` is the picture turned as its Exif orientation says (app::Session::imageUpright);
@@ -207,13 +210,32 @@ struct AppState {
   bool unsaved = false;
   double lastAutosave = 0.0;               ///< Seconds (glfw/steady clock) of the last autosave.
   UndoStack undo;
+};
 
-  // --- Interaction ----------------------------------------------------------------------------
-  Tool tool = Tool::Pose;
+/// How the document is shown: the view, the show options, the heatmap, the display textures and the
+/// caches drawn from.
+struct ViewState {
   View view;
   bool fitPending = true;                  ///< Fit the view at the next frame (new image).
   bool showOriginal = false;               ///< Before/after: the original picture while O is held.
   bool hideCage = false;                   ///< The warp without the cage, its handles and lines while H is held (pose, brush, rigid tools).
+  HeatmapSettings heat;
+  ViewOptions show;
+  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), of (meshVersion,
+  /// rigidityVersion).
+  Cached<std::vector<float>, std::pair<Version, Version>> rigidTint;
+  DisplayTextures display;  ///< Set by the renderer.
+  /// Set by a frame that left work for the next one (the renderer defers the detail texture while
+  /// the view moves): the window draws one more frame before it sleeps.
+  bool frameWanted = false;
+  /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).
+  double heatLow = 0.0, heatHigh = 1.0;
+};
+
+/// What the person is doing: the tool and its state, the selection, the brushes, the pointer and key
+/// queues, dialogs, prompts and messages.
+struct Interaction {
+  Tool tool = Tool::Pose;
   std::vector<Index> selection;            ///< Selected control points (pose tool).
   std::vector<int> lineSelection;          ///< Selected structure lines (line tool), indices into `lines`.
   std::string lineGroupName = "parallel 1";  ///< The line tool's name for the next parallel group.
@@ -223,23 +245,12 @@ struct AppState {
   Index activeControl = -1;                ///< Control whose weights are painted and shown.
   BrushSettings brush;
   RigidBrushSettings rigidBrush;
-  HeatmapSettings heat;
-  ViewOptions show;
   PoseTool poseTool;
   BrushTool brushTool;
   CageTool cageTool;
   LineTool lineTool;
   RigidityTool rigidTool;
-  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), of (meshVersion,
-  /// rigidityVersion).
-  Cached<std::vector<float>, std::pair<Version, Version>> rigidTint;
-  Worker worker;
   std::vector<Message> messages;
-  Timings timings;
-  /// Seconds (nowSeconds) at the stroke release whose picture is not shown yet, 0 when none: the
-  /// job's result sets it, the window turns it into timings.releaseToPictureMs after the frame.
-  double releaseStart = 0.0;
-  DisplayTextures display;                 ///< Set by the renderer.
   bool helpOpen = false;                   ///< Help > How to / shortcuts window shown.
   bool quitRequested = false;              ///< Close asked while unsaved: confirm dialog open.
   bool quitConfirmed = false;              ///< The user agreed to close.
@@ -270,20 +281,28 @@ struct AppState {
   std::vector<PointerInput> pointerInputs;
   bool pointerQueued = false;
   std::optional<Vec2> pointerAt;           ///< The last position the window's callbacks saw (a press's position).
-  /// Set by a frame that left work for the next one (the renderer defers the detail texture while
-  /// the view moves): the window draws one more frame before it sleeps.
-  bool frameWanted = false;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
+  /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
+  std::map<std::string, Vec2> widgets;
+};
+
+/// Background work: the worker, commands deferred until it is free, and the measured times.
+struct Jobs {
+  Worker worker;
+  Timings timings;
+  /// Seconds (nowSeconds) at the stroke release whose picture is not shown yet, 0 when none: the
+  /// job's result sets it, the window turns it into timings.releaseToPictureMs after the frame.
+  double releaseStart = 0.0;
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
   /// Commands asked for while a job held the session (Save, Export): run when the worker is free.
   std::vector<std::function<void(AppState&)>> deferred;
-  int exportCount = 0;                     ///< Successful exports in this run (automation).
-  /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
-  std::map<std::string, Vec2> widgets;
-  /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).
-  double heatLow = 0.0, heatHigh = 1.0;
+  int exportCount = 0;  ///< Successful exports in this run (automation).
 };
+
+/// The four parts as one object: a function that needs one part takes that part (a Document&, …),
+/// and an AppState is each of them.
+struct AppState : Document, ViewState, Interaction, Jobs {};
 
 /// Seconds on a monotonic clock (for timings and autosave).
 double nowSeconds();

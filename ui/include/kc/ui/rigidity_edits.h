@@ -16,7 +16,7 @@ namespace kc::ui {
 /// Why the rigidity brush cannot be used now, as the greyed tool's tooltip says it (empty when it
 /// can): the backend chosen or bound has no rigid regions (LBC), the session has no target weights
 /// to restore the unconstrained weights from, or nothing is bound yet.
-std::string rigidityProblem(const AppState& state);
+std::string rigidityProblem(const Document& doc);
 
 /// Sets the session's per-sample rigidity to `rho` (#S, each in [0, 1]) on the worker with
 /// app::setRigidity — only the samples within (reach + 5)σ of the old or new region are re-solved —
@@ -53,6 +53,6 @@ bool anyRigid(const std::vector<double>& rho);
 
 /// The bound session's ρ as shown (#S, or empty: none or nothing bound): while a rigidity job
 /// runs the ρ it is solving for (AppState::solvingRigidity), else the snapshot's.
-const std::vector<double>& boundRigidity(const AppState& state);
+const std::vector<double>& boundRigidity(const Document& doc);
 
 }  // namespace kc::ui
