@@ -56,7 +56,7 @@ TEST(CanvasInput, ADragInOneFrameMovesAndReleasesAtItsPositions) {
   s->pointerQueued = true;
   auto draw = [&] { drawFrame(*s); };
   gui.frame(draw);
-  const Vec2 c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c1 = s->bound->cage.C.row(1).transpose();
   s->pointerInputs.push_back({PointerInput::Kind::Move, 0, s->view.toScreen(c1)});
   s->pointerInputs.push_back({PointerInput::Kind::Press, 0, s->view.toScreen(c1)});
   s->pointerInputs.push_back({PointerInput::Kind::Move, 0, s->view.toScreen(c1 + Vec2(-10, 5))});

@@ -24,7 +24,7 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   setDraftCage(*s, legs());
   ASSERT_TRUE(s->cageValid) << s->cageStatus;
   s->autoSpacing = true;
-  const AppState::ShownSpacing plan = spacingPlan(*s);
+  const Document::ShownSpacing plan = spacingPlan(*s);
   EXPECT_LT(plan.minSpacing, 0.5 * plan.spacing) << "the 3 px gap is sampled finer than the rest";
   EXPECT_LE(plan.minSpacing, 3.0 / kFeatureSamples + 1e-9);
   EXPECT_GT(plan.points, 0.0);
@@ -40,10 +40,10 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   ASSERT_TRUE(session.sizing);
   EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
   EXPECT_DOUBLE_EQ(session.sizing->hMin(), plan.minSpacing);
-  EXPECT_DOUBLE_EQ(s->boundSpacing, plan.spacing);
-  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->bound->spacing, plan.spacing);
+  EXPECT_DOUBLE_EQ(s->bound->minSpacing, plan.minSpacing);
   // The sigma shown after the bind is the session's, as a range: σ·h(x)/hMax at the smallest h.
-  EXPECT_DOUBLE_EQ(s->boundSigma, session.sigma);
+  EXPECT_DOUBLE_EQ(s->bound->sigma, session.sigma);
   char sigma[64];
   std::snprintf(sigma, sizeof sigma, "%.2f-%.2f px", session.sigma * session.sizing->hMin() / session.params.spacing, session.sigma);
   EXPECT_EQ(boundSigmaText(*s), sigma);
@@ -51,12 +51,12 @@ TEST(GradedSpacing, ThePanelShowsTheRangeTheBindUses) {
   EXPECT_NEAR(plannedMax, session.sigma, 0.2 * session.sigma);
   EXPECT_NEAR(plannedMin, session.sigma * session.sizing->hMin() / session.params.spacing, 0.2 * plannedMin);
   // The count shown before the bind is the sampler's estimate: within a quarter of what it drew.
-  const double drawn = double(s->samples.size());
+  const double drawn = double(s->bound->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
   // The sample plot colours each sample by the session's h there.
-  ASSERT_EQ(s->sampleSpacing.size(), s->samples.size());
-  EXPECT_NEAR(s->sampleSpacing.minCoeff(), plan.minSpacing, 0.5 * plan.minSpacing);
-  EXPECT_DOUBLE_EQ(s->sampleSpacing.maxCoeff(), plan.spacing);
+  ASSERT_EQ(s->bound->sampleSpacing.size(), s->bound->samples.size());
+  EXPECT_NEAR(s->bound->sampleSpacing.minCoeff(), plan.minSpacing, 0.5 * plan.minSpacing);
+  EXPECT_DOUBLE_EQ(s->bound->sampleSpacing.maxCoeff(), plan.spacing);
 }
 
 TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
@@ -64,7 +64,7 @@ TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
   setDraftCage(*s, legs());
   s->autoSpacing = true;
   s->bindParams.graded = false;
-  const AppState::ShownSpacing plan = spacingPlan(*s);
+  const Document::ShownSpacing plan = spacingPlan(*s);
   EXPECT_EQ(plan.minSpacing, plan.spacing);
   // The plan follows the panel: grading on again changes it at once (no stale cache).
   s->bindParams.graded = true;
@@ -74,7 +74,7 @@ TEST(GradedSpacing, AUniformBindShowsOneSpacing) {
 /// Binds the draft cage with `lines` at spacing 8 and checks that the plan shown before the bind is
 /// what the bind used: the spacing, the smallest spacing of its sizing field and its grading.
 /// Returns the plan.
-AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bool exactLines = false) {
+Document::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bool exactLines = false) {
   auto s = test::newPicture();
   Points C(4, 2);
   C << 100, 50, 300, 50, 300, 250, 100, 250;  // no narrow place
@@ -84,7 +84,7 @@ AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bo
   s->bindParams.spacing = 8.0;
   s->bindParams.kc.exactLines = exactLines;
   s->lines.lines = std::move(lines);
-  const AppState::ShownSpacing plan = spacingPlan(*s);
+  const Document::ShownSpacing plan = spacingPlan(*s);
   EXPECT_TRUE(startBind(*s, true, false));
   s->worker.waitFinished();
   pollWorker(*s);
@@ -95,8 +95,8 @@ AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bo
   EXPECT_DOUBLE_EQ(session.params.spacing, plan.spacing);
   EXPECT_DOUBLE_EQ(session.sizing ? session.sizing->hMin() : session.params.spacing, plan.minSpacing);
   EXPECT_EQ(session.params.graded && session.sizing, plan.minSpacing < plan.spacing);
-  EXPECT_DOUBLE_EQ(s->boundMinSpacing, plan.minSpacing);
-  const double drawn = double(s->samples.size());
+  EXPECT_DOUBLE_EQ(s->bound->minSpacing, plan.minSpacing);
+  const double drawn = double(s->bound->samples.size());
   EXPECT_NEAR(plan.points, drawn, 0.25 * drawn) << "estimated " << plan.points << ", sampled " << drawn;
   return plan;
 }
@@ -104,13 +104,13 @@ AppState::ShownSpacing expectPlanIsTheBinds(std::vector<StructureLine> lines, bo
 TEST(GradedSpacing, LinesTheUniformRulesAcceptShowOneSpacing) {
   // A line 12 px (1.5 h) below the top edge: a graded sizing field would refine between them, but
   // the bind keeps the uniform sampling, and so does the plan.
-  const AppState::ShownSpacing plan = expectPlanIsTheBinds({{{150, 62}, {250, 62}}});
+  const Document::ShownSpacing plan = expectPlanIsTheBinds({{{150, 62}, {250, 62}}});
   EXPECT_EQ(plan.minSpacing, plan.spacing);
 }
 
 TEST(GradedSpacing, CrossingLinesShowTheGradedRange) {
   // The same line with two crossing lines: the bind samples graded, refined between line and edge.
-  const AppState::ShownSpacing plan =
+  const Document::ShownSpacing plan =
       expectPlanIsTheBinds({{{150, 62}, {250, 62}}, {{150, 100}, {250, 200}}, {{150, 200}, {250, 100}}});
   EXPECT_LT(plan.minSpacing, plan.spacing);
 }
@@ -118,7 +118,7 @@ TEST(GradedSpacing, CrossingLinesShowTheGradedRange) {
 TEST(GradedSpacing, ExactLinesKeepTheCagesSpacing) {
   // Lines kept straight by the field's correction (the default) are not sampled: the same crossing
   // lines leave the square's one spacing, and the plan says so.
-  const AppState::ShownSpacing plan =
+  const Document::ShownSpacing plan =
       expectPlanIsTheBinds({{{150, 62}, {250, 62}}, {{150, 100}, {250, 200}}, {{150, 200}, {250, 100}}}, true);
   EXPECT_EQ(plan.minSpacing, plan.spacing);
 }

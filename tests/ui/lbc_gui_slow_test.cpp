@@ -94,7 +94,7 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   EXPECT_EQ(bound.params.backend, "lbc");
   EXPECT_GT(bound.report.meshVertices(), 6);
   EXPECT_EQ(s->tool, Tool::Pose);
-  EXPECT_FALSE(s->capabilities.painting || s->capabilities.methods || s->capabilities.outsideCage);
+  EXPECT_FALSE(s->bound->capabilities.painting || s->bound->capabilities.methods || s->bound->capabilities.outsideCage);
   EXPECT_NE(s->messages.back().text.find("with LBC"), std::string::npos) << s->messages.back().text;
   EXPECT_EQ(boundSigmaText(*s), "") << "LBC weights have no kernel width to show";
 
@@ -186,7 +186,7 @@ TEST(LbcGui, BindPoseHeatmapDiagnosticsExportSaveAndOpen) {
   EXPECT_EQ(s->session->params.backend, "lbc");
   EXPECT_TRUE(s->session->W == saved);
   EXPECT_TRUE(s->pose[1].translate == pose[1].translate);
-  EXPECT_FALSE(s->capabilities.painting);
+  EXPECT_FALSE(s->bound->capabilities.painting);
   EXPECT_EQ(s->bindParams.backend, "lbc") << "the panel shows the opened session's backend";
 }
 
@@ -227,7 +227,7 @@ TEST(LbcGui, KcOnLbcTargetsIsMoreLocalAndStillPaintable) {
   pollWorker(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->session->params.kc.init.method, InitMethod::Lbc);
-  EXPECT_TRUE(s->capabilities.painting && s->capabilities.methods) << "KC on LBC targets is KC: paintable";
+  EXPECT_TRUE(s->bound->capabilities.painting && s->bound->capabilities.methods) << "KC on LBC targets is KC: paintable";
   const double onLbc = app::diagnose(*s->session, 20000).locality.meanInfluencing;
   EXPECT_LT(onLbc, kcInfluencing) << "controls influencing a point: KC " << kcInfluencing << ", KC on LBC " << onLbc;
 }

@@ -74,7 +74,7 @@ TEST(LineTool, DrawingALineRebindsWithItAndKeepsThePose) {
   ASSERT_EQ(s->session->structure.lines.size(), 1u);
   EXPECT_TRUE(s->session->samples.lines.empty()) << "exact lines are kept straight by the field, not by samples";
   EXPECT_TRUE(s->session->structure.lines[0].a.isApprox(Vec2(60, 70)));
-  EXPECT_EQ(s->boundLines.size(), 1u);
+  EXPECT_EQ(s->bound->lines.size(), 1u);
   EXPECT_TRUE(s->pose[1].translate.isApprox(Vec2(-20, 15))) << "the pose survives the re-bind";
   EXPECT_EQ(s->tool, Tool::Lines);
   EXPECT_EQ(s->lineSelection, std::vector<int>{0});
@@ -163,7 +163,7 @@ TEST(LineTool, AGradedBindTakesCrossingLinesAndALineEndingAtTheCage) {
   ASSERT_EQ(s->lines.lines.size(), 3u) << lastMessage(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->session->structure.lines.size(), 3u);
-  EXPECT_EQ(s->boundLines.size(), 3u);
+  EXPECT_EQ(s->bound->lines.size(), 3u);
   const app::LineFigures f = app::measureLines(*s->session, s->session->structure.lines, 20);
   EXPECT_LT(f.deviation, 0.1);
 }
@@ -253,7 +253,7 @@ TEST(LineTool, RightClickDeletesALine) {
   finish(*s);
   EXPECT_TRUE(s->lines.empty());
   EXPECT_TRUE(s->session->structure.empty());
-  EXPECT_TRUE(s->boundLines.empty());
+  EXPECT_TRUE(s->bound->lines.empty());
 }
 
 TEST(LineTool, PaintStrokesBeforeTheRebindLeaveTheHistory) {
@@ -307,7 +307,7 @@ TEST(LineTool, LinesTravelWithTheSession) {
   ASSERT_TRUE(startOpenSession(*t, path));
   finish(*t);
   EXPECT_TRUE(sameLines(t->lines, s->lines)) << lastMessage(*t);
-  EXPECT_EQ(t->boundLines.size(), 2u);
+  EXPECT_EQ(t->bound->lines.size(), 2u);
   EXPECT_EQ(t->lines.groups, std::vector<std::string>{"pair"});
   // Those lines are kept straight by the field (not sampled); the reopened document takes a line
   // crossing one of them.
@@ -366,7 +366,7 @@ TEST(LineTool, LinesDrawnBeforeTheBindAreBoundWithTheCage) {
   finish(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->session->structure.lines.size(), 1u);
-  EXPECT_EQ(s->boundLines.size(), 1u);
+  EXPECT_EQ(s->bound->lines.size(), 1u);
   EXPECT_LT(app::measureLines(*s->session, s->session->structure.lines, 20).deviation, 0.1);
 }
 

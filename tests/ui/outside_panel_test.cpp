@@ -64,13 +64,13 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
   gui.click(s->widgets["outside_mode"], [&] { drawSide(*s); });  // opens the combo
   gui.frame([&] { drawSide(*s); });  // a new popup is placed after its first frame
   ASSERT_TRUE(s->widgets.count("outside_deform"));
-  const auto revision = s->meshRevision;
+  const Version before = s->meshVersion;
   gui.click(s->widgets["outside_deform"], [&] { drawSide(*s); });
   pollWorker(*s);
   ASSERT_TRUE(s->session) << "the job handed the session back";
   EXPECT_EQ(s->outside, OutsideMode::Deform);
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
-  EXPECT_GT(s->meshRevision, revision);
+  EXPECT_NE(s->meshVersion, before);
   EXPECT_TRUE(s->unsaved);
   EXPECT_EQ(s->session->outside, OutsideMode::Deform);
   EXPECT_GT(cornerMove(*s, pose), 1.0) << "deform moves the picture's corners";
@@ -90,7 +90,7 @@ TEST(OutsidePanel, ChoosingAModeRebuildsTheMeshAndIsSaved) {
 TEST(OutsidePanel, MoveEverythingIsRefusedWithoutWeightsOutsideTheCage) {
   test::HeadlessImGui gui;
   auto s = boundSquare("lbc", OutsideMode::Fixed);
-  ASSERT_FALSE(s->capabilities.outsideCage);
+  ASSERT_FALSE(s->bound->capabilities.outsideCage);
   ASSERT_EQ(s->outside, OutsideMode::Fixed);
 
   gui.frame([&] { drawSide(*s); });
@@ -111,7 +111,7 @@ TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
   test::HeadlessImGui gui;
   auto s = boundSquare("kc", OutsideMode::Pinned, 100.0, sampling::ExteriorExtent::Band);
   ASSERT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Band);
-  ASSERT_FALSE(s->capabilities.outsideCage);
+  ASSERT_FALSE(s->bound->capabilities.outsideCage);
   ASSERT_TRUE(bandNeedsFrameBind(*s));
   Pose pose = restPose(4);
   pose[1].translate = Vec2(-12, 9);
@@ -125,7 +125,7 @@ TEST(OutsidePanel, MoveEverythingOnABandSessionBindsAgainOverThePicture) {
   pollWorker(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(s->session->params.exterior, sampling::ExteriorExtent::Frame);
-  EXPECT_TRUE(s->capabilities.outsideCage);
+  EXPECT_TRUE(s->bound->capabilities.outsideCage);
   EXPECT_EQ(s->outside, OutsideMode::Deform);
   EXPECT_EQ(s->mesh.options().outside, OutsideMode::Deform);
   EXPECT_EQ(s->session->outside, OutsideMode::Deform);

@@ -167,7 +167,7 @@ TEST(WeightsPanel, OneMethodControlSwitchesAndKeepsTargets) {
   gui.clickLabel(*s, "QEC", draw);
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  EXPECT_EQ(s->method, Method::QEC);
+  EXPECT_EQ(s->bound->method, Method::QEC);
   EXPECT_EQ(s->bindParams.kc.method, Method::QEC) << "the next bind uses the method shown";
   EXPECT_TRUE(s->session->W0 == W0);
   EXPECT_FALSE(s->session->W == W);
@@ -281,7 +281,7 @@ TEST(UnsavedPrompt, EscapeCancelsTheQuestionsAndTheFileDialog) {
   EXPECT_TRUE(s->unsaved);
   EXPECT_EQ(s->source.width, width);
   // The question before a bind that would drop something.
-  s->unsavedPrompt = PendingAction{"Bind again", [](AppState& st) { st.bound = false; }, "It drops a stroke."};
+  s->unsavedPrompt = PendingAction{"Bind again", [](AppState& st) { st.bound.reset(); }, "It drops a stroke."};
   for (int k = 0; k < 3; ++k) gui.frame(draw);
   ASSERT_TRUE(s->widgets.count("Bind again")) << "the question is shown";
   escape();

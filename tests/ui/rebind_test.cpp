@@ -21,7 +21,7 @@ PointerEvent at(const Vec2& p) {
 
 /// Drags control `i` by `by` with the pose tool, then paints one stroke for it from a to b.
 void poseAndPaint(AppState& s, Index i, const Vec2& by, const Vec2& a, const Vec2& b) {
-  const Vec2 c = s.boundCage.C.row(i).transpose();
+  const Vec2 c = s.bound->cage.C.row(i).transpose();
   s.poseTool.press(s, at(c));
   s.poseTool.drag(s, at(c + by));
   s.poseTool.release(s, at(c + by));
@@ -139,16 +139,16 @@ TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   s->worker.waitFinished();
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  ASSERT_GT(s->reports.meshVertices(), 0) << (s->messages.empty() ? "" : s->messages.back().text);
+  ASSERT_GT(s->bound->report.meshVertices(), 0) << (s->messages.empty() ? "" : s->messages.back().text);
   // One click back to the KC bind (the Bind panel's "Previous bind"), one forward to LBC again.
   gui.frame(draw);
   gui.clickLabel(*s, "Previous bind", draw);
   EXPECT_EQ(s->session, kc);
   EXPECT_EQ(s->bindParams.backend, "kc") << "the Bind panel shows the bound session's backend";
-  EXPECT_TRUE(s->capabilities.painting);
+  EXPECT_TRUE(s->bound->capabilities.painting);
   gui.frame(draw);
   gui.clickLabel(*s, "Next bind", draw);
-  EXPECT_GT(s->reports.meshVertices(), 0);
+  EXPECT_GT(s->bound->report.meshVertices(), 0);
   EXPECT_EQ(s->bindParams.backend, "lbc");
 }
 
@@ -170,7 +170,7 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   startRigidity(*s, rho, "rigid", true);  // a part painted rigid
   s->worker.waitFinished();
   pollWorker(*s);
-  ASSERT_TRUE(anyRigid(s->rigidity));
+  ASSERT_TRUE(anyRigid(boundRigidity(*s)));
   const auto kc = s->session;
   auto draw = [&] { drawFrame(*s); };
   gui.frame(draw);
@@ -186,7 +186,7 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   s->worker.waitFinished();
   pollWorker(*s);
   ASSERT_NE(s->session, kc) << (s->messages.empty() ? "" : s->messages.back().text);
-  EXPECT_GT(s->reports.meshVertices(), 0);
+  EXPECT_GT(s->bound->report.meshVertices(), 0);
   EXPECT_TRUE(s->session->structure.lines.empty());
   for (const auto& m : s->messages) {  // nothing refused after the person said yes
     EXPECT_FALSE(m.error) << m.text;
@@ -196,7 +196,7 @@ TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem
   gui.clickLabel(*s, "Previous bind", draw);
   EXPECT_EQ(s->session, kc);
   EXPECT_EQ(s->lines.lines.size(), 1u) << "the lines come back with the KC bind";
-  EXPECT_TRUE(anyRigid(s->rigidity)) << "and the rigid part";
+  EXPECT_TRUE(anyRigid(boundRigidity(*s))) << "and the rigid part";
   // That KC bind sampled its one line uniformly; a line crossing it is still taken (graded rules).
   app::Structure crossing = s->lines;
   crossing.lines.push_back({Vec2(100, 40), Vec2(140, 150), -1});

@@ -110,10 +110,10 @@ TEST(RigidityBrush, AStrokePaintsRhoAndReSolvesOnlyNearIt) {
     EXPECT_EQ(lastMessage(*s).find(solverWord), std::string::npos) << lastMessage(*s);
   EXPECT_NE(s->rigidityDetails.find("rigidity: "), std::string::npos) << s->rigidityDetails;
   const std::vector<double>& rho = s->session->rigidity;
-  ASSERT_EQ(rho.size(), static_cast<std::size_t>(s->samples.size()));
-  EXPECT_EQ(s->rigidity, rho) << "the display copy follows the session";
+  ASSERT_EQ(rho.size(), static_cast<std::size_t>(s->bound->samples.size()));
+  EXPECT_EQ(boundRigidity(*s), rho) << "the ρ shown follows the session";
   EXPECT_GT(rigidCount(rho), 15);
-  const SampleSet& S = s->samples;
+  const SampleSet& S = s->bound->samples;
   std::vector<Vec2> painted;
   Index core = 0;
   for (Index i = 0; i < S.size(); ++i) {
@@ -173,7 +173,7 @@ TEST(RigidityBrush, UndoAndRedoRestoreRhoAndWeightsExactly) {
   finish(*s);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(rigidCount(s->session->rigidity), 0);
-  EXPECT_EQ(rigidCount(s->rigidity), 0);
+  EXPECT_EQ(rigidCount(boundRigidity(*s)), 0);
   EXPECT_TRUE(s->session->W == W) << "undo gives the weights back bit for bit";
   EXPECT_LE((s->session->field->coefficients() - coef).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LE((s->meshSource->W - meshW).cwiseAbs().maxCoeff(), 1e-12);
@@ -214,7 +214,7 @@ TEST(RigidityBrush, CancelDuringTheSolvePutsTheSessionBack) {
   s->rigidTool.drag(*s, pointerAt(kB));
   s->rigidTool.release(*s, pointerAt(kB));
   EXPECT_TRUE(s->worker.busy());
-  EXPECT_GT(rigidCount(s->rigidity), 0) << "the tint shows the stroke while it is solved";
+  EXPECT_GT(rigidCount(boundRigidity(*s)), 0) << "the tint shows the stroke while it is solved";
   gate.waitInside();
   s->worker.cancel();
   gate.release();
@@ -222,7 +222,7 @@ TEST(RigidityBrush, CancelDuringTheSolvePutsTheSessionBack) {
   s->worker.setStageHook(nullptr);
   ASSERT_TRUE(s->session);
   EXPECT_EQ(rigidCount(s->session->rigidity), 0);
-  EXPECT_EQ(rigidCount(s->rigidity), 0);
+  EXPECT_EQ(rigidCount(boundRigidity(*s)), 0);
   EXPECT_TRUE(s->session->W == W);
   EXPECT_LE((s->session->field->coefficients() - coef).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(s->undo.undoCount(), 0u);
@@ -241,7 +241,7 @@ TEST(RigidityBrush, SessionsKeepTheRigidity) {
   finish(*t);
   ASSERT_TRUE(t->session) << lastMessage(*t);
   EXPECT_EQ(t->session->rigidity, s->session->rigidity);
-  EXPECT_EQ(t->rigidity, s->session->rigidity);
+  EXPECT_EQ(boundRigidity(*t), s->session->rigidity);
   EXPECT_LE((t->session->W - s->session->W).cwiseAbs().maxCoeff(), 1e-15);
   // The reopened session takes further strokes, and undo of one gives the reopened weights back.
   const Weights reopened = t->session->W;
@@ -259,7 +259,7 @@ TEST(RigidityBrush, APaintedRegionSurvivesTheReBindOfALineEdit) {
   s->autoSpacing = false;
   rigidityStroke(*s, kA, kB);
   const std::vector<double> before = s->session->rigidity;
-  const SampleSet oldSamples = s->samples;
+  const SampleSet oldSamples = s->bound->samples;
   app::Structure lines = s->lines;
   StructureLine l;
   l.a = Vec2(40, 200);
@@ -271,14 +271,14 @@ TEST(RigidityBrush, APaintedRegionSurvivesTheReBindOfALineEdit) {
   ASSERT_TRUE(s->session) << lastMessage(*s);
   ASSERT_EQ(s->session->structure.lines.size(), 1u);
   const std::vector<double>& after = s->session->rigidity;
-  ASSERT_EQ(after.size(), static_cast<std::size_t>(s->samples.size()));
-  EXPECT_EQ(s->rigidity, after);
+  ASSERT_EQ(after.size(), static_cast<std::size_t>(s->bound->samples.size()));
+  EXPECT_EQ(boundRigidity(*s), after);
   // Every new rigid sample has an old rigid sample nearby and the painted area keeps its size.
-  for (Index i = 0; i < s->samples.size(); ++i) {
+  for (Index i = 0; i < s->bound->samples.size(); ++i) {
     if (after[static_cast<std::size_t>(i)] <= 0.0) continue;
     double d = 1e300;
     for (Index j = 0; j < oldSamples.size(); ++j)
-      if (before[static_cast<std::size_t>(j)] > 0.0) d = std::min(d, (s->samples.X.row(i) - oldSamples.X.row(j)).norm());
+      if (before[static_cast<std::size_t>(j)] > 0.0) d = std::min(d, (s->bound->samples.X.row(i) - oldSamples.X.row(j)).norm());
     EXPECT_LE(d, 15.0) << "sample " << i;
   }
   EXPECT_GE(rigidCount(after), 8 * rigidCount(before) / 10);
@@ -304,14 +304,14 @@ TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
                                                           s->source.height, p));
   installSession(*s, session, buildDisplayMesh(*session, app::warpMeshOptionsFor(*session, OutsideMode::Pinned)), true);
   ASSERT_EQ(s->lines.rigid.size(), 1u);
-  ASSERT_EQ(s->boundRigid.size(), 1u);
-  EXPECT_EQ(s->boundRigid[0].X.rows(), 4 * 16 + 1);
-  EXPECT_EQ(s->boundRigid[0].W.rows(), 4 * 16 + 1);
-  EXPECT_GT(rigidCount(s->rigidity), 15);
+  ASSERT_EQ(s->bound->rigidOutlines.size(), 1u);
+  EXPECT_EQ(s->bound->rigidOutlines[0].X.rows(), 4 * 16 + 1);
+  EXPECT_EQ(s->bound->rigidOutlines[0].W.rows(), 4 * 16 + 1);
+  EXPECT_GT(rigidCount(boundRigidity(*s)), 15);
   test::HeadlessImGui gui;
   auto draw = [&] { drawFrame(*s); };
   gui.frame(draw);
-  const std::vector<float>& tint = s->rigidTint.vertexRho;
+  const std::vector<float>& tint = s->rigidTint.value();
   const Points& V = s->mesh.restVertices();
   ASSERT_EQ(tint.size(), static_cast<std::size_t>(V.rows()));
   float inside = 1.0f, outside = 0.0f;
@@ -324,10 +324,10 @@ TEST(RigidityOverlay, ARigidPolygonFromAStructureIsTintedAndOutlined) {
   EXPECT_EQ(outside, 0.0f);
   // View > Rigid regions off: the pose tool draws no tint.
   s->show.rigid = false;
-  const auto revision = s->rigidTint.rhoRevision;
-  ++s->rigidityRevision;
+  const auto key = s->rigidTint.key();
+  s->rigidityVersion.bump();
   gui.frame(draw);
-  EXPECT_EQ(s->rigidTint.rhoRevision, revision) << "the tint was recomputed while hidden";
+  EXPECT_EQ(s->rigidTint.key(), key) << "the tint was recomputed while hidden";
 }
 
 TEST(RigidityBrush, GreyedForLbcAndBeforeABind) {
@@ -360,14 +360,14 @@ TEST(RigidityPanel, WidgetsSayWhatTheyDoAndTheTintCoversThePaintedPart) {
   std::erase_if(s->widgets, [&](const auto& w) { return std::find(labels.begin(), labels.end(), w.first) == labels.end(); });
   EXPECT_EQ(gui.widgetsWithoutTooltip(*s, draw), "");
   // The tint: ρ at the display mesh's vertices, positive on the stroke, 0 far from it.
-  const std::vector<float>& tint = s->rigidTint.vertexRho;
+  const std::vector<float>& tint = s->rigidTint.value();
   const Points& V = s->mesh.restVertices();
   ASSERT_EQ(tint.size(), static_cast<std::size_t>(V.rows()));
   float onStroke = 0.0f, away = 0.0f;
   for (Index v = 0; v < V.rows(); ++v) {
     const double d = segmentDistance(V.row(v).transpose(), kA, kB);
     if (d < 5.0) onStroke = std::max(onStroke, tint[static_cast<std::size_t>(v)]);
-    if (d > s->rigidBrush.radius + 2.0 * s->boundSpacing) away = std::max(away, tint[static_cast<std::size_t>(v)]);
+    if (d > s->rigidBrush.radius + 2.0 * s->bound->spacing) away = std::max(away, tint[static_cast<std::size_t>(v)]);
   }
   EXPECT_GT(onStroke, 0.8f);
   EXPECT_EQ(away, 0.0f);
@@ -376,7 +376,7 @@ TEST(RigidityPanel, WidgetsSayWhatTheyDoAndTheTintCoversThePaintedPart) {
   finish(*s);
   gui.frame(draw);
   EXPECT_EQ(rigidCount(s->session->rigidity), 0);
-  EXPECT_TRUE(s->rigidTint.vertexRho.empty());
+  EXPECT_TRUE(s->rigidTint.value().empty());
 }
 
 }  // namespace

@@ -41,7 +41,7 @@ void selectTopEdge(AppState& s) {
 
 TEST(PoseTool, LeftDragTranslatesAndUndoRestores) {
   auto s = test::boundState();
-  const Vec2 c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c1 = s->bound->cage.C.row(1).transpose();
   s->poseTool.press(*s, at(c1.x(), c1.y()));
   s->poseTool.drag(*s, at(c1.x() - 20, c1.y() + 30));
   s->poseTool.release(*s, at(c1.x() - 20, c1.y() + 30));
@@ -57,15 +57,15 @@ TEST(PoseTool, LeftDragTranslatesAndUndoRestores) {
 
 TEST(PoseTool, ADragDeformsLiveAndTheReleaseDeformsInFull) {
   auto s = test::boundState();
-  const Vec2 c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c1 = s->bound->cage.C.row(1).transpose();
   s->poseTool.press(*s, at(c1.x(), c1.y()));
   s->poseTool.drag(*s, at(c1.x() + 25, c1.y() - 10));
   EXPECT_TRUE(updateDeformation(*s));
-  EXPECT_TRUE(s->deformedLive) << "while dragging the repair starts from the previous picture";
+  EXPECT_TRUE(s->deformed.key()->live) << "while dragging the repair starts from the previous picture";
   EXPECT_FALSE(updateDeformation(*s)) << "nothing changed";
   s->poseTool.release(*s, at(c1.x() + 25, c1.y() - 10));
   EXPECT_TRUE(updateDeformation(*s)) << "the release deforms again with the full repair";
-  EXPECT_FALSE(s->deformedLive);
+  EXPECT_FALSE(s->deformed.key()->live);
   EXPECT_FALSE(updateDeformation(*s));
   WarpMesh fresh = s->mesh;  // the picture after the release is the export's
   fresh.deform(s->pose, DeformPass::Final);
@@ -74,7 +74,7 @@ TEST(PoseTool, ADragDeformsLiveAndTheReleaseDeformsInFull) {
 
 TEST(PoseTool, RightDragRotatesAboutTheRestPosition) {
   auto s = test::boundState();
-  const Vec2 c = s->boundCage.C.row(2).transpose();  // (255, 255)
+  const Vec2 c = s->bound->cage.C.row(2).transpose();  // (255, 255)
   s->poseTool.press(*s, at(c.x(), c.y(), MouseButton::Right));
   s->poseTool.drag(*s, at(c.x() - 40, c.y(), MouseButton::Right));       // reference direction: left
   s->poseTool.release(*s, at(c.x(), c.y() + 40, MouseButton::Right));   // quarter turn to "down"
@@ -95,7 +95,7 @@ TEST(PoseTool, RectangleSelectsAndMovesSeveral) {
 TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
   auto s = test::boundState();
   selectTopEdge(*s);
-  const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c0 = s->bound->cage.C.row(0).transpose(), c1 = s->bound->cage.C.row(1).transpose();
   const Vec2 centre = 0.5 * (c0 + c1);
   EXPECT_TRUE(selectionPivot(*s).isApprox(centre));
   // Half a turn about the centre (via a quarter turn): the two points swap places.
@@ -103,7 +103,7 @@ TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
   s->poseTool.press(*s, at(c1.x(), c1.y(), MouseButton::Right));
   s->poseTool.drag(*s, at(quarter.x(), quarter.y(), MouseButton::Right));
   s->poseTool.release(*s, at(c0.x(), c0.y(), MouseButton::Right));
-  const Points P = posedControls(s->boundCage.C, s->pose);
+  const Points P = posedControls(s->bound->cage.C, s->pose);
   EXPECT_LT((P.row(0).transpose() - c1).norm(), 1e-9) << P.row(0);
   EXPECT_LT((P.row(1).transpose() - c0).norm(), 1e-9) << P.row(1);
   EXPECT_NEAR(std::abs(s->pose[0].rotate), std::numbers::pi, 1e-9);
@@ -114,7 +114,7 @@ TEST(PoseTool, RightDragTurnsASelectionAboutItsCentre) {
 TEST(PoseTool, ThePivotCanBeMovedAndTheTurnFollowsIt) {
   auto s = test::boundState();
   selectTopEdge(*s);
-  const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c0 = s->bound->cage.C.row(0).transpose(), c1 = s->bound->cage.C.row(1).transpose();
   const Vec2 centre = 0.5 * (c0 + c1), pivot = c0;  // drag the pivot marker onto point 0
   s->poseTool.press(*s, at(centre.x(), centre.y()));
   s->poseTool.drag(*s, at(pivot.x(), pivot.y()));
@@ -126,7 +126,7 @@ TEST(PoseTool, ThePivotCanBeMovedAndTheTurnFollowsIt) {
   const Vec2 d = c1 - pivot, turned = pivot + Vec2(d.y(), -d.x());  // counter-clockwise on screen
   s->poseTool.press(*s, at(c1.x(), c1.y(), MouseButton::Right));
   s->poseTool.release(*s, at(turned.x(), turned.y(), MouseButton::Right));
-  const Points P = posedControls(s->boundCage.C, s->pose);
+  const Points P = posedControls(s->bound->cage.C, s->pose);
   EXPECT_LT((P.row(0).transpose() - c0).norm(), 1e-9) << P.row(0);
   EXPECT_LT((P.row(1).transpose() - turned).norm(), 1e-9) << P.row(1);
   EXPECT_NEAR(s->pose[1].rotate, std::numbers::pi / 2, 1e-9);
@@ -199,7 +199,7 @@ TEST(MethodSwitch, KeepsPaintedTargets) {
   ASSERT_TRUE(switchMethod(*s, Method::L1));
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  EXPECT_EQ(s->method, Method::L1);
+  EXPECT_EQ(s->bound->method, Method::L1);
   EXPECT_EQ(s->session->params.kc.method, Method::L1);
   EXPECT_TRUE(s->session->W0 == painted);
   EXPECT_FALSE(s->session->W == Wqp);
@@ -214,13 +214,13 @@ TEST(MethodSwitch, KeepsPaintedTargets) {
   ASSERT_TRUE(undo(*s));  // back to QP, bit for bit
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  EXPECT_EQ(s->method, Method::QP);
+  EXPECT_EQ(s->bound->method, Method::QP);
   EXPECT_TRUE(s->session->W == Wqp);
   EXPECT_TRUE(s->session->W0 == painted);
   ASSERT_TRUE(redo(*s));  // and forward again
   pollWorker(*s);
   ASSERT_TRUE(s->session);
-  EXPECT_EQ(s->method, Method::L1);
+  EXPECT_EQ(s->bound->method, Method::L1);
   EXPECT_TRUE(s->session->W == Wl1);
 }
 
@@ -357,13 +357,13 @@ TEST(MethodSwitch, KeepsWeightsThatDidNotComeFromTheOptimizer) {
   pollWorker(*s);
   ASSERT_TRUE(s->session);
   EXPECT_TRUE(s->session->W == fromFile);
-  EXPECT_EQ(s->method, Method::QP);
+  EXPECT_EQ(s->bound->method, Method::QP);
 }
 
 TEST(Jobs, ReoptimizationBorrowsTheMeshWeightsLikeTheSession) {
   auto s = test::boundState();
   ASSERT_TRUE(s->meshSource);
-  const AppState::MeshSource* source = s->meshSource.get();
+  const Document::MeshSource* source = s->meshSource.get();
   ASSERT_TRUE(switchMethod(*s, Method::QEC));
   // While the job holds them, the main thread has neither the session nor the mesh's weights.
   EXPECT_EQ(s->session, nullptr);
@@ -383,7 +383,7 @@ TEST(Jobs, ReoptimizationBorrowsTheMeshWeightsLikeTheSession) {
 TEST(PoseTool, RightDragOffThePointsTurnsTheSelectionAndShowsTheAngle) {
   auto s = test::boundState();
   selectTopEdge(*s);
-  const Vec2 c0 = s->boundCage.C.row(0).transpose(), c1 = s->boundCage.C.row(1).transpose();
+  const Vec2 c0 = s->bound->cage.C.row(0).transpose(), c1 = s->bound->cage.C.row(1).transpose();
   const Vec2 centre = 0.5 * (c0 + c1);
   // From a point of the picture below the centre (no control point there) a quarter turn.
   const Vec2 start = centre + Vec2(0, 60), quarter = centre + Vec2(60, 0);  // counter-clockwise on screen
@@ -400,7 +400,7 @@ TEST(PoseTool, RightDragOffThePointsTurnsTheSelectionAndShowsTheAngle) {
 
 TEST(PoseTool, TurningOnePointReportsItsAngle) {
   auto s = test::boundState();
-  const Vec2 c2 = s->boundCage.C.row(2).transpose();
+  const Vec2 c2 = s->bound->cage.C.row(2).transpose();
   s->poseTool.press(*s, at(c2.x(), c2.y(), MouseButton::Right));
   s->poseTool.drag(*s, at(c2.x() + 30, c2.y(), MouseButton::Right));  // the reference direction
   s->poseTool.drag(*s, at(c2.x(), c2.y() - 30, MouseButton::Right));  // a quarter turn, counter-clockwise on screen
@@ -435,7 +435,7 @@ TEST(Folds, AFoldIsToldWithItsFixAndItsEnd) {
   // Control 0 pulled past the opposite corner: the picture folds over itself.
   const Pose before = s->pose;
   Pose pose = before;
-  pose[0].translate = 1.3 * (s->boundCage.C.row(2) - s->boundCage.C.row(0)).transpose();
+  pose[0].translate = 1.3 * (s->bound->cage.C.row(2) - s->bound->cage.C.row(0)).transpose();
   setPose(*s, pose);
   commitPose(*s, before, "move control");
   ASSERT_TRUE(updateDeformation(*s));
@@ -457,7 +457,7 @@ TEST(Folds, AStrokeThatFoldsOffersToUndoTheStroke) {
   ASSERT_TRUE(updateDeformation(*s));
   s->undo.push({"paint w1", WeightEdit{{0}, {0}, Weights(), Weights(), Weights(), Weights()}});
   Pose pose = s->pose;
-  pose[0].translate = 1.3 * (s->boundCage.C.row(2) - s->boundCage.C.row(0)).transpose();
+  pose[0].translate = 1.3 * (s->bound->cage.C.row(2) - s->bound->cage.C.row(0)).transpose();
   setPose(*s, pose);  // (a stroke that folds needs a pose near the edge; the message depends only on the last edit)
   ASSERT_TRUE(updateDeformation(*s));
   ASSERT_GT(s->deformReport.flippedTriangles, 0);

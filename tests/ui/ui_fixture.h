@@ -74,7 +74,7 @@ inline std::unique_ptr<ui::AppState> newPicture() {
   auto s = std::make_unique<ui::AppState>();
   s->worker.setSynchronous(true);
   s->source = sceneImage(400, 300);
-  ++s->sourceRevision;
+  s->sourceVersion.bump();
   Cage empty;
   empty.closed = false;
   ui::setDraftCage(*s, empty);

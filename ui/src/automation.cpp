@@ -10,6 +10,7 @@
 #include "kc/app/image_io.h"
 #include "kc/app/session.h"
 #include "kc/ui/canvas.h"
+#include "kc/ui/rigidity_edits.h"
 
 namespace kc::ui {
 
@@ -18,23 +19,23 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   json j;
   const bool busy = state.worker.busy();
   j["busy"] = busy;
-  j["bound"] = state.bound;
+  j["bound"] = state.bound != nullptr;
   j["idle"] = !busy && state.canvasDrag.button < 0;
   j["tool"] = state.tool == Tool::Pose    ? "pose"
               : state.tool == Tool::Brush ? "brush"
               : state.tool == Tool::Lines ? "lines"
               : state.tool == Tool::Rigid ? "rigid"
                                           : "cage";
-  j["method"] = std::string(app::toString(state.method));
+  j["method"] = std::string(app::toString(state.bound ? state.bound->method : Method::QP));
   j["bind_switches"] = {{"auto_spacing", state.autoSpacing},  // the Bind panel's kc check boxes
                         {"auto_sigma", !(state.bindParams.kc.sigma > 0.0)},
                         {"local_targets", state.bindParams.kc.locality.rule != app::Locality::Rule::Off}};
   j["bind_backend"] = state.bindParams.backend;  // the Bind panel's choice (the bound session's after a bind)
-  j["lbc_mesh"] = state.reports.meshVertices();  // LBC mesh vertices of the bound session, 0 when not LBC
+  j["lbc_mesh"] = state.bound ? state.bound->report.meshVertices() : 0;  // LBC mesh vertices of the bound session, 0 when not LBC
   j["window"] = {window[0], window[1], window[2], window[3]};
   json controls = json::array();
   if (state.bound) {
-    const Points P = posedControls(state.boundCage.C, state.pose);
+    const Points P = posedControls(state.bound->cage.C, state.pose);
     for (Index i = 0; i < P.rows(); ++i) {
       const Vec2 s = state.view.toScreen(P.row(i).transpose());
       controls.push_back({s.x(), s.y()});
@@ -54,9 +55,10 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
     lines.push_back({{"a", {a.x(), a.y()}}, {"b", {b.x(), b.y()}}, {"group", l.group >= 0 ? state.lines.groups[static_cast<std::size_t>(l.group)] : ""}});
   }
   j["lines"] = lines;
-  j["bound_lines"] = state.boundLines.size();
+  j["bound_lines"] = state.bound ? state.bound->lines.size() : 0;
   j["line_selection"] = state.lineSelection;
-  j["rigid_samples"] = std::count_if(state.rigidity.begin(), state.rigidity.end(), [](double r) { return r > 0.0; });
+  const std::vector<double>& rho = boundRigidity(state);
+  j["rigid_samples"] = std::count_if(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
   j["rigid_regions"] = state.lines.rigid.size();
   j["cage_status"] = state.cageStatus;
   json widgets = json::object();
@@ -88,8 +90,8 @@ std::string stateJson(const AppState& state, const int window[4], int screenshot
   j["hide_cage"] = state.hideCage;
   j["pose_translate"] = nlohmann::json::array();
   for (const HandlePose& h : state.pose) j["pose_translate"].push_back({h.translate.x(), h.translate.y()});
-  j["mesh_revision"] = state.meshRevision;
-  j["pose_revision"] = state.poseRevision;
+  j["mesh_revision"] = state.meshVersion.count();
+  j["pose_revision"] = state.poseVersion.count();
   j["flipped_triangles"] = state.deformReport.flippedTriangles;
   j["screenshots"] = screenshots;
   j["exports"] = exports;

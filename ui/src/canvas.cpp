@@ -33,7 +33,7 @@ void dispatch(AppState& state, const PointerEvent& e, int phase) {
       break;
     case Tool::Brush:
       if (phase == 0 && e.button == MouseButton::Right && state.bound) {  // right-click picks the painted control
-        const Index hit = pickPoint(posedControls(state.boundCage.C, state.pose), e.position, e.pickRadius);
+        const Index hit = pickPoint(posedControls(state.bound->cage.C, state.pose), e.position, e.pickRadius);
         if (hit >= 0) state.activeControl = hit, state.selection = {hit}, state.pivot.reset();
         return;
       }

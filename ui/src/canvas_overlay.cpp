@@ -87,7 +87,7 @@ void drawSampleLegend(const AppState& state, ImDrawList* dl, bool bySpacing, dou
   const ImVec2 origin = im(state.view.canvasMin + Vec2(12, state.view.canvasSize.y() - 12 - 2.6 * line));
   char text[96];
   if (bySpacing) {
-    std::snprintf(text, sizeof text, "Sample spacing (%ld samples)", long(state.samples.size()));
+    std::snprintf(text, sizeof text, "Sample spacing (%ld samples)", long(state.bound->samples.size()));
     const float width = std::max(ImGui::CalcTextSize("0000.0 px (narrow places)    0000.0 px").x, ImGui::CalcTextSize(text).x);
     dl->AddRectFilled({origin.x - 6, origin.y - 4}, {origin.x + width + 6, origin.y + 2.6f * line + 4}, rgba(20, 20, 28, 220), 4.0f);
     dl->AddText(origin, rgba(230, 230, 240), text);
@@ -105,7 +105,7 @@ void drawSampleLegend(const AppState& state, ImDrawList* dl, bool bySpacing, dou
   }
   static constexpr SampleKind kinds[] = {SampleKind::Control, SampleKind::Edge, SampleKind::Line, SampleKind::Interior,
                                          SampleKind::Exterior};
-  std::snprintf(text, sizeof text, "Samples (%ld), spacing %.1f px", long(state.samples.size()), hi);
+  std::snprintf(text, sizeof text, "Samples (%ld), spacing %.1f px", long(state.bound->samples.size()), hi);
   const ImVec2 title = ImGui::CalcTextSize(text);
   float width = 0.0f;
   for (SampleKind k : kinds) width += 14.0f + ImGui::CalcTextSize(std::string(toString(k)).c_str()).x + 10.0f;
@@ -124,20 +124,20 @@ void drawSampleLegend(const AppState& state, ImDrawList* dl, bool bySpacing, dou
 }
 
 /// The bound session's samples (deformed with the pose), coloured by their local spacing when it
-/// varies (state.sampleSpacing) and show.sampleSpacing is on, else by kind; with a legend.
+/// varies (state.bound->sampleSpacing) and show.sampleSpacing is on, else by kind; with a legend.
 void drawSamples(const AppState& state, ImDrawList* dl) {
-  const SampleSet& S = state.samples;
+  const SampleSet& S = state.bound->samples;
   if (S.size() == 0) return;
   const bool deformed = state.session && !isRestPose(state.pose) && state.session->W.rows() == S.size();
-  const Points X = deformed ? deformPoints(state.session->W, S.X, state.boundCage.C, state.pose) : S.X;
-  const bool known = state.sampleSpacing.size() == S.size();
-  const double lo = known ? state.sampleSpacing.minCoeff() : state.boundSpacing;
-  const double hi = known ? state.sampleSpacing.maxCoeff() : state.boundSpacing;
+  const Points X = deformed ? deformPoints(state.session->W, S.X, state.bound->cage.C, state.pose) : S.X;
+  const bool known = state.bound->sampleSpacing.size() == S.size();
+  const double lo = known ? state.bound->sampleSpacing.minCoeff() : state.bound->spacing;
+  const double hi = known ? state.bound->sampleSpacing.maxCoeff() : state.bound->spacing;
   const bool bySpacing = state.show.sampleSpacing && known && lo < hi - 0.05;
   for (Index s = 0; s < X.rows(); ++s) {
     ImU32 color;
     if (bySpacing) {
-      color = spacingColor(state.sampleSpacing(s), lo, hi);
+      color = spacingColor(state.bound->sampleSpacing(s), lo, hi);
     } else {
       const Rgba c = app::sampleColor(S.kind[static_cast<std::size_t>(s)]);
       color = rgba(c.r, c.g, c.b, 200);
@@ -149,7 +149,7 @@ void drawSamples(const AppState& state, ImDrawList* dl) {
 
 void drawPoseOverlay(AppState& state, ImDrawList* dl) {
   const View& view = state.view;
-  const Points P = posedControls(state.boundCage.C, state.pose);
+  const Points P = posedControls(state.bound->cage.C, state.pose);
   if (state.show.foldovers && state.mesh.hasWeights() && state.deformReport.flippedTriangles > 0) {
     const Points& F = state.mesh.deformedVertices();
     const auto& J = state.mesh.jacobians();
@@ -160,10 +160,10 @@ void drawPoseOverlay(AppState& state, ImDrawList* dl) {
                               im(view.toScreen(F.row(T[t][2]).transpose())), rgba(255, 0, 60, 110));
   }
   if (state.show.samples) drawSamples(state, dl);
-  if (state.show.restCage) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(200, 200, 220, 120), 1.0f);
+  if (state.show.restCage) drawPolygon(dl, view, state.bound->cage, state.bound->cage.C, rgba(200, 200, 220, 120), 1.0f);
   if (state.show.cage) {
-    drawPolygon(dl, view, state.boundCage, P, rgba(20, 20, 28, 200), 4.0f);
-    drawPolygon(dl, view, state.boundCage, P, rgba(255, 160, 40), 2.0f);
+    drawPolygon(dl, view, state.bound->cage, P, rgba(20, 20, 28, 200), 4.0f);
+    drawPolygon(dl, view, state.bound->cage, P, rgba(255, 160, 40), 2.0f);
   }
   const Points S = screenPoints(view, P);
   const Eigen::VectorXd scale = handleScales(S, kHandleRadius);
@@ -264,7 +264,7 @@ void drawCanvasOverlay(AppState& state) {
   dl->AddRect(im(view.toScreen(Vec2(-0.5, -0.5))), im(view.toScreen(Vec2(state.source.width - 0.5, state.source.height - 0.5))),
               rgba(150, 150, 170, 200), 0.0f, 0, 1.0f);
   if (state.showOriginal && state.bound) {  // before/after: the original picture and the rest cage
-    drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 160), 1.5f);
+    drawPolygon(dl, view, state.bound->cage, state.bound->cage.C, rgba(255, 160, 40, 160), 1.5f);
     const char* text = "Original (release O to see the warp)";
     const ImVec2 p = im(view.canvasMin + Vec2(12, 12));
     const ImVec2 size = ImGui::CalcTextSize(text);
@@ -273,7 +273,7 @@ void drawCanvasOverlay(AppState& state) {
   } else if (state.tool == Tool::Cage) {
     drawCageToolOverlay(state, dl);
   } else if (state.tool == Tool::Lines) {
-    if (state.bound) drawPolygon(dl, view, state.boundCage, state.boundCage.C, rgba(255, 160, 40, 200), 2.0f);
+    if (state.bound) drawPolygon(dl, view, state.bound->cage, state.bound->cage.C, rgba(255, 160, 40, 200), 2.0f);
     else drawCageToolOverlay(state, dl);
   } else if (state.bound && state.hideCage) {  // a tight cage's outline and handles cover what it bends
     const char* text = "Without the cage (release H)";

@@ -38,20 +38,17 @@ void clearDocument(AppState& state) {
   state.source = Image();
   state.imagePath.clear();
   state.imageUpright = true;
-  ++state.sourceRevision;
+  state.sourceVersion.bump();
   state.session.reset();
-  state.bound = false;
-  state.boundCage = Cage{};
-  state.samples = SampleSet{};
-  state.sampleSpacing.resize(0);
+  state.bound.reset();
+  state.solvingRigidity.reset();
   state.lines = {};
-  state.boundLines.clear();
   state.lineSelection.clear();
   state.lineTool.cancel(state);
   state.mesh = WarpMesh{};
-  ++state.meshRevision;
+  state.meshVersion.bump();
   state.pose.clear();
-  ++state.poseRevision;
+  state.poseVersion.bump();
   state.selection.clear();
   state.pivot.reset();
   state.activeControl = -1;
@@ -239,7 +236,7 @@ bool startOpenSession(AppState& state, const std::string& path) {
       auto image = std::make_shared<Image>(std::move(img));
       return [s, display, image, imagePath, path, warning](AppState& st) {
         st.source = std::move(*image);
-        ++st.sourceRevision;
+        st.sourceVersion.bump();
         st.imagePath = imagePath.empty() ? std::string() : fs::absolute(imagePath).string();
         st.imageUpright = s->imageUpright;
         installSession(st, s, display);
@@ -315,35 +312,36 @@ bool startSaveSession(AppState& state, const std::string& path, bool autosave) {
   s->outside = state.outside;
   const std::string storedImage = s->image;
   if (!state.imagePath.empty()) s->image = app::imagePathForSession(state.imagePath, path);
-  const std::uint64_t poseRevision = state.poseRevision;
-  state.worker.submit(autosave ? "Autosaving" : "Saving", [s, path, storedImage, autosave, poseRevision](JobContext& ctx) -> Worker::Apply {
-    std::string error;
-    try {
-      ctx.progress("writing", 0.3);
-      if (autosave) fs::create_directories(fs::path(path).parent_path());
-      app::writeFileAtomic(path, app::sessionToJson(*s));
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    s->image = storedImage;
-    return [s, path, autosave, poseRevision, error](AppState& st) {
-      st.session = s;
-      if (!error.empty()) {
-        st.afterSave = nullptr;
-        postMessage(st, std::string(autosave ? "Autosave failed: " : "Save failed: ") + error, true);
-        return;
-      }
-      if (autosave) return;
-      st.sessionPath = path;
-      st.unsaved = st.poseRevision != poseRevision;  // a drag during the save is still unsaved
-      rememberFile(st, path);
-      postMessage(st, "Saved " + path, false);
-      if (auto then = std::move(st.afterSave)) {
-        st.afterSave = nullptr;
-        then(st);
-      }
-    };
-  });
+  const Version pose = state.poseVersion;
+  state.worker.submit(autosave ? "Autosaving" : "Saving",
+                      [s, path, storedImage, autosave, pose](JobContext& ctx) -> Worker::Apply {
+                        std::string error;
+                        try {
+                          ctx.progress("writing", 0.3);
+                          if (autosave) fs::create_directories(fs::path(path).parent_path());
+                          app::writeFileAtomic(path, app::sessionToJson(*s));
+                        } catch (const std::exception& e) {
+                          error = e.what();
+                        }
+                        s->image = storedImage;
+                        return [s, path, autosave, pose, error](AppState& st) {
+                          st.session = s;
+                          if (!error.empty()) {
+                            st.afterSave = nullptr;
+                            postMessage(st, std::string(autosave ? "Autosave failed: " : "Save failed: ") + error, true);
+                            return;
+                          }
+                          if (autosave) return;
+                          st.sessionPath = path;
+                          st.unsaved = st.poseVersion != pose;  // a drag during the save is still unsaved
+                          rememberFile(st, path);
+                          postMessage(st, "Saved " + path, false);
+                          if (auto then = std::move(st.afterSave)) {
+                            st.afterSave = nullptr;
+                            then(st);
+                          }
+                        };
+                      });
   return true;
 }
 

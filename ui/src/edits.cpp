@@ -17,55 +17,55 @@ double nowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-void postMessage(AppState& state, std::string text, bool error) {
-  if (state.messages.size() >= 8) state.messages.erase(state.messages.begin());
-  state.messages.push_back({app::oneLine(text, kMaxMessageBytes), error});
+void postMessage(Interaction& interaction, std::string text, bool error) {
+  if (interaction.messages.size() >= 8) interaction.messages.erase(interaction.messages.begin());
+  interaction.messages.push_back({app::oneLine(text, kMaxMessageBytes), error});
 }
 
-void setPose(AppState& state, Pose pose) {
-  state.pose = std::move(pose);
-  ++state.poseRevision;
+void setPose(Document& doc, Pose pose) {
+  doc.pose = std::move(pose);
+  doc.poseVersion.bump();
 }
 
-void commitPose(AppState& state, const Pose& before, std::string label) {
-  if (before.size() == state.pose.size()) {
+void commitPose(Document& doc, const Pose& before, std::string label) {
+  if (before.size() == doc.pose.size()) {
     bool same = true;
     for (std::size_t i = 0; i < before.size() && same; ++i)
-      same = before[i].translate == state.pose[i].translate && before[i].rotate == state.pose[i].rotate;
+      same = before[i].translate == doc.pose[i].translate && before[i].rotate == doc.pose[i].rotate;
     if (same) return;
   }
-  state.undo.push({std::move(label), PoseEdit{before, state.pose}});
-  state.unsaved = true;
+  doc.undo.push({std::move(label), PoseEdit{before, doc.pose}});
+  doc.unsaved = true;
 }
 
 void resetPose(AppState& state) {
   if (!state.bound) return;
   const Pose before = state.pose;
-  setPose(state, restPose(state.boundCage.size()));
+  setPose(state, restPose(state.bound->cage.size()));
   commitPose(state, before, "reset pose");
 }
 
-void setDraftCage(AppState& state, Cage cage) {
-  state.cage = std::move(cage);
-  if (!cageComplete(state.cage)) {
-    state.cageValid = false;
-    state.cageStatus = state.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
-                                             : "The cage is open: click its first point to close it.";
+void setDraftCage(Document& doc, Cage cage) {
+  doc.cage = std::move(cage);
+  if (!cageComplete(doc.cage)) {
+    doc.cageValid = false;
+    doc.cageStatus = doc.cage.size() < 3 ? "Click on the picture to add cage points (at least 3)."
+                                         : "The cage is open: click its first point to close it.";
     return;
   }
   try {
-    validateCage(state.cage);
-    state.cageValid = true;
-    state.cageStatus.clear();
+    validateCage(doc.cage);
+    doc.cageValid = true;
+    doc.cageStatus.clear();
   } catch (const std::invalid_argument& e) {
-    state.cageValid = false;
-    state.cageStatus = e.what();
+    doc.cageValid = false;
+    doc.cageStatus = e.what();
   }
 }
 
-void commitCage(AppState& state, const Cage& before, std::string label) {
-  state.undo.push({std::move(label), CageEdit{before, state.cage}});
-  state.unsaved = true;
+void commitCage(Document& doc, const Cage& before, std::string label) {
+  doc.undo.push({std::move(label), CageEdit{before, doc.cage}});
+  doc.unsaved = true;
 }
 
 namespace {
@@ -77,7 +77,7 @@ bool applyEntry(AppState& state, const UndoEntry& entry, bool forward) {
         using T = std::decay_t<decltype(edit)>;
         if constexpr (std::is_same_v<T, PoseEdit>) {
           const Pose& p = forward ? edit.after : edit.before;
-          if (p.size() != static_cast<std::size_t>(state.boundCage.size()) && !p.empty()) return false;
+          if (!p.empty() && (!state.bound || p.size() != static_cast<std::size_t>(state.bound->cage.size()))) return false;
           setPose(state, p);
         } else if constexpr (std::is_same_v<T, CageEdit>) {
           setDraftCage(state, forward ? edit.after : edit.before);
@@ -190,7 +190,9 @@ bool updateDeformation(AppState& state) {
   // While a control is dragged the background's fold repair starts from the previous picture
   // (cheap, follows the drag); after the release the pose gets the full repair, as in the export.
   const bool live = state.tool == Tool::Pose && state.poseTool.active() && !state.poseTool.selectingRect();
-  if (state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && (live || !state.deformedLive))
+  // A full deform of this pose and mesh also serves a live one.
+  if (state.deformed.current({state.poseVersion, state.meshVersion, false}) ||
+      (live && state.deformed.current({state.poseVersion, state.meshVersion, true})))
     return false;
   if (state.pose.size() != static_cast<std::size_t>(state.mesh.cage().size())) return false;
   try {
@@ -198,21 +200,18 @@ bool updateDeformation(AppState& state) {
   } catch (const std::exception& e) {
     postMessage(state, std::string("Deformation failed: ") + e.what(), true);
   }
-  state.deformedLive = live;
   if (!live) tellFolds(state);
   state.timings.deformMs = state.deformReport.seconds * 1e3;
-  state.deformedPose = state.poseRevision;
-  state.deformedMesh = state.meshRevision;
-  ++state.deformCount;
+  state.deformed.set({state.poseVersion, state.meshVersion, live});
   return true;
 }
 
-app::BackendCapabilities shownCapabilities(const AppState& state) {
-  if (state.bound) return state.capabilities;
+app::BackendCapabilities shownCapabilities(const Document& doc) {
+  if (doc.bound) return doc.bound->capabilities;
   try {
-    return app::backendFor(state.bindParams.backend).capabilities();
+    return app::backendFor(doc.bindParams.backend).capabilities();
   } catch (const std::invalid_argument&) {
-    return state.capabilities;  // an unknown name: the bind itself reports it
+    return {};  // an unknown name: the bind itself reports it
   }
 }
 

@@ -15,7 +15,7 @@ namespace kc::ui::detail {
 
 using SessionPtr = std::shared_ptr<app::Session>;
 using MeshPtr = std::shared_ptr<WarpMesh>;
-using SourcePtr = std::shared_ptr<AppState::MeshSource>;
+using SourcePtr = std::shared_ptr<Document::MeshSource>;
 
 /// Milliseconds since t0 (any thread).
 double msSince(std::chrono::steady_clock::time_point t0);
@@ -25,7 +25,7 @@ double msSince(std::chrono::steady_clock::time_point t0);
 void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0);
 
 /// Installs a new display mesh (after a weight change; none when `mesh` is null) and hands the
-/// session and the mesh's weight source back; refreshes the display copies (method, reports,
+/// session and the mesh's weight source back, with a new bound snapshot of it (method, reports,
 /// lines, rigidity).
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source);
 
@@ -34,7 +34,7 @@ Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source = n
 
 /// Restores the session's field and the vertex weights from W after a failed job (they may be
 /// half updated). Worker thread.
-void rebuildFromW(app::Session& s, AppState::MeshSource& source);
+void rebuildFromW(app::Session& s, Document::MeshSource& source);
 
 /// False (with a "Busy: <what> after the current job has finished." message) while a job runs.
 bool canStart(AppState& state, const char* what);
@@ -49,6 +49,6 @@ void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vecto
 void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display);
 
 /// The question before a bind that would leave paint strokes behind ("" when there are none).
-std::string rebindQuestion(const AppState& state);
+std::string rebindQuestion(const Document& doc);
 
 }  // namespace kc::ui::detail

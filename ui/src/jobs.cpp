@@ -30,15 +30,12 @@ void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0
 
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
-  state.method = state.session->params.kc.method;
-  state.reports = state.session->report;
+  state.bound = makeBoundSnapshot(*state.session);
   if (mesh) {
     state.mesh = std::move(*mesh);
-    ++state.meshRevision;
+    state.meshVersion.bump();
   }
   if (source) state.meshSource = std::move(source);
-  refreshBoundLines(state, *state.session);
-  refreshBoundRigidity(state, *state.session);
   state.diagnostics.reset();
 }
 
@@ -50,7 +47,7 @@ Worker::Apply failure(SessionPtr session, std::string text, SourcePtr source) {
   };
 }
 
-void rebuildFromW(app::Session& s, AppState::MeshSource& source) {
+void rebuildFromW(app::Session& s, Document::MeshSource& source) {
   try {
     if (s.field) {
       s.field->update(s.W);
@@ -116,15 +113,13 @@ bool lostByRebind(const UndoEntry& e) {
 /// weights from a file).
 void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMesh display) {
   const Pose pose = st.pose;
-  const Cage cageBefore = st.boundCage;
+  const std::shared_ptr<const BoundSnapshot> before = st.bound ? st.bound : std::make_shared<const BoundSnapshot>();
+  const std::vector<double> oldRigidity = boundRigidity(st);
   const Tool tool = st.tool;
   const std::vector<int> selection = st.lineSelection;
-  const SampleSet oldSamples = st.samples;
-  const std::vector<double> oldRigidity = st.rigidity;
-  const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  setPose(st, carriedPose(cageBefore, pose, s->cage));
+  setPose(st, carriedPose(before->cage, pose, s->cage));
   st.tool = tool;
   for (int k : selection)
     if (k < static_cast<int>(st.lines.lines.size())) st.lineSelection.push_back(k);
@@ -132,14 +127,14 @@ void installKeepingPose(AppState& st, std::shared_ptr<app::Session> s, DisplayMe
   st.undo = std::move(history);
   if (dropped > 0)
     postMessage(st, "The new bind changed the sampling: the weights were computed anew, and earlier paint strokes (weights and rigidity) can no longer be undone.", false);
-  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+  carryRigidityTo(st, before->samples, oldRigidity, before->spacing, *s);
 }
 
 }  // namespace
 
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options) {
   DisplayMesh d;
-  d.source = std::make_shared<AppState::MeshSource>();
+  d.source = std::make_shared<Document::MeshSource>();
   d.mesh = std::make_shared<WarpMesh>(app::buildWarpMesh(session, options, nullptr, &d.source->sampler, &d.source->W));
   return d;
 }
@@ -147,14 +142,10 @@ DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions&
 void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display, bool fromOptimizer) {
   const app::Session& s = *session;
   state.session = std::move(session);
-  state.bound = true;
-  state.boundCage = s.cage;
-  state.samples = s.samples;
-  state.method = s.params.kc.method;
-  state.capabilities = app::sessionCapabilities(s);
-  if (state.tool == Tool::Brush && !state.capabilities.painting) state.tool = Tool::Pose;
+  state.bound = makeBoundSnapshot(s);
+  state.solvingRigidity.reset();
+  if (state.tool == Tool::Brush && !state.bound->capabilities.painting) state.tool = Tool::Pose;
   if (state.tool == Tool::Rigid && !rigidityProblem(state).empty()) state.tool = Tool::Pose;
-  state.reports = s.report;
   state.bindParams = s.params;
   // Lines the uniform rules accept are sampled uniformly (app::effectiveBindParams), and the session
   // records that; the GUI asks for graded binds, so the line tool and the next bind keep the graded
@@ -164,18 +155,12 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.bindParams.kc.exactLines = true;
   state.lines = s.structure;
   state.lineSelection.clear();
-  refreshBoundLines(state, s);
-  refreshBoundRigidity(state, s);
-  state.boundSpacing = s.params.spacing;
-  state.boundMinSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
-  state.boundSigma = s.report.meshVertices() > 0 ? 0.0 : s.sigma;
-  state.sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   state.outside = display.mesh->options().outside;
   setDraftCage(state, s.cage);
   setPose(state, s.pose.size() == static_cast<std::size_t>(s.cage.size()) ? s.pose : restPose(s.cage.size()));
   state.mesh = std::move(*display.mesh);
   state.meshSource = std::move(display.source);
-  ++state.meshRevision;
+  state.meshVersion.bump();
   state.selection.clear();
   state.pivot.reset();
   if (state.activeControl >= s.cage.size() || state.activeControl < 0) state.activeControl = 0;
@@ -185,59 +170,59 @@ void installSession(AppState& state, std::shared_ptr<app::Session> session, Disp
   state.weightsReproducible = fromOptimizer;
 }
 
-app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height) {
-  app::BindParams params = state.bindParams;
-  params.exterior = app::exteriorFor(state.outside);
-  if (state.autoSpacing) {
+app::BindParams bindParamsFor(const Document& doc, const Cage& cage, int width, int height) {
+  app::BindParams params = doc.bindParams;
+  params.exterior = app::exteriorFor(doc.outside);
+  if (doc.autoSpacing) {
     params.spacing = app::BindParams{}.spacing;  // the budget starts from the default, not the last choice
     params.spacing = app::automaticSpacing(cage, width, height, params);
   }
   return params;
 }
 
-const AppState::ShownSpacing& spacingPlan(AppState& state) {
-  auto& shown = state.shownSpacing;
-  app::BindParams p = state.bindParams;
-  p.exterior = app::exteriorFor(state.outside);
-  if (state.autoSpacing) p.spacing = 0.0;  // the slider's value is not used
+const Document::ShownSpacing& spacingPlan(Document& doc) {
+  auto& shown = doc.shownSpacing;
+  app::BindParams p = doc.bindParams;
+  p.exterior = app::exteriorFor(doc.outside);
+  if (doc.autoSpacing) p.spacing = 0.0;  // the slider's value is not used
   const auto sameRigid = [](const app::Structure& a, const app::Structure& b) {
     if (a.rigid.size() != b.rigid.size()) return false;
     for (std::size_t k = 0; k < a.rigid.size(); ++k)
       if (a.rigid[k].polygon.rows() != b.rigid[k].polygon.rows() || a.rigid[k].polygon != b.rigid[k].polygon) return false;
     return true;
   };
-  const bool same = shown.width == state.source.width && shown.height == state.source.height &&
-                    shown.params.backend == p.backend && shown.params.sampler == p.sampler && shown.params.margin == p.margin &&
-                    shown.params.exterior == p.exterior && shown.params.spacing == p.spacing && shown.params.graded == p.graded &&
-                    shown.params.kc.sigma == p.kc.sigma && shown.params.kc.interp == p.kc.interp &&
+  const bool same = shown.width == doc.source.width && shown.height == doc.source.height && shown.params.backend == p.backend &&
+                    shown.params.sampler == p.sampler && shown.params.margin == p.margin && shown.params.exterior == p.exterior &&
+                    shown.params.spacing == p.spacing && shown.params.graded == p.graded && shown.params.kc.sigma == p.kc.sigma &&
+                    shown.params.kc.interp == p.kc.interp &&
                     shown.params.kc.init.method == p.kc.init.method &&  // --init lbc samples at half the spacing
                     shown.params.kc.locality == p.kc.locality && shown.params.kc.exactLines == p.kc.exactLines &&
-                    shown.closed == state.cage.closed && shown.cageValid == state.cageValid &&
-                    shown.cage.rows() == state.cage.C.rows() && shown.cage == state.cage.C &&
-                    sameLines(shown.lines, state.lines) && sameRigid(shown.lines, state.lines);
+                    shown.closed == doc.cage.closed && shown.cageValid == doc.cageValid &&
+                    shown.cage.rows() == doc.cage.C.rows() && shown.cage == doc.cage.C && sameLines(shown.lines, doc.lines) &&
+                    sameRigid(shown.lines, doc.lines);
   if (!same) {
-    const int w = state.source.width, h = state.source.height;
-    shown = {
-        state.cage.C,   w, h, p, state.lines, state.bindParams.spacing, state.bindParams.spacing, 0.0, 0.0, state.cage.closed,
-        state.cageValid};
+    const int w = doc.source.width, h = doc.source.height;
+    shown = {doc.cage.C,   w, h, p, doc.lines, doc.bindParams.spacing, doc.bindParams.spacing, 0.0, 0.0, doc.cage.closed,
+             doc.cageValid};
     try {  // at the slider's spacing until the bind's is known (below)
       app::BindParams slider = p;
-      slider.spacing = state.bindParams.spacing;
-      shown.locality = app::locality(state.cage, slider).value_or(0.0);
+      slider.spacing = doc.bindParams.spacing;
+      shown.locality = app::locality(doc.cage, slider).value_or(0.0);
     } catch (const std::exception&) {  // a locality the bind refuses: it says why
     }
-    if (state.cageValid && w > 0 && h > 0) {
+    if (doc.cageValid && w > 0 && h > 0) {
       try {
         // The parameters and the sizing field the bind will sample or mesh with (the LBC backend
         // meshes without lines; structure lines may keep the uniform sampling).
-        const app::BindParams requested = bindParamsFor(state, state.cage, w, h);
+        const app::BindParams requested = bindParamsFor(doc, doc.cage, w, h);
         const bool mesh = !app::backendFor(requested.backend).capabilities().outsideCage;
-        const app::Structure& structure = mesh ? app::Structure{} : state.lines;
-        const app::BindParams used = app::effectiveBindParams(state.cage, structure, requested);
+        const app::Structure& structure = mesh ? app::Structure{} : doc.lines;
+        const app::BindParams used = app::effectiveBindParams(doc.cage, structure, requested);
         shown.spacing = shown.minSpacing = used.spacing;
-        if (const auto sizing = app::bindSizing(state.cage, structure, used)) shown.minSpacing = sizing->hMin();
-        shown.points = mesh ? estimateMeshVertices(state.cage, used.spacing) : app::estimateBindCost(state.cage, structure, w, h, used).samples;
-        shown.locality = app::locality(state.cage, used, !structure.lines.empty() && !used.kc.exactLines).value_or(0.0);
+        if (const auto sizing = app::bindSizing(doc.cage, structure, used)) shown.minSpacing = sizing->hMin();
+        shown.points =
+            mesh ? estimateMeshVertices(doc.cage, used.spacing) : app::estimateBindCost(doc.cage, structure, w, h, used).samples;
+        shown.locality = app::locality(doc.cage, used, !structure.lines.empty() && !used.kc.exactLines).value_or(0.0);
       } catch (const std::exception&) {
         // A cage or lines the bind refuses: the bind says why; the panel shows the spacing alone.
       }
@@ -246,7 +231,7 @@ const AppState::ShownSpacing& spacingPlan(AppState& state) {
   return shown;
 }
 
-double autoSpacingShown(AppState& state) { return spacingPlan(state).spacing; }
+double autoSpacingShown(Document& doc) { return spacingPlan(doc).spacing; }
 
 std::string sigmaRangeText(double sigma, double minSpacing, double spacing) {
   const double smallest = sigma * minSpacing / spacing;
@@ -256,17 +241,17 @@ std::string sigmaRangeText(double sigma, double minSpacing, double spacing) {
   return text;
 }
 
-std::pair<double, double> plannedSigma(AppState& state) {
-  const double spacing = state.autoSpacing ? autoSpacingShown(state) : state.bindParams.spacing;
+std::pair<double, double> plannedSigma(Document& doc) {
+  const double spacing = doc.autoSpacing ? autoSpacingShown(doc) : doc.bindParams.spacing;
   const double sigma = app::automaticSigma(spacing);
-  if (state.source.empty() || !state.cageValid) return {sigma, sigma};
-  const AppState::ShownSpacing& plan = spacingPlan(state);
+  if (doc.source.empty() || !doc.cageValid) return {sigma, sigma};
+  const Document::ShownSpacing& plan = spacingPlan(doc);
   return {plan.spacing > 0.0 ? sigma * plan.minSpacing / plan.spacing : sigma, sigma};
 }
 
-std::string boundSigmaText(const AppState& state) {
-  if (!state.bound || !(state.boundSigma > 0.0) || !(state.boundSpacing > 0.0)) return "";
-  return sigmaRangeText(state.boundSigma, state.boundMinSpacing, state.boundSpacing);
+std::string boundSigmaText(const Document& doc) {
+  if (!doc.bound || !(doc.bound->sigma > 0.0) || !(doc.bound->spacing > 0.0)) return "";
+  return sigmaRangeText(doc.bound->sigma, doc.bound->minSpacing, doc.bound->spacing);
 }
 
 bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
@@ -366,10 +351,10 @@ bool startBind(AppState& state, bool markUnsaved, bool keepPoseAndHistory) {
 
 OutsideMode sessionOutsideMode(const app::Session& session) { return session.outside.value_or(WarpMeshOptions{}.outside); }
 
-bool bandNeedsFrameBind(const AppState& state) {
-  if (!state.bound || !state.session || state.session->params.exterior != sampling::ExteriorExtent::Band) return false;
+bool bandNeedsFrameBind(const Document& doc) {
+  if (!doc.bound || !doc.session || doc.session->params.exterior != sampling::ExteriorExtent::Band) return false;
   try {
-    return app::backendFor(state.session->params.backend).capabilities().outsideCage;
+    return app::backendFor(doc.session->params.backend).capabilities().outsideCage;
   } catch (const std::invalid_argument&) {
     return false;
   }
@@ -524,7 +509,7 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
   // A stroke that would fold the shown picture is made gentler (FoldGuard), when the picture shown
   // is the full deform of the present pose.
   std::shared_ptr<FoldGuard> guard;
-  if (!e->rows.empty() && state.deformedPose == state.poseRevision && state.deformedMesh == state.meshRevision && !state.deformedLive)
+  if (!e->rows.empty() && state.deformed.current({state.poseVersion, state.meshVersion, false}))
     guard = std::make_shared<FoldGuard>(FoldGuard{state.pose, state.deformReport.flippedTriangles, e->W0Before, e->W0After});
   return submitReoptimize(
       state, e->rows, e->methodAfter, "Re-optimizing",
@@ -556,7 +541,7 @@ bool startReoptimize(AppState& state, WeightEdit edit, std::string label) {
 
 bool startMethod(AppState& state, Method method, bool record) {
   if (!state.session || !state.meshSource || !canStart(state, "switch method")) return false;
-  const Method before = state.method;
+  const Method before = state.bound->method;
   // W is a function of (W0, method) row by row (the optimizer reads only W0), so the undo entry
   // holds the two methods and undo re-optimizes, instead of storing W before and after; W itself
   // is kept only when it did not come from this optimizer.
@@ -581,7 +566,7 @@ bool startMethod(AppState& state, Method method, bool record) {
 
 bool switchMethod(AppState& state, Method method) {
   if (!state.session || !canStart(state, "switch method")) return false;
-  if (method == state.method) return true;
+  if (method == state.bound->method) return true;
   return startMethod(state, method, true);
 }
 

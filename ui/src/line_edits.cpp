@@ -143,32 +143,4 @@ bool deleteSelectedLines(AppState& state) {
   return true;
 }
 
-void refreshBoundLines(AppState& state, const app::Session& s) {
-  state.boundLines.clear();
-  if (s.params.kc.exactLines && s.hasField()) {  // the field is linear along each line: its ends draw it
-    for (const StructureLine& l : s.structure.lines) {
-      AppState::BoundLine b;
-      b.X.resize(2, 2);
-      b.X << l.a.transpose(), l.b.transpose();
-      b.W = s.field->weightsAt(b.X);
-      b.group = l.group;
-      state.boundLines.push_back(std::move(b));
-    }
-    return;
-  }
-  if (s.samples.lines.size() != s.structure.lines.size() || s.W.rows() != s.samples.size()) return;
-  for (std::size_t k = 0; k < s.structure.lines.size(); ++k) {
-    const auto& idx = s.samples.lines[k];
-    AppState::BoundLine b;
-    b.X.resize(static_cast<Index>(idx.size()), 2);
-    b.W.resize(static_cast<Index>(idx.size()), s.W.cols());
-    for (std::size_t i = 0; i < idx.size(); ++i) {
-      b.X.row(static_cast<Index>(i)) = s.samples.X.row(idx[i]);
-      b.W.row(static_cast<Index>(i)) = s.W.row(idx[i]);
-    }
-    b.group = s.structure.lines[k].group;
-    state.boundLines.push_back(std::move(b));
-  }
-}
-
 }  // namespace kc::ui

@@ -59,11 +59,11 @@ void drawLinesOverlay(AppState& state) {
     }
     if (state.lineTool.drawing())  // the line being drawn follows the mouse
       drawStroke(dl, {im(view.toScreen(state.lineTool.start())), im(view.toScreen(state.mouseImage))}, IM_COL32(255, 255, 255, 200), false);
-  } else if (state.bound && state.show.lines && !state.boundLines.empty()) {
-    const bool rest = isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.boundCage.size());
-    for (const AppState::BoundLine& l : state.boundLines) {
-      if (l.W.cols() != state.boundCage.size()) continue;
-      const Points P = rest ? l.X : deformPoints(l.W, l.X, state.boundCage.C, state.pose);
+  } else if (state.bound && state.show.lines && !state.bound->lines.empty()) {
+    const bool rest = isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.bound->cage.size());
+    for (const BoundLine& l : state.bound->lines) {
+      if (l.W.cols() != state.bound->cage.size()) continue;
+      const Points P = rest ? l.X : deformPoints(l.W, l.X, state.bound->cage.C, state.pose);
       std::vector<ImVec2> s;
       for (Index i = 0; i < P.rows(); ++i) s.push_back(im(view.toScreen(P.row(i).transpose())));
       if (s.size() < 2) continue;

@@ -35,14 +35,12 @@ void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vecto
 void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display) {
   auto before = std::make_shared<BoundDocument>(
       BoundDocument{std::move(previous), std::make_shared<WarpMesh>(std::move(st.mesh)), st.meshSource, st.pose, st.weightsReproducible});
-  const Cage cageBefore = st.boundCage;
+  const std::shared_ptr<const BoundSnapshot> bound = st.bound ? st.bound : std::make_shared<const BoundSnapshot>();
+  const std::vector<double> oldRigidity = boundRigidity(st);
   const Tool tool = st.tool == Tool::Cage ? Tool::Pose : st.tool;
-  const SampleSet oldSamples = st.samples;
-  const std::vector<double> oldRigidity = st.rigidity;
-  const double oldSpacing = st.boundSpacing;
   UndoStack history = std::move(st.undo);
   installSession(st, s, std::move(display), true);
-  setPose(st, carriedPose(cageBefore, before->pose, s->cage));
+  setPose(st, carriedPose(bound->cage, before->pose, s->cage));
   selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
   history.push({"bind again", BindEdit{std::move(before)}});
   // Each BindEdit holds a whole session and mesh: the oldest go, with the edits before them.
@@ -54,12 +52,12 @@ void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Se
       break;
     }
   st.undo = std::move(history);
-  carryRigidityTo(st, oldSamples, oldRigidity, oldSpacing, *s);
+  carryRigidityTo(st, bound->samples, oldRigidity, bound->spacing, *s);
 }
 
-std::string rebindQuestion(const AppState& state) {
-  if (!state.bound) return "";
-  const std::vector<std::string> strokes = strokesLostByRebind(state);
+std::string rebindQuestion(const Document& doc) {
+  if (!doc.bound) return "";
+  const std::vector<std::string> strokes = strokesLostByRebind(doc);
   if (strokes.empty()) return "";
   std::string names;
   for (std::size_t k = 0; k < strokes.size(); ++k) names += (k == 0 ? "" : k + 1 == strokes.size() ? " and " : ", ") + strokes[k];
@@ -72,23 +70,23 @@ std::string rebindQuestion(const AppState& state) {
 
 using namespace detail;
 
-std::vector<std::string> strokesLostByRebind(const AppState& state) {
+std::vector<std::string> strokesLostByRebind(const Document& doc) {
   std::vector<std::string> strokes;
-  for (const UndoEntry& e : state.undo.undoEntries()) {
+  for (const UndoEntry& e : doc.undo.undoEntries()) {
     if (std::holds_alternative<BindEdit>(e.edit)) strokes.clear();  // those before it belong to the previous bind
     else if (std::holds_alternative<WeightEdit>(e.edit)) strokes.push_back(e.label);
   }
   return strokes;
 }
 
-std::string structureLeftOut(const AppState& state) {
-  const app::Backend& backend = app::backendFor(state.bindParams.backend);
+std::string structureLeftOut(const Document& doc) {
+  const app::Backend& backend = app::backendFor(doc.bindParams.backend);
   // Rigid parts painted with the rigidity brush count as rigid regions: they do not carry over either.
-  const bool painted = state.bound && anyRigid(state.rigidity);
-  const std::string missing = app::unsupportedStructure(state.lines, backend.capabilities(), painted);
+  const bool painted = doc.bound && anyRigid(boundRigidity(doc));
+  const std::string missing = app::unsupportedStructure(doc.lines, backend.capabilities(), painted);
   if (missing.empty()) return "";
   const std::string name = app::upperCase(std::string(backend.name()));
-  if (!state.bound)  // no bind to keep them: the person decides
+  if (!doc.bound)  // no bind to keep them: the person decides
     return name + " cannot keep " + missing + ": choose KC to bind with them; to bind LBC, delete them first (with KC chosen)";
   return name + " cannot keep " + missing + ": it binds without your " + missing + ". They stay with the present bind, " +
          "one click away afterwards (Previous bind).";

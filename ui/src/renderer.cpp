@@ -241,7 +241,7 @@ void Renderer::updateDisplayTexture(AppState& state, int limit) {
 }
 
 void Renderer::updateMask(const AppState& state) {
-  const Points& C = state.boundCage.C;
+  const Points& C = state.bound->cage.C;
   if (m_maskTexture && m_maskCage.rows() == C.rows() && m_maskCage == C) return;
   // The cage's polygon at the display texture's resolution: texel centre i is at picture
   // x = (i + 0.5)/scale − 0.5.
@@ -262,10 +262,10 @@ void Renderer::updateMask(const AppState& state) {
 
 void Renderer::updateDetailTexture(AppState& state, double texelsPerPixel, bool warped) {
   const View& v = state.view;
-  const bool moved = v.zoom != m_viewZoom || v.offset != m_viewOffset || state.poseRevision != m_viewPose;
+  const bool moved = v.zoom != m_viewZoom || v.offset != m_viewOffset || m_viewPose != state.poseVersion;
   m_viewZoom = v.zoom;
   m_viewOffset = v.offset;
-  m_viewPose = state.poseRevision;
+  m_viewPose = state.poseVersion;
   const double want = std::min(1.0, texelsPerPixel);
   if (want <= m_display.scale * 1.05) {  // the display texture shows all the screen can
     m_detail.rect = {};
@@ -412,27 +412,23 @@ void Renderer::draw(AppState& state, int fbWidth, int fbHeight, double displayWi
   m_uploadedBytes = 0;
   const int limit = displayTextureLimit(fbWidth, fbHeight, m_maxTextureSize);
   const bool reduced = m_display.width < state.source.width || m_display.height < state.source.height;
-  if (m_sourceRevision != state.sourceRevision || (reduced && limit > m_displayLimit)) {
+  if (reduced && limit > m_displayLimit) m_pictureUpload.invalidate();  // the screen takes a larger texture now
+  m_pictureUpload.get(state.sourceVersion, [&] {
     updateDisplayTexture(state, limit);
-    m_sourceRevision = state.sourceRevision;
-    m_meshRevision = ~0ull;
-  }
+    m_meshUpload.invalidate();
+  });
   const bool warped = showsWarp(state);
-  if (m_meshRevision != state.meshRevision || m_warped != warped) {
+  m_meshUpload.get({state.meshVersion, warped}, [&] {
     uploadMesh(state, warped);  // sends only what differs: a new weight set on the same mesh sends nothing here
-    m_meshRevision = state.meshRevision;
-    m_warped = warped;
-    m_deformKey = m_heatKey = ~0ull;
-  }
-  if (warped && m_deformKey != state.deformCount) {
-    uploadPositions(state);
-    m_deformKey = state.deformCount;
-  }
+    m_positionsUpload.invalidate();
+    m_heatUpload.invalidate();
+  });
+  if (warped) m_positionsUpload.get(state.deformed.key(), [&] { uploadPositions(state); });
   const OutsideMode outside = state.mesh.options().outside;
   const bool masked = warped && (outside == OutsideMode::Fixed || outside == OutsideMode::Transparent);
   if (masked) updateMask(state);  // the export's mask: the bound cage's polygon
-  const std::uint64_t heatKey = (static_cast<std::uint64_t>(state.activeControl + 1) << 1) | (state.heat.log ? 1u : 0u);
-  if (warped && m_heatKey != heatKey && uploadHeat(state, warped)) m_heatKey = heatKey;
+  const std::pair<Index, bool> heatKey{state.activeControl, state.heat.log};
+  if (warped && !m_heatUpload.current(heatKey) && uploadHeat(state, warped)) m_heatUpload.set(heatKey);
   const double fbScale = fbWidth / displayWidth;
   updateDetailTexture(state, state.view.zoom * fbScale, warped);
   state.display.detailWidth = m_detail.rect.empty() ? 0 : m_detail.width;

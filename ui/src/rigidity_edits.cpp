@@ -30,16 +30,17 @@ void changedRowsAndColumns(const Weights& A, const Weights& B, std::vector<Index
 }
 
 /// Re-weights the display mesh in `columns` from the session's field (worker thread).
-void reweightMesh(const app::Session& s, AppState::MeshSource& source, WarpMesh& mesh, const std::vector<Index>& columns) {
+void reweightMesh(const app::Session& s, Document::MeshSource& source, WarpMesh& mesh, const std::vector<Index>& columns) {
   if (columns.empty()) return;  // (an empty list would mean every column)
   source.sampler.updateColumns(*s.field, columns, source.W);
   mesh.setWeights(source.W);
 }
 
-/// The display ρ after a job: the session's, and the tint follows.
+/// The ρ shown after a job: the bound snapshot's (takeBack's, or after a failure the one from
+/// before the job, whose ρ the session is back to), and the tint follows.
 void showSessionRigidity(AppState& st) {
-  if (st.session) refreshBoundRigidity(st, *st.session);
-  ++st.rigidityRevision;
+  st.solvingRigidity.reset();
+  st.rigidityVersion.bump();
 }
 
 /// What the main thread does after a cancelled rigidity job: the session back, the stroke taken back.
@@ -75,37 +76,20 @@ bool anyRigid(const std::vector<double>& rho) {
   return std::any_of(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
 }
 
-std::string rigidityProblem(const AppState& state) {
-  const app::BackendCapabilities caps = shownCapabilities(state);
+const std::vector<double>& boundRigidity(const Document& doc) {
+  static const std::vector<double> none;
+  if (doc.solvingRigidity) return *doc.solvingRigidity;
+  return doc.bound ? doc.bound->rigidity : none;
+}
+
+std::string rigidityProblem(const Document& doc) {
+  const app::BackendCapabilities caps = shownCapabilities(doc);
   if (!caps.rigidity)
     return "rigid regions are kept by KC weights only (choose KC in the Bind panel and bind again)" +
            (caps.why.empty() ? std::string() : ": " + caps.why);
-  if (!state.bound) return "bind a cage first: the brush paints the samples of a bound picture";
+  if (!doc.bound) return "bind a cage first: the brush paints the samples of a bound picture";
   if (!caps.targets) return caps.why;
   return {};
-}
-
-void refreshBoundRigidity(AppState& state, const app::Session& s) {
-  state.rigidity = s.rigidity;
-  state.boundRigid.clear();
-  if (!s.hasField()) return;
-  constexpr int kPerEdge = 16;
-  for (const RigidRegion& r : s.structure.rigid) {
-    const Index n = r.polygon.rows();
-    if (n < 3) continue;
-    AppState::BoundLine outline;
-    outline.X.resize(n * kPerEdge + 1, 2);
-    for (Index k = 0; k < n; ++k)
-      for (int j = 0; j < kPerEdge; ++j)
-        outline.X.row(k * kPerEdge + j) = r.polygon.row(k) + (r.polygon.row((k + 1) % n) - r.polygon.row(k)) * (double(j) / kPerEdge);
-    outline.X.row(n * kPerEdge) = r.polygon.row(0);
-    try {
-      outline.W = s.field->weightsAt(outline.X);
-    } catch (const std::exception&) {
-      continue;
-    }
-    state.boundRigid.push_back(std::move(outline));
-  }
 }
 
 std::vector<double> carryRigidity(const SampleSet& from, const std::vector<double>& rho, const SampleSet& to,
@@ -139,8 +123,8 @@ bool startRigidity(AppState& state, std::vector<double> rho, std::string label, 
   auto mesh = std::make_shared<WarpMesh>(state.mesh);  // the worker re-weights a copy
   std::vector<double> before = s->rigidity;
   before.resize(static_cast<std::size_t>(s->samples.size()), 0.0);
-  state.rigidity = rho;  // the tint shows the stroke while it is solved
-  ++state.rigidityRevision;
+  state.solvingRigidity = rho;  // the tint shows the stroke while it is solved
+  state.rigidityVersion.bump();
   state.worker.submit("Rigidity", [s, source, mesh, rho, before, label, record, t0](JobContext& ctx) -> Worker::Apply {
     const Weights W = s->W;
     const std::vector<double> stored = s->rigidity;
@@ -206,8 +190,8 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
   auto mesh = std::make_shared<WarpMesh>(state.mesh);
   const std::vector<double> rho = forward ? edit.after : edit.before;
   const Weights R = forward ? edit.WAfter : edit.WBefore;
-  state.rigidity = rho;
-  ++state.rigidityRevision;
+  state.solvingRigidity = rho;
+  state.rigidityVersion.bump();
   state.worker.submit("Restoring rigidity", [s, source, mesh, rho, R, rows = edit.rows, columns = edit.columns](JobContext&) -> Worker::Apply {
     try {
       scatterRows(s->W, rows, R);
@@ -232,8 +216,9 @@ bool startRestoreRigidity(AppState& state, const RigidityEdit& edit, bool forwar
 }
 
 bool clearRigidity(AppState& state) {
-  if (!anyRigid(state.rigidity)) return false;
-  return startRigidity(state, std::vector<double>(state.rigidity.size(), 0.0), "clear rigidity");
+  const std::vector<double>& rho = boundRigidity(state);
+  if (!anyRigid(rho)) return false;
+  return startRigidity(state, std::vector<double>(rho.size(), 0.0), "clear rigidity");
 }
 
 }  // namespace kc::ui

@@ -23,29 +23,25 @@ constexpr double kTintAlpha = 150.0;
 
 /// ρ as the canvas shows it: the stroke being painted, else the session's.
 const std::vector<double>& shownRigidity(const AppState& state) {
-  return state.rigidTool.active() ? state.rigidTool.stroke() : state.rigidity;
+  return state.rigidTool.active() ? state.rigidTool.stroke() : boundRigidity(state);
 }
 
 /// ρ at the display mesh's rest vertices: a smooth average of the samples' ρ within R = 1.5 h,
 /// ρ(v) = Σ_s ρ_s φ_s / Σ_s φ_s with φ_s = (1 − (|v − x_s| / R)²)² (every sample counts, so the
-/// tint fades out where the painted samples end). Recomputed when the mesh or ρ changes.
-void updateTint(AppState& state) {
-  AppState::RigidityTint& tint = state.rigidTint;
-  if (tint.meshRevision == state.meshRevision && tint.rhoRevision == state.rigidityRevision) return;
-  tint.meshRevision = state.meshRevision;
-  tint.rhoRevision = state.rigidityRevision;
-  tint.vertexRho.clear();
+/// tint fades out where the painted samples end); empty when nothing is rigid.
+std::vector<float> vertexRigidity(const AppState& state) {
+  std::vector<float> tint;
   const std::vector<double>& rho = shownRigidity(state);
-  const Points& X = state.samples.X;
-  if (!anyRigid(rho) || rho.size() != static_cast<std::size_t>(X.rows())) return;
+  const Points& X = state.bound->samples.X;
+  if (!anyRigid(rho) || rho.size() != static_cast<std::size_t>(X.rows())) return tint;
   const Points& V = state.mesh.restVertices();
-  const double R = 1.5 * (state.boundSpacing > 0.0 ? state.boundSpacing : 6.0);
+  const double R = 1.5 * (state.bound->spacing > 0.0 ? state.bound->spacing : 6.0);
   // Vertices with no rigid sample within R stay 0 (the test is a query of the few rigid samples).
   std::vector<Index> rigid;
   for (Index s = 0; s < X.rows(); ++s)
     if (rho[static_cast<std::size_t>(s)] > 0.0) rigid.push_back(s);
   const SpatialGrid rigidGrid(X(rigid, Eigen::all), R), allGrid(X, R);
-  tint.vertexRho.assign(static_cast<std::size_t>(V.rows()), 0.0f);
+  tint.assign(static_cast<std::size_t>(V.rows()), 0.0f);
   for (Index v = 0; v < V.rows(); ++v) {
     const Vec2 p = V.row(v).transpose();
     bool near = false;
@@ -57,14 +53,16 @@ void updateTint(AppState& state) {
       num += q * q * rho[static_cast<std::size_t>(s)];
       den += q * q;
     });
-    if (den > 0.0) tint.vertexRho[static_cast<std::size_t>(v)] = static_cast<float>(num / den);
+    if (den > 0.0) tint[static_cast<std::size_t>(v)] = static_cast<float>(num / den);
   }
+  return tint;
 }
 
 /// The tint: the display mesh's triangles where ρ > 0, each vertex's opacity ∝ its ρ.
 void drawTint(AppState& state, ImDrawList* dl) {
-  updateTint(state);
-  const std::vector<float>& r = state.rigidTint.vertexRho;
+  // Recomputed when the mesh or the ρ shown changes.
+  const std::vector<float>& r =
+      state.rigidTint.get({state.meshVersion, state.rigidityVersion}, [&] { return vertexRigidity(state); });
   const Points& rest = state.mesh.restVertices();
   if (r.empty() || static_cast<Index>(r.size()) != rest.rows()) return;
   const bool warped = showsWarp(state) && state.mesh.deformedVertices().rows() == rest.rows();
@@ -82,10 +80,11 @@ void drawTint(AppState& state, ImDrawList* dl) {
 
 /// The rigid polygons' outlines, through their points moved by the field.
 void drawOutlines(const AppState& state, ImDrawList* dl) {
-  const bool rest = !showsWarp(state) || isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.boundCage.size());
-  for (const AppState::BoundLine& o : state.boundRigid) {
-    if (o.W.cols() != state.boundCage.size()) continue;
-    const Points P = rest ? o.X : deformPoints(o.W, o.X, state.boundCage.C, state.pose);
+  const bool rest =
+      !showsWarp(state) || isRestPose(state.pose) || state.pose.size() != static_cast<std::size_t>(state.bound->cage.size());
+  for (const BoundLine& o : state.bound->rigidOutlines) {
+    if (o.W.cols() != state.bound->cage.size()) continue;
+    const Points P = rest ? o.X : deformPoints(o.W, o.X, state.bound->cage.C, state.pose);
     std::vector<ImVec2> s;
     for (Index i = 0; i < P.rows(); ++i) s.push_back(im(state.view.toScreen(P.row(i).transpose())));
     const int n = static_cast<int>(s.size());

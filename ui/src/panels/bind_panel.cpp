@@ -71,7 +71,7 @@ std::string autoSpacingTip(bool mesh) {
 }
 
 /// The tooltip of the spacing the next bind uses: its range and its sample (or mesh point) count.
-std::string plannedSpacingTip(const AppState::ShownSpacing& plan, bool mesh) {
+std::string plannedSpacingTip(const Document::ShownSpacing& plan, bool mesh) {
   char text[400];
   const char* points = mesh ? "mesh points" : "samples";
   if (plan.minSpacing < plan.spacing - 0.05)
@@ -165,7 +165,7 @@ void drawBindButtons(AppState& state) {
     ImGui::SameLine();
     if (button(state, "Next bind", "Forward to the bind you came back from (Ctrl+Shift+Z).")) redo(state);
   }
-  if (state.bound && !(state.cage.C.rows() == state.boundCage.C.rows() && state.cage.C == state.boundCage.C)) {
+  if (state.bound && !(state.cage.C.rows() == state.bound->cage.C.rows() && state.cage.C == state.bound->cage.C)) {
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "cage edited: Bind to apply");
   }
@@ -174,13 +174,14 @@ void drawBindButtons(AppState& state) {
 /// What the bound session was computed with; Load / Save cage.
 void drawBoundSummary(AppState& state) {
   if (state.bound) {  // what the bound session was computed with
-    const bool mesh = state.reports.meshVertices() > 0;
+    const bool mesh = state.bound->report.meshVertices() > 0;
     const std::string sigma = boundSigmaText(state);
     // Wrapped at the panel's edge: with a graded sigma the line is longer than the panel is wide.
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    ImGui::TextWrapped("Bound: spacing %s,%s%s %ld %s", spacingRange(state.boundMinSpacing, state.boundSpacing).c_str(),
+    ImGui::TextWrapped("Bound: spacing %s,%s%s %ld %s", spacingRange(state.bound->minSpacing, state.bound->spacing).c_str(),
                        sigma.empty() ? "" : " sigma ", sigma.empty() ? "" : (sigma + ",").c_str(),
-                       long(mesh ? state.reports.meshVertices() : state.samples.size()), mesh ? "mesh points" : "samples");
+                       long(mesh ? state.bound->report.meshVertices() : state.bound->samples.size()),
+                       mesh ? "mesh points" : "samples");
     ImGui::PopStyleColor();
     tooltip("The spacing the weights of the bound picture were computed at (closer where the cage is narrow), their "
             "smoothing width sigma (smaller in proportion where the spacing is) and how many points they were computed "
@@ -203,7 +204,7 @@ void drawBindPanel(AppState& state) {
   checkbox(state, "Auto spacing", &state.autoSpacing, autoSpacingTip(mesh).c_str());
   const bool planned = !state.source.empty() && state.cageValid;
   if (state.autoSpacing && planned) {
-    const AppState::ShownSpacing& plan = spacingPlan(state);
+    const Document::ShownSpacing& plan = spacingPlan(state);
     ImGui::SameLine();
     ImGui::TextDisabled("%s", spacingRange(plan.minSpacing, plan.spacing).c_str());
     tooltip(plannedSpacingTip(plan, mesh).c_str());
@@ -229,7 +230,7 @@ void drawBindPanel(AppState& state) {
   tooltip(tip.c_str());
   if (!state.autoSpacing && planned) {
     // A graded bind samples narrow places more finely than the slider says.
-    const AppState::ShownSpacing& plan = spacingPlan(state);
+    const Document::ShownSpacing& plan = spacingPlan(state);
     if (plan.minSpacing < plan.spacing - 0.05) {
       ImGui::TextDisabled("Used: %s", spacingRange(plan.minSpacing, plan.spacing).c_str());
       tooltip(plannedSpacingTip(plan, mesh).c_str());
@@ -248,7 +249,7 @@ void drawBindPanel(AppState& state) {
   ImGui::SameLine();
   const bool boundAuto = state.session && !(state.session->params.kc.sigma > 0.0);
   const std::string boundSigma = autoSigma && boundAuto ? boundSigmaText(state) : "";
-  if (!boundSigma.empty() && std::abs(bindSpacing - state.boundSpacing) < 1e-9) {
+  if (!boundSigma.empty() && std::abs(bindSpacing - state.bound->spacing) < 1e-9) {
     // Bound with the automatic sigma at the spacing the next bind uses: the width it measured.
     ImGui::TextDisabled("%s", boundSigma.c_str());
     tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "

@@ -86,8 +86,10 @@ void drawDiagnosticsPanel(AppState& state) {
         ImGui::TableNextRow();
         ImGui::TableNextColumn();
         ImGui::TextUnformatted("outside");
-        labelled(state, "outside", ("No weights outside the cage: " + state.capabilities.why +
-                                    ". The picture outside is kept or pinned (Outside the cage).").c_str());
+        labelled(state, "outside",
+                 ("No weights outside the cage: " + state.bound->capabilities.why +
+                  ". The picture outside is kept or pinned (Outside the cage).")
+                     .c_str());
         ImGui::TableNextColumn();
         ImGui::TextDisabled("none");
       }
@@ -114,12 +116,13 @@ void drawDiagnosticsPanel(AppState& state) {
   ImGui::Separator();
   // Solver outcomes of the bind (and of the last method switch): warning colour when something fell back.
   // Plain words here; the solvers' own report is the tooltip.
-  const std::vector<std::string> problems = state.reports.problems();
+  const std::vector<std::string> problems = state.bound->report.problems();
   if (problems.empty()) ImGui::TextWrapped("Solver: every weight was computed as asked.");
   else ImGui::TextUnformatted("Solver warnings:");
-  const std::string solverTip = "What the solvers of the last bind or method switch reported. A warning means some sample "
-                                "points got fallback weights: usually harmless, shown so nothing is hidden. Details: " +
-                                state.reports.summary() + (state.rigidityDetails.empty() ? "" : "; " + state.rigidityDetails);
+  const std::string solverTip =
+      "What the solvers of the last bind or method switch reported. A warning means some sample "
+      "points got fallback weights: usually harmless, shown so nothing is hidden. Details: " +
+      state.bound->report.summary() + (state.rigidityDetails.empty() ? "" : "; " + state.rigidityDetails);
   labelled(state, "Solver", solverTip.c_str());
   for (const std::string& p : problems) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.2f, 1.0f));
@@ -147,12 +150,12 @@ void drawDiagnosticsPanel(AppState& state) {
   ImGui::Text("Mesh: %ld vertices, %zu triangles (%.1f px)", long(state.mesh.restVertices().rows()), state.mesh.triangles().size(),
               state.mesh.options().spacing);
   labelled(state, "Mesh", "The picture is drawn as a grid of small triangles that follow the pose; the grid spacing in pixels.");
-  if (const Index vertices = state.reports.meshVertices(); vertices > 0) {
-    ImGui::Text("Mesh: %ld vertices, controls: %ld", long(vertices), long(state.boundCage.size()));
+  if (state.bound->report.meshVertices() > 0) {
+    ImGui::Text("Mesh: %ld vertices, controls: %ld", long(state.bound->report.meshVertices()), long(state.bound->cage.size()));
     labelled(state, "LBC mesh", "Vertices of the triangle mesh of the cage's inside that LBC computed the weights at, "
                                 "and the number of cage points.");
   } else {
-    ImGui::Text("Samples: %ld, controls: %ld", long(state.samples.size()), long(state.boundCage.size()));
+    ImGui::Text("Samples: %ld, controls: %ld", long(state.bound->samples.size()), long(state.bound->cage.size()));
     labelled(state, "Samples", "Sample points the weights were computed at, and the number of cage points.");
   }
   ImGui::Separator();

@@ -42,16 +42,16 @@ float drawMainMenu(AppState& state) {
       tooltip("Open the copy of unsaved work that kcwarp kept when it last closed without saving.");
     }
     ImGui::Separator();
-    if (ImGui::MenuItem("Save session", "Ctrl+S", false, state.bound)) saveCommand(state, false);
+    if (ImGui::MenuItem("Save session", "Ctrl+S", false, state.bound != nullptr)) saveCommand(state, false);
     tooltip("Save everything (cage, weights, pose) to come back later without binding again.");
-    if (ImGui::MenuItem("Save session as...", "Ctrl+Shift+S", false, state.bound)) saveCommand(state, true);
+    if (ImGui::MenuItem("Save session as...", "Ctrl+Shift+S", false, state.bound != nullptr)) saveCommand(state, true);
     tooltip("Save everything to a new file name.");
     // The same commands as the shortcuts shown beside them (shortcuts.cpp).
-    if (ImGui::MenuItem("Export PNG", "Ctrl+E", false, state.bound)) exportCommand(state, false);
+    if (ImGui::MenuItem("Export PNG", "Ctrl+E", false, state.bound != nullptr)) exportCommand(state, false);
     markWidget(state, "Export PNG");
     const std::string again = "Write the warped picture, full size, again to " + state.exportPath + " (replacing it).";
     tooltip(state.exportPath.empty() ? "Write the warped picture, full size, as a PNG (you choose the file)." : again.c_str());
-    if (ImGui::MenuItem("Export PNG as...", "Ctrl+Shift+E", false, state.bound)) exportCommand(state, true);
+    if (ImGui::MenuItem("Export PNG as...", "Ctrl+Shift+E", false, state.bound != nullptr)) exportCommand(state, true);
     markWidget(state, "Export PNG as...");
     tooltip("Write the warped picture, full size, as a PNG to a new file.");
     ImGui::Separator();
@@ -72,7 +72,7 @@ float drawMainMenu(AppState& state) {
     if (ImGui::MenuItem(redoLabel.c_str(), "Ctrl+Shift+Z", false, state.undo.canRedo())) redo(state);
     tooltip("Do again what Undo took back.");
     ImGui::Separator();
-    if (ImGui::MenuItem("Reset pose", "Ctrl+R", false, state.bound)) resetPose(state);
+    if (ImGui::MenuItem("Reset pose", "Ctrl+R", false, state.bound != nullptr)) resetPose(state);
     tooltip("Put every cage point back where it was when you pressed Bind (undoable).");
     ImGui::Separator();
     if (ImGui::MenuItem("Bind", "Ctrl+B", false, idle && state.cageValid && !state.source.empty())) requestBind(state);

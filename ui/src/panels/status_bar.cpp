@@ -89,9 +89,9 @@ void drawStatusBar(AppState& state, float y, float width, float height) {
       markWidget(state, "Undo##fold");
     }
   }
-  if (state.bound && state.reports.anyProblem()) {
+  if (state.bound && state.bound->report.anyProblem()) {
     // Solver outcomes that fell back stay visible while the session is open (details: diagnostics panel).
-    const std::vector<std::string> problems = state.reports.problems();
+    const std::vector<std::string> problems = state.bound->report.problems();
     ImGui::SameLine();
     ImGui::TextColored(ImVec4(1.0f, 0.75f, 0.2f, 1.0f), "solver: %zu warning%s", problems.size(), problems.size() == 1 ? "" : "s");
     if (ImGui::IsItemHovered()) {

@@ -82,13 +82,14 @@ void drawRigiditySection(AppState& state) {
   if (radio(state, "Paint##rigid", !b.erase, "Painting makes the part under the brush keep its shape.")) b.erase = false;
   ImGui::SameLine();
   if (radio(state, "Erase##rigid", b.erase, "Painting lets the part under the brush bend freely again (Ctrl does this too).")) b.erase = true;
-  const bool any = anyRigid(state.rigidity);
+  const std::vector<double>& rho = boundRigidity(state);
+  const bool any = anyRigid(rho);
   const bool busy = !state.session;
   if (!any || busy) ImGui::BeginDisabled();
   if (button(state, "Clear rigidity", !any ? "Nothing is rigid yet." : "Let the whole picture bend freely again (undoable)."))
     clearRigidity(state);
   if (!any || busy) ImGui::EndDisabled();
-  const long rigid = std::count_if(state.rigidity.begin(), state.rigidity.end(), [](double r) { return r > 0.0; });
+  const long rigid = std::count_if(rho.begin(), rho.end(), [](double r) { return r > 0.0; });
   char text[160];
   if (state.timings.releaseToPictureMs > 0.0)
     std::snprintf(text, sizeof text, "%ld samples rigid. Last change: %.0f ms to the picture.", rigid, state.timings.releaseToPictureMs);
@@ -179,7 +180,7 @@ void drawToolsPanel(AppState& state) {
     int active = static_cast<int>(state.activeControl);
     ImGui::SetNextItemWidth(120);
     if (ImGui::InputInt("Active point", &active)) {
-      state.activeControl = std::clamp<Index>(active, 0, state.boundCage.size() - 1);
+      state.activeControl = std::clamp<Index>(active, 0, state.bound->cage.size() - 1);
       state.selection = {state.activeControl};
       state.pivot.reset();
     }

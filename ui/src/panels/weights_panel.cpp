@@ -59,7 +59,7 @@ void colorBar(const AppState& state) {
 void methodControl(AppState& state) {
   // One control for the method: before a bind it is the bind's method, after it switching
   // re-optimizes the bound session (painted targets are kept) and the next bind uses it too.
-  const Method current = state.bound ? state.method : state.bindParams.kc.method;
+  const Method current = state.bound ? state.bound->method : state.bindParams.kc.method;
   const app::BackendCapabilities caps = shownCapabilities(state);
   const bool canSwitch = caps.methods && (!state.bound || (state.session != nullptr && !state.worker.busy()));
   const struct {

@@ -47,8 +47,8 @@ void BrushTool::press(AppState& state, const PointerEvent& e) {
     postMessage(state, state.bound ? "Busy: wait for the current job to finish before painting." : "Bind a cage before painting.", false);
     return;
   }
-  if (!state.capabilities.painting) {
-    postMessage(state, "This session cannot be painted: " + state.capabilities.why, false);
+  if (!state.bound->capabilities.painting) {
+    postMessage(state, "This session cannot be painted: " + state.bound->capabilities.why, false);
     return;
   }
   if (state.activeControl < 0 || state.activeControl >= state.session->cage.size()) {
@@ -90,7 +90,7 @@ void BrushTool::release(AppState& state, const PointerEvent& e) {
   const app::Session& session = *state.session;
   edit.W0Before = gatherRows(m_W0Before, edit.rows);
   edit.W0After = gatherRows(session.W0, edit.rows);  // W's changed rows: found when the re-optimization ends
-  edit.methodBefore = edit.methodAfter = state.method;
+  edit.methodBefore = edit.methodAfter = state.bound->method;
   m_W0Before.resize(0, 0);
   startReoptimize(state, std::move(edit), "paint w" + std::to_string(state.activeControl));
 }

@@ -38,7 +38,7 @@ void setSelection(AppState& s, std::vector<Index> selection) {
 
 Vec2 selectionPivot(const AppState& state) {
   if (state.pivot) return *state.pivot;
-  const Points P = posedControls(state.boundCage.C, state.pose);
+  const Points P = posedControls(state.bound->cage.C, state.pose);
   Vec2 sum = Vec2::Zero();
   int n = 0;
   for (Index i : state.selection)
@@ -60,7 +60,7 @@ Pose rotateAbout(const Pose& before, const Points& C, const std::vector<Index>& 
 
 void PoseTool::press(AppState& state, const PointerEvent& e) {
   if (!state.bound || m_mode != Mode::None) return;
-  const Points P = posedControls(state.boundCage.C, state.pose);
+  const Points P = posedControls(state.bound->cage.C, state.pose);
   const Index hit = pickPoint(P, e.position, e.pickRadius);
   m_start = m_current = e.position;
   m_before = state.pose;
@@ -112,24 +112,24 @@ void PoseTool::drag(AppState& state, const PointerEvent& e) {
     return;
   }
   if (m_mode == Mode::RotateGroup) {
-    if (m_before.size() != static_cast<std::size_t>(state.boundCage.size())) return;
+    if (m_before.size() != static_cast<std::size_t>(state.bound->cage.size())) return;
     if ((e.position - m_groupPivot).norm() < e.pickRadius) return;
     if (!m_angleSet) {  // the reference direction: from the pivot to where the turn starts
       m_angleSet = true;
       m_startAngle = screenAngle(m_start - m_groupPivot);
     }
     m_angle = std::remainder(screenAngle(e.position - m_groupPivot) - m_startAngle, 2.0 * std::numbers::pi);
-    setPose(state, rotateAbout(m_before, state.boundCage.C, state.selection, m_groupPivot, m_angle));
+    setPose(state, rotateAbout(m_before, state.bound->cage.C, state.selection, m_groupPivot, m_angle));
     return;
   }
   if (m_mode == Mode::Move || m_mode == Mode::Rotate) {
-    if (m_before.size() != static_cast<std::size_t>(state.boundCage.size())) return;
+    if (m_before.size() != static_cast<std::size_t>(state.bound->cage.size())) return;
     Pose pose = m_before;
     if (m_mode == Mode::Move) {
       const Vec2 delta = e.position - m_start;
       for (Index i : state.selection) pose[static_cast<std::size_t>(i)].translate += delta;
     } else {
-      const Vec2 pivot = state.boundCage.C.row(m_pivot).transpose() + m_before[static_cast<std::size_t>(m_pivot)].translate;
+      const Vec2 pivot = state.bound->cage.C.row(m_pivot).transpose() + m_before[static_cast<std::size_t>(m_pivot)].translate;
       // The reference direction is set once the mouse is a pick radius away from the pivot, so a
       // press right on the point does not jump.
       if ((e.position - pivot).norm() < e.pickRadius) return;
@@ -147,7 +147,7 @@ void PoseTool::drag(AppState& state, const PointerEvent& e) {
 void PoseTool::release(AppState& state, const PointerEvent& e) {
   drag(state, e);
   if (m_mode == Mode::Select) {
-    const Points P = posedControls(state.boundCage.C, state.pose);
+    const Points P = posedControls(state.bound->cage.C, state.pose);
     const Vec2 lo = m_start.cwiseMin(m_current), hi = m_start.cwiseMax(m_current);
     std::vector<Index> selection = m_additive ? state.selection : std::vector<Index>{};
     for (Index i = 0; i < P.rows(); ++i) {

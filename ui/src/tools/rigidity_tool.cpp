@@ -61,10 +61,10 @@ void RigidityTool::press(AppState& state, const PointerEvent& e) {
     postMessage(state, "Busy: wait for the current job to finish before painting rigidity.", false);
     return;
   }
-  const std::size_t n = static_cast<std::size_t>(state.samples.size());
+  const std::size_t n = static_cast<std::size_t>(state.bound->samples.size());
   m_active = true;
   m_erase = state.rigidBrush.erase != e.ctrl;
-  m_rho0 = state.rigidity;
+  m_rho0 = boundRigidity(state);
   m_rho0.resize(n, 0.0);
   m_cover.assign(n, 0.0);
   m_rho = m_rho0;
@@ -73,9 +73,9 @@ void RigidityTool::press(AppState& state, const PointerEvent& e) {
 }
 
 void RigidityTool::dab(AppState& state, const Vec2& c) {
-  paintRigidityDab(m_rho0, m_cover, m_rho, state.samples, c, state.rigidBrush.radius, state.rigidBrush.softness,
+  paintRigidityDab(m_rho0, m_cover, m_rho, state.bound->samples, c, state.rigidBrush.radius, state.rigidBrush.softness,
                    state.rigidBrush.strength, m_erase);
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
 }
 
 void RigidityTool::dabsTo(AppState& state, const Vec2& p) {
@@ -96,12 +96,12 @@ void RigidityTool::release(AppState& state, const PointerEvent& e) {
   m_rho.clear();
   m_rho0.clear();
   m_cover.clear();
-  ++state.rigidityRevision;
+  state.rigidityVersion.bump();
   if (changed) startRigidity(state, std::move(after), m_erase ? "erase rigidity" : "paint rigidity");
 }
 
 void RigidityTool::cancel(AppState& state) {
-  if (m_active) ++state.rigidityRevision;
+  if (m_active) state.rigidityVersion.bump();
   m_active = false;
   m_rho.clear();
   m_rho0.clear();

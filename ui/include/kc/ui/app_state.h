@@ -1,7 +1,8 @@
 #pragma once
-/// The one object the GUI reads and writes each frame (STYLE.md, Immediate-mode UI): the document
-/// (image, session, draft cage, pose, undo history) and the interaction state (tool, view,
-/// selection, brush, overlays, messages, timings). No globals.
+/// The one object the GUI reads and writes each frame (STYLE.md, Immediate-mode UI), in four parts:
+/// the document (picture, session, draft cage, pose, undo history), how it is shown (view, show
+/// options, heatmap), the interaction (tool, selection, brushes, dialogs, messages) and the jobs
+/// (worker, timings). No globals.
 
 #include <cstdint>
 #include <functional>
@@ -17,6 +18,8 @@
 #include "kc/app/session.h"
 #include "kc/core/rasterize.h"
 #include "kc/core/warp_mesh.h"
+#include "kc/ui/bound_snapshot.h"
+#include "kc/ui/cached.h"
 #include "kc/ui/file_dialog.h"
 #include "kc/ui/tools/brush_tool.h"
 #include "kc/ui/tools/cage_tool.h"
@@ -107,6 +110,14 @@ struct PointerInput {
   bool shift = false, ctrl = false;  ///< Modifiers held (Press, Release; a Move takes the frame's).
 };
 
+/// Which deform the display mesh shows: of which pose and mesh, and whether it was a DeformPass::Live
+/// one (during a pose drag: once the drag ends, the pose is deformed again with the full repair, as
+/// the export does).
+struct DeformKey {
+  Version pose, mesh;
+  bool live = false;
+  bool operator==(const DeformKey&) const = default;
+};
 
 struct AppState;
 
@@ -126,27 +137,25 @@ struct PendingAction {
   std::string question = {};
 };
 
-struct AppState {
-  // --- Document -------------------------------------------------------------------------------
+/// The document: the picture, the bound session and what is shown of it, the draft cage, the lines,
+/// the pose, the display warp mesh, the outside mode, the undo history, the paths and the unsaved
+/// state (autosave).
+struct Document {
   Image source;                            ///< The picture (RGBA8), full resolution (the export's; drawn from textures sized for the screen).
   std::string imagePath;
   /// `source` is the picture turned as its Exif orientation says (app::Session::imageUpright);
   /// false for the picture of a session written before kcwarp read the orientation.
   bool imageUpright = true;
-  std::uint64_t sourceRevision = 0;        ///< Bumped when `source` changes (texture re-upload).
+  Version sourceVersion;  ///< Of `source` (the display texture's upload).
   /// The bound session; null when nothing is bound or while a worker job holds it.
   std::shared_ptr<app::Session> session;
-  bool bound = false;                      ///< A session exists (possibly held by a job).
-  Cage boundCage;                          ///< Display copy of the session's cage.
-  SampleSet samples;                       ///< Display copy of the session's samples.
-  Method method = Method::QP;              ///< The session's current optimization method.
-  /// What the bound session's backend can do (greys out the rest, with capabilities.why as tooltip).
-  app::BackendCapabilities capabilities;
-  app::BindReport reports;                 ///< Display copy of the session's bind report.
-  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
+  /// What is shown of the bound session (also while a job holds it); null when nothing is bound.
+  /// Made by makeBoundSnapshot when a bind, an opened session or a job's result is installed.
+  std::shared_ptr<const BoundSnapshot> bound;
   /// W is what the optimizer gives for (W0, method) in every row (after a bind or a whole
   /// re-optimization; not for a session file, which may come from another version).
   bool weightsReproducible = false;
+  std::string rigidityDetails;             ///< The last rigidity solve in the solver's words (diagnostics).
   app::BindParams bindParams;              ///< Bind panel values (next bind).
   /// Bind chooses the spacing from a sample budget (app::automaticSpacing, as kcwarp-cli does
   /// without --spacing): 6 px up to about a megapixel, wider beyond, so a big picture binds in
@@ -167,38 +176,18 @@ struct AppState {
     double spacing = 0.0, minSpacing = 0.0, points = 0.0, locality = 0.0;
     bool closed = false, cageValid = false;  ///< the draft cage's (an open cage binds as sticks)
   } shownSpacing;
-  Cage cage;                               ///< Draft cage of the cage tool (== boundCage after a bind).
+  Cage cage;  ///< Draft cage of the cage tool (== bound->cage after a bind).
   bool cageValid = false;
   std::string cageStatus;                  ///< Why the draft cage cannot be bound (empty when valid).
   /// Structure lines kept straight / parallel (thesis 5.3): the next bind's lines; after a bind or
   /// open, the bound session's. Edited by the line tool (editLines), which re-binds.
   app::Structure lines;
-  /// Display copy of the bound session's lines: each line's sample positions X (#n×2, a → b) and
-  /// their weights W (#n×m), so the pose view draws the deformed lines while a job holds the session.
-  struct BoundLine {
-    Points X;
-    Weights W;
-    int group = -1;
-  };
-  std::vector<BoundLine> boundLines;
-  /// Display copy of the bound session's per-sample rigidity ρ (#S, or empty: none); while a
-  /// rigidity job runs, the ρ it is solving for.
-  std::vector<double> rigidity;
-  std::uint64_t rigidityRevision = 0;      ///< Bumped when `rigidity` or the stroke being painted changes.
-  /// The rigid regions' polygons (structure.rigid) as outlines: points along each edge and their
-  /// weights (#n×m), drawn deformed with the pose like boundLines.
-  std::vector<BoundLine> boundRigid;
-  double boundSpacing = 0.0;               ///< The bound session's sample spacing h (pixels).
-  /// The bound session's smallest local spacing (its sizing field's; == boundSpacing when uniform).
-  double boundMinSpacing = 0.0;
-  /// The bound session's kernel width σ where the spacing is boundSpacing (pixels; smaller in
-  /// proportion where the spacing is); 0 when the bound weights have no kernel (LBC).
-  double boundSigma = 0.0;
-  /// The local spacing h(x) at each of `samples` (#S; boundSpacing everywhere when uniform): the
-  /// sample plot's colours.
-  Eigen::VectorXd sampleSpacing;
+  /// While a rigidity job runs, the ρ it is solving for (#S), shown instead of the session's
+  /// (boundRigidity()).
+  std::optional<std::vector<double>> solvingRigidity;
+  Version rigidityVersion;                 ///< Of the ρ shown (boundRigidity() or the stroke being painted).
   Pose pose;                               ///< Current pose, one handle per bound control point.
-  std::uint64_t poseRevision = 0;
+  Version poseVersion;
   /// What happens outside the cage, in the view and the export (saved in the session as "outside").
   OutsideMode outside = OutsideMode::Pinned;
   WarpMesh mesh;                           ///< Display warp mesh (weights at its vertices).
@@ -209,12 +198,9 @@ struct AppState {
     Weights W;
   };
   std::shared_ptr<MeshSource> meshSource;
-  std::uint64_t meshRevision = 0;          ///< Bumped when mesh or its weights change.
-  std::uint64_t deformedPose = ~0ull, deformedMesh = ~0ull;  ///< Revisions of the last deform().
-  /// The last deform() was a DeformPass::Live one (during a pose drag): once the drag ends, the
-  /// pose is deformed again with the full repair, as the export does.
-  bool deformedLive = false;
-  std::uint64_t deformCount = 0;           ///< Bumped by every deform() (vertex upload key).
+  Version meshVersion;  ///< Of `mesh` and its weights.
+  /// The display mesh's deform (DeformKey); the renderer uploads the positions once per key.
+  CachedEffect<DeformKey> deformed;
   DeformReport deformReport;
   /// Folded triangles of the last full deform the status bar was told of (updateDeformation): a
   /// deform that folds more says so in plain words with its fix; one that unfolds says that too.
@@ -224,13 +210,32 @@ struct AppState {
   bool unsaved = false;
   double lastAutosave = 0.0;               ///< Seconds (glfw/steady clock) of the last autosave.
   UndoStack undo;
+};
 
-  // --- Interaction ----------------------------------------------------------------------------
-  Tool tool = Tool::Pose;
+/// How the document is shown: the view, the show options, the heatmap, the display textures and the
+/// caches drawn from.
+struct ViewState {
   View view;
   bool fitPending = true;                  ///< Fit the view at the next frame (new image).
   bool showOriginal = false;               ///< Before/after: the original picture while O is held.
   bool hideCage = false;                   ///< The warp without the cage, its handles and lines while H is held (pose, brush, rigid tools).
+  HeatmapSettings heat;
+  ViewOptions show;
+  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), of (meshVersion,
+  /// rigidityVersion).
+  Cached<std::vector<float>, std::pair<Version, Version>> rigidTint;
+  DisplayTextures display;  ///< Set by the renderer.
+  /// Set by a frame that left work for the next one (the renderer defers the detail texture while
+  /// the view moves): the window draws one more frame before it sleeps.
+  bool frameWanted = false;
+  /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).
+  double heatLow = 0.0, heatHigh = 1.0;
+};
+
+/// What the person is doing: the tool and its state, the selection, the brushes, the pointer and key
+/// queues, dialogs, prompts and messages.
+struct Interaction {
+  Tool tool = Tool::Pose;
   std::vector<Index> selection;            ///< Selected control points (pose tool).
   std::vector<int> lineSelection;          ///< Selected structure lines (line tool), indices into `lines`.
   std::string lineGroupName = "parallel 1";  ///< The line tool's name for the next parallel group.
@@ -240,26 +245,12 @@ struct AppState {
   Index activeControl = -1;                ///< Control whose weights are painted and shown.
   BrushSettings brush;
   RigidBrushSettings rigidBrush;
-  HeatmapSettings heat;
-  ViewOptions show;
   PoseTool poseTool;
   BrushTool brushTool;
   CageTool cageTool;
   LineTool lineTool;
   RigidityTool rigidTool;
-  /// ρ at the display mesh's vertices for the tint (rigidity_overlay.cpp), recomputed when the mesh
-  /// or ρ changes.
-  struct RigidityTint {
-    std::uint64_t meshRevision = ~0ull, rhoRevision = ~0ull;
-    std::vector<float> vertexRho;
-  } rigidTint;
-  Worker worker;
   std::vector<Message> messages;
-  Timings timings;
-  /// Seconds (nowSeconds) at the stroke release whose picture is not shown yet, 0 when none: the
-  /// job's result sets it, the window turns it into timings.releaseToPictureMs after the frame.
-  double releaseStart = 0.0;
-  DisplayTextures display;                 ///< Set by the renderer.
   bool helpOpen = false;                   ///< Help > How to / shortcuts window shown.
   bool quitRequested = false;              ///< Close asked while unsaved: confirm dialog open.
   bool quitConfirmed = false;              ///< The user agreed to close.
@@ -290,20 +281,28 @@ struct AppState {
   std::vector<PointerInput> pointerInputs;
   bool pointerQueued = false;
   std::optional<Vec2> pointerAt;           ///< The last position the window's callbacks saw (a press's position).
-  /// Set by a frame that left work for the next one (the renderer defers the detail texture while
-  /// the view moves): the window draws one more frame before it sleeps.
-  bool frameWanted = false;
   std::vector<std::string> recentFiles;    ///< Newest first (File > Open recent).
   std::string recentFilesPath;             ///< Where the list is kept; empty = not kept (tests).
+  /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
+  std::map<std::string, Vec2> widgets;
+};
+
+/// Background work: the worker, commands deferred until it is free, and the measured times.
+struct Jobs {
+  Worker worker;
+  Timings timings;
+  /// Seconds (nowSeconds) at the stroke release whose picture is not shown yet, 0 when none: the
+  /// job's result sets it, the window turns it into timings.releaseToPictureMs after the frame.
+  double releaseStart = 0.0;
   std::function<void()> wakeup;            ///< Wakes the window's event loop from another thread.
   /// Commands asked for while a job held the session (Save, Export): run when the worker is free.
   std::vector<std::function<void(AppState&)>> deferred;
-  int exportCount = 0;                     ///< Successful exports in this run (automation).
-  /// Screen centres of named widgets from the last frame (UI automation: the e2e test clicks them).
-  std::map<std::string, Vec2> widgets;
-  /// Heatmap colour bar range of the shown weights (set by the renderer's heat pass).
-  double heatLow = 0.0, heatHigh = 1.0;
+  int exportCount = 0;  ///< Successful exports in this run (automation).
 };
+
+/// The four parts as one object: a function that needs one part takes that part (a Document&, …),
+/// and an AppState is each of them.
+struct AppState : Document, ViewState, Interaction, Jobs {};
 
 /// Seconds on a monotonic clock (for timings and autosave).
 double nowSeconds();

@@ -14,12 +14,12 @@ namespace kc::ui {
 inline constexpr std::size_t kMaxMessageBytes = 1000;
 /// Shows a line in the message bar (errors stay until dismissed): one line (control characters
 /// escaped) of at most kMaxMessageBytes.
-void postMessage(AppState& state, std::string text, bool error);
+void postMessage(Interaction& interaction, std::string text, bool error);
 
 /// Sets the pose (one handle per bound control); the deformation is redone next frame.
-void setPose(AppState& state, Pose pose);
+void setPose(Document& doc, Pose pose);
 /// Records the change from `before` to the current pose as one undo entry and marks unsaved.
-void commitPose(AppState& state, const Pose& before, std::string label);
+void commitPose(Document& doc, const Pose& before, std::string label);
 /// Back to the rest pose (undoable).
 void resetPose(AppState& state);
 
@@ -31,9 +31,9 @@ inline bool cageComplete(const Cage& cage) { return cage.closed || !cage.edges.e
 inline bool cageIsEdgeGraph(const Cage& cage) { return !cage.closed && !cage.edges.empty(); }
 
 /// Sets the draft cage and re-validates it (cageValid, cageStatus).
-void setDraftCage(AppState& state, Cage cage);
+void setDraftCage(Document& doc, Cage cage);
 /// Records the change from `before` to the current draft cage as one undo entry.
-void commitCage(AppState& state, const Cage& before, std::string label);
+void commitCage(Document& doc, const Cage& before, std::string label);
 
 /// Undo / redo the newest entry. Weight edits need the session (not while a job runs); they
 /// restore W0 and W bit for bit and refresh the field and the display mesh on the worker.
@@ -50,8 +50,8 @@ bool updateDeformation(AppState& state);
 void selectTool(AppState& state, Tool tool);
 
 /// What the panels offer: the bound session's capabilities, or before a bind those of the backend
-/// chosen in the Bind panel (state.bindParams.backend). Panels grey out what is missing and show
+/// chosen in the Bind panel (doc.bindParams.backend). Panels grey out what is missing and show
 /// `why` as the tooltip; they never ask for the backend's name.
-app::BackendCapabilities shownCapabilities(const AppState& state);
+app::BackendCapabilities shownCapabilities(const Document& doc);
 
 }  // namespace kc::ui

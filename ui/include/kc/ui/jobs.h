@@ -26,37 +26,37 @@ bool setOutsideMode(AppState& state, OutsideMode mode);
 
 /// True when the bound session was sampled in a band around the cage by a backend that can sample
 /// the whole picture: Move everything is offered, through a new bind (setOutsideMode).
-bool bandNeedsFrameBind(const AppState& state);
+bool bandNeedsFrameBind(const Document& doc);
 
 /// The outside mode a session asks for (its "outside" key), or the default.
 OutsideMode sessionOutsideMode(const app::Session& session);
 
 /// The parameters the next bind of `cage` over width×height uses: the Bind panel's, sampling the
 /// whole picture when the outside mode is Move everything and a band around the cage otherwise
-/// (BindParams::exterior), with the automatic spacing when state.autoSpacing
+/// (BindParams::exterior), with the automatic spacing when doc.autoSpacing
 /// (app::automaticSpacing from the 6 px default).
-app::BindParams bindParamsFor(const AppState& state, const Cage& cage, int width, int height);
-/// What the next bind of the draft cage uses (AppState::ShownSpacing), from the parameters the bind
-/// really uses (app::effectiveBindParams of bindParamsFor(state, state.cage, picture size) with the
+app::BindParams bindParamsFor(const Document& doc, const Cage& cage, int width, int height);
+/// What the next bind of the draft cage uses (Document::ShownSpacing), from the parameters the bind
+/// really uses (app::effectiveBindParams of bindParamsFor(doc, doc.cage, picture size) with the
 /// draft's lines): their spacing, the smallest spacing of their sizing field (app::bindSizing, lines
 /// and rigid polygons included; == spacing for a uniform bind — lines the uniform rules accept
 /// keep one — or no narrow place) and the estimated samples (app::estimateBindCost) or, for a mesh backend, mesh vertices
 /// (estimateMeshVertices of the uniform mesh; a graded mesh adds some near narrow places).
 /// Recomputed only when the draft cage, its lines, the picture size or the parameters it depends
 /// on changed since the last call.
-const AppState::ShownSpacing& spacingPlan(AppState& state);
-/// spacingPlan(state).spacing.
-double autoSpacingShown(AppState& state);
+const Document::ShownSpacing& spacingPlan(Document& doc);
+/// spacingPlan(doc).spacing.
+double autoSpacingShown(Document& doc);
 /// Kernel widths as shown for a width sigma at `spacing` (σ(x) = σ·h(x)/hMax, kc::GaussianKernel's
 /// variable width): "0.44-5.20 px" when minSpacing is smaller, else "5.20 px".
 std::string sigmaRangeText(double sigma, double minSpacing, double spacing);
 /// The automatic kernel widths the next bind will about use, as shown before it: 3h/π at the
 /// planned spacing (spacingPlan), smaller in proportion down to its smallest spacing (Bind measures
 /// the spacing on the samples instead of h: app::automaticSigma).
-std::pair<double, double> plannedSigma(AppState& state);
+std::pair<double, double> plannedSigma(Document& doc);
 /// The bound session's kernel widths as shown (sigmaRangeText); empty when the bound weights have
 /// no kernel (LBC) or nothing is bound.
-std::string boundSigmaText(const AppState& state);
+std::string boundSigmaText(const Document& doc);
 /// Binds the draft cage with the document's lines (state.lines) over the current image with
 /// state.bindParams (progress, Cancel); when it is done the pose tool is active. `markUnsaved` =
 /// false for a bind that only reproduces files on disk (the picture and cage given at startup),
@@ -113,13 +113,14 @@ bool startExport(AppState& state, const std::string& path);
 /// A display warp mesh and the source of its weights (built on the worker, installed on the main thread).
 struct DisplayMesh {
   std::shared_ptr<WarpMesh> mesh;
-  std::shared_ptr<AppState::MeshSource> source;
+  std::shared_ptr<Document::MeshSource> source;
 };
 /// The display mesh of a bound session, keeping the field sampler at its vertices.
 DisplayMesh buildDisplayMesh(const app::Session& session, const WarpMeshOptions& options);
 
-/// Makes `session` (bound for `source`) the document: display copies, mesh, pose, undo cleared;
-/// the Bind panel takes the session's parameters (graded when it has lines, see jobs.cpp).
+/// Makes `session` (bound for `source`) the document: its snapshot (AppState::bound), mesh, pose,
+/// undo cleared; the Bind panel takes the session's parameters (graded when it has lines, see
+/// jobs.cpp).
 /// fromOptimizer: the session's W came from this optimizer (a bind), not from a file.
 void installSession(AppState& state, std::shared_ptr<app::Session> session, DisplayMesh display,
                     bool fromOptimizer = false);

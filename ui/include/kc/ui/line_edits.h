@@ -43,9 +43,4 @@ int tidyGroups(app::Structure& lines);
 /// Same lines (points, groups and group names) in the same order.
 bool sameLines(const app::Structure& a, const app::Structure& b);
 
-/// The display copy of the session's lines (AppState::boundLines): their samples' positions
-/// and weights, or (exact lines) their ends and the field's weights there. Empty when the session
-/// has no lines.
-void refreshBoundLines(AppState& state, const app::Session& session);
-
 }  // namespace kc::ui

@@ -23,12 +23,12 @@ bool requestBind(AppState& state);
 /// or rigid regions (app::unsupportedStructure; startBind binds without them, and the present
 /// bind keeps them); before the first bind, the refusal requestBind shows instead (nothing would
 /// keep them); empty when there are none or the backend keeps them.
-std::string structureLeftOut(const AppState& state);
+std::string structureLeftOut(const Document& doc);
 
 /// Labels of the paint strokes in the present weights ("paint w3"), oldest first: the weight
 /// edits on the undo stack since the newest bind. A new bind computes the weights anew from the
 /// cage, so these do not carry over (they stay one undo away, behind the bind).
-std::vector<std::string> strokesLostByRebind(const AppState& state);
+std::vector<std::string> strokesLostByRebind(const Document& doc);
 
 /// The pose of `after`'s control points that keeps `pose` (of `before`'s points): handle by handle
 /// when the two cages have as many points, else for each point of `after` the handle of the point
@@ -40,7 +40,7 @@ Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after);
 struct BoundDocument {
   std::shared_ptr<app::Session> session;
   std::shared_ptr<WarpMesh> mesh;
-  std::shared_ptr<AppState::MeshSource> source;
+  std::shared_ptr<Document::MeshSource> source;
   Pose pose;
   bool weightsReproducible = false;
 };

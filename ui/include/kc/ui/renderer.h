@@ -16,6 +16,8 @@
 /// Needs a current OpenGL 3.3 core context.
 
 #include <cstdint>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "kc/ui/app_state.h"
@@ -81,12 +83,16 @@ class Renderer {
   int m_uScale = -1, m_uOffset = -1, m_uHeat = -1, m_uFlat = -1, m_uColor = -1, m_uTex = -1, m_uDetail = -1,
       m_uDetailRect = -1, m_uUseDetail = -1, m_uMask = -1, m_uMasked = -1;
   int m_maxTextureSize = 4096, m_displayLimit = 0;
-  std::uint64_t m_sourceRevision = ~0ull, m_meshRevision = ~0ull, m_deformKey = ~0ull, m_heatKey = ~0ull;
-  bool m_warped = false;
+  // What the GPU holds, by what it was made from: the picture (source), the mesh (mesh, warped),
+  // the deformed positions (the deform) and the heatmap colours (active control, log scale).
+  CachedEffect<Version> m_pictureUpload;
+  CachedEffect<std::pair<Version, bool>> m_meshUpload;
+  CachedEffect<std::optional<DeformKey>> m_positionsUpload;
+  CachedEffect<std::pair<Index, bool>> m_heatUpload;
   /// The view and pose of the last frame and since when they have not changed (detail texture).
   double m_viewZoom = 0.0, m_stillSince = 0.0;
   Vec2 m_viewOffset = Vec2::Zero();
-  std::uint64_t m_viewPose = ~0ull;
+  std::optional<Version> m_viewPose;
   int m_indexCount = 0;
   std::size_t m_uploadedBytes = 0;  // this frame's buffer uploads
   // What the GPU's buffers hold (compared with the next upload).

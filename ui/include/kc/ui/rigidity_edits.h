@@ -1,8 +1,8 @@
 #pragma once
 /// Rigid regions in the GUI (thesis 5.4, docs/rigidity.md): what the rigidity brush's release, its
-/// panel (Clear rigidity) and undo/redo of a stroke start, and the display copies of the session's
-/// rigidity. The re-solve (app::setRigidity) runs on the worker: progress in the status bar, the
-/// window stays responsive. Main thread only.
+/// panel (Clear rigidity) and undo/redo of a stroke start, and the rigidity shown. The re-solve
+/// (app::setRigidity) runs on the worker: progress in the status bar, the window stays
+/// responsive. Main thread only.
 
 #include <string>
 #include <vector>
@@ -16,7 +16,7 @@ namespace kc::ui {
 /// Why the rigidity brush cannot be used now, as the greyed tool's tooltip says it (empty when it
 /// can): the backend chosen or bound has no rigid regions (LBC), the session has no target weights
 /// to restore the unconstrained weights from, or nothing is bound yet.
-std::string rigidityProblem(const AppState& state);
+std::string rigidityProblem(const Document& doc);
 
 /// Sets the session's per-sample rigidity to `rho` (#S, each in [0, 1]) on the worker with
 /// app::setRigidity — only the samples within (reach + 5)σ of the old or new region are re-solved —
@@ -51,8 +51,8 @@ std::string rigiditySolveDetails(const app::RigidityUpdate& u);
 /// True when some sample of `rho` is rigid (ρ > 0).
 bool anyRigid(const std::vector<double>& rho);
 
-/// The display copies of the session's rigidity: AppState::rigidity (ρ) and boundRigid (each
-/// rigid polygon's outline, 16 points per edge, with the field's weights there).
-void refreshBoundRigidity(AppState& state, const app::Session& session);
+/// The bound session's ρ as shown (#S, or empty: none or nothing bound): while a rigidity job
+/// runs the ρ it is solving for (AppState::solvingRigidity), else the snapshot's.
+const std::vector<double>& boundRigidity(const Document& doc);
 
 }  // namespace kc::ui
