@@ -56,18 +56,30 @@ inline void stop(pid_t pid) {
 
 class GuiDriver {
  public:
-  /// Starts Xvfb (`screen` = WxHxD) on a free display number; false if it did not come up.
+  /// Starts Xvfb (`screen` = WxHxD) on a free display number; false if it did not come up. Two tests
+  /// starting together may pick the same number: the Xvfb that finds the display taken exits, and
+  /// its test tries the next number, so no two tests ever share a display (and the keyboard focus).
   bool startXvfb(const std::string& screen = "1600x1000x24") {
-    for (int n = 50 + getpid() % 40; n < 140; ++n)  // a free display number
-      if (!fs::exists("/tmp/.X11-unix/X" + std::to_string(n)) && !fs::exists("/tmp/.X" + std::to_string(n) + "-lock")) {
-        display = ":" + std::to_string(n);
-        break;
+    for (int n = 50 + getpid() % 40; n < 140; ++n) {
+      const std::string socket = "/tmp/.X11-unix/X" + std::to_string(n);
+      if (fs::exists(socket) || fs::exists("/tmp/.X" + std::to_string(n) + "-lock")) continue;
+      const pid_t server =
+          spawn({"Xvfb", ":" + std::to_string(n), "-screen", "0", screen, "-nolisten", "tcp"}, "", dir / "xvfb.log");
+      bool exited = false;
+      for (int k = 0; k < 100 && !exited && !fs::exists(socket); ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        exited = waitpid(server, nullptr, WNOHANG) == server;
       }
-    if (display.empty()) return false;
-    xvfb = spawn({"Xvfb", display, "-screen", "0", screen, "-nolisten", "tcp"}, "", dir / "xvfb.log");
-    for (int k = 0; k < 100 && !fs::exists("/tmp/.X11-unix/X" + display.substr(1)); ++k)
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    return fs::exists("/tmp/.X11-unix/X" + display.substr(1));
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a server that lost the display exits at once
+      if (exited || waitpid(server, nullptr, WNOHANG) == server || !fs::exists(socket)) {
+        if (!exited) stop(server);
+        continue;
+      }
+      xvfb = server;
+      display = ":" + std::to_string(n);
+      return true;
+    }
+    return false;
   }
   /// Starts `gui` (the kcwarp executable) with the state file, screenshots, frame log and
   /// recovery path in `dir`, then `extra`.
