@@ -72,7 +72,6 @@ TEST(LocalDefault, TheBundledFigureBindsWithEverySampleSolved) {
   BindParams p = defaults();
   p.spacing = automaticSpacing(figureCage(), picture.width, picture.height, p);
   const Session s = app::bind(figureCage(), Structure{}, picture.width, picture.height, p);
-  const BindReport& r = s.report;
   EXPECT_EQ(s.report.optimize.failed, 0);
   EXPECT_FALSE(s.report.anyProblem()) << s.report.summary();
 }

@@ -44,7 +44,6 @@ void expectTableSixSixProperties(Method method, double h, Index points) {
   p.spacing = h;
   p.kc.method = method;
   const Session s = bind(cage, 320, 400, p);
-  const BindReport& r = s.report;
   // The head is sampled (it got none while an open cage had no inside).
   Index head = 0;
   for (Index i = 0; i < s.samples.size(); ++i)

@@ -63,11 +63,15 @@ std::vector<BoundLine> rigidOutlines(const app::Session& s) {
 
 }  // namespace
 
-std::shared_ptr<const BoundSnapshot> makeBoundSnapshot(const app::Session& s) {
+std::shared_ptr<const BoundSnapshot> makeBoundSnapshot(const app::Session& s, const BoundSnapshot* previous) {
   auto b = std::make_shared<BoundSnapshot>();
   b->cage = s.cage;
   b->samples = s.samples;
-  b->sampleSpacing = s.sizing ? s.sizing->at(s.samples.X) : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
+  const bool sameSamples = previous && previous->samples.X.rows() == s.samples.X.rows() && previous->samples.X == s.samples.X &&
+                           previous->spacing == s.params.spacing;
+  b->sampleSpacing = sameSamples ? previous->sampleSpacing
+                     : s.sizing  ? s.sizing->at(s.samples.X)
+                                 : Eigen::VectorXd::Constant(s.samples.size(), s.params.spacing);
   b->spacing = s.params.spacing;
   b->minSpacing = s.sizing ? s.sizing->hMin() : s.params.spacing;
   b->sigma = s.report.meshVertices() > 0 ? 0.0 : s.sigma;

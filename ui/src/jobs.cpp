@@ -30,7 +30,7 @@ void noteReleaseResult(AppState& state, std::chrono::steady_clock::time_point t0
 
 void takeBack(AppState& state, SessionPtr session, const MeshPtr& mesh, SourcePtr source) {
   state.session = std::move(session);
-  state.bound = makeBoundSnapshot(*state.session);
+  state.bound = makeBoundSnapshot(*state.session, state.bound.get());  // a job keeps its bind's samples
   if (mesh) {
     state.mesh = std::move(*mesh);
     state.meshVersion.bump();

@@ -43,7 +43,9 @@ struct BoundSnapshot {
   std::vector<double> rigidity;  ///< Per-sample rigidity ρ (#S, or empty: none).
 };
 
-/// The snapshot of `session` (which must be bound: cage, samples, W and field).
-std::shared_ptr<const BoundSnapshot> makeBoundSnapshot(const app::Session& session);
+/// The snapshot of `session` (which must be bound: cage, samples, W and field). With `previous` (the
+/// snapshot of the same bind before a job: a stroke, a method switch, a rigidity stroke), its
+/// samples and their spacings are taken over when the session's samples are still those.
+std::shared_ptr<const BoundSnapshot> makeBoundSnapshot(const app::Session& session, const BoundSnapshot* previous = nullptr);
 
 }  // namespace kc::ui
