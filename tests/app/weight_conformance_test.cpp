@@ -240,17 +240,9 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // by hand (tests/data/locality: a person, a hand with fingers 6-10 px apart) and a picture-sized
 // rectangle with its edges' midpoints (8 controls, deep: the locality length follows its depth),
 // each at the automatic spacing. The goals are an area ≤ 1.1× LBC's and lobes ≥ −0.02; the
-// rectangle meets both and is held to them, the others are held to what the default reached when
-// measured (the lobes 2026-12-03 to 05; the areas with the floored targets, kTargetFloor, 2026-12-06:
-// 1.05, 1.09, 1.10 and 1.16), times 1.05: their lobes and the hand's extra area sit between limbs and
-// fingers, where the Euclidean kernel reaches across the gap outside. The deepest weight on the 2-px grid depends on where the samples fall against the grid
-// (kcwarp-cli bind --seed 1 to 12, then kcwarp-cli stats): the person −0.049 to −0.111 (at the
-// armpit, where a 1-px grid finds −0.12 to −0.13 for seeds 1 and 4 alike), the hand −0.041 to −0.061,
-// the figure −0.036 to −0.050 (seeds 1 to 5; −0.027 to −0.057 before the graded start kept each
-// side's count, kcwarp-cli stats locality.drag.min_weight): the figure is held to 0.04.
-// Unscreened targets without the lobe
-// guard (the default before) moved 1.7×, 2.0×, 1.7× and 1.8× LBC's area on the first four, with
-// lobes −0.010, −0.135, −0.134, −0.087.
+// rectangle meets both and is held to them, the others are held to what the default reached
+// (times 1.05; the lobes over seeds, whose spread is wide: docs/notes/measured-constants.md,
+// "The locality conformance bounds").
 struct LocalityCase {
   std::string cage;   ///< path from the source directory
   int width, height;  ///< the picture
