@@ -166,9 +166,10 @@ void runBind(const BindArgs& a) {
   app::saveSession(a.output, s);
 
   if (r.meshVertices() > 0) {
-    std::printf("bound %ld control points, LBC mesh of %ld vertices (%ld on the cage), tau %s\n", static_cast<long>(cage.size()),
-                static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.controls + r.sampling.edge),
-                std::string(app::toString(p.lbc.tau)).c_str());
+    const app::Backend& backend = app::backendFor(p.backend);
+    std::printf("bound %ld control points, %s mesh of %ld vertices (%ld on the cage), %s\n", static_cast<long>(cage.size()),
+                std::string(backend.displayName()).c_str(), static_cast<long>(s.samples.size()),
+                static_cast<long>(r.sampling.controls + r.sampling.edge), app::parametersText(backend, p).c_str());
     if (s.sizing)
       std::printf("graded: mesh spacing %.3g-%.3g px for the cage's narrow places\n", s.sizing->hMin(), s.sizing->hMax());
     std::printf("%s\n", r.summary().c_str());

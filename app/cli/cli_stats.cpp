@@ -31,12 +31,13 @@ void printHeader(const app::Session& s, const std::string& path) {
   for (SampleKind k : s.samples.kind) ++counts[static_cast<int>(k)];
   std::printf("session %s\n", path.c_str());
   if (s.report.meshVertices() > 0) {
-    std::printf("  %ld control points, LBC mesh of the cage interior: %ld vertices (%ld on cage edges, %ld interior), image %dx%d\n",
-                static_cast<long>(s.cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(counts[1]),
-                static_cast<long>(counts[3]), s.imageWidth, s.imageHeight);
-    std::printf("  backend lbc, spacing %.4g px, tau %s, tolerance %s, max iterations %d\n\n", s.params.spacing,
-                std::string(app::toString(s.params.lbc.tau)).c_str(), app::shortNumber(s.params.lbc.tolerance).c_str(),
-                s.params.lbc.maxIterations);
+    std::printf(
+        "  %ld control points, %s mesh of the cage interior: %ld vertices (%ld on cage edges, %ld interior), image %dx%d\n",
+        static_cast<long>(s.cage.size()), std::string(app::backendFor(s.params.backend).displayName()).c_str(),
+        static_cast<long>(s.samples.size()), static_cast<long>(counts[1]), static_cast<long>(counts[3]), s.imageWidth,
+        s.imageHeight);
+    std::printf("  backend %s, spacing %.4g px, %s\n\n", s.params.backend.c_str(), s.params.spacing,
+                app::parametersText(app::backendFor(s.params.backend), s.params).c_str());
     return;
   }
   std::printf("  %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), image %dx%d\n", static_cast<long>(s.cage.size()),
@@ -187,14 +188,13 @@ void addStatsCommand(CLI::App& app) {
       j["lines"] = {{"count", s.structure.lines.size()}, {"bend_px", f.deviation}, {"parallel_angle_deg", f.angle},
                     {"trials", kLineTrials}, {"max_translation_px", kLineTranslation}};
     }
-    if (s.report.backend)
-      s.report.backend->toJson(j["solver"][std::string(app::backendFor(s.params.backend).parameterBlock())], false);
-    if (s.report.meshVertices() > 0) {
-      for (const char* kcOnly : {"sigma", "init", "method", "interp"}) j.erase(kcOnly);
-      j["lbc"] = {{"tau", std::string(app::toString(s.params.lbc.tau))},
-                  {"tolerance", s.params.lbc.tolerance},
-                  {"max_iterations", s.params.lbc.maxIterations}};
+    const app::Backend& backend = app::backendFor(s.params.backend);
+    if (const std::string block(backend.parameterBlock()); !block.empty()) {  // the backend's own parameters and report
+      j[block] = app::parametersToJson(backend, s.params);
+      if (s.report.backend) s.report.backend->toJson(j["solver"][block], false);
     }
+    if (s.report.meshVertices() > 0)
+      for (const char* kcOnly : {"sigma", "init", "method", "interp"}) j.erase(kcOnly);
     std::cout << j.dump(2) << "\n";
   });
 }

@@ -1,12 +1,15 @@
 // The backends kcwarp knows (the built-in ones and those registered with registerBackend) and the
 // generic handling of a backend's described parameters (BackendParameter).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "backends.h"
 #include "kc/app/backend.h"
@@ -85,6 +88,35 @@ void setParameter(const Backend& backend, const BackendParameter& parameter, Bin
   if (!ok) throw std::invalid_argument("must be " + parameterRange(parameter));
   if (parameter.set) parameter.set(params, value);
   else params.values[valuesKey(backend, parameter)] = value;
+}
+
+nlohmann::json parametersToJson(const Backend& backend, const BindParams& p) {
+  nlohmann::json block = nlohmann::json::object();
+  for (const BackendParameter& parameter : backend.parameters()) {
+    const double v = parameterValue(backend, parameter, p);
+    switch (parameter.type) {
+      case BackendParameter::Type::Choice:
+        block[parameter.key] = parameterText(parameter, v);
+        break;
+      case BackendParameter::Type::Integer:
+        block[parameter.key] = static_cast<long long>(v);
+        break;
+      case BackendParameter::Type::Number:
+        block[parameter.key] = v;
+        break;
+    }
+  }
+  return block;
+}
+
+std::string parametersText(const Backend& backend, const BindParams& p) {
+  std::string text;
+  for (const BackendParameter& parameter : backend.parameters()) {
+    std::string name = parameter.key;
+    std::replace(name.begin(), name.end(), '_', ' ');
+    text += (text.empty() ? "" : ", ") + name + " " + parameterText(parameter, parameterValue(backend, parameter, p));
+  }
+  return text;
 }
 
 std::string parameterText(const BackendParameter& parameter, double value) {

@@ -77,26 +77,6 @@ static json linesToJson(const Session& s) {
 
 namespace {
 
-/// params.<block> of `backend`: each described parameter's value (a choice by name).
-json parametersToJson(const Backend& backend, const BindParams& p) {
-  json block = json::object();
-  for (const BackendParameter& parameter : backend.parameters()) {
-    const double v = parameterValue(backend, parameter, p);
-    switch (parameter.type) {
-      case BackendParameter::Type::Choice:
-        block[parameter.key] = parameterText(parameter, v);
-        break;
-      case BackendParameter::Type::Integer:
-        block[parameter.key] = static_cast<long long>(v);
-        break;
-      case BackendParameter::Type::Number:
-        block[parameter.key] = v;
-        break;
-    }
-  }
-  return block;
-}
-
 /// Reads params.<block> of `backend` when the file has it; an absent key keeps its default.
 void parametersFromJson(const Backend& backend, const json& params, BindParams& p, const std::string& where) {
   const std::string block(backend.parameterBlock());

@@ -82,6 +82,7 @@ TEST(TestBackend, BindsFromTheCommandLineAndItsSessionIsRead) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto stats = nlohmann::json::parse(r.out);
   EXPECT_EQ(stats["solver"]["mvc"]["controls"], 10);
+  EXPECT_EQ(stats["mvc"]["snap"].get<double>(), 1e-7);  // its parameters, as the session's params.mvc
   EXPECT_LE(stats["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
   EXPECT_LE(stats["properties"]["inside"]["reproduction"].get<double>(), 1e-7);
   r = runCli("bind --backend mvc --mvc-snap 5 --cage '" + kImages + "star.cage.json' --size 320,320 -o t.kcw.json", dir,

@@ -123,6 +123,10 @@ std::string parameterRange(const BackendParameter& parameter);
 /// The value `parameter` has in text (a choice's name, a number as written), and back (nullopt:
 /// not a value of its type; the range is checked by setParameter).
 std::string parameterText(const BackendParameter& parameter, double value);
+/// `backend`'s described parameters in `params` as the session's params.<block> object (a choice by name).
+nlohmann::json parametersToJson(const Backend& backend, const BindParams& params);
+/// The same in words for a summary line: "tau square, tolerance 0.001, max iterations 20000".
+std::string parametersText(const Backend& backend, const BindParams& params);
 std::optional<double> parseParameter(const BackendParameter& parameter, std::string_view text);
 
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
