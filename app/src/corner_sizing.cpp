@@ -12,11 +12,7 @@ void sharpCornerSeeds(const Cage& cage, const SizingOptions& options, double max
                       std::vector<double>& H) {
   const Points& C = cage.C;
   const Index m = C.rows();
-  if (!cage.closed || m < 4) return;
-  const auto edges = cageEdges(cage);  // the polygon i → i+1 only
-  if (static_cast<Index>(edges.size()) != m) return;
-  for (Index i = 0; i < m; ++i)
-    if (edges[std::size_t(i)][0] != i || edges[std::size_t(i)][1] != (i + 1) % m) return;
+  if (m < 4 || !isClosedPolygon(cage)) return;  // the polygon i → i+1 only
   const double orientation = signedArea(C) > 0.0 ? 1.0 : -1.0;
   const double cosMax = std::cos(maxDegrees * std::numbers::pi / 180.0);
   const double hMax = options.hMax, hLow = std::max(options.hMin, finest * hMax);

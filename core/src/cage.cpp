@@ -207,6 +207,16 @@ std::vector<std::array<int, 2>> cageEdges(const Cage& cage) {
   return e;
 }
 
+bool isClosedPolygon(const Cage& cage) {
+  if (!cage.closed) return false;
+  const auto edges = cageEdges(cage);
+  const int m = static_cast<int>(cage.size());
+  if (static_cast<int>(edges.size()) != m) return false;
+  for (int i = 0; i < m; ++i)
+    if (edges[static_cast<std::size_t>(i)] != std::array<int, 2>{i, (i + 1) % m}) return false;
+  return true;
+}
+
 double signedArea(const Points& C) {
   double a = 0.0;
   const Index m = C.rows();

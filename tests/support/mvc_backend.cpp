@@ -4,7 +4,6 @@
 // with it, sessions save and load it and its report, `stats` shows that report, its parameter
 // shows in the Bind panel, and the conformance suite runs on it. Linked into the test executables that use it (tests/CMakeLists.txt).
 
-#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kc/app/backend.h"
+#include "kc/core/cage.h"
 #include "kc/core/field/field.h"
 
 namespace kc::test {
@@ -200,11 +200,7 @@ class MvcBackend final : public app::Backend {
   void bind(app::Session& s, const app::BindStep& step) const override {
     step("coordinates", 0.0);
     const Index m = s.cage.size();
-    const auto edges = cageEdges(s.cage);
-    bool polygon = s.cage.closed && static_cast<Index>(edges.size()) == m;
-    for (Index k = 0; polygon && k < m; ++k)
-      polygon = edges[static_cast<std::size_t>(k)] == std::array<int, 2>{int(k), int((k + 1) % m)};
-    if (!polygon) throw std::invalid_argument("the mvc backend binds one closed polygon");
+    if (!isClosedPolygon(s.cage)) throw std::invalid_argument("the mvc backend binds one closed polygon");
     s.samples = {};
     s.samples.X = s.cage.C;
     s.samples.kind.assign(static_cast<std::size_t>(m), SampleKind::Control);

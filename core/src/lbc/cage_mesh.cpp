@@ -107,14 +107,10 @@ using PlainCdt = CGAL::Constrained_Delaunay_triangulation_2<K, CGAL::Triangulati
 /// The closed polygon's edges; throws unless the cage is a closed polygon.
 std::vector<std::array<int, 2>> polygonEdges(const Cage& cage) {
   if (!cage.closed) throw std::invalid_argument("LBC needs a closed cage (an open cage has no interior to mesh)");
-  const auto edges = cageEdges(cage);
-  const Index m = cage.size();
-  bool polygon = Index(edges.size()) == m;
-  for (Index i = 0; polygon && i < m; ++i) polygon = edges[std::size_t(i)][0] == i && edges[std::size_t(i)][1] == (i + 1) % m;
-  if (!polygon)
+  if (!isClosedPolygon(cage))
     throw std::invalid_argument("LBC needs the cage to be one closed polygon through its points in order "
                                 "(this cage lists its own edges)");
-  return edges;
+  return cageEdges(cage);
 }
 
 /// Vertices per h² of area of a Delaunay-refined mesh with edges ≤ h and angles ≥ 20° (measured:

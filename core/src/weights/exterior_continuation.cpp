@@ -26,11 +26,9 @@ constexpr double kPocketTurn = 1.0471975511965976;
 /// Turning of a closed polygon: prefix[k] = Σ_{v < k} τ_v, τ_v the turn at vertex v (radians,
 /// positive towards the inside: a convex vertex), prefix[m] = 2π. Empty for a cage that is not
 /// one closed polygon i → i+1 (mod m) (an edge graph: the pocket test is not made there).
-std::vector<double> polygonTurning(const Cage& cage, const std::vector<std::array<int, 2>>& edges) {
+std::vector<double> polygonTurning(const Cage& cage) {
+  if (!isClosedPolygon(cage)) return {};
   const int m = static_cast<int>(cage.size());
-  bool polygon = cage.closed && static_cast<int>(edges.size()) == m;
-  for (int i = 0; polygon && i < m; ++i) polygon = edges[static_cast<std::size_t>(i)] == std::array<int, 2>{i, (i + 1) % m};
-  if (!polygon) return {};
   const double orientation = signedArea(cage.C) > 0.0 ? 1.0 : -1.0;
   std::vector<double> prefix(static_cast<std::size_t>(m) + 1, 0.0);
   for (int v = 0; v < m; ++v) {
@@ -179,7 +177,7 @@ ExteriorContinuation::ExteriorContinuation(const SampleSet& S, const Cage& cage,
   const std::vector<char> onLoop = loopEdgeFlags(cage);
   const CageEdgeGrid edgeGrid(cage, options.bandSpacings * spacing);
   const CageQueries queries(cage);
-  const std::vector<double> turning = polygonTurning(cage, edges);
+  const std::vector<double> turning = polygonTurning(cage);
   auto h = [&](const Vec2& x) { return sizing ? (*sizing)(x) : spacing; };
 
   std::vector<Term> terms(exterior.size());

@@ -37,6 +37,10 @@ std::vector<std::array<int, 2>> loopEdges(const Cage& cage);
 /// The same as one flag per edge of cageEdges(cage) (1: on a loop).
 std::vector<char> loopEdgeFlags(const Cage& cage);
 
+/// True when the cage is one closed polygon through its points in order: its edges are
+/// i → i+1 (mod m), as Cage::polygon makes them (an edge graph that lists other edges is not).
+bool isClosedPolygon(const Cage& cage);
+
 /// True when the cage bounds an interior: a closed cage, or an edge graph with a closed loop
 /// (a stick figure with a round head; thesis 6.2.2).
 bool hasInterior(const Cage& cage);
