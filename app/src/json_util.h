@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
@@ -29,6 +30,16 @@ double jsonParseCost(const std::string& text, double limit);
 json parseJson(const std::string& text, const std::string& where);
 /// Requires {"version": 1}; a missing or other major version is an InputError.
 void checkVersion(const json& j, const std::string& where);
+/// obj[key] when obj is an object holding a value of T's kind there (true/false for bool, a number
+/// otherwise), else `fallback`: for the report blocks, whose missing or damaged entries read as
+/// their defaults.
+template <class T>
+T valueOr(const json& obj, const char* key, T fallback) {
+  if (!obj.is_object() || !obj.contains(key)) return fallback;
+  const json& v = obj[key];
+  if constexpr (std::is_same_v<T, bool>) return v.is_boolean() ? v.get<bool>() : fallback;
+  else return v.is_number() ? v.get<T>() : fallback;
+}
 /// obj[key], InputError "<where>: missing key '<key>'" when absent.
 const json& require(const json& obj, const char* key, const std::string& where);
 /// A finite number; InputError naming `field` otherwise.

@@ -9,12 +9,12 @@
 #include <stdexcept>
 #include <string>
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "backends.h"
+#include "json_util.h"
 #include "kc/app/pipeline.h"
 #include "kc/app/text.h"
 #include "kc/core/field/mesh_field.h"
@@ -38,11 +38,16 @@ class LbcBindReport final : public BackendReport {
 
   Index meshVertices() const override { return m_vertices; }
   std::string summary() const override {
+    const bool certified = std::isfinite(m_r.lowerBound) && m_r.lowerBound != 0.0;
     return format(
-        "LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g (certified within "
-        "%.3g%% of the optimum), %ld vertices projected to w >= 0",
+        "LBC on %ld vertices, %d ADMM iterations, residuals primal %.2e dual %.2e, objective %.6g (%s), %ld vertices "
+        "projected to w >= 0",
         static_cast<long>(m_vertices), m_r.iterations, m_r.primalResidual, m_r.dualResidual, m_r.objective,
-        100.0 * (m_r.objective - m_r.lowerBound) / std::abs(m_r.lowerBound), static_cast<long>(m_r.projectedVertices));
+        certified ? format("certified within %.3g%% of the optimum",
+                           100.0 * (m_r.objective - m_r.lowerBound) / std::abs(m_r.lowerBound))
+                        .c_str()
+                  : "no certified bound",
+        static_cast<long>(m_r.projectedVertices));
   }
   std::vector<std::string> problems() const override {
     std::vector<std::string> out;
@@ -84,12 +89,7 @@ class LbcBindReport final : public BackendReport {
   /// The report a session's reports.lbc object holds (missing or mistyped keys: their defaults).
   static std::shared_ptr<const BackendReport> fromJson(const nlohmann::json& j) {
     if (!j.is_object()) return nullptr;
-    auto get = [&](const char* key, auto fallback) {
-      if (!j.contains(key)) return fallback;
-      const nlohmann::json& v = j[key];
-      if constexpr (std::is_same_v<decltype(fallback), bool>) return v.is_boolean() ? v.get<bool>() : fallback;
-      else return v.is_number() ? v.get<decltype(fallback)>() : fallback;
-    };
+    auto get = [&](const char* key, auto fallback) { return detail::valueOr(j, key, fallback); };
     LbcReport r;
     r.status = get("converged", false) ? SolveStatus::Ok : SolveStatus::NotConverged;
     r.iterations = get("iterations", 0);
@@ -101,12 +101,11 @@ class LbcBindReport final : public BackendReport {
     r.projectedVertices = get("projected_vertices", Index{0});
     r.maxProjection = get("max_projection", 0.0);
     r.projectionFailures = get("projection_failures", Index{0});
-    if (j.contains("seconds") && j["seconds"].is_object()) {
+    if (j.contains("seconds")) {
       const nlohmann::json& t = j["seconds"];
-      auto seconds = [&](const char* key) { return t.contains(key) && t[key].is_number() ? t[key].get<double>() : 0.0; };
-      r.geodesicSeconds = seconds("geodesics");
-      r.factorSeconds = seconds("factor");
-      r.iterationSeconds = seconds("iterations");
+      r.geodesicSeconds = detail::valueOr(t, "geodesics", 0.0);
+      r.factorSeconds = detail::valueOr(t, "factor", 0.0);
+      r.iterationSeconds = detail::valueOr(t, "iterations", 0.0);
     }
     return std::make_shared<LbcBindReport>(r, get("mesh_vertices", Index{0}));
   }

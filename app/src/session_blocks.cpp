@@ -293,12 +293,7 @@ BindReport reportsFromJson(const json& block, const Backend& backend) {
   BindReport r;
   if (!block.is_object()) return r;
   auto get = [&](const char* section, const char* key, auto fallback) {
-    if (!block.contains(section) || !block[section].is_object() || !block[section].contains(key)) return fallback;
-    const json& v = block[section][key];
-    if constexpr (std::is_same_v<decltype(fallback), bool>)
-      return v.is_boolean() ? v.get<bool>() : fallback;
-    else
-      return v.is_number() ? v.get<decltype(fallback)>() : fallback;
+    return block.contains(section) ? valueOr(block[section], key, fallback) : fallback;
   };
   r.sampling.converged = get("sampling", "converged", true);
   r.sampling.iterations = get("sampling", "iterations", 0);

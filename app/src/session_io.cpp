@@ -439,7 +439,7 @@ Session sessionFromJson(const std::string& text, const std::string& where) {
   if (j.contains("reports")) s.report = detail::reportsFromJson(j["reports"], backendFor(s.params.backend));
   if (j.contains("timings") && j["timings"].is_object()) {
     const json& t = j["timings"];
-    auto get = [&](const char* k) { return t.contains(k) && t[k].is_number() ? t[k].get<double>() : 0.0; };
+    auto get = [&](const char* k) { return detail::valueOr(t, k, 0.0); };
     s.report.timings = {get("sampling"), get("assemble"), get("factor"), get("init"),
                         get("optimize"), get("solve"),    get("total")};
   }
