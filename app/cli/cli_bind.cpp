@@ -139,8 +139,8 @@ void runBind(const BindArgs& a) {
           "sets the mesh; the samples are %.3g times as far apart; --spacing overrides)\n",
           p.spacing, mesh, app::kAutoSpacingSamples, p.spacing / mesh);
     else if (p.spacing != a.spacing && !app::backendFor(p.backend).capabilities().outsideCage)
-      std::printf("spacing: automatic %.3g px (an LBC mesh of about %.0f vertices over the cage interior; --spacing overrides)\n",
-                  p.spacing, app::kAutoLbcVertices);
+      std::printf("spacing: automatic %.3g px (an %s mesh of about %.0f vertices over the cage interior; --spacing overrides)\n",
+                  p.spacing, std::string(app::backendFor(p.backend).displayName()).c_str(), app::kAutoLbcVertices);
     else if (p.spacing != a.spacing)
       std::printf("spacing: automatic %.3g px (a sample budget of %.0f over the cage and a band around it; --spacing overrides)\n",
                   p.spacing, app::kAutoSpacingSamples);
@@ -173,7 +173,7 @@ void runBind(const BindArgs& a) {
     if (s.sizing)
       std::printf("graded: mesh spacing %.3g-%.3g px for the cage's narrow places\n", s.sizing->hMin(), s.sizing->hMax());
     std::printf("%s\n", r.summary().c_str());
-  } else {
+  } else if (app::backendFor(p.backend).capabilities().targets) {  // kernel coordinates: σ and the method
     std::printf("bound %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), sigma %.4g px\n",
                 static_cast<long>(cage.size()), static_cast<long>(s.samples.size()), static_cast<long>(r.sampling.edge),
                 static_cast<long>(r.sampling.interior), static_cast<long>(r.sampling.exterior), s.sigma);
@@ -181,6 +181,10 @@ void runBind(const BindArgs& a) {
       std::printf("graded: spacing %.3g-%.3g px (sigma %.3g-%.3g px) for the cage's narrow places\n", s.sizing->hMin(),
                   s.sizing->hMax(), s.sigma * s.sizing->hMin() / s.sizing->hMax(), s.sigma);
     std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), r.summary().c_str());
+  } else {
+    std::printf("bound %ld control points with %s, %ld points\n%s\n", static_cast<long>(cage.size()),
+                std::string(app::backendFor(p.backend).displayName()).c_str(), static_cast<long>(s.samples.size()),
+                r.summary().c_str());
   }
   const app::BindTimings& t = r.timings;
   if (!st.rigid.empty())

@@ -43,9 +43,14 @@ void printHeader(const app::Session& s, const std::string& path) {
   std::printf("  %ld control points, %ld samples (%ld edge, %ld interior, %ld exterior), image %dx%d\n", static_cast<long>(s.cage.size()),
               static_cast<long>(s.samples.size()), static_cast<long>(counts[1]), static_cast<long>(counts[3]),
               static_cast<long>(counts[4]), s.imageWidth, s.imageHeight);
-  std::printf("  backend kc, spacing %.4g px, sigma %.4g px, init %s, method %s, interp %s\n\n", s.params.spacing, s.sigma,
-              std::string(app::toString(s.params.kc.init.method)).c_str(), std::string(app::toString(s.params.kc.method)).c_str(),
-              std::string(app::toString(s.params.kc.interp)).c_str());
+  const app::Backend& backend = app::backendFor(s.params.backend);
+  std::printf("  backend %s, spacing %.4g px", s.params.backend.c_str(), s.params.spacing);
+  if (backend.capabilities().targets)  // kernel coordinates
+    std::printf(", sigma %.4g px, init %s, method %s, interp %s", s.sigma,
+                std::string(app::toString(s.params.kc.init.method)).c_str(),
+                std::string(app::toString(s.params.kc.method)).c_str(), std::string(app::toString(s.params.kc.interp)).c_str());
+  if (const std::string own = app::parametersText(backend, s.params); !own.empty()) std::printf(", %s", own.c_str());
+  std::printf("\n\n");
 }
 
 /// The property table: at the field's own points, inside the cage and — when the field has
@@ -193,7 +198,7 @@ void addStatsCommand(CLI::App& app) {
       j[block] = app::parametersToJson(backend, s.params);
       if (s.report.backend) s.report.backend->toJson(j["solver"][block], false);
     }
-    if (s.report.meshVertices() > 0)
+    if (!backend.capabilities().targets)  // the kernel coordinates' parameters mean nothing here
       for (const char* kcOnly : {"sigma", "init", "method", "interp"}) j.erase(kcOnly);
     std::cout << j.dump(2) << "\n";
   });

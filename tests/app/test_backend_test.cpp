@@ -69,8 +69,10 @@ TEST(TestBackend, BindsFromTheCommandLineAndItsSessionIsRead) {
   const auto params = nlohmann::json::parse(slurp(dir / "s.kcw.json"))["params"];
   EXPECT_EQ(params["backend"], "mvc");
   EXPECT_EQ(params["mvc"]["snap"].get<double>(), 1e-7);
+  EXPECT_NE(r.out.find("bound 10 control points with MVC"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("solver: mean value coordinates of 10 control points, snap 1e-07 px; no failures"), std::string::npos)
       << r.out;
+  EXPECT_EQ(r.out.find("sigma"), std::string::npos) << "the kernel's parameters are not this backend's: " << r.out;
   // Its own report, saved in the session's reports.<block> and shown by stats, which never name it.
   const auto reports = nlohmann::json::parse(slurp(dir / "s.kcw.json"))["reports"];
   EXPECT_EQ(reports["mvc"], (nlohmann::json{{"controls", 10}, {"snap", 1e-7}}));
@@ -78,11 +80,16 @@ TEST(TestBackend, BindsFromTheCommandLineAndItsSessionIsRead) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("solver: mean value coordinates of 10 control points"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("  MVC: closed-form weights, nothing iterated"), std::string::npos) << r.out;
+  const std::size_t at = r.out.find("  backend mvc, spacing ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string header = r.out.substr(at, r.out.find('\n', at) - at);
+  EXPECT_TRUE(header.ends_with(" px, snap 1e-07")) << "its own parameter, not the kernel's σ and method: " << header;
   r = runCli("stats --session s.kcw.json --json", dir, KC_MVC_CLI_PATH);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto stats = nlohmann::json::parse(r.out);
   EXPECT_EQ(stats["solver"]["mvc"]["controls"], 10);
   EXPECT_EQ(stats["mvc"]["snap"].get<double>(), 1e-7);  // its parameters, as the session's params.mvc
+  EXPECT_FALSE(stats.contains("sigma") || stats.contains("method")) << "the kernel's parameters are not this backend's";
   EXPECT_LE(stats["properties"]["inside"]["partition_of_unity"].get<double>(), 1e-9);
   EXPECT_LE(stats["properties"]["inside"]["reproduction"].get<double>(), 1e-7);
   r = runCli("bind --backend mvc --mvc-snap 5 --cage '" + kImages + "star.cage.json' --size 320,320 -o t.kcw.json", dir,
