@@ -24,59 +24,67 @@ const app::BindParams kDefaults{};
 
 struct BindArgs {
   std::string cage, image, size, output, structure;
-  double spacing = kDefaults.spacing, sigma = kDefaults.kc.sigma, margin = kDefaults.margin;
-  std::string init = nameOf(kDefaults.kc.init.method), method = nameOf(kDefaults.kc.method), interp = nameOf(kDefaults.kc.interp),
-              backend = kDefaults.backend, sampler = nameOf(kDefaults.sampler);
+  double spacing = kDefaults.spacing, margin = kDefaults.margin;
+  std::string backend = kDefaults.backend, sampler = nameOf(kDefaults.sampler);
   std::string exterior = nameOf(kDefaults.exterior);
-  int heatIterations = kDefaults.kc.init.iterations;
-  bool linearEdges = kDefaults.kc.linearEdges;
   bool uniformSpacing = !kDefaults.graded;
-  double locality = 0.0;  // --locality, when given, replaces --locality-spacings
-  double localitySpacings = kDefaults.kc.locality.value;
-  double targetFloor = kDefaults.kc.targetFloor;
-  bool noGuardLobes = !kDefaults.kc.guardLobes;
-  CLI::Option* localityOption = nullptr;  // given: the locality length in pixels replaces --locality-spacings
   std::uint64_t seed = kDefaults.seed;
   CLI::Option* spacingOption = nullptr;  // given or not: without it the spacing is automatic
-  /// The backends' described parameters (--<block>-<key>), by "<backend>\n<key>": the text given
-  /// (the default's when not) and the option, which says whether it was given.
+  /// The backends' described parameters (app::parameterFlag), in the order they describe them:
+  /// the text given (the default's when not; a Boolean's flag: whether it was given) and the
+  /// option, which says whether it was given.
   struct BackendOption {
+    const app::Backend* backend = nullptr;
+    const app::BackendParameter* parameter = nullptr;
     std::string text;
+    bool on = false;
     CLI::Option* option = nullptr;
   };
-  std::map<std::string, BackendOption> backendOptions;
+  std::vector<BackendOption> backendOptions;
 };
 
-/// Sets the backends' parameters given on the command line (each refused with its flag's name).
+/// Sets the backends' parameters given on the command line, in the order each backend describes
+/// them (each refused with its flag's name).
 void setBackendParameters(const BindArgs& a, app::BindParams& p) {
-  for (const std::string_view name : app::backendNames()) {
-    const app::Backend& backend = app::backendFor(name);
-    for (const app::BackendParameter& parameter : backend.parameters()) {
-      const std::string id = std::string(name) + "\n" + parameter.key;
-      const auto found = a.backendOptions.find(id);
-      if (found == a.backendOptions.end() || found->second.option->count() == 0) continue;
-      const std::string flag = found->second.option->get_name();
-      const std::optional<double> value = app::parseParameter(parameter, found->second.text);
-      if (!value) throw app::InputError(flag, "must be " + app::parameterRange(parameter));
-      app::asUserInput(flag, [&] { app::setParameter(backend, parameter, p, *value); });
+  for (const BindArgs::BackendOption& o : a.backendOptions) {
+    if (o.option->count() == 0) continue;
+    const app::BackendParameter& parameter = *o.parameter;
+    const std::string flag = app::parameterFlag(*o.backend, parameter);
+    std::optional<double> value;
+    if (parameter.type == app::BackendParameter::Type::Boolean) value = parameter.defaultValue != 0.0 ? 0.0 : 1.0;
+    else value = app::parseParameter(parameter, o.text);
+    if (!value && parameter.type == app::BackendParameter::Type::Choice) {
+      std::string list;
+      for (const std::string& c : parameter.choices) list += (list.empty() ? "" : ", ") + c;
+      throw app::InputError(flag, "unknown value '" + o.text + "' (accepted: " + list + ")");
     }
+    if (!value) throw app::InputError(flag, "must be " + app::parameterRange(parameter));
+    app::asUserInput(flag, [&] { app::setParameter(*o.backend, parameter, p, *value); });
   }
 }
 
-/// --<block>-<key> for each described parameter of each backend, its default shown.
+/// A flag for each described parameter of each backend (app::parameterFlag), its default shown.
 void addBackendOptions(CLI::App* sub, BindArgs* a) {
+  std::size_t count = 0;
+  for (const std::string_view name : app::backendNames()) count += app::backendFor(name).parameters().size();
+  a->backendOptions.reserve(count);  // the options hold pointers into the list
   for (const std::string_view name : app::backendNames()) {
     const app::Backend& backend = app::backendFor(name);
     for (const app::BackendParameter& parameter : backend.parameters()) {
-      std::string flag = "--" + std::string(backend.parameterBlock()) + "-" + parameter.key;
-      std::replace(flag.begin(), flag.end(), '_', '-');
-      const std::string id = std::string(name) + "\n" + parameter.key;
+      if (!parameter.flag) continue;
+      const std::string flag = app::parameterFlag(backend, parameter);
+      BindArgs::BackendOption& o = a->backendOptions.emplace_back();
+      o.backend = &backend;
+      o.parameter = &parameter;
+      if (parameter.type == app::BackendParameter::Type::Boolean) {
+        o.option = sub->add_flag(flag, o.on, parameter.help);
+        continue;
+      }
       std::string help = parameter.help;
       if (parameter.type == app::BackendParameter::Type::Choice) {
         help += ":";
         for (std::size_t k = 0; k < parameter.choices.size(); ++k) help += (k ? " | " : " ") + parameter.choices[k];
       }
-      BindArgs::BackendOption& o = a->backendOptions[id];
       o.text = app::parameterText(parameter, parameter.defaultValue);
       const char* type = parameter.type == app::BackendParameter::Type::Number    ? "FLOAT"
                          : parameter.type == app::BackendParameter::Type::Integer ? "INT"
@@ -90,36 +98,15 @@ void runBind(const BindArgs& a) {
   const Cage cage = app::loadCage(a.cage);
   app::checkOutputFile(a.output);
   requireFinite(a.spacing, "--spacing");
-  requireFinite(a.sigma, "--sigma");
-  requireFinite(a.locality, "--locality");
   requireFinite(a.margin, "--margin");
   // Only the picture's size is needed: its header, checked against the limits, not its pixels
   // (decoding a 12 MP PNG took longer than the bind itself; warp decodes it).
   const auto [w, h] = a.image.empty() ? parseSize(a.size, "--size") : imageHeaderSize(a.image);
   app::BindParams p;
   p.spacing = a.spacing;
-  p.kc.sigma = a.sigma;
   p.margin = a.margin;
   p.seed = a.seed;
   p.backend = a.backend;
-  p.kc.init.method = parseOption<InitMethod>(a.init, "--init");
-  p.kc.init.iterations = a.heatIterations;
-  requireFinite(a.localitySpacings, "--locality-spacings", "spacings");
-  if (a.localitySpacings < 0.0) throw app::InputError("--locality-spacings", "must be 0 (off) or a positive number of spacings");
-  using Rule = app::Locality::Rule;
-  if (a.localityOption && *a.localityOption)
-    p.kc.locality = a.locality > 0.0   ? app::Locality{Rule::Pixels, a.locality}
-                    : a.locality < 0.0 ? app::Locality{Rule::Automatic, 0.0}
-                                       : app::Locality{Rule::Off, 0.0};
-  else
-    p.kc.locality = a.localitySpacings > 0.0 ? app::Locality{Rule::Spacings, a.localitySpacings} : app::Locality{Rule::Off, 0.0};
-  if (!(a.targetFloor >= 0.0 && a.targetFloor < app::kMaxTargetFloor))  // also NaN
-    throw app::InputError("--target-floor", "must be in [0, 0.5) (0 = off)");
-  p.kc.targetFloor = a.targetFloor;
-  p.kc.guardLobes = !a.noGuardLobes;
-  p.kc.method = parseOption<Method>(a.method, "--method");
-  p.kc.interp = parseOption<InterpMode>(a.interp, "--interp");
-  p.kc.linearEdges = a.linearEdges;
   p.graded = !a.uniformSpacing;
   p.sampler = parseOption<sampling::SamplerKind>(a.sampler, "--sampler");
   p.exterior = parseOption<sampling::ExteriorExtent>(a.exterior, "--exterior");
@@ -213,41 +200,14 @@ void addBindCommand(CLI::App& app) {
   auto* image = sub->add_option("--image", a->image, "Image the cage is drawn over (gives the domain size)");
   auto* size = sub->add_option("--size", a->size, "Domain size W,H in pixels (instead of --image)");
   image->excludes(size);
-  a->spacingOption = sub->add_option("--spacing", a->spacing,
-                                     "Sample spacing h in pixels (default: 6, or larger for big cages so the kc backend "
-                                     "samples about " + std::to_string(int(app::kAutoSpacingSamples)) +
-                                         " points over the cage and a band around it)");
-  sub->add_option("--sigma", a->sigma, "Kernel sigma in pixels (0 = automatic: 3T/pi, T the mean sample spacing)")->capture_default_str();
-  sub->add_option("--init", a->init,
-                  "Initial weights: heat-linear | heat-impulse | inverse-distance | lbc (local barycentric coordinates inside the "
-                  "cage, heat-linear outside, solved on a mesh of spacing --spacing / " + app::shortNumber(app::kLbcTargetSampling) +
-                  ", the automatic --spacing being that fraction of a heat-linear bind's; --lbc-* options apply)")
-      ->capture_default_str();
-  sub->add_option("--heat-iterations", a->heatIterations,
-                  "Heat diffusion iterations, 0.." + std::to_string(app::kMaxHeatIterations) + " (0 = converged steady state)")
-      ->check(CLI::Range(0, app::kMaxHeatIterations))
-      ->capture_default_str();
-  a->localityOption = sub->add_option("--locality", a->locality,
-                  "Screened heat-linear targets: locality length in pixels (0 = off: global, harmonic-like targets; <0 = 5% of the cage "
-                  "diagonal); replaces --locality-spacings");
-  sub->add_option("--locality-spacings", a->localitySpacings,
-                  "Screened heat-linear targets: locality length in sample spacings (0 = off: --locality decides)")
-      ->capture_default_str();
-  sub->add_option("--target-floor", a->targetFloor,
-                  "Screened heat-linear targets: the heat below this weight is dropped before the optimization, so each "
-                  "point pulls on a smaller part of the shape (0 = off; below 0.5)")
-      ->capture_default_str();
-  sub->add_flag("--no-guard-lobes", a->noGuardLobes,
-                "Keep the optimizer's weights outside next to the cage and the sampling at sharp outside corners (the field then "
-                "dips deeper below 0 inside, next to the cage)");
-  sub->add_option("--method", a->method, "Optimization: qp | qec | l1")->capture_default_str();
-  sub->add_option("--interp", a->interp, "Interpolation: exact | thesis")->capture_default_str();
+  a->spacingOption =
+      sub->add_option("--spacing", a->spacing,
+                      "Sample spacing h in pixels (default: 6, or larger for big cages so the kc backend "
+                      "samples about " +
+                          std::to_string(int(app::kAutoSpacingSamples)) + " points over the cage and a band around it)");
   sub->add_flag("--uniform-spacing", a->uniformSpacing,
                 "One spacing everywhere (the default grades it: finer at the cage's narrow places, down to what the "
                 "narrowest needs; narrow places then need --spacing at most their width)");
-  sub->add_flag("--linear-edges", a->linearEdges,
-                "Post-process the samples near every edge of the cage's loops (not sticks) so that the field is linear "
-                "along it, not only at its samples (thesis 5.3.3; deepens the negative lobes near the controls)");
   std::string backends;
   for (const std::string_view name : app::backendNames())
     backends +=

@@ -45,10 +45,7 @@ void printHeader(const app::Session& s, const std::string& path) {
               static_cast<long>(counts[4]), s.imageWidth, s.imageHeight);
   const app::Backend& backend = app::backendFor(s.params.backend);
   std::printf("  backend %s, spacing %.4g px", s.params.backend.c_str(), s.params.spacing);
-  if (backend.capabilities().targets)  // kernel coordinates
-    std::printf(", sigma %.4g px, init %s, method %s, interp %s", s.sigma,
-                std::string(app::toString(s.params.kc.init.method)).c_str(),
-                std::string(app::toString(s.params.kc.method)).c_str(), std::string(app::toString(s.params.kc.interp)).c_str());
+  if (backend.capabilities().targets) std::printf(", sigma %.4g px", s.sigma);  // kernel coordinates: the σ used
   if (const std::string own = app::parametersText(backend, s.params); !own.empty()) std::printf(", %s", own.c_str());
   std::printf("\n\n");
 }

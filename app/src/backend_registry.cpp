@@ -44,6 +44,8 @@ std::vector<std::string_view> backendNames() {
 }
 
 bool registerBackend(const Backend& backend) {
+  if (backend.parameterBlock().empty() && !backend.parameters().empty())
+    throw std::invalid_argument("backend '" + std::string(backend.name()) + "' has parameters but no parameter block");
   for (const Backend* b : registry()) {
     if (b->name() == backend.name())
       throw std::invalid_argument("backend '" + std::string(backend.name()) + "' is registered twice");
@@ -62,7 +64,10 @@ double parameterValue(const Backend& backend, const BackendParameter& parameter,
 }
 
 std::string parameterRange(const BackendParameter& parameter) {
+  if (!parameter.accepts.empty()) return parameter.accepts;
   switch (parameter.type) {
+    case BackendParameter::Type::Boolean:
+      return "true or false";
     case BackendParameter::Type::Choice: {
       std::string list;
       for (const std::string& c : parameter.choices) list += (list.empty() ? "" : ", ") + c;
@@ -76,15 +81,34 @@ std::string parameterRange(const BackendParameter& parameter) {
     case BackendParameter::Type::Number:
       break;
   }
-  return "a number in [" + shortNumber(parameter.min) + ", " + shortNumber(parameter.max) + "]";
+  return "a number in [" + shortNumber(parameter.min) + ", " + shortNumber(parameter.max) + (parameter.openMax ? ")" : "]");
+}
+
+std::string parameterFlag(const Backend& backend, const BackendParameter& parameter) {
+  const std::string block(backend.parameterBlock());
+  const bool negated = parameter.type == BackendParameter::Type::Boolean && parameter.defaultValue != 0.0;
+  std::string flag = "--" + std::string(negated ? "no-" : "") + (block.empty() ? "" : block + "-") + parameter.key;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
 }
 
 void setParameter(const Backend& backend, const BackendParameter& parameter, BindParams& params, double value) {
   const bool whole = std::isfinite(value) && value == std::round(value);
-  const bool ok = parameter.type == BackendParameter::Type::Choice
-                      ? whole && value >= 0.0 && value < static_cast<double>(parameter.choices.size())
-                      : std::isfinite(value) && value >= parameter.min && value <= parameter.max &&
-                            (parameter.type != BackendParameter::Type::Integer || whole);
+  using Type = BackendParameter::Type;
+  bool ok = false;
+  switch (parameter.type) {
+    case Type::Choice:
+      ok = whole && value >= 0.0 && value < static_cast<double>(parameter.choices.size());
+      break;
+    case Type::Boolean:
+      ok = value == 0.0 || value == 1.0;
+      break;
+    case Type::Integer:
+    case Type::Number:
+      ok = std::isfinite(value) && value >= parameter.min &&
+           (parameter.openMax ? value < parameter.max : value <= parameter.max) && (parameter.type != Type::Integer || whole);
+      break;
+  }
   if (!ok) throw std::invalid_argument("must be " + parameterRange(parameter));
   if (parameter.set) parameter.set(params, value);
   else params.values[valuesKey(backend, parameter)] = value;
@@ -93,8 +117,12 @@ void setParameter(const Backend& backend, const BackendParameter& parameter, Bin
 nlohmann::json parametersToJson(const Backend& backend, const BindParams& p) {
   nlohmann::json block = nlohmann::json::object();
   for (const BackendParameter& parameter : backend.parameters()) {
+    if (!parameter.stored) continue;
     const double v = parameterValue(backend, parameter, p);
     switch (parameter.type) {
+      case BackendParameter::Type::Boolean:
+        block[parameter.key] = v != 0.0;
+        break;
       case BackendParameter::Type::Choice:
         block[parameter.key] = parameterText(parameter, v);
         break;
@@ -112,6 +140,7 @@ nlohmann::json parametersToJson(const Backend& backend, const BindParams& p) {
 std::string parametersText(const Backend& backend, const BindParams& p) {
   std::string text;
   for (const BackendParameter& parameter : backend.parameters()) {
+    if (!parameter.stored) continue;
     std::string name = parameter.key;
     std::replace(name.begin(), name.end(), '_', ' ');
     text += (text.empty() ? "" : ", ") + name + " " + parameterText(parameter, parameterValue(backend, parameter, p));
@@ -120,6 +149,7 @@ std::string parametersText(const Backend& backend, const BindParams& p) {
 }
 
 std::string parameterText(const BackendParameter& parameter, double value) {
+  if (parameter.type == BackendParameter::Type::Boolean) return value != 0.0 ? "true" : "false";
   if (parameter.type == BackendParameter::Type::Choice) {
     const auto k = static_cast<std::size_t>(value);
     return value >= 0.0 && k < parameter.choices.size() ? parameter.choices[k] : "unknown";
@@ -137,6 +167,11 @@ std::string parameterText(const BackendParameter& parameter, double value) {
 }
 
 std::optional<double> parseParameter(const BackendParameter& parameter, std::string_view text) {
+  if (parameter.type == BackendParameter::Type::Boolean) {
+    if (text == "true") return 1.0;
+    if (text == "false") return 0.0;
+    return std::nullopt;
+  }
   if (parameter.type == BackendParameter::Type::Choice) {
     for (std::size_t k = 0; k < parameter.choices.size(); ++k)
       if (parameter.choices[k] == text) return static_cast<double>(k);

@@ -3,6 +3,8 @@
 
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "kc/app/backend.h"
 #include "kc/core/lbc/cage_mesh.h"
@@ -15,6 +17,13 @@ namespace kc::app {
 
 /// Kernel coordinates (kc_backend.cpp).
 const Backend& kcBackend();
+/// Its parameters (kc_parameters.cpp): KcParams described, keys at the top of the session's params.
+const std::vector<BackendParameter>& kcParameters();
+/// Its parameters that are not `stored`: `sigma_auto` (σ itself is the session's `sigma`, the σ
+/// used) and the locality rule (`locality` in pixels, < 0 automatic; `locality_spacings`, which
+/// wins when > 0; both 0 or absent: off). readKcParameters needs s.sigma read before.
+void writeKcParameters(const Session& s, nlohmann::json& params);
+void readKcParameters(const nlohmann::json& params, Session& s, const std::string& where);
 /// Local barycentric coordinates on a mesh of the cage interior (lbc_backend.cpp).
 const Backend& lbcBackend();
 
@@ -32,6 +41,8 @@ struct LbcBind {
 /// std::invalid_argument with advice for a mesh above kcwarp's vertex limit, a failed
 /// factorization or no convergence within the iteration cap. Shared by the "lbc" backend and the
 /// kc backend's `--init lbc`.
+LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
+
 /// Structure lines and cage edges in a kernel session (thesis 5.3.3), after the per-sample
 /// optimization: with params.kc.linearEdges, first post-processes the samples near each edge of the
 /// cage's loops so that the field is linear along it from one control's Lagrange weights to the
@@ -77,7 +88,5 @@ std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& c
 /// them (all of them for an empty `rows`). Pass rows from rederivedRows so that the continued rows
 /// reading a re-optimized row are among them.
 OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation);
-
-LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::function<void(const char*, double)>& step);
 
 }  // namespace kc::app

@@ -124,6 +124,11 @@ class KcBackend final : public Backend {
   std::string_view name() const override { return "kc"; }
   std::string_view displayName() const override { return "KC"; }
   std::string_view description() const override { return "kernel coordinates"; }
+  const std::vector<BackendParameter>& parameters() const override { return kcParameters(); }
+  void writeParameters(const Session& s, nlohmann::json& params) const override { writeKcParameters(s, params); }
+  void readParameters(const nlohmann::json& params, Session& s, const std::string& where) const override {
+    readKcParameters(params, s, where);
+  }
   /// With LBC targets (`--init lbc`) the LBC solver's parameters shape the bind too.
   const Backend* targetsBackend(const BindParams& params) const override {
     return params.kc.init.method == InitMethod::Lbc ? &backendFor("lbc") : nullptr;

@@ -168,13 +168,6 @@ LbcBind solveLbcForBind(const Cage& cage, const BindParams& params, const std::f
 
 namespace {
 
-/// LbcTau's position in its names' table (the Choice parameter's value).
-std::size_t tauIndex(LbcTau tau) {
-  std::size_t k = 0;
-  while (k + 1 < EnumNames<LbcTau>::table.size() && EnumNames<LbcTau>::table[k].first != tau) ++k;
-  return k;
-}
-
 class LbcBackend final : public Backend {
  public:
   std::string_view name() const override { return "lbc"; }
@@ -214,12 +207,8 @@ class LbcBackend final : public Backend {
               "certified within 0.1% of the best possible. Smaller: slower, barely different (default 1e-3)."),
         named("max_iterations", "Max iterations", "LBC iteration cap (not converged by then: the bind fails)",
               "The solver gives up after this many iterations and Bind reports it (default 20000).")};
-    BackendParameter& tau = list[0];
-    tau.type = Type::Choice;
-    for (const auto& [value, name] : EnumNames<LbcTau>::table) tau.choices.emplace_back(name);
-    tau.defaultValue = static_cast<double>(tauIndex(defaults.tau));
-    tau.get = [](const BindParams& p) { return static_cast<double>(tauIndex(p.lbc.tau)); };
-    tau.set = [](BindParams& p, double v) { p.lbc.tau = EnumNames<LbcTau>::table[static_cast<std::size_t>(v)].first; };
+    describeChoice(
+        list[0], defaults.tau, [](const BindParams& p) { return p.lbc.tau; }, [](BindParams& p, LbcTau t) { p.lbc.tau = t; });
     BackendParameter& tolerance = list[1];
     tolerance.min = 1e-12, tolerance.max = 1.0, tolerance.logarithmic = true;
     tolerance.defaultValue = defaults.tolerance;

@@ -77,69 +77,63 @@ static json linesToJson(const Session& s) {
 
 namespace {
 
-/// Reads params.<block> of `backend` when the file has it; an absent key keeps its default.
-void parametersFromJson(const Backend& backend, const json& params, BindParams& p, const std::string& where) {
+/// Reads `backend`'s stored parameters from params.<block> (the top of params for a backend
+/// without a block): a key the file lacks takes its absentValue when it has one, else keeps its
+/// default. Then the backend's own readParameters.
+void parametersFromJson(const Backend& backend, const json& params, Session& s, const std::string& where) {
   const std::string block(backend.parameterBlock());
-  if (!params.contains(block)) return;
-  const json& values = params[block];
+  const std::string prefix = "params." + (block.empty() ? "" : block + ".");
+  static const json none = json::object();
+  const json& values = block.empty() ? params : params.contains(block) ? params[block] : none;
   if (!values.is_object()) throw InputError(where, "params." + block + " must be an object");
   for (const BackendParameter& parameter : backend.parameters()) {
-    if (!values.contains(parameter.key)) continue;
-    const json& v = values[parameter.key];
-    const std::string what = "params." + block + "." + parameter.key;
-    std::optional<double> value;
-    if (parameter.type == BackendParameter::Type::Choice)
-      value = v.is_string() ? parseParameter(parameter, v.get<std::string>()) : std::nullopt;
-    else if (v.is_number()) value = v.get<double>();
-    if (!value)
-      throw InputError(where, what + " has an unknown value " + detail::quoted(v) + " (" + parameterRange(parameter) + ")");
+    if (!parameter.stored) continue;
+    const std::string what = prefix + parameter.key;
+    std::optional<double> value = parameter.absentValue;
+    if (values.contains(parameter.key)) {
+      const json& v = values[parameter.key];
+      switch (parameter.type) {
+        case BackendParameter::Type::Choice:
+          value = v.is_string() ? parseParameter(parameter, v.get<std::string>()) : std::nullopt;
+          if (!value)
+            throw InputError(where, what + " has an unknown value " + detail::quoted(v) + " (" + parameterRange(parameter) + ")");
+          break;
+        case BackendParameter::Type::Boolean:
+          if (!v.is_boolean()) throw InputError(where, what + " must be true or false");
+          value = v.get<bool>() ? 1.0 : 0.0;
+          break;
+        case BackendParameter::Type::Integer:
+        case BackendParameter::Type::Number:
+          value = detail::finiteNumber(v, where, what);
+          break;
+      }
+    }
+    if (!value) continue;
     try {
-      setParameter(backend, parameter, p, *value);
+      setParameter(backend, parameter, s.params, *value);
     } catch (const std::invalid_argument& e) {
       throw InputError(where, what + " " + e.what());
     }
   }
-}
-
-/// `params.locality`: the Pixels rule's length, −1 for the Automatic rule, 0 otherwise (off, or
-/// the Spacings rule, which `params.locality_spacings` holds).
-double localityPixelsKey(const Locality& l) {
-  switch (l.rule) {
-    case Locality::Rule::Pixels:
-      return l.value;
-    case Locality::Rule::Automatic:
-      return -1.0;
-    default:
-      return 0.0;
-  }
+  backend.readParameters(params, s, where);
 }
 
 }  // namespace
 
 std::string sessionToJson(const Session& s, WeightsForm form) {
   const BindParams& p = s.params;
-  json params = {{"spacing", p.spacing},
-                 {"sigma", s.sigma},
-                 {"sigma_auto", !(p.kc.sigma > 0.0)},
-                 {"init", std::string(toString(p.kc.init.method))},
-                 {"heat_iterations", p.kc.init.iterations},
-                 {"locality", localityPixelsKey(p.kc.locality)},
-                 {"method", std::string(toString(p.kc.method))},
-                 {"interp", std::string(toString(p.kc.interp))},
-                 {"linear_edges", p.kc.linearEdges},
-                 {"locality_spacings", p.kc.locality.rule == Locality::Rule::Spacings ? p.kc.locality.value : 0.0},
-                 {"target_floor", p.kc.targetFloor},
-                 {"guard_lobes", p.kc.guardLobes},
-                 {"exact_lines", p.kc.exactLines},
-                 {"backend", p.backend},
-                 {"sampler", std::string(toString(p.sampler))},
-                 {"margin", p.margin},
-                 {"exterior", std::string(toString(p.exterior))},
-                 {"seed", p.seed},
-                 {"graded", p.graded}};
+  json params = {{"spacing", p.spacing}, {"sigma", s.sigma},
+                 {"backend", p.backend}, {"sampler", std::string(toString(p.sampler))},
+                 {"margin", p.margin},   {"exterior", std::string(toString(p.exterior))},
+                 {"seed", p.seed},       {"graded", p.graded}};
   if (s.lbcMeshSpacing > 0.0) params["lbc_mesh_spacing"] = s.lbcMeshSpacing;
-  if (const Backend& backend = backendFor(p.backend); !backend.parameterBlock().empty())
-    params[std::string(backend.parameterBlock())] = parametersToJson(backend, p);
+  // Every backend's parameters, the bound one's and the others' (the next bind may switch).
+  for (const std::string_view name : backendNames()) {
+    const Backend& backend = backendFor(name);
+    if (const std::string block(backend.parameterBlock()); !block.empty()) params[block] = parametersToJson(backend, p);
+    else params.update(parametersToJson(backend, p));
+    backend.writeParameters(s, params);
+  }
   json j = {{"version", 1},
             {"cage", detail::cageToJson(s.cage)},
             {"image_size", {s.imageWidth, s.imageHeight}},
@@ -232,51 +226,7 @@ void paramsFromJson(const json& params, Session& s, const std::string& where) {
                 ? detail::boundedNumber(detail::require(params, "sigma", where), kMaxCoordinate, where, "params.sigma")
                 : 0.0;
   if (kernel && !(s.sigma > 0)) throw InputError(where, "params.sigma must be positive");
-  for (const std::string_view name : backendNames())
-    if (const Backend& backend = backendFor(name); !backend.parameterBlock().empty())
-      parametersFromJson(backend, params, p, where);
-  const bool sigmaAuto = params.contains("sigma_auto") && params["sigma_auto"].is_boolean() && params["sigma_auto"].get<bool>();
-  p.kc.sigma = sigmaAuto ? 0.0 : s.sigma;
-  p.kc.init.method = parseEnum(params, "init", InitMethod::HeatLinear, where);
-  if (params.contains("heat_iterations")) {
-    p.kc.init.iterations =
-        static_cast<int>(detail::integerInRange(params["heat_iterations"], 0, kMaxHeatIterations, where, "params.heat_iterations"));
-  }
-  // `locality_spacings` > 0: the Spacings rule; else `locality` in pixels, < 0 automatic, 0 (or
-  // absent, sessions written before either option) off.
-  double spacings = 0.0, pixels = 0.0;
-  if (params.contains("locality_spacings")) {
-    spacings = detail::boundedNumber(params["locality_spacings"], kMaxCoordinate, where, "params.locality_spacings");
-    if (!(spacings >= 0.0)) throw InputError(where, "params.locality_spacings must be 0 (off) or a positive number of spacings");
-  }
-  if (params.contains("locality")) pixels = detail::boundedNumber(params["locality"], kMaxCoordinate, where, "params.locality");
-  p.kc.locality = spacings > 0.0 ? Locality{Locality::Rule::Spacings, spacings}
-                  : pixels > 0.0 ? Locality{Locality::Rule::Pixels, pixels}
-                  : pixels < 0.0 ? Locality{Locality::Rule::Automatic, 0.0}
-                                 : Locality{Locality::Rule::Off, 0.0};
-  p.kc.targetFloor = 0.0;  // sessions written before the option: the whole diffused tail
-  if (params.contains("target_floor")) {
-    p.kc.targetFloor = detail::boundedNumber(params["target_floor"], 1.0, where, "params.target_floor");
-    if (!(p.kc.targetFloor >= 0.0 && p.kc.targetFloor < kMaxTargetFloor))
-      throw InputError(where, "params.target_floor must be in [0, 0.5) (0 = off)");
-  }
-  p.kc.guardLobes = false;  // sessions written before the option: exterior rows as optimized, corners as sampled
-  if (params.contains("guard_lobes")) {
-    if (!params["guard_lobes"].is_boolean()) throw InputError(where, "params.guard_lobes must be true or false");
-    p.kc.guardLobes = params["guard_lobes"].get<bool>();
-  }
-  p.kc.exactLines = false;  // sessions written before the option: lines made linear through the samples
-  if (params.contains("exact_lines")) {
-    if (!params["exact_lines"].is_boolean()) throw InputError(where, "params.exact_lines must be true or false");
-    p.kc.exactLines = params["exact_lines"].get<bool>();
-  }
-  p.kc.method = parseEnum(params, "method", Method::QP, where);
-  p.kc.interp = parseEnum(params, "interp", InterpMode::Exact, where);
-  p.kc.linearEdges = false;  // sessions written before the option: their edges were not post-processed
-  if (params.contains("linear_edges")) {
-    if (!params["linear_edges"].is_boolean()) throw InputError(where, "params.linear_edges must be true or false");
-    p.kc.linearEdges = params["linear_edges"].get<bool>();
-  }
+  for (const std::string_view name : backendNames()) parametersFromJson(backendFor(name), params, s, where);
   p.sampler = parseEnum(params, "sampler", sampling::SamplerKind::BlueNoise, where);
   p.exterior = parseEnum(params, "exterior", sampling::ExteriorExtent::Frame, where);  // older sessions sampled the frame
   if (params.contains("lbc_mesh_spacing")) {

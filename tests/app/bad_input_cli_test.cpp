@@ -261,7 +261,8 @@ TEST_F(BadInput, BindLocalityNan) {
 TEST_F(BadInput, BindLocalityInf) { expectRefused("bind --cage cage.json --size 96,96 --locality inf -o out.kcw.json", "--locality"); }
 
 TEST_F(BadInput, BindLocalitySpacingsNanOrNegative) {
-  expectRefused("bind --cage cage.json --size 96,96 --locality-spacings nan -o out.kcw.json", "--locality-spacings: must be a finite number of spacings");
+  expectRefused("bind --cage cage.json --size 96,96 --locality-spacings nan -o out.kcw.json",
+                "--locality-spacings: must be 0 (off) or a positive number of spacings");
   expectRefused("bind --cage cage.json --size 96,96 --locality-spacings -1 -o out.kcw.json", "--locality-spacings: must be 0 (off)");
   EXPECT_FALSE(fs::exists(m_dir / "out.kcw.json"));
 }

@@ -89,6 +89,27 @@ TEST(CliBind, TheLocalityFlagsChooseOneRule) {
   }
 }
 
+/// A Boolean parameter's flag turns its default over: --linear-edges on, --no-guard-lobes and
+/// --no-exact-lines off (app::parameterFlag); the session keeps what was given.
+TEST(CliBind, BooleanFlagsTurnTheirDefaultOver) {
+  const auto dir = scratchDir("cli_boolean_flags");
+  writeText(dir / "cage.json", kSquare);
+  struct Case {
+    const char* flag;
+    const char* key;
+    bool value;
+  };
+  for (const Case& c : {Case{"--linear-edges", "linear_edges", true}, Case{"--no-guard-lobes", "guard_lobes", false},
+                        Case{"--no-exact-lines", "exact_lines", false}}) {
+    CliResult r = runCli("bind --cage cage.json --size 96,96 --spacing 8 -o s.kcw.json", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "s.kcw.json"))["params"][c.key].get<bool>(), !c.value) << "default of " << c.flag;
+    r = runCli(std::string("bind --cage cage.json --size 96,96 --spacing 8 -o s.kcw.json ") + c.flag, dir);
+    ASSERT_EQ(r.code, 0) << c.flag << ": " << r.err;
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "s.kcw.json"))["params"][c.key].get<bool>(), c.value) << c.flag;
+  }
+}
+
 TEST(CliBind, StatsMeasureHowStraightTheStructureLinesStay) {
   const auto dir = scratchDir("cli_stats_lines");
   writeText(dir / "cage.json", R"({"version": 1, "points": [[8,8],[152,8],[152,152],[8,152]], "closed": true})");

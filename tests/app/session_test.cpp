@@ -297,6 +297,74 @@ TEST(Session, SolverReportsAreSavedAndRead) {
   EXPECT_NE(t.report.summary().find("WARNING"), std::string::npos);
 }
 
+/// Every backend's parameters go through their description (BackendParameter): set away from
+/// their defaults they come back from the file, the kc backend's at the top of params (σ and the
+/// locality rule through its own keys), the LBC solver's in params.lbc also in a kc session.
+TEST(Session, EveryBackendsParametersComeBackFromTheFile) {
+  Session s = smallSession();
+  KcParams& kc = s.params.kc;
+  kc.sigma = s.sigma;  // a σ set by hand
+  kc.init.method = InitMethod::InverseDistance;
+  kc.init.iterations = 7;
+  kc.targetFloor = 0.125;
+  kc.guardLobes = false;
+  kc.method = Method::QEC;
+  kc.linearEdges = true;
+  kc.exactLines = false;
+  s.params.lbc = {LbcTau::Linear, 1e-4, 123};
+  for (const Locality locality : {Locality{Locality::Rule::Pixels, 17.0}, Locality{Locality::Rule::Spacings, 2.5},
+                                  Locality{Locality::Rule::Automatic, 0.0}, Locality{Locality::Rule::Off, 0.0}}) {
+    kc.locality = locality;
+    const Session t = sessionFromJson(sessionToJson(s), "mem.kcw.json");
+    const KcParams& k = t.params.kc;
+    EXPECT_EQ(k.locality, locality);
+    EXPECT_EQ(k.sigma, s.sigma);
+    EXPECT_EQ(k.init.method, InitMethod::InverseDistance);
+    EXPECT_EQ(k.init.iterations, 7);
+    EXPECT_EQ(k.targetFloor, 0.125);
+    EXPECT_FALSE(k.guardLobes);
+    EXPECT_EQ(k.method, Method::QEC);
+    EXPECT_EQ(k.interp, InterpMode::Exact);
+    EXPECT_TRUE(k.linearEdges);
+    EXPECT_FALSE(k.exactLines);
+    EXPECT_EQ(t.params.lbc.tau, LbcTau::Linear);
+    EXPECT_EQ(t.params.lbc.tolerance, 1e-4);
+    EXPECT_EQ(t.params.lbc.maxIterations, 123);
+  }
+  kc.sigma = 0.0;  // automatic: the file keeps the σ used and says it was chosen
+  const auto j = nlohmann::json::parse(sessionToJson(s));
+  EXPECT_EQ(j["params"]["sigma"].get<double>(), s.sigma);
+  EXPECT_TRUE(j["params"]["sigma_auto"].get<bool>());
+  EXPECT_EQ(sessionFromJson(j.dump(), "mem.kcw.json").params.kc.sigma, 0.0);
+}
+
+/// A file written before an option existed reads the behaviour it was bound with: each key's
+/// absent value (BackendParameter::absentValue), not today's default.
+TEST(Session, KeysAnOlderFileLacksReadTheirAbsentValues) {
+  auto j = nlohmann::json::parse(sessionToJson(smallSession()));
+  for (const char* key : {"target_floor", "guard_lobes", "exact_lines", "linear_edges", "locality", "locality_spacings",
+                          "sigma_auto", "heat_iterations", "init", "lbc"})
+    j["params"].erase(key);
+  const Session t = sessionFromJson(j.dump(), "old.kcw.json");
+  const KcParams& k = t.params.kc;
+  EXPECT_EQ(k.targetFloor, 0.0);
+  EXPECT_FALSE(k.guardLobes);
+  EXPECT_FALSE(k.exactLines);
+  EXPECT_FALSE(k.linearEdges);
+  EXPECT_EQ(k.locality.rule, Locality::Rule::Off);
+  EXPECT_EQ(k.sigma, t.sigma);  // no sigma_auto: the σ written was set by hand
+  EXPECT_EQ(k.init.iterations, InitOptions{}.iterations);
+  EXPECT_EQ(k.init.method, InitMethod::HeatLinear);
+  EXPECT_EQ(t.params.lbc.tau, LbcParams{}.tau);
+  j["params"]["guard_lobes"] = 1;
+  try {
+    sessionFromJson(j.dump(), "old.kcw.json");
+    ADD_FAILURE() << "a number for a Boolean key was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("params.guard_lobes must be true or false"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Session, OldFormatSessionStillLoads) {
   // Written by kcwarp-cli bind before the field and reports blocks existed (checked in).
   const std::string path = std::string(KC_SOURCE_DIR) + "/tests/data/old_format.kcw.json";

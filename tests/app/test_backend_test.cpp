@@ -30,6 +30,28 @@ TEST(TestBackend, RegisteredWithOneLineItIsAvailableByName) {
   EXPECT_THROW(app::registerBackend(mvc), std::invalid_argument);  // a name is taken once
 }
 
+/// Only the built-in kc backend keeps its keys at the top of the session's params: a registered
+/// backend with parameters and no block of its own is refused (its keys could meet another's).
+TEST(TestBackend, ABackendWithParametersNeedsABlock) {
+  struct Blockless final : app::Backend {
+    std::string_view name() const override { return "blockless"; }
+    app::BackendCapabilities capabilities() const override { return {}; }
+    std::string_view displayName() const override { return "Blockless"; }
+    std::string_view description() const override { return "a test"; }
+    const std::vector<app::BackendParameter>& parameters() const override {
+      static const std::vector<app::BackendParameter> one(1);
+      return one;
+    }
+    void bind(app::Session&, const app::BindStep&) const override {}
+    void rebuildField(app::Session&) const override {}
+    OptimizeReport reoptimize(app::Session&, Method, std::span<const Index>, std::vector<Index>*) const override { return {}; }
+  };
+  static const Blockless blockless;
+  EXPECT_THROW(app::registerBackend(blockless), std::invalid_argument);
+  const auto names = app::backendNames();
+  EXPECT_EQ(std::find(names.begin(), names.end(), "blockless"), names.end());
+}
+
 TEST(TestBackend, BindsThroughThePipelineWithItsParameter) {
   const Cage cage = app::loadCage(kImages + "star.cage.json");
   app::BindParams p;

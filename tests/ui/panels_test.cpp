@@ -483,6 +483,27 @@ TEST(BindPanel, LocalTargetsSwitchesTheScreeningAndTheFloor) {
   EXPECT_EQ(s->bindParams.kc.targetFloor, app::kTargetFloor);
 }
 
+/// The kc backend's Advanced parameters come from its description: closed until opened, then each
+/// a widget of its type that sets the next bind's parameter.
+TEST(BindPanel, AdvancedShowsTheDescribedParametersAndSetsThem) {
+  test::HeadlessImGui gui;
+  auto s = test::boundState();
+  auto draw = [&] { drawFrame(*s); };
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  ASSERT_TRUE(s->widgets.count("Advanced"));
+  EXPECT_FALSE(s->widgets.count("Guard lobes"));
+  gui.clickLabel(*s, "Advanced", draw);
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  for (const char* label : {"Heat iterations", "Target floor", "Guard lobes", "Linear edges", "Exact lines"})
+    EXPECT_TRUE(s->widgets.count(label)) << label;
+  ASSERT_TRUE(s->bindParams.kc.guardLobes);
+  gui.clickLabel(*s, "Guard lobes", draw);
+  EXPECT_FALSE(s->bindParams.kc.guardLobes);
+  s->bindParams.kc.init.method = InitMethod::InverseDistance;  // no diffusion: its iterations are not shown
+  for (int k = 0; k < 2; ++k) gui.frame(draw);
+  EXPECT_FALSE(s->widgets.count("Heat iterations"));
+}
+
 /// The spacing shown next to "Auto spacing" is the one Bind will use: switching Initialization to
 /// LBC (whose kernel samples lie at half a plain bind's spacing) changes it at once.
 TEST(BindPanel, AutoSpacingShownFollowsTheInitialization) {

@@ -15,23 +15,6 @@
 namespace kc::ui {
 namespace {
 
-/// A combo over an enum's values with app::toString labels; returns true on change.
-template <class E, std::size_t N>
-bool enumCombo(const char* label, E& value, const E (&values)[N], const char* tip) {
-  bool changed = false;
-  if (ImGui::BeginCombo(label, std::string(app::toString(value)).c_str())) {
-    for (E v : values) {
-      if (ImGui::Selectable(std::string(app::toString(v)).c_str(), v == value)) {
-        value = v;
-        changed = true;
-      }
-    }
-    ImGui::EndCombo();
-  }
-  tooltip(tip);
-  return changed;
-}
-
 /// The backend switch: one radio button per backend (app::backendNames) for the next Bind.
 void backendSwitch(AppState& state) {
   app::BindParams& p = state.bindParams;
@@ -85,14 +68,85 @@ std::string plannedSpacingTip(const Document::ShownSpacing& plan, bool mesh) {
   return text;
 }
 
-/// A backend's described parameters (app::BackendParameter), one widget each.
-void parameterControls(AppState& state, const app::Backend& backend) {
+/// The "kernel-width" widget: Auto <label> (the value 0) with the width the next bind will use
+/// beside it, or the width to set.
+void kernelWidthWidget(AppState& state, const app::Backend& backend, const app::BackendParameter& parameter, double bindSpacing) {
+  app::BindParams& p = state.bindParams;
+  const double value = app::parameterValue(backend, parameter, p);
+  bool automatic = value <= 0.0;
+  const std::string label = "Auto " + parameter.label;
+  if (checkbox(state, label.c_str(), &automatic,
+               "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
+    app::setParameter(backend, parameter, p, automatic ? 0.0 : app::automaticSigma(p.spacing));
+  ImGui::SameLine();
+  const bool boundAuto = state.session && state.session->params.backend == p.backend &&
+                         !(app::parameterValue(backend, parameter, state.session->params) > 0.0);
+  const std::string boundSigma = automatic && boundAuto ? boundSigmaText(state) : "";
+  if (!boundSigma.empty() && std::abs(bindSpacing - state.bound->spacing) < 1e-9) {
+    // Bound with the automatic sigma at the spacing the next bind uses: the width it measured.
+    ImGui::TextDisabled("%s", boundSigma.c_str());
+    tooltip(
+        "The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
+        "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
+  } else if (automatic) {
+    const auto [smallest, sigma] = plannedSigma(state);
+    ImGui::TextDisabled("about %s", sigmaRangeText(sigma, smallest, sigma).c_str());
+    tooltip(
+        "Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
+        "Where the samples lie closer (narrow places), sigma is smaller in proportion.");
+  } else {
+    float sigma = static_cast<float>(value);
+    ImGui::SetNextItemWidth(100);
+    const std::string id = "##" + parameter.key;
+    if (ImGui::DragFloat(id.c_str(), &sigma, 0.05f, 0.2f, 200.0f, "%.2f px"))
+      app::setParameter(backend, parameter, p, std::max(0.2, double(sigma)));
+    tooltip(parameter.tooltip.c_str());
+  }
+}
+
+/// The "local-targets" widget: the switch, and while on, the locality length the bind will use
+/// (pixels), which sets the backend's `locality` parameter (pixels) when dragged.
+void localTargetsWidget(AppState& state, const app::Backend& backend, const app::BackendParameter& parameter) {
+  app::BindParams& p = state.bindParams;
+  bool on = app::parameterValue(backend, parameter, p) != 0.0;
+  if (checkbox(state, parameter.label.c_str(), &on, parameter.tooltip.c_str()))
+    app::setParameter(backend, parameter, p, on ? 1.0 : 0.0);
+  if (!on) return;
+  const auto pixels = std::find_if(backend.parameters().begin(), backend.parameters().end(),
+                                   [](const app::BackendParameter& q) { return q.key == "locality"; });
+  if (pixels == backend.parameters().end()) return;
+  ImGui::SameLine();
+  // In spacings (follows the spacing the bind will use, the default) or, once edited, in pixels.
+  float locality = static_cast<float>(spacingPlan(state).locality);
+  ImGui::SetNextItemWidth(100);
+  if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px"))
+    app::setParameter(backend, *pixels, p, std::max(1.0, double(locality)));
+  tooltip(pixels->tooltip.c_str());
+}
+
+/// A backend's described parameters (app::BackendParameter) drawn at `where`, one widget each
+/// (a parameter's own widget, else its type's). `bindSpacing`: the spacing the next bind uses.
+void parameterControls(AppState& state, const app::Backend& backend, app::BackendParameter::Panel where, double bindSpacing) {
   app::BindParams& p = state.bindParams;
   for (const app::BackendParameter& parameter : backend.parameters()) {
+    if (parameter.panel != where || (parameter.shownWhen && !parameter.shownWhen(p))) continue;
+    if (parameter.widget == "kernel-width") {
+      kernelWidthWidget(state, backend, parameter, bindSpacing);
+      continue;
+    }
+    if (parameter.widget == "local-targets") {
+      localTargetsWidget(state, backend, parameter);
+      continue;
+    }
     const char* label = parameter.label.c_str();
     const double value = app::parameterValue(backend, parameter, p);
     double changed = value;
     switch (parameter.type) {
+      case app::BackendParameter::Type::Boolean: {
+        bool on = value != 0.0;
+        if (ImGui::Checkbox(label, &on)) changed = on ? 1.0 : 0.0;
+        break;
+      }
       case app::BackendParameter::Type::Choice:
         if (ImGui::BeginCombo(label, app::parameterText(parameter, value).c_str())) {
           for (std::size_t k = 0; k < parameter.choices.size(); ++k)
@@ -108,10 +162,12 @@ void parameterControls(AppState& state, const app::Backend& backend) {
         break;
       }
       case app::BackendParameter::Type::Number: {
+        // An open upper end is kept out of reach of the slider.
+        const double top = parameter.openMax ? std::nextafter(parameter.max, parameter.min) : parameter.max;
         if (!parameter.logarithmic) {
           float v = static_cast<float>(value);
-          if (ImGui::SliderFloat(label, &v, static_cast<float>(parameter.min), static_cast<float>(parameter.max), "%.3g"))
-            changed = std::clamp(double(v), parameter.min, parameter.max);
+          if (ImGui::SliderFloat(label, &v, static_cast<float>(parameter.min), static_cast<float>(top), "%.3g"))
+            changed = std::clamp(double(v), parameter.min, top);
           break;
         }
         // A slider over log10 of the value, showing the value (ImGui's own logarithmic slider
@@ -119,10 +175,10 @@ void parameterControls(AppState& state, const app::Backend& backend) {
         char shown[32];
         std::snprintf(shown, sizeof shown, "%.0e", value);
         float e = static_cast<float>(std::log10(value));
-        if (ImGui::SliderFloat(label, &e, static_cast<float>(std::log10(parameter.min)),
-                               static_cast<float>(std::log10(parameter.max)), shown)) {
+        if (ImGui::SliderFloat(label, &e, static_cast<float>(std::log10(parameter.min)), static_cast<float>(std::log10(top)),
+                               shown)) {
           std::snprintf(shown, sizeof shown, "%.0e", std::pow(10.0, double(e)));
-          changed = std::clamp(std::strtod(shown, nullptr), parameter.min, parameter.max);
+          changed = std::clamp(std::strtod(shown, nullptr), parameter.min, top);
         }
         break;
       }
@@ -130,6 +186,21 @@ void parameterControls(AppState& state, const app::Backend& backend) {
     labelled(state, label, parameter.tooltip.c_str());
     if (changed != value) app::setParameter(backend, parameter, p, changed);
   }
+}
+
+/// A backend's Advanced parameters under a collapsed header (nothing when it has none shown now).
+void advancedControls(AppState& state, const app::Backend& backend, double bindSpacing) {
+  const app::BindParams& p = state.bindParams;
+  const auto& list = backend.parameters();
+  if (std::none_of(list.begin(), list.end(), [&](const app::BackendParameter& q) {
+        return q.panel == app::BackendParameter::Panel::Advanced && (!q.shownWhen || q.shownWhen(p));
+      }))
+    return;
+  const bool open = ImGui::TreeNode("Advanced##bind");
+  labelled(state, "Advanced", "Settings most pictures never need: their defaults are the recommended ones.");
+  if (!open) return;
+  parameterControls(state, backend, app::BackendParameter::Panel::Advanced, bindSpacing);
+  ImGui::TreePop();
 }
 
 /// The cage's status and the Bind row (Previous / Next bind, the cage-edited hint): above the
@@ -221,10 +292,11 @@ void drawBindPanel(AppState& state) {
                              "Smaller: finer detail, slower Bind. Larger: faster, coarser."
                            : "Distance between the sample points the weights are computed at, away from narrow places, in "
                              "pixels. Smaller: finer detail, slower Bind. Larger: faster, smoother.";
-  if (!mesh && p.kc.init.method == InitMethod::Lbc) {
-    char line[128];
-    std::snprintf(line, sizeof line, " With LBC initialization the LBC mesh's edges are %.3g times this spacing.",
-                  1.0 / app::kLbcTargetSampling);
+  if (const app::Backend* targets = backend.targetsBackend(p)) {
+    char line[160];
+    std::snprintf(line, sizeof line, " With %s initialization the %s mesh's edges are %.3g times this spacing.",
+                  std::string(targets->displayName()).c_str(), std::string(targets->displayName()).c_str(),
+                  backend.weightSpacing(p) / p.spacing);
     tip += line;
   }
   tooltip(tip.c_str());
@@ -236,70 +308,11 @@ void drawBindPanel(AppState& state) {
       tooltip(plannedSpacingTip(plan, mesh).c_str());
     }
   }
-  if (!backend.capabilities().targets) {  // the kc backend's parameters below
-    parameterControls(state, backend);
-    ImGui::PopItemWidth();
-    drawBoundSummary(state);
-    return;
-  }
-  bool autoSigma = p.kc.sigma <= 0.0;
-  if (checkbox(state, "Auto sigma", &autoSigma,
-               "Let kcwarp choose the smoothing width (sigma) from the sample spacing (recommended)."))
-    p.kc.sigma = autoSigma ? 0.0 : app::automaticSigma(p.spacing);
-  ImGui::SameLine();
-  const bool boundAuto = state.session && !(state.session->params.kc.sigma > 0.0);
-  const std::string boundSigma = autoSigma && boundAuto ? boundSigmaText(state) : "";
-  if (!boundSigma.empty() && std::abs(bindSpacing - state.bound->spacing) < 1e-9) {
-    // Bound with the automatic sigma at the spacing the next bind uses: the width it measured.
-    ImGui::TextDisabled("%s", boundSigma.c_str());
-    tooltip("The width the bound weights use: 3T/pi with T the spacing measured on the samples (thesis eq. 3.28), "
-            "smaller in proportion where the samples lie closer (narrow places). Bind measures it again.");
-  } else if (autoSigma) {
-    const auto [smallest, sigma] = plannedSigma(state);
-    ImGui::TextDisabled("about %s", sigmaRangeText(sigma, smallest, sigma).c_str());
-    tooltip("Estimated as 3T/pi with T the spacing; Bind measures T on the actual samples (thesis eq. 3.28). "
-            "Where the samples lie closer (narrow places), sigma is smaller in proportion.");
-  } else {
-    float sigma = static_cast<float>(p.kc.sigma);
-    ImGui::SetNextItemWidth(100);
-    if (ImGui::DragFloat("##sigma", &sigma, 0.05f, 0.2f, 200.0f, "%.2f px")) p.kc.sigma = std::max(0.2f, sigma);
-    tooltip("Smoothing width in pixels: larger gives smoother but less exact weights.");
-  }
-  static constexpr InitMethod inits[] = {InitMethod::HeatLinear, InitMethod::HeatImpulse, InitMethod::InverseDistance,
-                                         InitMethod::Lbc};
-  static constexpr InterpMode interps[] = {InterpMode::Exact, InterpMode::Thesis};
-  enumCombo("Initialization", p.kc.init.method, inits,
-            "How the starting influences are guessed before they are optimized:\n"
-            "heat-linear: heat spread from the cage outline, linear along its edges (recommended);\n"
-            "heat-impulse: heat spread from the points only;\n"
-            "inverse-distance: nearer points pull harder;\n"
-            "lbc: the local influences of LBC inside the cage (as local as LBC, still paintable; slower Bind).");
-  markWidget(state, "Initialization");
-  if (const app::Backend* targets = backend.targetsBackend(p)) parameterControls(state, *targets);  // its solver's parameters
-  if (p.kc.init.method == InitMethod::HeatLinear) {
-    // Screened targets (the default, 1.5 spacings): how far a control point's influence reaches inside the shape.
-    bool screened = p.kc.locality.rule != app::Locality::Rule::Off;
-    if (checkbox(state, "Local targets", &screened,
-                 "A point pulls mostly on the parts of the shape near it (screened heat diffusion, its faint far tail "
-                 "dropped), about as locally as LBC (recommended). Off: smooth influences that reach further. Takes effect "
-                 "at the next Bind.")) {
-      p.kc.locality = screened ? app::Locality{} : app::Locality{app::Locality::Rule::Off, 0.0};
-      p.kc.targetFloor = screened ? app::kTargetFloor : 0.0;
-    }
-    if (screened) {
-      ImGui::SameLine();
-      // In spacings (follows the spacing the bind will use, the default) or, once edited, in pixels.
-      float locality = static_cast<float>(spacingPlan(state).locality);
-      ImGui::SetNextItemWidth(100);
-      if (ImGui::DragFloat("##locality", &locality, 0.5f, 1.0f, 2000.0f, "%.0f px"))
-        p.kc.locality = {app::Locality::Rule::Pixels, std::max(1.0f, locality)};
-      tooltip("How far (pixels, inside the shape) a point's pull reaches; by default 1.5 sample spacings, more in a deep shape "
-              "with few points.");
-    }
-  }
-  enumCombo("Interpolation", p.kc.interp, interps,
-            "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
-            "thesis: the plain kernel form of the thesis (about 0.1% off).");
+  using Panel = app::BackendParameter::Panel;
+  parameterControls(state, backend, Panel::Shown, bindSpacing);
+  // The backend its targets come from (the kc backend's LBC initialization): that solver's parameters.
+  if (const app::Backend* targets = backend.targetsBackend(p)) parameterControls(state, *targets, Panel::Shown, bindSpacing);
+  advancedControls(state, backend, bindSpacing);
   ImGui::PopItemWidth();
   drawBoundSummary(state);
 }

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "kc/core/names.h"
 #include "kc/core/solve.h"
 #include "kc/app/session.h"
 
@@ -32,27 +33,71 @@ struct BackendCapabilities {
 };
 
 /// One bind parameter of a backend, described once: `kcwarp-cli bind`'s flag, the session file's
-/// key and the Bind panel's widget are made from it (backend_parameters.cpp).
+/// key and the Bind panel's widget are made from it (backend_registry.cpp, session_io.cpp,
+/// cli_bind.cpp, bind_panel.cpp).
 struct BackendParameter {
   enum class Type {
-    Number,   ///< A real number in [min, max].
+    Number,   ///< A real number in [min, max] (or [min, max) with openMax).
     Integer,  ///< An integer in [min, max].
     Choice,   ///< One of `choices`, by name; the value is its index.
+    Boolean,  ///< 0 or 1: true/false in the session; the flag --<key> (--no-<key> when true by default) turns the default over.
   };
-  std::string key;      ///< The key in the session's params.<block> and the flag --<block>-<key, '_' as '-'>.
+  /// Where the Bind panel draws the parameter.
+  enum class Panel {
+    Shown,     ///< Among the backend's parameters.
+    Advanced,  ///< Under the collapsed "Advanced" header.
+    Hidden,    ///< Not in the Bind panel (set elsewhere in the GUI, or by another parameter's widget).
+  };
+  /// The key in the session's params.<block> (at the top of params for a backend without a
+  /// block) and the flag --<block>-<key> (--<key> without a block), '_' written as '-'.
+  std::string key;
   std::string label;    ///< The Bind panel's label.
-  std::string help;     ///< The CLI's help text.
+  std::string help;     ///< The CLI's help text (a Boolean's: what its flag does).
   std::string tooltip;  ///< The Bind panel's tooltip (plain words).
   Type type = Type::Number;
   double min = 0.0, max = 0.0;       ///< The accepted range (Number, Integer), inclusive.
+  bool openMax = false;              ///< Number: max itself is not accepted.
   bool logarithmic = false;          ///< The panel's slider is logarithmic (Number).
   std::vector<std::string> choices;  ///< Choice: the names, written and parsed as such.
-  double defaultValue = 0.0;         ///< What BindParams{} holds.
+  /// What the value must be, in words, when "a number in [min, max]" (parameterRange) says it
+  /// badly: "0 (off) or a positive number of spacings".
+  std::string accepts;
+  double defaultValue = 0.0;  ///< What BindParams{} holds.
+  /// What a session file without the key means (files written before the parameter existed);
+  /// none: the default.
+  std::optional<double> absentValue;
+  bool flag = true;    ///< `kcwarp-cli bind` has a flag for it.
+  bool stored = true;  ///< The session file keeps it under its key; false: Backend::writeParameters does.
+  Panel panel = Panel::Shown;
+  /// Drawn in the Bind panel only when this holds (null: always), e.g. a diffusion's iterations
+  /// only with a diffusion initialization.
+  std::function<bool(const BindParams&)> shownWhen;
+  /// A widget of the GUI's own instead of the type's ("" = the type's): "kernel-width" (an Auto
+  /// checkbox for the value 0, the width the bind will use shown beside it) and "local-targets"
+  /// (a Boolean switch with the locality length it gives, in pixels).
+  std::string widget;
   /// Where the value lives in BindParams (a backend's own struct); when empty, in
   /// BindParams::values under "<block>.<key>".
   std::function<double(const BindParams&)> get;
   std::function<void(BindParams&, double)> set;
 };
+
+/// Makes `parameter` a Choice over the named enum E (kc/core/names.h: its names, in table order)
+/// kept where `get` reads and `set` writes it, `defaultValue` being BindParams{}'s.
+template <NamedEnum E, class Get, class Set>
+void describeChoice(BackendParameter& parameter, E defaultValue, Get get, Set set) {
+  static constexpr auto index = [](E e) {
+    for (std::size_t k = 0; k < EnumNames<E>::table.size(); ++k)
+      if (EnumNames<E>::table[k].first == e) return static_cast<double>(k);
+    return 0.0;
+  };
+  parameter.type = BackendParameter::Type::Choice;
+  parameter.choices.clear();
+  for (const auto& [value, name] : EnumNames<E>::table) parameter.choices.emplace_back(name);
+  parameter.defaultValue = index(defaultValue);
+  parameter.get = [get](const BindParams& p) { return index(get(p)); };
+  parameter.set = [set](BindParams& p, double v) { set(p, EnumNames<E>::table[static_cast<std::size_t>(v)].first); };
+}
 
 class Backend {
  public:
@@ -75,6 +120,11 @@ class Backend {
     static const std::vector<BackendParameter> none;
     return none;
   }
+  /// Writes the parameters that are not `stored` into the session's params object (keys shared by
+  /// several parameters, or holding more than one) and reads them back; the described ones are
+  /// read before. Throws InputError(where, …) for a value the file must not hold. Default: none.
+  virtual void writeParameters(const Session&, nlohmann::json& /*params*/) const {}
+  virtual void readParameters(const nlohmann::json& /*params*/, Session&, const std::string& /*where*/) const {}
   /// The backend whose parameters also shape a bind with `params` (its targets come from that
   /// backend's solver: the kc backend with LBC initialization), which the Bind panel shows under
   /// Initialization; null (the default) when none.
@@ -110,7 +160,8 @@ std::vector<std::string_view> backendNames();
 /// Makes `backend` available under its name to the CLI, the session files and the GUI (a static
 /// object of the caller's, alive until exit). Returns true, so that one line at namespace scope
 /// registers a backend:  const bool registered = kc::app::registerBackend(theBackend());
-/// Throws std::invalid_argument when the name or the parameter block is taken.
+/// Throws std::invalid_argument when the name or the parameter block is taken, or when a backend
+/// with parameters has no block (only the built-in kc backend keeps its keys at the top).
 bool registerBackend(const Backend& backend);
 /// The value of `backend`'s `parameter` in `params` (its default when BindParams::values lacks it).
 double parameterValue(const Backend& backend, const BackendParameter& parameter, const BindParams& params);
@@ -120,14 +171,19 @@ void setParameter(const Backend& backend, const BackendParameter& parameter, Bin
 /// What `parameter` accepts, in words: "a number in [1e-12, 1]", "an integer in [1, 20]", "one of
 /// square, const".
 std::string parameterRange(const BackendParameter& parameter);
-/// The value `parameter` has in text (a choice's name, a number as written), and back (nullopt:
-/// not a value of its type; the range is checked by setParameter).
+/// `kcwarp-cli bind`'s flag for `backend`'s `parameter`: --<block>-<key>, --<key> without a block,
+/// '_' as '-'; a Boolean's is --no-<key> when it is true by default.
+std::string parameterFlag(const Backend& backend, const BackendParameter& parameter);
+/// The value `parameter` has in text (a choice's name, "true"/"false", a number as written), and
+/// back (nullopt: not a value of its type; the range is checked by setParameter).
 std::string parameterText(const BackendParameter& parameter, double value);
-/// `backend`'s described parameters in `params` as the session's params.<block> object (a choice by name).
-nlohmann::json parametersToJson(const Backend& backend, const BindParams& params);
-/// The same in words for a summary line: "tau square, tolerance 0.001, max iterations 20000".
-std::string parametersText(const Backend& backend, const BindParams& params);
 std::optional<double> parseParameter(const BackendParameter& parameter, std::string_view text);
+/// `backend`'s stored parameters in `params` as the session's params.<block> object (a choice by
+/// name, a Boolean as true/false).
+nlohmann::json parametersToJson(const Backend& backend, const BindParams& params);
+/// The same in words for a summary line: "tau square, tolerance 0.001, max iterations 20000"; ""
+/// for a backend without stored parameters.
+std::string parametersText(const Backend& backend, const BindParams& params);
 
 /// Capabilities of a bound session: its backend's, less what the session lacks (no
 /// weights.initial → no targets, painting or method switches).
