@@ -106,6 +106,7 @@ OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> ro
   const WeightOptimizer optimizer(s.cage.C);
   OptimizeOptions oo;
   oo.method = method;
+  oo.allowance = s.params.kc.qpAllowance;
   const OptimizeReport r = optimizer.optimize(s.samples, s.W0, s.W, oo, rows);
   if (rows.empty()) {
     continuation.apply(s.W);
@@ -208,6 +209,7 @@ class KcBackend final : public Backend {
     const WeightOptimizer optimizer(s.cage.C);
     OptimizeOptions oo;
     oo.method = kc.method;
+    oo.allowance = kc.qpAllowance;
     // In blocks of rows, so progress and Cancel are seen while it runs (rows are independent:
     // the result is the same as one call over all rows).
     const Index n = s.W0.rows(), blocks = std::clamp<Index>(n / 2000, 1, 50);

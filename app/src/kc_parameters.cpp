@@ -177,6 +177,21 @@ std::vector<BackendParameter> describe() {
   method.panel = Panel::Hidden;  // switched live in the Weights panel
   list.push_back(method);
 
+  BackendParameter allowance =
+      named("qp_allowance", "Near correction",
+            "QP metric: the change of a sample's weight on a control costs 1/(min(target, 10e) + e), e this value, so the "
+            "correction that restores reproduction falls on the controls near the sample (0 = the thesis's plain QP)",
+            "How strongly the optimizer keeps each point's pull to its own part of the shape when it corrects the "
+            "influences (smaller: more local; 0: the thesis's plain optimization).");
+  allowance.min = 0.0, allowance.max = 1.0;
+  allowance.defaultValue = defaults.qpAllowance;
+  allowance.absentValue = 0.0;  // sessions written before the option: the Euclidean QP
+  allowance.panel = Panel::Advanced;
+  allowance.shownWhen = [](const BindParams& p) { return p.kc.method == Method::QP; };
+  allowance.get = [](const BindParams& p) { return p.kc.qpAllowance; };
+  allowance.set = [](BindParams& p, double v) { p.kc.qpAllowance = v; };
+  list.push_back(allowance);
+
   BackendParameter interp = named("interp", "Interpolation", "Interpolation",
                                   "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"
                                   "thesis: the plain kernel form of the thesis (about 0.1% off).");

@@ -50,6 +50,21 @@ TEST(LocalDefault, IsScreenedAndGuardedAndLocalerThanBefore) {
   EXPECT_LE(now.inside.reproduction, 1e-7);
 }
 
+/// The QP's allowance metric (KcParams::qpAllowance) puts the correction that restores reproduction
+/// on the controls near each sample: the drag area falls, partition of unity and reproduction hold.
+TEST(LocalDefault, TheCorrectionFallsOnTheNearControls) {
+  const BindParams p = defaults();
+  EXPECT_EQ(p.kc.qpAllowance, kQpAllowance);
+  BindParams euclidean = p;
+  euclidean.kc.qpAllowance = 0.0;
+  const Diagnostics now = diagnose(bindFigure(p), 40000), plain = diagnose(bindFigure(euclidean), 40000);
+  std::printf("[measured] figure h = 10: drag area %.4f (Euclidean QP %.4f)\n", now.drag.mean, plain.drag.mean);
+  EXPECT_LT(now.drag.mean, 0.97 * plain.drag.mean);
+  EXPECT_LE(now.inside.partitionOfUnity, 1e-9);
+  EXPECT_LE(now.inside.reproduction, 1e-7);
+  EXPECT_GE(now.inside.minWeight, plain.inside.minWeight - 0.005);  // no deeper lobes
+}
+
 TEST(LocalDefault, TheLocalityLengthFollowsTheCagesDepthInADeepCage) {
   // A 400×200 rectangle is 100 px deep: ℓ = max(1.5 h, 100/4) (within the grid's step).
   Points C(4, 2);

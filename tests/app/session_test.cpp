@@ -309,6 +309,7 @@ TEST(Session, EveryBackendsParametersComeBackFromTheFile) {
   kc.targetFloor = 0.125;
   kc.guardLobes = false;
   kc.method = Method::QEC;
+  kc.qpAllowance = 0.25;
   kc.linearEdges = true;
   kc.exactLines = false;
   s.params.lbc = {LbcTau::Linear, 1e-4, 123};
@@ -324,6 +325,7 @@ TEST(Session, EveryBackendsParametersComeBackFromTheFile) {
     EXPECT_EQ(k.targetFloor, 0.125);
     EXPECT_FALSE(k.guardLobes);
     EXPECT_EQ(k.method, Method::QEC);
+    EXPECT_EQ(k.qpAllowance, 0.25);
     EXPECT_EQ(k.interp, InterpMode::Exact);
     EXPECT_TRUE(k.linearEdges);
     EXPECT_FALSE(k.exactLines);
@@ -343,7 +345,7 @@ TEST(Session, EveryBackendsParametersComeBackFromTheFile) {
 TEST(Session, KeysAnOlderFileLacksReadTheirAbsentValues) {
   auto j = nlohmann::json::parse(sessionToJson(smallSession()));
   for (const char* key : {"target_floor", "guard_lobes", "exact_lines", "linear_edges", "locality", "locality_spacings",
-                          "sigma_auto", "heat_iterations", "init", "lbc"})
+                          "sigma_auto", "heat_iterations", "init", "lbc", "qp_allowance"})
     j["params"].erase(key);
   const Session t = sessionFromJson(j.dump(), "old.kcw.json");
   const KcParams& k = t.params.kc;
@@ -351,6 +353,7 @@ TEST(Session, KeysAnOlderFileLacksReadTheirAbsentValues) {
   EXPECT_FALSE(k.guardLobes);
   EXPECT_FALSE(k.exactLines);
   EXPECT_FALSE(k.linearEdges);
+  EXPECT_EQ(k.qpAllowance, 0.0);  // the thesis's Euclidean QP
   EXPECT_EQ(k.locality.rule, Locality::Rule::Off);
   EXPECT_EQ(k.sigma, t.sigma);  // no sigma_auto: the σ written was set by hand
   EXPECT_EQ(k.init.iterations, InitOptions{}.iterations);

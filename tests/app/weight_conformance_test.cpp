@@ -205,7 +205,7 @@ const BackendCase kCases[] = {
     kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear,
        {{"checker", 0.0035}, {"star", 0.024}, {"figure", 0.057}}, {{"checker", 0.012}, {"star", 0.011}, {"figure", 0.05}}),
     kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse,
-       {{"checker", 0.002}, {"star", 0.05}, {"figure", 0.13}}, {{"checker", 0.0038}, {"star", 0.012}, {"figure", 0.03}}),
+       {{"checker", 0.002}, {"star", 0.05}, {"figure", 0.13}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.03}}),
     kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance,
        {{"checker", 0.0032}, {"star", 0.099}, {"figure", 0.56}}, {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
     kcLinearEdges({{"checker", 0.0071}, {"star", 0.068}, {"figure", 0.53}}),
@@ -239,10 +239,10 @@ std::string paramName(const ::testing::TestParamInfo<std::tuple<std::string, std
 // default bind's negative lobes inside the cage, on the bundled star and figure, two cages drawn
 // by hand (tests/data/locality: a person, a hand with fingers 6-10 px apart) and a picture-sized
 // rectangle with its edges' midpoints (8 controls, deep: the locality length follows its depth),
-// each at the automatic spacing. The goals are an area ≤ 1.1× LBC's and lobes ≥ −0.02; the
-// rectangle meets both and is held to them, the others are held to what the default reached
-// (times 1.05; the lobes over seeds, whose spread is wide: docs/notes/measured-constants.md,
-// "The locality conformance bounds").
+// each at the automatic spacing. The goals are an area ≤ 1.1× LBC's and lobes ≥ −0.02: every case
+// is held to the area goal, the rectangle to the lobe goal too, the others' lobes to what the
+// default reached over seeds, whose spread is wide (docs/notes/measured-constants.md, "The
+// locality conformance bounds").
 struct LocalityCase {
   std::string cage;   ///< path from the source directory
   int width, height;  ///< the picture
@@ -261,9 +261,9 @@ Session bindDefault(const Cage& cage, int w, int h, const std::string& backend) 
 TEST(LocalityConformanceSlow, DefaultBindIsNearlyAsLocalAsLbcWithShallowLobes) {
   const LocalityCase cases[] = {
       {"images/star.cage.json", 320, 320, 1.1, 0.02},
-      {"images/figure.cage.json", 320, 400, 1.15, 0.04},
-      {"tests/data/locality/person.cage.json", 360, 500, 1.16, 0.073},
-      {"tests/data/locality/hand.cage.json", 400, 440, 1.22, 0.06},
+      {"images/figure.cage.json", 320, 400, 1.1, 0.04},
+      {"tests/data/locality/person.cage.json", 360, 500, 1.1, 0.073},
+      {"tests/data/locality/hand.cage.json", 400, 440, 1.1, 0.06},
       {"tests/data/locality/rectangle.cage.json", 720, 477, 1.0, 0.02},
   };
   for (const LocalityCase& c : cases) {

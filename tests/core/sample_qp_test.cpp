@@ -10,6 +10,7 @@
 #include <CoinPackedMatrix.hpp>
 #include <glpk.h>
 #include <Eigen/Dense>
+#include <array>
 #include <cmath>
 #include <algorithm>
 #include <random>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "kc/core/cage.h"
+#include "kc/core/weights/optimizer.h"
 #include "random_point.h"
 
 namespace kc {
@@ -45,7 +47,7 @@ constexpr bool kClpReference = true;
 
 /// CLP's QP solver, min ½|w|² − w0ᵀw s.t. Cw = x, 1ᵀw = 1, w ≥ 0, in the original coordinates
 /// (independent of the solver's normalization). Returns false when CLP reports no optimum.
-bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
+bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w, const Eigen::VectorXd& allowance = {}) {
   const int m = static_cast<int>(p.C.rows());
   std::vector<CoinBigIndex> start(m + 1);
   std::vector<int> rows;
@@ -59,7 +61,9 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   const CoinPackedMatrix A(true, 3, m, static_cast<CoinBigIndex>(values.size()), values.data(), rows.data(),
                            start.data(), nullptr);
   std::vector<double> lo(m, 0.0), hi(m, COIN_DBL_MAX), obj(m);
-  for (int i = 0; i < m; ++i) obj[i] = -p.w0(i);
+  // The allowance metric Σ (w − w0)²/a: ½ wᵀ diag(1/a) w − (w0/a)ᵀ w.
+  const auto inverse = [&](int i) { return allowance.size() ? 1.0 / allowance(i) : 1.0; };
+  for (int i = 0; i < m; ++i) obj[i] = -p.w0(i) * inverse(i);
   const double rhs[3] = {p.x.x(), p.x.y(), 1.0};
   ClpSimplex model;
   model.setLogLevel(0);
@@ -67,6 +71,7 @@ bool clpSolve(const Problem& p, double tolerance, Eigen::VectorXd& w) {
   std::vector<CoinBigIndex> qs(m + 1);
   std::vector<int> qc(m);
   std::vector<double> qv(m, 1.0);
+  for (int i = 0; i < m; ++i) qv[i] = inverse(i);
   for (int i = 0; i <= m; ++i) qs[i] = i;
   for (int i = 0; i < m; ++i) qc[i] = i;
   model.loadQuadraticObjective(m, qs.data(), qc.data(), qv.data());
@@ -225,6 +230,83 @@ TEST(SampleQp, MatchesClpOnRandomProblems) {
     p.x = randomInside(rng, p.C);
     for (int i = 0; i < m; ++i) p.w0(i) = trial % 3 == 0 ? 2.0 * u(rng) - 1.0 : u(rng) / m;  // mixed signs or positive
     EXPECT_TRUE(expectMatchesReference(p, "trial " + std::to_string(trial))) << "CLP failed on trial " << trial;
+  }
+}
+
+/// The allowance metric (sampleQpWeighted, Σ (w − w0)²/a) against CLP with the same diagonal
+/// objective, on random problems with the optimizer's allowances a_i = min(w0_i, 10ε) + ε and with
+/// random ones; KKT in the metric: (w_i − w0_i)/a_i = a_iᵀμ on the support, w0_i + a_i·a_iᵀμ ≤ 0 off it.
+TEST(SampleQpWeighted, MatchesClpOnRandomProblems) {
+  std::mt19937 rng(2468);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int m = 3 + trial % 38;
+    Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd(m)};
+    p.x = randomInside(rng, p.C);
+    for (int i = 0; i < m; ++i) p.w0(i) = trial % 3 == 0 ? 2.0 * u(rng) - 1.0 : (u(rng) < 0.5 ? 0.0 : u(rng) / m);
+    Eigen::VectorXd a(m);
+    const double eps = trial % 4 == 3 ? 0.0 : std::array{0.001, 0.005, 0.05}[static_cast<std::size_t>(trial % 4)];
+    for (int i = 0; i < m; ++i) a(i) = eps > 0.0 ? std::min(std::max(p.w0(i), 0.0), kAllowanceCap * eps) + eps : 0.01 + u(rng);
+    const ControlFrame frame(p.C);
+    Eigen::VectorXd w(m);
+    const SampleReport r = sampleQpWeighted(frame, frame.normalize(p.x), {p.w0.data(), std::size_t(m)},
+                                            {a.data(), std::size_t(m)}, {w.data(), std::size_t(m)});
+    const std::string what = "trial " + std::to_string(trial);
+    ASSERT_EQ(r.status, SolveStatus::Ok) << what;
+    EXPECT_GE(w.minCoeff(), 0.0) << what;
+    EXPECT_NEAR(w.sum(), 1.0, 1e-12) << what;
+    EXPECT_LE((p.C.transpose() * w - p.x).lpNorm<Eigen::Infinity>(), 1e-12) << what;
+    // KKT: μ fitted on the support (full rank), then checked off it.
+    std::vector<int> support;
+    for (int i = 0; i < m; ++i)
+      if (w(i) > 1e-10) support.push_back(i);
+    Eigen::MatrixXd As(support.size(), 3);
+    Eigen::VectorXd rs(support.size());
+    for (std::size_t k = 0; k < support.size(); ++k) {
+      const int i = support[k];
+      As.row(Index(k)) << p.C(i, 0), p.C(i, 1), 1.0;
+      rs(Index(k)) = (w(i) - p.w0(i)) / a(i);
+    }
+    Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(As);
+    if (cod.rank() == 3) {
+      const Eigen::Vector3d mu = cod.solve(rs);
+      EXPECT_LE((As * mu - rs).lpNorm<Eigen::Infinity>(), 1e-7 * (1.0 + rs.lpNorm<Eigen::Infinity>())) << what;
+      for (int i = 0; i < m; ++i) {
+        if (w(i) <= 1e-10) {
+          EXPECT_LE(p.w0(i) + a(i) * Eigen::Vector3d(p.C(i, 0), p.C(i, 1), 1.0).dot(mu), 1e-8) << what << " i=" << i;
+        }
+      }
+    }
+    if (!kClpReference) continue;
+    Eigen::VectorXd ref;
+    if (!clpSolve(p, 1e-12, ref, a) && !clpSolve(p, 1e-9, ref, a)) continue;
+    ++compared;
+    const auto objective = [&](const Eigen::VectorXd& v) { return ((v - p.w0).array().square() / a.array()).sum(); };
+    EXPECT_LE(objective(w), objective(ref) + 1e-9 * (1.0 + objective(ref))) << what;  // never worse than CLP
+    EXPECT_LE((w - ref).lpNorm<Eigen::Infinity>(), 1e-6) << what << "\nw   = " << w.transpose() << "\nref = " << ref.transpose();
+  }
+  if (kClpReference) {
+    EXPECT_GE(compared, 270);
+  }
+}
+
+/// With every allowance equal the metric is the Euclidean one scaled: the same weights as sampleQp.
+TEST(SampleQpWeighted, EqualAllowancesGiveThePlainQp) {
+  std::mt19937 rng(97);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const int m = 3 + trial % 20;
+    Problem p{randomControls(rng, m), Vec2::Zero(), Eigen::VectorXd(m)};
+    p.x = randomInside(rng, p.C);
+    for (int i = 0; i < m; ++i) p.w0(i) = 2.0 * u(rng) - 1.0;
+    const Eigen::VectorXd plain = solveQp(p);
+    const ControlFrame frame(p.C);
+    const Eigen::VectorXd a = Eigen::VectorXd::Constant(m, 0.3);
+    Eigen::VectorXd w(m);
+    sampleQpWeighted(frame, frame.normalize(p.x), {p.w0.data(), std::size_t(m)}, {a.data(), std::size_t(m)},
+                     {w.data(), std::size_t(m)});
+    EXPECT_LE((w - plain).lpNorm<Eigen::Infinity>(), 1e-10) << "trial " << trial;
   }
 }
 

@@ -494,7 +494,7 @@ TEST(BindPanel, AdvancedShowsTheDescribedParametersAndSetsThem) {
   EXPECT_FALSE(s->widgets.count("Guard lobes"));
   gui.clickLabel(*s, "Advanced", draw);
   for (int k = 0; k < 2; ++k) gui.frame(draw);
-  for (const char* label : {"Heat iterations", "Target floor", "Guard lobes", "Linear edges", "Exact lines"})
+  for (const char* label : {"Heat iterations", "Target floor", "Guard lobes", "Near correction", "Linear edges", "Exact lines"})
     EXPECT_TRUE(s->widgets.count(label)) << label;
   ASSERT_TRUE(s->bindParams.kc.guardLobes);
   gui.clickLabel(*s, "Guard lobes", draw);

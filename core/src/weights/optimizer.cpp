@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -37,6 +39,10 @@ OptimizeReport WeightOptimizer::optimize(const SampleSet& S, const Weights& W0, 
                                 ", expected " + std::to_string(n) + "×" + std::to_string(m) + " for a subset update");
   }
   if (&W == &W0) throw std::invalid_argument("optimize: W and W0 must be different matrices");
+  const double epsilon = options.allowance;
+  if (!(epsilon >= 0.0 && std::isfinite(epsilon)))
+    throw std::invalid_argument("optimize: the QP allowance must be finite and >= 0");
+  const bool weighted = options.method == Method::QP && epsilon > 0.0;
 
   const Index count = subset.empty() ? n : static_cast<Index>(subset.size());
   std::atomic<Index> infeasible{0}, failed{0};
@@ -46,6 +52,7 @@ OptimizeReport WeightOptimizer::optimize(const SampleSet& S, const Weights& W0, 
   parallelForRange(count, 256, [&](Index begin, Index end) {
     Index localInfeasible = 0, localFailed = 0;
     int localMax = 0;
+    std::vector<double> allowance(weighted ? ms : 0);
     for (Index c = begin; c < end; ++c) {
       const Index j = subset.empty() ? c : subset[static_cast<std::size_t>(c)];
       const std::span<const double> w0(W0.row(j).data(), ms);
@@ -65,7 +72,15 @@ OptimizeReport WeightOptimizer::optimize(const SampleSet& S, const Weights& W0, 
       SampleReport r;
       switch (options.method) {
         case Method::QEC: sampleQec(m_frame, xh, w0, w); break;
-        case Method::QP: r = sampleQp(m_frame, xh, w0, w, options.qp); break;
+        case Method::QP:
+          if (weighted) {
+            for (Index i = 0; i < m; ++i)
+              allowance[static_cast<std::size_t>(i)] = std::min(std::max(0.0, W0(j, i)), kAllowanceCap * epsilon) + epsilon;
+            r = sampleQpWeighted(m_frame, xh, w0, allowance, w, options.qp);
+          } else {
+            r = sampleQp(m_frame, xh, w0, w, options.qp);
+          }
+          break;
         case Method::L1: r = sampleL1(m_frame, xh, w0, w, options.l1); break;
       }
       if (r.status == SolveStatus::Infeasible) ++localInfeasible;

@@ -43,9 +43,11 @@ inline D2 select(D2 v, M mask) {
 /// loses to cancellation when |λ| is large. That happens when x̂ lies on or near the hull
 /// boundary: the optimal λ then runs far along the boundary's normal, and the plain
 /// evaluation's residual stalls at about ε|λ|, above the tolerance.
-template <bool Incremental>
-void evaluate(const ControlFrame& frame, const double* w0, double* w, const Eigen::Vector3d& b, const Eigen::Vector3d& d,
-              DualPoint& p) {
+/// Weighted (a ≠ nullptr, the allowance metric Σ (w − w0)²/a): z = w0 + a ⊙ Aᵀλ and
+/// f = ½ Σ max(0, z)²/a − bᵀλ, whose gradient is again A w − b.
+template <bool Incremental, bool Weighted>
+void evaluateImpl(const ControlFrame& frame, const double* w0, const double* a, double* w, const Eigen::Vector3d& b,
+                  const Eigen::Vector3d& d, DualPoint& p) {
   const Index m = frame.size();
   const double *cx = frame.cx(), *cy = frame.cy();
   const double l0 = p.lambda(0), l1 = p.lambda(1), l2 = p.lambda(2);
@@ -55,26 +57,34 @@ void evaluate(const ControlFrame& frame, const double* w0, double* w, const Eige
   Index i = 0;
   for (; i + 1 < m; i += 2) {
     const D2 x = load2(cx + i), y = load2(cy + i);
-    D2 z = load2(w0 + i) + (L0 * x + L1 * y + L2);
+    D2 av = {1.0, 1.0};
+    if constexpr (Weighted) av = load2(a + i);
+    D2 z;
+    if constexpr (Weighted) z = load2(w0 + i) + av * (L0 * x + L1 * y + L2);
+    else z = load2(w0 + i) + (L0 * x + L1 * y + L2);
     if constexpr (Incremental) {
       const D2 wi = load2(w + i);
       const auto on = wi > zero;
-      z = select(wi + (S0 * x + S1 * y + S2), on) + select(z, ~on);
+      if constexpr (Weighted) z = select(wi + av * (S0 * x + S1 * y + S2), on) + select(z, ~on);
+      else z = select(wi + (S0 * x + S1 * y + S2), on) + select(z, ~on);
     }
     const D2 zp = select(z, z > zero);
     store2(w + i, zp);
-    f += zp * zp;
+    if constexpr (Weighted) f += zp * zp / av;
+    else f += zp * zp;
     gx += zp * x;
     gy += zp * y;
     g1 += zp;
   }
   double t[4] = {f[0] + f[1], gx[0] + gx[1], gy[0] + gy[1], g1[0] + g1[1]};
   if (i < m) {
-    double z = w0[i] + (l0 * cx[i] + l1 * cy[i] + l2);
-    if (Incremental && w[i] > 0.0) z = w[i] + (d(0) * cx[i] + d(1) * cy[i] + d(2));
+    const double ai = Weighted ? a[i] : 1.0;
+    double z = Weighted ? w0[i] + ai * (l0 * cx[i] + l1 * cy[i] + l2) : w0[i] + (l0 * cx[i] + l1 * cy[i] + l2);
+    if (Incremental && w[i] > 0.0)
+      z = Weighted ? w[i] + ai * (d(0) * cx[i] + d(1) * cy[i] + d(2)) : w[i] + (d(0) * cx[i] + d(1) * cy[i] + d(2));
     const double zp = z > 0.0 ? z : 0.0;
     w[i] = zp;
-    t[0] += zp * zp;
+    t[0] += Weighted ? zp * zp / ai : zp * zp;
     t[1] += zp * cx[i];
     t[2] += zp * cy[i];
     t[3] += zp;
@@ -83,12 +93,42 @@ void evaluate(const ControlFrame& frame, const double* w0, double* w, const Eige
   p.g = Eigen::Vector3d(t[1] - b(0), t[2] - b(1), t[3] - b(2));
 }
 
-void evaluateDual(const ControlFrame& frame, const double* w0, double* w, const Eigen::Vector3d& b, DualPoint& p) {
-  evaluate<false>(frame, w0, w, b, Eigen::Vector3d::Zero(), p);
+template <bool Incremental>
+void evaluate(const ControlFrame& frame, const double* w0, const double* a, double* w, const Eigen::Vector3d& b,
+              const Eigen::Vector3d& d, DualPoint& p) {
+  if (a) evaluateImpl<Incremental, true>(frame, w0, a, w, b, d, p);
+  else evaluateImpl<Incremental, false>(frame, w0, a, w, b, d, p);
 }
 
-/// The generalized Hessian A_S A_Sᵀ over S = {i : w_i > 0} (w from evaluateDual) as six sums.
-void hessianSums(const ControlFrame& frame, const double* w, DualPoint& p) {
+void evaluateDual(const ControlFrame& frame, const double* w0, const double* a, double* w, const Eigen::Vector3d& b,
+                  DualPoint& p) {
+  evaluate<false>(frame, w0, a, w, b, Eigen::Vector3d::Zero(), p);
+}
+
+/// Σ a_i A_i A_iᵀ (A_i = (x_i, y_i, 1)) as six sums, over the i with w_i > 0 (over all when w is null).
+void weightedMoments(const ControlFrame& frame, const double* a, const double* w, double* h) {
+  const Index m = frame.size();
+  const double *cx = frame.cx(), *cy = frame.cy(), *cxx = frame.cxx(), *cxy = frame.cxy(), *cyy = frame.cyy();
+  std::fill(h, h + 6, 0.0);
+  for (Index i = 0; i < m; ++i) {
+    if (w && !(w[i] > 0.0)) continue;
+    const double ai = a[i];
+    h[0] += ai * cxx[i];
+    h[1] += ai * cxy[i];
+    h[2] += ai * cx[i];
+    h[3] += ai * cyy[i];
+    h[4] += ai * cy[i];
+    h[5] += ai;
+  }
+}
+
+/// The generalized Hessian A_S A_Sᵀ over S = {i : w_i > 0} (w from evaluateDual) as six sums;
+/// weighted, Σ over S of a_i A_i A_iᵀ.
+void hessianSums(const ControlFrame& frame, const double* a, const double* w, DualPoint& p) {
+  if (a) {
+    weightedMoments(frame, a, w, p.h);
+    return;
+  }
   const Index m = frame.size();
   const double *cx = frame.cx(), *cy = frame.cy(), *cxx = frame.cxx(), *cxy = frame.cxy(), *cyy = frame.cyy();
   const D2 zero = {0.0, 0.0}, one = {1.0, 1.0};
@@ -189,7 +229,8 @@ SingularStep splitStep(const double* h, const Eigen::Vector3d& g) {
 /// past the first breakpoint (ratio test over the inactive controls: the smallest s ≥ 0 with
 /// z_i + a_iᵀ(range + s·null) = 0). A fixed Levenberg term would crawl instead when the
 /// null-space gradient is small (a sample within ~1e-10 of an edge line).
-Eigen::Vector3d newtonDirection(const ControlFrame& frame, const double* w0, const double* w, const DualPoint& p) {
+Eigen::Vector3d newtonDirection(const ControlFrame& frame, const double* w0, const double* a, const double* w,
+                                const DualPoint& p) {
   Eigen::Vector3d d;
   if (spdStep(p.h, -p.g, d)) return d;
   const SingularStep s = splitStep(p.h, p.g);
@@ -199,23 +240,27 @@ Eigen::Vector3d newtonDirection(const ControlFrame& frame, const double* w0, con
   const Eigen::Vector3d l = p.lambda + s.range;
   // Controls on the line of S have rate 0 up to rounding: they never activate along the null space.
   const double noise = 1e-12 * s.null.lpNorm<1>();
-  double first = std::numeric_limits<double>::infinity(), firstRate = 0.0;
+  double first = std::numeric_limits<double>::infinity(), firstRate = 0.0, firstA = 1.0;
   for (Index i = 0; i < m; ++i) {
     if (w[i] > 0.0) continue;
-    const double rate = s.null(0) * cx[i] + s.null(1) * cy[i] + s.null(2);
-    if (!(rate > noise * (std::abs(cx[i]) + std::abs(cy[i]) + 1.0))) continue;
-    const double z = w0[i] + (l(0) * cx[i] + l(1) * cy[i] + l(2));
+    const double ai = a ? a[i] : 1.0;
+    const double rate = ai * (s.null(0) * cx[i] + s.null(1) * cy[i] + s.null(2));
+    if (!(rate > ai * noise * (std::abs(cx[i]) + std::abs(cy[i]) + 1.0))) continue;
+    const double z = w0[i] + ai * (l(0) * cx[i] + l(1) * cy[i] + l(2));
     const double at = std::max(0.0, -z) / rate;
     if (at < first) {
       first = at;
       firstRate = rate;
+      firstA = ai;
     }
   }
   // No breakpoint: f decreases along the null space without bound (x̂ outside the hull up to
   // rounding); a long step, which the line search shortens.
   if (!std::isfinite(first)) return s.range + 1e10 * s.null;
-  // Along s·null, f' = −|null|² up to the breakpoint, then −|null|² + rate²(s − first): its
+  // Along s·null, f' = −|null|² up to the breakpoint, then −|null|² + rate²(s − first) (weighted:
+  // rate²/a; the line search corrects the step either way): its
   // minimizer if no other control activates on the way (the line search checks).
+  if (a) return s.range + (first + firstA * s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
   return s.range + (first + s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
 }
 
@@ -239,15 +284,15 @@ enum class Polish { Certified, Improved, Rejected };
 /// point is taken as the next iterate; the line search could not judge it, because f itself
 /// carries the rounding error ε|bᵀλ|. In both cases the result is in `trial` and w. Rejected:
 /// w is restored to max(0, z) of p. p.h must hold the Hessian sums of p.
-Polish polish(const ControlFrame& frame, const Eigen::Vector3d& b, const double* w0, double* w, DualPoint& p,
+Polish polish(const ControlFrame& frame, const Eigen::Vector3d& b, const double* w0, const double* a, double* w, DualPoint& p,
               DualPoint& trial, double tolerance) {
   const Eigen::Vector3d d = rangeStep(p.h, p.g);
   trial.lambda = p.lambda + d;
-  evaluate<true>(frame, w0, w, b, d, trial);
+  evaluate<true>(frame, w0, a, w, b, d, trial);
   const double g = trial.g.lpNorm<Eigen::Infinity>();
   if (g <= tolerance) return Polish::Certified;
   if (g < p.g.lpNorm<Eigen::Infinity>()) return Polish::Improved;
-  evaluateDual(frame, w0, w, b, p);
+  evaluateDual(frame, w0, a, w, b, p);
   return Polish::Rejected;
 }
 
@@ -264,29 +309,29 @@ constexpr double kStallFactor = 10.0;
 /// Dual semismooth Newton for the projection of w0 onto {w ≥ 0, Aw = b}, from the evaluated
 /// point p (w already holds max(0, z) of p). Returns true when |A w − b|∞ ≤ tolerance, or when the
 /// iterations end with it ≤ kStallFactor · tolerance.
-bool dualNewton(const ControlFrame& frame, const Eigen::Vector3d& b, const double* w0, double* w, DualPoint& p,
+bool dualNewton(const ControlFrame& frame, const Eigen::Vector3d& b, const double* w0, const double* a, double* w, DualPoint& p,
                 const QpOptions& options, SampleReport& report) {
   DualPoint trial;
   int it = 0;
   bool ok = p.g.lpNorm<Eigen::Infinity>() <= options.tolerance;
   while (!ok && it < options.maxIterations) {
     ++it;
-    hessianSums(frame, w, p);  // w = max(0, z) of p
+    hessianSums(frame, a, w, p);  // w = max(0, z) of p
     if (p.g.lpNorm<Eigen::Infinity>() <= kPolishGradient) {
-      const Polish result = polish(frame, b, w0, w, p, trial, options.tolerance);
+      const Polish result = polish(frame, b, w0, a, w, p, trial, options.tolerance);
       if (result != Polish::Rejected) {
         std::swap(p, trial);
         ok = result == Polish::Certified;
         continue;
       }
     }
-    const Eigen::Vector3d d = newtonDirection(frame, w0, w, p);
+    const Eigen::Vector3d d = newtonDirection(frame, w0, a, w, p);
     const double slope = p.g.dot(d);  // < 0: a descent direction
     double t = 1.0;
     const double gNorm = p.g.lpNorm<Eigen::Infinity>();
     for (int ls = 0; ls < 80; ++ls) {
       trial.lambda = p.lambda + t * d;
-      evaluateDual(frame, w0, w, b, trial);
+      evaluateDual(frame, w0, a, w, b, trial);
       if (trial.f <= p.f + 1e-4 * t * slope) break;
       // Near the optimum f changes below its rounding error: judge by the gradient instead.
       if (std::abs(trial.f - p.f) <= 1e-13 * (std::abs(p.f) + 1.0) && trial.g.lpNorm<Eigen::Infinity>() < gNorm) break;
@@ -302,26 +347,59 @@ bool dualNewton(const ControlFrame& frame, const Eigen::Vector3d& b, const doubl
   return ok || report.residual <= kStallFactor * options.tolerance;
 }
 
+/// The multipliers of the equality-constrained weighted problem (QEC in the metric 1/a):
+/// λ = (A diag(a) Aᵀ)⁻¹ (b − A w0); the plain QEC multipliers without a.
+Eigen::Vector3d startMultipliers(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, const double* a) {
+  if (!a) return qecMultipliers(frame, xh, w0);
+  const Index m = frame.size();
+  const double *cx = frame.cx(), *cy = frame.cy();
+  double h[6];
+  weightedMoments(frame, a, nullptr, h);
+  double sx = 0.0, sy = 0.0, s1 = 0.0;
+  for (Index i = 0; i < m; ++i) {
+    sx += w0[i] * cx[i];
+    sy += w0[i] * cy[i];
+    s1 += w0[i];
+  }
+  Eigen::Vector3d lambda;
+  if (!spdStep(h, Eigen::Vector3d(xh.x() - sx, xh.y() - sy, 1.0 - s1), lambda)) return qecMultipliers(frame, xh, w0);
+  return lambda;
+}
+
 }  // namespace
 
 SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, std::span<double> w,
                       const QpOptions& options) {
+  return sampleQpWeighted(frame, xh, w0, {}, w, options);
+}
+
+SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0,
+                              std::span<const double> allowance, std::span<double> w, const QpOptions& options) {
   const Index m = frame.size();
   assert(static_cast<Index>(w0.size()) == m && static_cast<Index>(w.size()) == m);
+  assert(allowance.empty() || static_cast<Index>(allowance.size()) == m);
+  const double* a = allowance.empty() ? nullptr : allowance.data();
   SampleReport report;
   // Start at the QEC multipliers: a non-negative QEC solution is already the optimum (and then x̂
   // is in the hull, so the hull test is skipped).
   const Eigen::Vector3d b(xh.x(), xh.y(), 1.0);
   DualPoint p;
-  p.lambda = qecMultipliers(frame, xh, w0);
-  evaluateDual(frame, w0.data(), w.data(), b, p);
+  p.lambda = startMultipliers(frame, xh, w0, a);
+  evaluateDual(frame, w0.data(), a, w.data(), b, p);
   if (p.g.lpNorm<Eigen::Infinity>() <= options.tolerance) {
     report.residual = p.g.lpNorm<Eigen::Infinity>();
     return report;
   }
   const double excess = frame.hullExcess(xh);
+  if (a) {
+    // Weighted: inside the hull, Newton in the metric; a sample it does not certify, and one
+    // outside the hull (whose fallback solves at a point of the hull's boundary, where the
+    // feasible set is one edge's or vertex's weights whatever the metric), gets the Euclidean QP.
+    if (!(excess > 0.0) && dualNewton(frame, b, w0.data(), a, w.data(), p, options, report)) return report;
+    return sampleQp(frame, xh, w0, w, options);
+  }
   if (!(excess > 0.0)) {
-    if (dualNewton(frame, b, w0.data(), w.data(), p, options, report)) return report;
+    if (dualNewton(frame, b, w0.data(), a, w.data(), p, options, report)) return report;
   } else {
     // Fallback (see header): u = w + t1 ≥ 0 solves the QP at βx̂ on the hull boundary with the
     // target β(w0 + t1), scaled by 1/β; t = (1 − β)/(mβ).
@@ -344,9 +422,9 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
     const std::span<const double> v0s(v0, static_cast<std::size_t>(m));
     const Eigen::Vector3d by(y.x(), y.y(), 1.0);
     DualPoint q;
-    q.lambda = qecMultipliers(frame, y, v0s);
-    evaluateDual(frame, v0, w.data(), by, q);
-    const bool ok = dualNewton(frame, by, v0, w.data(), q, options, report);
+    q.lambda = startMultipliers(frame, y, v0s, a);
+    evaluateDual(frame, v0, a, w.data(), by, q);
+    const bool ok = dualNewton(frame, by, v0, a, w.data(), q, options, report);
     report.residual /= beta;
     if (excess > options.hullTolerance) {
       for (Index i = 0; i < m; ++i) w[i] = w[i] / beta - t;

@@ -59,11 +59,22 @@ inline constexpr double kTargetFloor = 0.03;
 /// sample at most one control's target.
 inline constexpr double kMaxTargetFloor = 0.5;
 
+/// Default ε of the kc backend's QP allowance metric (KcParams::qpAllowance, kc::kAllowanceCap):
+/// the correction that restores reproduction after the targets' floor falls on the controls near
+/// a sample, not the farthest ones (a foot's weight on the back), and the drag area of `kcwarp-cli
+/// stats` falls to about the LBC backend's; smaller ε is more local, and weakens a brush stroke's
+/// effect more (docs/notes/measured-constants.md).
+inline constexpr double kQpAllowance = 0.005;
+
 /// Bind parameters of the kernel-coordinate backend ("kc").
 struct KcParams {
   double sigma = 0.0;      ///< σ in pixels; ≤ 0 = automatic (3T/π, thesis 3.28, T measured).
   InitOptions init;        ///< W0: method, diffusion iterations (the locality length comes from `locality`).
   Method method = Method::QP;
+  /// ε of the QP's allowance metric (OptimizeOptions::allowance; kQpAllowance), in [0, 1]; 0: the
+  /// thesis's Euclidean QP (4.1). Bind and re-optimizations (painting) both use it. Sessions written
+  /// before the option (no `params.qp_allowance`) read 0.
+  double qpAllowance = kQpAllowance;
   InterpMode interp = InterpMode::Exact;
   /// `--linear-edges`: the field is made linear along every edge of the cage's loops (not the
   /// sticks) by the post-processing of the lines (thesis 5.3.3, makeLinearAlong), not only at the

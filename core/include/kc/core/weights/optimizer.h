@@ -23,6 +23,14 @@ struct EnumNames<Method> {
       {{Method::QP, "qp"}, {Method::QEC, "qec"}, {Method::L1, "l1"}}};
 };
 
+/// The QP's allowance metric (OptimizeOptions::allowance ε > 0): minimize Σ_j (w_j − w0_j)²/a_j
+/// instead of |w − w0|², with a_j = min(w0_j, kAllowanceCap·ε) + ε. The correction that restores
+/// reproduction (affine in the control positions under the Euclidean metric, so largest on the
+/// controls farthest from the sample) is then carried by the controls the targets name: a control
+/// without a target costs (kAllowanceCap + 1)× one with a target of at least kAllowanceCap·ε, and
+/// all those cost the same (a painted target does not buy its control a larger share).
+inline constexpr double kAllowanceCap = 10.0;
+
 struct OptimizeOptions {
   OptimizeOptions() = default;
   /// Implicit on purpose: `OptimizeOptions{Method::L1}` and passing a Method keep working.
@@ -30,6 +38,8 @@ struct OptimizeOptions {
 
   Method method = Method::QP;
   QpOptions qp;  ///< Used when method == QP.
+  /// QP only: ε of the allowance metric (kAllowanceCap); 0: the Euclidean QP (4.1).
+  double allowance = 0.0;
   L1Options l1;  ///< Used when method == L1.
 };
 

@@ -56,4 +56,12 @@ struct SampleReport {
 SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, std::span<double> w,
                       const QpOptions& options = {});
 
+/// The same in the diagonal metric Σ_j (w_j − w0_j)²/a_j (allowance a > 0, length m; empty: the
+/// plain QP above): controls with a small a_j carry little of the correction. A sample outside the
+/// hull, and one the metric's Newton does not certify, get sampleQp's weights (outside, the
+/// fallback's point lies on the hull's boundary, where the feasible weights are one edge's or one
+/// vertex's whatever the metric).
+SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0,
+                              std::span<const double> allowance, std::span<double> w, const QpOptions& options = {});
+
 }  // namespace kc
