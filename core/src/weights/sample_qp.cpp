@@ -398,8 +398,9 @@ SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::sp
     if (!(excess > 0.0) && dualNewton(frame, b, w0.data(), a, w.data(), p, options, report)) return report;
     return sampleQp(frame, xh, w0, w, options);
   }
+  // The plain QP from here on (a is null).
   if (!(excess > 0.0)) {
-    if (dualNewton(frame, b, w0.data(), a, w.data(), p, options, report)) return report;
+    if (dualNewton(frame, b, w0.data(), nullptr, w.data(), p, options, report)) return report;
   } else {
     // Fallback (see header): u = w + t1 ≥ 0 solves the QP at βx̂ on the hull boundary with the
     // target β(w0 + t1), scaled by 1/β; t = (1 − β)/(mβ).
@@ -422,9 +423,9 @@ SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::sp
     const std::span<const double> v0s(v0, static_cast<std::size_t>(m));
     const Eigen::Vector3d by(y.x(), y.y(), 1.0);
     DualPoint q;
-    q.lambda = startMultipliers(frame, y, v0s, a);
-    evaluateDual(frame, v0, a, w.data(), by, q);
-    const bool ok = dualNewton(frame, by, v0, a, w.data(), q, options, report);
+    q.lambda = qecMultipliers(frame, y, v0s);
+    evaluateDual(frame, v0, nullptr, w.data(), by, q);
+    const bool ok = dualNewton(frame, by, v0, nullptr, w.data(), q, options, report);
     report.residual /= beta;
     if (excess > options.hullTolerance) {
       for (Index i = 0; i < m; ++i) w[i] = w[i] / beta - t;
