@@ -170,86 +170,113 @@ Weights getWeights(const json& block, const std::string& key, Index n, Index m, 
   return parseWeights(block[key], n, m, where, field);
 }
 
+namespace {
+
+json meshFieldToJson(const Session& s, WeightsForm form) {
+  const auto* mesh = static_cast<const MeshField*>(s.field.get());
+  json tris = json::array();
+  for (const auto& t : mesh->triangles()) tris.push_back({t[0], t[1], t[2]});
+  json block = {{"kind", "mesh"}, {"vertices", pointsToJson(mesh->vertices())}, {"triangles", tris}};
+  putWeights(block, "weights", mesh->vertexWeights(), form);
+  return block;
+}
+
+json kernelFieldToJson(const Session& s, WeightsForm form) {
+  const auto* kernel = static_cast<const KernelField*>(s.field.get());
+  const KernelInterpolator& k = kernel->interpolator();
+  json block = {{"kind", "kernel"},
+                {"nodes", "samples"},
+                {"sigma", k.kernel().sigma},
+                {"spacing", s.params.spacing},
+                {"interp", std::string(toString(k.mode()))}};
+  // The solved coefficients [B; U], so that a load needs no factorization (the compact form only).
+  if (form == WeightsForm::Compact && kernel->ready())
+    block["coefficients_b64"] = weightsToCompactJson(kernel->coefficientColumns());
+  return block;
+}
+
+bool meshFieldFromJson(const json& block, Session& s, const std::string& where) {
+  const Points V = parsePoints(require(block, "vertices", where), where, "field.vertices");
+  const Index m = s.cage.size();
+  if (V.rows() < m) throw InputError(where, "field.vertices must start with the " + std::to_string(m) + " control points");
+  for (Index i = 0; i < m; ++i)
+    if ((V.row(i) - s.cage.C.row(i)).norm() > 1e-9 * (1.0 + s.cage.C.row(i).norm()))
+      throw InputError(where, "field.vertices[" + std::to_string(i) + "] differs from cage point " + std::to_string(i));
+  const json& tris = require(block, "triangles", where);
+  if (!tris.is_array() || tris.empty()) throw InputError(where, "field.triangles must be a non-empty array of [i, j, k]");
+  Triangles T;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    const json& r = tris[t];
+    const std::string name = "field.triangles[" + std::to_string(t) + "]";
+    if (!r.is_array() || r.size() != 3) throw InputError(where, name + " must be [i, j, k]");
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      tri[static_cast<std::size_t>(k)] = static_cast<int>(
+          integerInRange(r[static_cast<std::size_t>(k)], 0, V.rows() - 1, where, name + "[" + std::to_string(k) + "]"));
+    }
+    T.push_back(tri);
+  }
+  checkMeshCoversCage(V, T, s.cage, where);
+  Weights W = getWeights(block, "weights", V.rows(), m, where, "field.weights");
+  checkWeightRows(W, V, s.cage.C, where, "field.weights");
+  try {
+    s.field = std::make_unique<MeshField>(V, std::move(T), std::move(W));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where, std::string("field: ") + e.what());
+  }
+  return true;
+}
+
+bool kernelFieldFromJson(const json& block, Session& s, const std::string& where) {
+  if (block.contains("sigma") && std::abs(finiteNumber(block["sigma"], where, "field.sigma") - s.sigma) > 1e-12 * s.sigma)
+    throw InputError(where, "field.sigma disagrees with params.sigma");
+  if (block.contains("interp") && block["interp"] != std::string(toString(s.params.kc.interp)))
+    throw InputError(where, "field.interp disagrees with params.interp");
+  if (block.contains("coefficients_b64") && s.sigma > 0) {  // checked against the weights by the backend's rebuildField
+    const Index n = KernelField::kPolynomialNodes + s.samples.size();
+    const RowMatrix coef =
+        parseCompactWeights(block["coefficients_b64"], n, s.cage.size(), where, "field.coefficients_b64", kMaxCoefficient);
+    auto field = std::make_unique<KernelField>();
+    try {
+      GaussianKernel kernel = GaussianKernel::forSpacing(s.sigma, s.params.spacing);
+      kernel.width = s.sizing;
+      field->restore(s.samples.X, kernel, s.params.kc.interp, coef);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(where, std::string("field: ") + e.what());
+    }
+    s.field = std::move(field);
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<FieldCodec>& fieldCodecs() {
+  static std::vector<FieldCodec> codecs{{"mesh", meshFieldToJson, meshFieldFromJson},
+                                        {"kernel", kernelFieldToJson, kernelFieldFromJson}};
+  return codecs;
+}
+
+const FieldCodec* codecFor(std::string_view kind) {
+  for (const FieldCodec& c : fieldCodecs())
+    if (c.kind == kind) return &c;
+  return nullptr;
+}
+
 json fieldToJson(const Session& s, WeightsForm form) {
   if (!s.field) return nullptr;
-  if (s.field->kind() == "mesh") {
-    const auto* mesh = static_cast<const MeshField*>(s.field.get());
-    json tris = json::array();
-    for (const auto& t : mesh->triangles()) tris.push_back({t[0], t[1], t[2]});
-    json block = {{"kind", "mesh"}, {"vertices", pointsToJson(mesh->vertices())}, {"triangles", tris}};
-    putWeights(block, "weights", mesh->vertexWeights(), form);
-    return block;
-  }
-  if (s.field->kind() == "kernel") {
-    const auto* kernel = static_cast<const KernelField*>(s.field.get());
-    const KernelInterpolator& k = kernel->interpolator();
-    json block = {{"kind", "kernel"},
-                  {"nodes", "samples"},
-                  {"sigma", k.kernel().sigma},
-                  {"spacing", s.params.spacing},
-                  {"interp", std::string(toString(k.mode()))}};
-    // The solved coefficients [B; U], so that a load needs no factorization (the compact form only).
-    if (form == WeightsForm::Compact && kernel->ready()) block["coefficients_b64"] = weightsToCompactJson(kernel->coefficientColumns());
-    return block;
-  }
-  return nullptr;
+  const FieldCodec* codec = codecFor(s.field->kind());
+  return codec ? codec->write(s, form) : json(nullptr);
 }
 
 bool fieldFromJson(const json& block, Session& s, const std::string& where) {
   if (!block.is_object()) throw InputError(where, "field must be an object");
   const json& kind = require(block, "kind", where);
-  if (kind == "mesh") {
-    const Points V = parsePoints(require(block, "vertices", where), where, "field.vertices");
-    const Index m = s.cage.size();
-    if (V.rows() < m) throw InputError(where, "field.vertices must start with the " + std::to_string(m) + " control points");
-    for (Index i = 0; i < m; ++i)
-      if ((V.row(i) - s.cage.C.row(i)).norm() > 1e-9 * (1.0 + s.cage.C.row(i).norm()))
-        throw InputError(where, "field.vertices[" + std::to_string(i) + "] differs from cage point " + std::to_string(i));
-    const json& tris = require(block, "triangles", where);
-    if (!tris.is_array() || tris.empty()) throw InputError(where, "field.triangles must be a non-empty array of [i, j, k]");
-    Triangles T;
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      const json& r = tris[t];
-      const std::string name = "field.triangles[" + std::to_string(t) + "]";
-      if (!r.is_array() || r.size() != 3) throw InputError(where, name + " must be [i, j, k]");
-      std::array<int, 3> tri{};
-      for (int k = 0; k < 3; ++k) {
-        tri[static_cast<std::size_t>(k)] =
-            static_cast<int>(integerInRange(r[static_cast<std::size_t>(k)], 0, V.rows() - 1, where, name + "[" + std::to_string(k) + "]"));
-      }
-      T.push_back(tri);
-    }
-    checkMeshCoversCage(V, T, s.cage, where);
-    Weights W = getWeights(block, "weights", V.rows(), m, where, "field.weights");
-    checkWeightRows(W, V, s.cage.C, where, "field.weights");
-    try {
-      s.field = std::make_unique<MeshField>(V, std::move(T), std::move(W));
-    } catch (const std::invalid_argument& e) {
-      throw InputError(where, std::string("field: ") + e.what());
-    }
-    return true;
-  }
-  if (kind == "kernel") {
-    if (block.contains("sigma") && std::abs(finiteNumber(block["sigma"], where, "field.sigma") - s.sigma) > 1e-12 * s.sigma)
-      throw InputError(where, "field.sigma disagrees with params.sigma");
-    if (block.contains("interp") && block["interp"] != std::string(toString(s.params.kc.interp)))
-      throw InputError(where, "field.interp disagrees with params.interp");
-    if (block.contains("coefficients_b64") && s.sigma > 0) {  // checked against the weights by the backend's rebuildField
-      const Index n = KernelField::kPolynomialNodes + s.samples.size();
-      const RowMatrix coef = parseCompactWeights(block["coefficients_b64"], n, s.cage.size(), where, "field.coefficients_b64", kMaxCoefficient);
-      auto field = std::make_unique<KernelField>();
-      try {
-        GaussianKernel kernel = GaussianKernel::forSpacing(s.sigma, s.params.spacing);
-        kernel.width = s.sizing;
-        field->restore(s.samples.X, kernel, s.params.kc.interp, coef);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(where, std::string("field: ") + e.what());
-      }
-      s.field = std::move(field);
-    }
-    return false;
-  }
-  throw InputError(where, "field.kind " + quoted(kind) + " is not one of \"kernel\", \"mesh\"");
+  if (const FieldCodec* codec = kind.is_string() ? codecFor(kind.get<std::string>()) : nullptr)
+    return codec->read(block, s, where);
+  std::string kinds;
+  for (const FieldCodec& c : fieldCodecs()) kinds += (kinds.empty() ? "\"" : ", \"") + std::string(c.kind) + "\"";
+  throw InputError(where, "field.kind " + quoted(kind) + " is not one of " + kinds);
 }
 
 void checkWeightRows(const Weights& W, const Points& X, const Points& C, const std::string& where, const std::string& field) {
@@ -313,3 +340,14 @@ BindReport reportsFromJson(const json& block, const Backend& backend) {
 }
 
 }  // namespace kc::app::detail
+
+namespace kc::app {
+
+bool registerFieldCodec(const FieldCodec& codec) {
+  if (detail::codecFor(codec.kind))
+    throw std::invalid_argument("field kind '" + std::string(codec.kind) + "' has a codec already");
+  detail::fieldCodecs().push_back(codec);
+  return true;
+}
+
+}  // namespace kc::app

@@ -11,13 +11,17 @@ namespace kc::app::detail {
 /// {"kind": "kernel", "nodes": "samples", "sigma", "spacing", "interp", "coefficients_b64"} for a
 /// KernelField (coefficients [B; U], (3+#S)×m, in the compact form only; without them rebuilt from
 /// the samples and weights.optimized), {"kind": "mesh", "vertices", "triangles", "weights"} for a
-/// MeshField (self-contained). Null json when the session has no field.
+/// MeshField (self-contained), a registered codec's block for other kinds (registerFieldCodec).
+/// Null json when the session has no field or its kind has no codec.
 json fieldToJson(const Session& s, WeightsForm form);
 /// Reads the field block into s: a mesh block builds s.field (returns true); a kernel block is
 /// checked against s.params and σ, and its coefficients, when stored, restore s.field without a
 /// factorization (returns false: the backend checks them against the weights or rebuilds the
 /// field). Needs s.samples, s.W and s.params read. InputError naming the bad entry otherwise.
 bool fieldFromJson(const json& block, Session& s, const std::string& where);
+/// The registered field codecs (the built-in "mesh" and "kernel" first), and the one of `kind` (null: none).
+std::vector<FieldCodec>& fieldCodecs();
+const FieldCodec* codecFor(std::string_view kind);
 
 /// Partition of unity and linear reproduction of the weights W (#S×m) of samples X (#S×2) over
 /// control points C (m×2), row by row: |Σ_k W(i,k) − 1| ≤ kUnityTolerance and

@@ -322,13 +322,14 @@ void samplesFromJson(const json& j, Session& s, const std::string& where) {
                                   " (the first samples must be the control points)");
 }
 
-/// The field: a self-contained block (mesh) is read as it is, the others rebuilt by the backend.
+/// The field: a self-contained block (mesh, or a registered codec's that builds it) is read as it
+/// is, the others rebuilt by the backend.
 void fieldOfSession(const json& j, Session& s, const std::string& where) {
   const BindParams& p = s.params;
   const bool kernel = backendFor(p.backend).capabilities().targets;
   if (j.contains("field")) {
     const json& kind = detail::require(j["field"], "kind", where);
-    if (kind.is_string() && (kind == "mesh") == kernel)
+    if ((kind == "mesh" && kernel) || (kind == "kernel" && !kernel))  // a registered kind's codec checks its own
       throw InputError(where, "field.kind " + detail::quoted(kind) + " does not match params.backend \"" + p.backend + "\" (its field is " +
                                   (kernel ? "a kernel field" : "a mesh") + ")");
   }

@@ -78,6 +78,47 @@ TEST(TestBackend, BindsThroughThePipelineWithItsParameter) {
   EXPECT_EQ((back.field->weightsAt(P) - W).cwiseAbs().maxCoeff(), 0.0);
 }
 
+/// A field kind without a codec is not written (the load rebuilds the field); registering a codec
+/// for it (registerFieldCodec) puts its block in the session and reads it back through the codec.
+TEST(TestBackend, AFieldCodecKeepsItsKindsBlock) {
+  const Cage cage = app::loadCage(kImages + "star.cage.json");
+  app::BindParams p;
+  p.backend = "mvc";
+  const app::Session s = app::bind(cage, 320, 320, p);
+  ASSERT_EQ(s.field->kind(), "mvc");
+  EXPECT_FALSE(nlohmann::json::parse(app::sessionToJson(s)).contains("field")) << "no codec: no block";
+  static int reads = 0;
+  static const bool registered =
+      app::registerFieldCodec({"mvc",
+                               [](const app::Session& session, app::WeightsForm) {
+                                 return nlohmann::json{{"kind", "mvc"}, {"controls", session.cage.size()}};
+                               },
+                               [](const nlohmann::json& block, app::Session& session, const std::string&) {
+                                 ++reads;
+                                 EXPECT_EQ(block.at("controls").get<Index>(), session.cage.size());
+                                 return false;  // the backend's rebuildField makes the field
+                               }});
+  EXPECT_TRUE(registered);
+  const auto j = nlohmann::json::parse(app::sessionToJson(s));
+  ASSERT_TRUE(j.contains("field"));
+  EXPECT_EQ(j["field"]["kind"], "mvc");
+  const app::Session back = app::sessionFromJson(j.dump(), "mem.kcw.json");
+  EXPECT_EQ(reads, 1);
+  ASSERT_TRUE(back.hasField());
+  Points P(1, 2);
+  P << 160, 160;
+  EXPECT_EQ((back.field->weightsAt(P) - s.field->weightsAt(P)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_THROW(app::registerFieldCodec({"kernel", {}, {}}), std::invalid_argument);  // a kind has one codec
+  auto unknown = j;
+  unknown["field"]["kind"] = "spline";
+  try {
+    app::sessionFromJson(unknown.dump(), "mem.kcw.json");
+    ADD_FAILURE() << "an unknown field kind was read";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("\"mvc\""), std::string::npos) << e.what();  // the registered kinds are named
+  }
+}
+
 TEST(TestBackend, BindsFromTheCommandLineAndItsSessionIsRead) {
   const auto dir = scratchDir("test_backend_cli");
   CliResult r = runCli("bind --help", dir, KC_MVC_CLI_PATH);

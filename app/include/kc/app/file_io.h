@@ -3,7 +3,9 @@
 /// shapes and names the file and the bad field (InputError); every save is atomic.
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -85,5 +87,21 @@ enum class WeightsForm { Compact, Rows };
 /// The same as text (used by the GUI's autosave and by tests).
 std::string sessionToJson(const Session& session, WeightsForm form = WeightsForm::Compact);
 Session sessionFromJson(const std::string& text, const std::string& where);
+
+/// How a coordinate field of one kind (CoordinateField::kind()) is kept in the session's `field`
+/// block. Built in: "kernel" and "mesh" (ARCHITECTURE.md, Session file).
+struct FieldCodec {
+  std::string_view kind;
+  /// The block for s.field (of this kind), "kind" included; `form` says how weights are written.
+  std::function<nlohmann::json(const Session& s, WeightsForm form)> write;
+  /// Reads the block into s (s.samples, s.W and s.params are read): builds s.field and returns
+  /// true, or checks the block and returns false (the backend's rebuildField makes the field).
+  /// Throws InputError(where, …) naming the bad entry.
+  std::function<bool(const nlohmann::json& block, Session& s, const std::string& where)> read;
+};
+/// Makes sessions keep fields of codec.kind (a static object's, as registerBackend's backends):
+/// without a codec a field is not written and the load rebuilds it. Returns true; throws
+/// std::invalid_argument when the kind has a codec already.
+bool registerFieldCodec(const FieldCodec& codec);
 
 }  // namespace kc::app
