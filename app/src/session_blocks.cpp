@@ -172,6 +172,14 @@ Weights getWeights(const json& block, const std::string& key, Index n, Index m, 
 
 namespace {
 
+/// A built-in field kind belongs to the backends with targets (a kernel field) or without (a mesh):
+/// InputError when s.params.backend is of the other sort.
+void requireBackendOf(const char* kind, bool targets, const Session& s, const std::string& where) {
+  if (backendFor(s.params.backend).capabilities().targets == targets) return;
+  throw InputError(where, std::string("field.kind \"") + kind + "\" does not match params.backend \"" + s.params.backend +
+                              "\" (its field is " + (targets ? "a mesh" : "a kernel field") + ")");
+}
+
 json meshFieldToJson(const Session& s, WeightsForm form) {
   const auto* mesh = static_cast<const MeshField*>(s.field.get());
   json tris = json::array();
@@ -196,6 +204,7 @@ json kernelFieldToJson(const Session& s, WeightsForm form) {
 }
 
 bool meshFieldFromJson(const json& block, Session& s, const std::string& where) {
+  requireBackendOf("mesh", false, s, where);
   const Points V = parsePoints(require(block, "vertices", where), where, "field.vertices");
   const Index m = s.cage.size();
   if (V.rows() < m) throw InputError(where, "field.vertices must start with the " + std::to_string(m) + " control points");
@@ -228,6 +237,7 @@ bool meshFieldFromJson(const json& block, Session& s, const std::string& where) 
 }
 
 bool kernelFieldFromJson(const json& block, Session& s, const std::string& where) {
+  requireBackendOf("kernel", true, s, where);
   if (block.contains("sigma") && std::abs(finiteNumber(block["sigma"], where, "field.sigma") - s.sigma) > 1e-12 * s.sigma)
     throw InputError(where, "field.sigma disagrees with params.sigma");
   if (block.contains("interp") && block["interp"] != std::string(toString(s.params.kc.interp)))

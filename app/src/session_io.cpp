@@ -325,14 +325,6 @@ void samplesFromJson(const json& j, Session& s, const std::string& where) {
 /// The field: a self-contained block (mesh, or a registered codec's that builds it) is read as it
 /// is, the others rebuilt by the backend.
 void fieldOfSession(const json& j, Session& s, const std::string& where) {
-  const BindParams& p = s.params;
-  const bool kernel = backendFor(p.backend).capabilities().targets;
-  if (j.contains("field")) {
-    const json& kind = detail::require(j["field"], "kind", where);
-    if ((kind == "mesh" && kernel) || (kind == "kernel" && !kernel))  // a registered kind's codec checks its own
-      throw InputError(where, "field.kind " + detail::quoted(kind) + " does not match params.backend \"" + p.backend + "\" (its field is " +
-                                  (kernel ? "a kernel field" : "a mesh") + ")");
-  }
   const bool built = j.contains("field") && detail::fieldFromJson(j["field"], s, where);
   if (!built) {
     if (s.sigma > 0) checkFieldCost(s, where);  // a kernel field is rebuilt from the samples

@@ -57,20 +57,20 @@ void evaluateImpl(const ControlFrame& frame, const double* w0, const double* a, 
   Index i = 0;
   for (; i + 1 < m; i += 2) {
     const D2 x = load2(cx + i), y = load2(cy + i);
-    D2 av = {1.0, 1.0};
-    if constexpr (Weighted) av = load2(a + i);
-    D2 z;
-    if constexpr (Weighted) z = load2(w0 + i) + av * (L0 * x + L1 * y + L2);
-    else z = load2(w0 + i) + (L0 * x + L1 * y + L2);
+    // Unweighted, the products by a are left out (the same bits as by 1, one multiply fewer).
+    const auto scaled = [&](D2 v) {
+      if constexpr (Weighted) v *= load2(a + i);
+      return v;
+    };
+    D2 z = load2(w0 + i) + scaled(L0 * x + L1 * y + L2);
     if constexpr (Incremental) {
       const D2 wi = load2(w + i);
       const auto on = wi > zero;
-      if constexpr (Weighted) z = select(wi + av * (S0 * x + S1 * y + S2), on) + select(z, ~on);
-      else z = select(wi + (S0 * x + S1 * y + S2), on) + select(z, ~on);
+      z = select(wi + scaled(S0 * x + S1 * y + S2), on) + select(z, ~on);
     }
     const D2 zp = select(z, z > zero);
     store2(w + i, zp);
-    if constexpr (Weighted) f += zp * zp / av;
+    if constexpr (Weighted) f += zp * zp / load2(a + i);
     else f += zp * zp;
     gx += zp * x;
     gy += zp * y;
@@ -78,13 +78,12 @@ void evaluateImpl(const ControlFrame& frame, const double* w0, const double* a, 
   }
   double t[4] = {f[0] + f[1], gx[0] + gx[1], gy[0] + gy[1], g1[0] + g1[1]};
   if (i < m) {
-    const double ai = Weighted ? a[i] : 1.0;
-    double z = Weighted ? w0[i] + ai * (l0 * cx[i] + l1 * cy[i] + l2) : w0[i] + (l0 * cx[i] + l1 * cy[i] + l2);
-    if (Incremental && w[i] > 0.0)
-      z = Weighted ? w[i] + ai * (d(0) * cx[i] + d(1) * cy[i] + d(2)) : w[i] + (d(0) * cx[i] + d(1) * cy[i] + d(2));
+    const double ai = Weighted ? a[i] : 1.0;  // × 1 and / 1 are exact
+    double z = w0[i] + ai * (l0 * cx[i] + l1 * cy[i] + l2);
+    if (Incremental && w[i] > 0.0) z = w[i] + ai * (d(0) * cx[i] + d(1) * cy[i] + d(2));
     const double zp = z > 0.0 ? z : 0.0;
     w[i] = zp;
-    t[0] += Weighted ? zp * zp / ai : zp * zp;
+    t[0] += zp * zp / ai;
     t[1] += zp * cx[i];
     t[2] += zp * cy[i];
     t[3] += zp;
@@ -257,11 +256,10 @@ Eigen::Vector3d newtonDirection(const ControlFrame& frame, const double* w0, con
   // No breakpoint: f decreases along the null space without bound (x̂ outside the hull up to
   // rounding); a long step, which the line search shortens.
   if (!std::isfinite(first)) return s.range + 1e10 * s.null;
-  // Along s·null, f' = −|null|² up to the breakpoint, then −|null|² + rate²(s − first) (weighted:
-  // rate²/a; the line search corrects the step either way): its
-  // minimizer if no other control activates on the way (the line search checks).
-  if (a) return s.range + (first + firstA * s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
-  return s.range + (first + s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
+  // Along s·null, f' = −|null|² up to the breakpoint, then −|null|² + rate²(s − first)/a: its
+  // minimizer if no other control activates on the way (the line search checks). firstA is 1
+  // unweighted (× 1 is exact).
+  return s.range + (first + firstA * s.null.squaredNorm() / (firstRate * firstRate)) * s.null;
 }
 
 /// The minimum-norm solution −H⁺g: the Newton step when H is regular; when it is singular, the
