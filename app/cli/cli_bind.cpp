@@ -168,6 +168,9 @@ void runBind(const BindArgs& a) {
       std::printf("graded: spacing %.3g-%.3g px (sigma %.3g-%.3g px) for the cage's narrow places\n", s.sizing->hMin(),
                   s.sizing->hMax(), s.sigma * s.sizing->hMin() / s.sizing->hMax(), s.sigma);
     std::printf("method %s, %s\n", std::string(app::toString(p.kc.method)).c_str(), r.summary().c_str());
+    if (r.lift.rounds > 0)
+      std::printf("lobes: %ld lifted, deepest weight inside %.3g -> %.3g (%.3f s)\n", static_cast<long>(r.lift.lobes),
+                  r.lift.deepestBefore, r.lift.deepestAfter, r.lift.seconds);
   } else {
     std::printf("bound %ld control points with %s, %ld points\n%s\n", static_cast<long>(cage.size()),
                 std::string(app::backendFor(p.backend).displayName()).c_str(), static_cast<long>(s.samples.size()),

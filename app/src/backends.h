@@ -87,6 +87,9 @@ std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& c
 /// (WeightOptimizer), then `continuation` (continuationFor(s)) applied to the continued rows among
 /// them (all of them for an empty `rows`). Pass rows from rederivedRows so that the continued rows
 /// reading a re-optimized row are among them.
+/// The field's lobe lift for the session's parameters (KcParams::liftLobes): removed, then found
+/// anew with the QP (kc::liftLobes; the rigid regions are not probed); none for QEC and L1.
+LobeLiftReport liftFieldLobes(const Session& s, KernelField& field);
 OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation);
 
 }  // namespace kc::app

@@ -14,6 +14,7 @@
 #include "kc/core/structure/line_blend.h"
 #include "kc/app/pipeline.h"
 #include "kc/core/field/kernel_field.h"
+#include "kc/core/field/lobe_lift.h"
 #include "kc/core/field/mesh_field.h"
 #include "kc/sampling/sigma.h"
 #include "kc/core/timing.h"
@@ -39,10 +40,15 @@ GaussianKernel kernelFor(double sigma, double spacing, const std::shared_ptr<con
 /// non-singular), so coefficients that pass are those a solve would give, up to round-off.
 bool reproducesWeights(const KernelField& field, const Session& s) {
   if (field.controls() != s.W.cols() || field.nodes() != KernelField::kPolynomialNodes + s.W.rows()) return false;
-  const Weights W = field.weightsAt(s.samples.X);
+  Weights W = field.weightsAt(s.samples.X);
+  if (field.lift().size() > 0) {  // the lift's own change at the samples
+    const SparseRowMatrix E = field.evaluationOperator(s.samples.X);
+    W -= E.rightCols(s.samples.size()) * field.lift();
+  }
   if (!((W - s.W).cwiseAbs().maxCoeff() <= 1e-6)) return false;
   if (field.interpolator().mode() != InterpMode::Exact) return true;
-  const RowMatrix& U = field.kernelCoefficients().U;
+  const RowMatrix U =
+      field.lift().size() > 0 ? RowMatrix(field.kernelCoefficients().U - field.lift()) : field.kernelCoefficients().U;
   const Points& X = s.samples.X;
   for (int d = 0; d < 3; ++d) {
     const Eigen::VectorXd x = d == 0 ? Eigen::VectorXd::Ones(X.rows()) : Eigen::VectorXd(X.col(d - 1));
@@ -100,6 +106,17 @@ std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& c
   std::sort(rows.begin(), rows.end());
   rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
   return rows;
+}
+
+LobeLiftReport liftFieldLobes(const Session& s, KernelField& field) {
+  field.clearLift();
+  if (s.params.kc.method != Method::QP || !s.params.kc.liftLobes) return {};
+  // Not where post-processing sets the field (linear edges, lines through the samples) or with
+  // rigid regions, whose weights the rigidity QP makes: the bumps would bend them.
+  const bool rigid = std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; });
+  if (rigid || !s.structure.rigid.empty() || s.params.kc.linearEdges || (!s.structure.lines.empty() && !s.params.kc.exactLines))
+    return {};
+  return liftLobes(field, s.cage, s.samples.kind);
 }
 
 OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation) {
@@ -234,6 +251,7 @@ class KcBackend final : public Backend {
     r.lines = applyLines(s, *field);
     s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
     r.rigidity = applyRigidity(s, *field);
+    r.lift = liftFieldLobes(s, *field);
     r.timings.solve = secondsSince(ts);
     s.field = std::move(field);
   }
@@ -252,6 +270,7 @@ class KcBackend final : public Backend {
       throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
     field->update(s.W);
     installLineCorrection(s, *field);
+    liftFieldLobes(s, *field);
     s.field = std::move(field);
   }
 
@@ -303,13 +322,14 @@ class KcBackend final : public Backend {
       kernel->update(s.W);  // applyLines blends from the field of the weights before the lines
       if (!s.structure.lines.empty() || s.params.kc.linearEdges) applyLines(s, *kernel);
       applyRigidity(s, *kernel);
+      if (whole) s.report.lift = liftFieldLobes(s, *kernel);
       columns.resize(std::size_t(m));
       std::iota(columns.begin(), columns.end(), Index(0));
     } else if (s.field) {
-      if (whole)
+      if (whole) {
         s.field->update(s.W);
-      else if (!columns.empty())
-        s.field->update(s.W, columns);
+        if (kernel) s.report.lift = liftFieldLobes(s, *kernel);
+      } else if (!columns.empty()) s.field->update(s.W, columns);
     }
     if (changedColumns) *changedColumns = std::move(columns);
     return r;

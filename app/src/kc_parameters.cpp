@@ -171,6 +171,16 @@ std::vector<BackendParameter> describe() {
       defaults.guardLobes, [](const BindParams& p) { return p.kc.guardLobes; },
       [](BindParams& p, bool v) { p.kc.guardLobes = v; }));
 
+  BackendParameter lift = boolean(
+      named("lift_lobes", "Lift lobes",
+            "QP: raise the field's dips below 0 inside the cage (between the samples, where a weight falls to 0) "
+            "with smooth bumps that keep partition of unity and reproduction",
+            "Keeps the influences from dipping below zero between the sample points, so nothing moves against "
+            "a drag (best with a target floor of 0.05)."),
+      defaults.liftLobes, [](const BindParams& p) { return p.kc.liftLobes; }, [](BindParams& p, bool v) { p.kc.liftLobes = v; });
+  lift.shownWhen = [](const BindParams& p) { return p.kc.method == Method::QP; };
+  list.push_back(lift);
+
   BackendParameter method = named("method", "Method", "Optimization", "How the influences are optimized.");
   describeChoice(
       method, defaults.method, [](const BindParams& p) { return p.kc.method; }, [](BindParams& p, Method m) { p.kc.method = m; });

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <stdexcept>
 
@@ -31,7 +32,15 @@ RigidityReport applyRigidity(Session& s, KernelField& field, const Progress& pro
                                 std::to_string(s.samples.size()) + " samples");
   RigidityOptions options;
   options.solver.progress = progress;
-  return makeRigid(field, s.cage.C, s.rigidity, rigidHeldSamples(s.samples), s.W, options);
+  // The lobe lift's bumps would bend the rigid regions: none with rigidity (liftFieldLobes).
+  const bool lifted = field.lift().size() > 0;
+  field.clearLift();
+  RigidityReport r = makeRigid(field, s.cage.C, s.rigidity, rigidHeldSamples(s.samples), s.W, options);
+  if (lifted) {
+    r.columns.resize(static_cast<std::size_t>(s.W.cols()));
+    std::iota(r.columns.begin(), r.columns.end(), Index(0));
+  }
+  return r;
 }
 
 void restoreUnconstrained(Session& s, KernelField& field, std::span<const Index> rowsIn, std::vector<Index>& columns) {
@@ -86,7 +95,7 @@ RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const StageP
   auto step = [&](const char* stage, double f) {
     if (!tell(stage, f)) throw Cancelled();
   };
-  const RowMatrix W = s.W;
+  const RowMatrix W = s.W, lift = field->lift();
   const std::vector<double> stored = s.rigidity;
   s.rigidity.assign(rho.begin(), rho.end());
   if (!rows.empty()) try {
@@ -102,6 +111,7 @@ RigidityUpdate setRigidity(Session& s, std::span<const double> rho, const StageP
     s.W = W;
     s.rigidity = stored;
     field->update(s.W);
+    field->setLift(lift);
     throw;
   }
   u.rows = std::move(rows);

@@ -200,6 +200,17 @@ json kernelFieldToJson(const Session& s, WeightsForm form) {
   // The solved coefficients [B; U], so that a load needs no factorization (the compact form only).
   if (form == WeightsForm::Compact && kernel->ready())
     block["coefficients_b64"] = weightsToCompactJson(kernel->coefficientColumns());
+  // The lobe lift (KernelField::lift), its non-zero rows: the stored coefficients hold it.
+  if (form == WeightsForm::Compact && kernel->lift().size() > 0) {
+    const RowMatrix& L = kernel->lift();
+    std::vector<Index> rows;
+    for (Index i = 0; i < L.rows(); ++i)
+      if (L.row(i).cwiseAbs().maxCoeff() > 0.0) rows.push_back(i);
+    RowMatrix values(static_cast<Index>(rows.size()), L.cols());
+    for (std::size_t k = 0; k < rows.size(); ++k) values.row(static_cast<Index>(k)) = L.row(rows[k]);
+    block["lift_rows"] = rows;
+    block["lift_b64"] = weightsToCompactJson(values);
+  }
   return block;
 }
 
@@ -236,6 +247,21 @@ bool meshFieldFromJson(const json& block, Session& s, const std::string& where) 
   return true;
 }
 
+/// The lobe lift of a kernel block (lift_rows, lift_b64): #S×m, empty without one.
+RowMatrix liftFromJson(const json& block, const Session& s, const std::string& where) {
+  if (!block.contains("lift_rows") && !block.contains("lift_b64")) return {};
+  const json& rows = require(block, "lift_rows", where);
+  if (!rows.is_array()) throw InputError(where, "field.lift_rows must be an array of sample indices");
+  const Index n = s.samples.size(), m = s.cage.size();
+  const RowMatrix values = parseCompactWeights(require(block, "lift_b64", where), static_cast<Index>(rows.size()), m, where,
+                                               "field.lift_b64", kMaxCoefficient);
+  RowMatrix L = RowMatrix::Zero(n, m);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    L.row(integerInRange(rows[k], 0, n - 1, where, "field.lift_rows[" + std::to_string(k) + "]")) =
+        values.row(static_cast<Index>(k));
+  return L;
+}
+
 bool kernelFieldFromJson(const json& block, Session& s, const std::string& where) {
   requireBackendOf("kernel", true, s, where);
   if (block.contains("sigma") && std::abs(finiteNumber(block["sigma"], where, "field.sigma") - s.sigma) > 1e-12 * s.sigma)
@@ -250,7 +276,7 @@ bool kernelFieldFromJson(const json& block, Session& s, const std::string& where
     try {
       GaussianKernel kernel = GaussianKernel::forSpacing(s.sigma, s.params.spacing);
       kernel.width = s.sizing;
-      field->restore(s.samples.X, kernel, s.params.kc.interp, coef);
+      field->restore(s.samples.X, kernel, s.params.kc.interp, coef, liftFromJson(block, s, where));
     } catch (const std::invalid_argument& e) {
       throw InputError(where, std::string("field: ") + e.what());
     }
@@ -307,21 +333,26 @@ json reportsToJson(const BindReport& r, const Backend& backend) {
   json problems = json::array();
   for (const std::string& p : r.problems()) problems.push_back(p);
   json j = {{"sampling",
-           {{"converged", r.sampling.converged},
-            {"iterations", r.sampling.iterations},
-            {"last_move", r.sampling.lastMove},
-            {"rejected_moves", r.sampling.rejectedMoves}}},
-          {"init",
-           {{"unreachable_samples", r.init.fallbackSamples},
-            {"unscreened_samples", r.init.unscreenedSamples},
-            {"iterations", r.init.iterations},
-            {"steady_state", r.init.steadyState}}},
-          {"optimize",
-           {{"solved", r.optimize.solved},
-            {"infeasible", r.optimize.infeasible},
-            {"failed", r.optimize.failed},
-            {"max_iterations", r.optimize.maxIterations}}},
-          {"problems", problems}};
+             {{"converged", r.sampling.converged},
+              {"iterations", r.sampling.iterations},
+              {"last_move", r.sampling.lastMove},
+              {"rejected_moves", r.sampling.rejectedMoves}}},
+            {"init",
+             {{"unreachable_samples", r.init.fallbackSamples},
+              {"unscreened_samples", r.init.unscreenedSamples},
+              {"iterations", r.init.iterations},
+              {"steady_state", r.init.steadyState}}},
+            {"optimize",
+             {{"solved", r.optimize.solved},
+              {"infeasible", r.optimize.infeasible},
+              {"failed", r.optimize.failed},
+              {"max_iterations", r.optimize.maxIterations}}},
+            {"lift",
+             {{"lobes", r.lift.lobes},
+              {"rounds", r.lift.rounds},
+              {"deepest_before", r.lift.deepestBefore},
+              {"deepest_after", r.lift.deepestAfter}}},
+            {"problems", problems}};
   if (r.backend && !backend.parameterBlock().empty()) r.backend->toJson(j[std::string(backend.parameterBlock())], true);
   return j;
 }
@@ -344,6 +375,10 @@ BindReport reportsFromJson(const json& block, const Backend& backend) {
   r.optimize.infeasible = get("optimize", "infeasible", Index{0});
   r.optimize.failed = get("optimize", "failed", Index{0});
   r.optimize.maxIterations = get("optimize", "max_iterations", 0);
+  r.lift.lobes = get("lift", "lobes", Index{0});
+  r.lift.rounds = get("lift", "rounds", 0);
+  r.lift.deepestBefore = get("lift", "deepest_before", 0.0);
+  r.lift.deepestAfter = get("lift", "deepest_after", 0.0);
   if (const std::string name(backend.parameterBlock()); !name.empty() && block.contains(name))
     r.backend = backend.readReport(block[name]);
   return r;

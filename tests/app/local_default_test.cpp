@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "kc/app/diagnostics.h"
+#include "kc/app/errors.h"
 #include "kc/app/file_io.h"
 #include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"

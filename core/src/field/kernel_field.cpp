@@ -9,15 +9,18 @@ namespace kc {
 
 InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode) {
   m_coef = {};
+  m_lift.resize(0, 0);
   return m_interp.compute(X, kernel, mode);
 }
 
 InterpolatorReport KernelField::compute(const Points& X, const GaussianKernel& kernel, InterpMode mode, SparseMatrix&& K) {
   m_coef = {};
+  m_lift.resize(0, 0);
   return m_interp.compute(X, kernel, mode, std::move(K));
 }
 
-void KernelField::restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef) {
+void KernelField::restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef,
+                          const RowMatrix& lift) {
   if (Coef.rows() != kPolynomialNodes + X.rows() || Coef.cols() == 0)
     throw std::invalid_argument("kernel field: coefficients have " + std::to_string(Coef.rows()) + " rows but " +
                                 std::to_string(X.rows()) + " samples need " + std::to_string(kPolynomialNodes + X.rows()));
@@ -25,6 +28,30 @@ void KernelField::restore(const Points& X, const GaussianKernel& kernel, InterpM
   m_interp.prepare(X, kernel, mode);
   m_coef.B = Coef.topRows(kPolynomialNodes);
   m_coef.U = Coef.bottomRows(X.rows());
+  m_lift.resize(0, 0);
+  if (lift.size() > 0) {
+    if (lift.rows() != X.rows() || lift.cols() != Coef.cols())
+      throw std::invalid_argument("kernel field: the lift has " + std::to_string(lift.rows()) + "×" +
+                                  std::to_string(lift.cols()) + " entries but the coefficients need " + std::to_string(X.rows()) +
+                                  "×" + std::to_string(Coef.cols()));
+    if (!lift.allFinite()) throw std::invalid_argument("kernel field: the lift must be finite");
+    m_lift = lift;
+  }
+}
+
+void KernelField::addLift(const RowMatrix& dU) {
+  if (dU.rows() != m_coef.U.rows() || dU.cols() != m_coef.U.cols())
+    throw std::invalid_argument("kernel field: a lift must have one row per sample and one column per control");
+  if (!dU.allFinite()) throw std::invalid_argument("kernel field: a lift must be finite");
+  if (m_lift.size() == 0) m_lift = RowMatrix::Zero(dU.rows(), dU.cols());
+  m_lift += dU;
+  m_coef.U += dU;
+}
+
+void KernelField::setLift(const RowMatrix& dU) {
+  if (m_lift.size() > 0) m_coef.U -= m_lift;
+  m_lift.resize(0, 0);
+  if (dU.size() > 0) addLift(dU);
 }
 
 void KernelField::update(const Weights& W, std::span<const Index> columns) {
@@ -36,10 +63,16 @@ void KernelField::update(const Weights& W, std::span<const Index> columns) {
       throw std::invalid_argument("the kernel matrix of these samples cannot be factorized: " + r.advice);
   }
   if (!m_interp.ok()) throw std::logic_error("kernel field: update() without a successful compute()");
-  if (columns.empty() || m_coef.U.rows() != W.rows() || m_coef.U.cols() != W.cols())
+  const bool lifted = m_lift.rows() == W.rows() && m_lift.cols() == W.cols();
+  if (!lifted) m_lift.resize(0, 0);
+  if (columns.empty() || m_coef.U.rows() != W.rows() || m_coef.U.cols() != W.cols()) {
     m_coef = m_interp.solve(W);
-  else
+    if (lifted) m_coef.U += m_lift;
+  } else {
     m_interp.solveColumns(W, columns, m_coef);
+    if (lifted)
+      for (const Index c : columns) m_coef.U.col(c) += m_lift.col(c);
+  }
 }
 
 Weights KernelField::weightsAt(const Points& P) const {

@@ -15,6 +15,7 @@
 #include "kc/core/cage.h"
 #include "kc/core/deform.h"
 #include "kc/core/field/field.h"
+#include "kc/core/field/lobe_lift.h"
 #include "kc/core/kernel/interpolator.h"
 #include "kc/core/lbc/lbc_solver.h"
 #include "kc/core/structure/linear_along.h"
@@ -52,7 +53,8 @@ struct Locality {
 /// the diffused heat's tail below 3% of a sample's weight is dropped before the per-sample
 /// optimization. A drag then moves little more than what the LBC backend's weights move
 /// (`kcwarp-cli stats`, locality.drag); lower floors keep more of the tail, higher ones leave
-/// the optimizer to restore reproduction with weights far from the control (the measurements:
+/// the optimizer to restore reproduction with weights far from the control, and deepen the lobes
+/// (with the lobe lift, KcParams::liftLobes, 0.05 is the better floor; the measurements:
 /// docs/notes/measured-constants.md).
 inline constexpr double kTargetFloor = 0.03;
 /// KcParams::targetFloor lies in [0, kMaxTargetFloor): a floor of 1/2 or more would leave each
@@ -102,6 +104,13 @@ struct KcParams {
   /// the samples near the lines are post-processed (thesis 5.3.3: blend and linear fit). Sessions
   /// written before the option (no `params.exact_lines`) read false.
   bool exactLines = true;
+  /// `--lift-lobes`, QP only: the field's lobes inside the cage deeper than LobeLiftOptions::trigger are lifted
+  /// (kc::liftLobes: KernelField::lift, exact partition of unity and reproduction) at the bind, a
+  /// method switch back to QP and a rebuild without stored coefficients; a brush stroke keeps the
+  /// lift it finds. None with rigid regions, linearEdges or lines kept through the samples
+  /// (exactLines false): the bumps would bend what they make; a rigidity stroke removes the lift.
+  /// Sessions written before the option (no `params.lift_lobes`) read false.
+  bool liftLobes = false;
 };
 
 /// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is
@@ -187,6 +196,7 @@ struct BindReport {
   InterpolatorReport factor;
   LinearityReport lines;    ///< Structure lines (thesis 5.3.3); empty without lines.
   RigidityReport rigidity;  ///< Rigid regions (thesis 5.4, docs/rigidity.md); empty without them.
+  LobeLiftReport lift;      ///< The lobe lift (KcParams::liftLobes); empty without it.
   BindTimings timings;
   std::shared_ptr<const BackendReport> backend;  ///< Null for a backend without one (kc).
 

@@ -27,7 +27,8 @@ class KernelField final : public CoordinateField {
   /// ((3+#S)×m, as coefficientColumns()) for samples X, without factorizing K. It is ready() at
   /// once; the first update() factorizes K (compute) before solving. Throws std::invalid_argument
   /// on bad shapes or non-finite values.
-  void restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef);
+  /// `lift` (#S×m or empty) is the lift already in Coef's U (lift()).
+  void restore(const Points& X, const GaussianKernel& kernel, InterpMode mode, const RowMatrix& Coef, const RowMatrix& lift = {});
 
   Index controls() const override { return m_coef.U.cols(); }
   Index nodes() const override { return kPolynomialNodes + m_interp.samples().rows(); }
@@ -67,6 +68,15 @@ class KernelField final : public CoordinateField {
   void setLineCorrection(std::shared_ptr<const LineCorrection> correction) { m_lines = std::move(correction); }
   std::shared_ptr<const LineCorrection> lineCorrection() const { return m_lines; }
 
+  /// The lobe lift ΔU (#S×m, rows orthogonal to [1 x y] of the controls; lobe_lift.h), added to the
+  /// coefficients U that update() solves: w(x)ᵀ = k(x)ᵀ(U + ΔU) + [1 x y]B. Empty: none. compute()
+  /// and restore() remove it; addLift() adds to it (and to the current coefficients), setLift()
+  /// replaces it (a session's, after restore()), clearLift() removes it.
+  const RowMatrix& lift() const { return m_lift; }
+  void addLift(const RowMatrix& dU);
+  void setLift(const RowMatrix& dU);
+  void clearLift() { setLift(RowMatrix()); }
+
   const KernelInterpolator& interpolator() const { return m_interp; }
   const KernelCoefficients& kernelCoefficients() const { return m_coef; }
 
@@ -77,6 +87,7 @@ class KernelField final : public CoordinateField {
   KernelInterpolator m_interp;
   KernelCoefficients m_coef;
   std::shared_ptr<const LineCorrection> m_lines;
+  RowMatrix m_lift;
 };
 
 }  // namespace kc
