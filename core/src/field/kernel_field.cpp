@@ -151,7 +151,7 @@ void KernelField::gradientOperators(const Points& P, SparseRowMatrix& Ex, Sparse
 }
 
 SparseRowMatrix KernelField::baseEvaluation(const Points& P) const {
-  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
+  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel(), &m_interp.widths());
   return withPolynomial(
       R, [&](Index p) { return std::vector<std::pair<Index, double>>{{0, 1.0}, {1, P(p, 0)}, {2, P(p, 1)}}; },
       [](Index, Index, double v) { return v; });
@@ -160,14 +160,14 @@ SparseRowMatrix KernelField::baseEvaluation(const Points& P) const {
 void KernelField::baseGradients(const Points& P, SparseRowMatrix& Ex, SparseRowMatrix& Ey) const {
   if (m_interp.kernel().variable()) {  // the Gibbs kernel's gradient (kernelGradientRows)
     SparseRowMatrix Gx, Gy;
-    kernelGradientRows(m_interp.samples(), P, m_interp.kernel(), Gx, Gy);
+    kernelGradientRows(m_interp.samples(), P, m_interp.kernel(), Gx, Gy, &m_interp.widths());
     Ex = withPolynomial(
         Gx, [](Index) { return std::vector<std::pair<Index, double>>{{1, 1.0}}; }, [](Index, Index, double v) { return v; });
     Ey = withPolynomial(
         Gy, [](Index) { return std::vector<std::pair<Index, double>>{{2, 1.0}}; }, [](Index, Index, double v) { return v; });
     return;
   }
-  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel());
+  const SparseRowMatrix R = kernelRows(m_interp.samples(), P, m_interp.kernel(), &m_interp.widths());
   const Points& X = m_interp.samples();
   const double inv2 = 1.0 / (m_interp.kernel().sigma * m_interp.kernel().sigma);
   // ∇k(p, x_j) = −k(p, x_j)(p − x_j)/σ² (3.42); ∇[1 x y] = (0, 1, 0), (0, 0, 1).

@@ -16,8 +16,10 @@ constexpr Index kP = KernelField::kPolynomialNodes;
 /// Points this close to the cage (× the local spacing) count as on it, from either side.
 constexpr double kOnCage = 0.02;
 /// A bump the control points' pins leave with less than this share of its free gain at its lobe
-/// is not used (it would need large coefficients, which ring elsewhere).
-constexpr double kPinnedGain = 0.01;
+/// is not used: lobes within a spacing or two of another control point (3-5% there), whose lift
+/// rings into a hump of its control 2-3 spacings away, across a notch into the other side
+/// (docs/notes/measured-constants.md).
+constexpr double kPinnedGain = 0.05;
 /// How far a lift changes the field, in spacings at its lobe (its bump's kernels, 3σ ≈ 3T).
 constexpr double kReach = 4.0;
 

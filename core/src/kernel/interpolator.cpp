@@ -162,6 +162,7 @@ bool KernelInterpolator::evaluable() const { return m_impl->evaluable; }
 InterpMode KernelInterpolator::mode() const { return m_impl->mode; }
 const GaussianKernel& KernelInterpolator::kernel() const { return m_impl->kernel; }
 const Points& KernelInterpolator::samples() const { return m_impl->X; }
+const Eigen::VectorXd& KernelInterpolator::widths() const { return m_impl->widths; }
 
 KernelCoefficients KernelInterpolator::solve(const Weights& W, int refinementSteps) const {
   const Impl& d = *m_impl;

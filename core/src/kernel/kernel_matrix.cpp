@@ -25,11 +25,11 @@ using Entry = detail::SparseList::value_type;  // (sample index, kernel value)
 
 /// For every query row, the kernel values of the samples within the cut-off, sorted by index.
 /// Each parallel task writes only its own rows.
-std::vector<detail::SparseList> neighbourLists(const Points& X, const Points& P, const GaussianKernel& kernel) {
+std::vector<detail::SparseList> neighbourLists(const Points& X, const Points& P, const GaussianKernel& kernel,
+                                               const Eigen::VectorXd& sx) {
   const SpatialGrid grid(X, kernel.cutoff());
   std::vector<detail::SparseList> rows(static_cast<std::size_t>(P.rows()));
   if (kernel.variable()) {  // Gibbs kernel: the widths at the samples and at each query point
-    const Eigen::VectorXd sx = kernel.widthsAt(X);
     const bool same = &X == &P;
     parallelFor(P.rows(), [&](Index p) {
       auto& row = rows[static_cast<std::size_t>(p)];
@@ -58,12 +58,14 @@ SparseMatrix assembleKernelMatrix(const Points& X, const GaussianKernel& kernel)
   checkKernel(kernel);
   if (!X.allFinite()) throw std::invalid_argument("kernel matrix: sample positions must be finite");
   // K is symmetric, so column i holds the same entries as row i: build the columns directly.
-  return detail::compressLists<SparseMatrix>(X.rows(), X.rows(), neighbourLists(X, X, kernel));
+  return detail::compressLists<SparseMatrix>(X.rows(), X.rows(), neighbourLists(X, X, kernel, kernel.widthsAt(X)));
 }
 
-void kernelGradientRows(const Points& X, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx,
-                        SparseRowMatrix& Gy) {
-  Gx = kernelRows(X, P, kernel);
+void kernelGradientRows(const Points& X, const Points& P, const GaussianKernel& kernel, SparseRowMatrix& Gx, SparseRowMatrix& Gy,
+                        const Eigen::VectorXd* widths) {
+  const Eigen::VectorXd computed = widths || !kernel.variable() ? Eigen::VectorXd() : kernel.widthsAt(X);
+  const Eigen::VectorXd& sx = widths ? *widths : computed;
+  Gx = kernelRows(X, P, kernel, &sx);
   Gy = Gx;
   const bool variable = kernel.variable();
   const double inv2 = 1.0 / (kernel.sigma * kernel.sigma);
@@ -79,18 +81,23 @@ void kernelGradientRows(const Points& X, const Points& P, const GaussianKernel& 
         y.valueRef() *= -inv2 * (q.y() - X(j, 1));
         continue;
       }
-      const Vec2 f = kernel.gradientFactor(q - Vec2(X.row(j)), sp, gp, kernel.widthAt(X.row(j)));
+      const Vec2 f = kernel.gradientFactor(q - Vec2(X.row(j)), sp, gp, sx(j));
       x.valueRef() *= f.x();
       y.valueRef() *= f.y();
     }
   });
 }
 
-SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel) {
+SparseRowMatrix kernelRows(const Points& X, const Points& P, const GaussianKernel& kernel, const Eigen::VectorXd* widths) {
   checkKernel(kernel);
   if (!X.allFinite()) throw std::invalid_argument("kernel rows: sample positions must be finite");
   if (!P.allFinite()) throw std::invalid_argument("kernel rows: query points must be finite");
-  return detail::compressLists<SparseRowMatrix>(P.rows(), X.rows(), neighbourLists(X, P, kernel));
+  if (widths && kernel.variable() && widths->size() != X.rows())
+    throw std::invalid_argument("kernel rows: one width per sample is needed");
+  if (widths || !kernel.variable())
+    return detail::compressLists<SparseRowMatrix>(P.rows(), X.rows(),
+                                                  neighbourLists(X, P, kernel, widths ? *widths : Eigen::VectorXd()));
+  return detail::compressLists<SparseRowMatrix>(P.rows(), X.rows(), neighbourLists(X, P, kernel, kernel.widthsAt(X)));
 }
 
 }  // namespace kc

@@ -69,6 +69,9 @@ class KernelInterpolator {
   InterpMode mode() const;
   const GaussianKernel& kernel() const;
   const Points& samples() const;
+  /// σ at each sample (GaussianKernel::widthsAt(samples())) for a variable-width kernel; empty
+  /// for a fixed width.
+  const Eigen::VectorXd& widths() const;
 
   /// Coefficients for weights W (#S×m): U = K⁻¹W (6.2) in Thesis mode; in Exact mode the
   /// augmented system [K P; Pᵀ 0][U; B] = [W; 0] through the Schur complement. Requires ok()
