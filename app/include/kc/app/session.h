@@ -109,7 +109,9 @@ struct KcParams {
   /// method switch back to QP and a rebuild without stored coefficients; a brush stroke keeps the
   /// lift it finds. None with rigid regions, linearEdges or lines kept through the samples
   /// (exactLines false): the bumps would bend what they make; a rigidity stroke removes the lift.
-  /// Sessions written before the option (no `params.lift_lobes`) read false.
+  /// Sessions written before the option (no `params.lift_lobes`) read false. Off by default: the
+  /// bumps move the weights along the cage's edges off their hat functions (the figure's edge
+  /// linearity 0.066 → 0.104; docs/notes/measured-constants.md).
   bool liftLobes = false;
 };
 
