@@ -135,6 +135,30 @@ TEST(Window, EveryMarkedControlShowsATooltipWhenHovered) {
   EXPECT_TRUE(missing.empty()) << "no tooltip on" << missing;
 }
 
+TEST(Window, DiagnosticsSayWhatTheLobeLiftDid) {
+  test::HeadlessImGui gui;
+  auto s = test::unboundChecker(10.0);
+  s->bindParams.kc.liftLobes = true;
+  ImGui::GetIO().DisplaySize = ImVec2(1400, 2000);
+  auto draw = [&] { drawFrame(*s); };
+  gui.frame(draw);
+  gui.clickLabel(*s, "Bind", draw);
+  pollWorker(*s);
+  ASSERT_TRUE(s->bound);
+  EXPECT_LT(s->bound->report.lift.deepestBefore, 0.0) << "the lift ran and probed the field";
+  refreshDiagnostics(*s);
+  s->widgets.clear();
+  gui.frame(draw);
+  EXPECT_TRUE(s->widgets.count("Lobes lifted"));
+  const std::string missing = gui.widgetsWithoutTooltip(*s, draw);
+  EXPECT_TRUE(missing.empty()) << "no tooltip on" << missing;
+  // Without the option the line is not shown.
+  auto plain = test::boundState();
+  refreshDiagnostics(*plain);
+  gui.frame([&] { drawFrame(*plain); });
+  EXPECT_FALSE(plain->widgets.count("Lobes lifted"));
+}
+
 TEST(BindPanel, InvalidCageDisablesBindAndShowsTheReason) {
   test::HeadlessImGui gui;
   auto s = newPicture();

@@ -158,6 +158,16 @@ void drawDiagnosticsPanel(AppState& state) {
     ImGui::Text("Samples: %ld, controls: %ld", long(state.bound->samples.size()), long(state.bound->cage.size()));
     labelled(state, "Samples", "Sample points the weights were computed at, and the number of cage points.");
   }
+  if (const LobeLiftReport& lift = state.bound->report.lift; lift.lobes > 0 || lift.deepestBefore != 0.0) {
+    if (lift.lobes > 0)
+      ImGui::TextWrapped("Lobes lifted: %ld (lowest %.3f -> %.3f)", long(lift.lobes), lift.deepestBefore, lift.deepestAfter);
+    else ImGui::TextWrapped("Lobes lifted: none (lowest %.3f)", lift.deepestBefore);
+    labelled(state, "Lobes lifted",
+             "With Lift lobes on (Bind > Advanced): places inside the cage where a point's weight dipped "
+             "below 0, so that dragging the point would move them slightly the wrong way, raised "
+             "after the bind; and the lowest weight found there before and after the lift. Dips right beside "
+             "another cage point are left as they are.");
+  }
   ImGui::Separator();
   const Timings& t = state.timings;
   ImGui::Text("Bind: %.2f s", t.bindSeconds);
