@@ -87,9 +87,11 @@ std::vector<Index> rederivedRows(const Session& s, const ExteriorContinuation& c
 /// (WeightOptimizer), then `continuation` (continuationFor(s)) applied to the continued rows among
 /// them (all of them for an empty `rows`). Pass rows from rederivedRows so that the continued rows
 /// reading a re-optimized row are among them.
-/// The field's lobe lift for the session's parameters (KcParams::liftLobes): removed, then found
-/// anew with the QP (kc::liftLobes; the rigid regions are not probed); none for QEC and L1.
-LobeLiftReport liftFieldLobes(const Session& s, KernelField& field);
 OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation);
+
+/// The field's lobe lift for the session's parameters (KcParams::liftLobes): removed, then found
+/// anew with the QP (kc::liftLobes); none for QEC and L1, nor with rigidity, rigid regions, linear
+/// edges or lines kept through the samples.
+LobeLiftReport liftFieldLobes(const Session& s, KernelField& field);
 
 }  // namespace kc::app

@@ -40,15 +40,14 @@ GaussianKernel kernelFor(double sigma, double spacing, const std::shared_ptr<con
 /// non-singular), so coefficients that pass are those a solve would give, up to round-off.
 bool reproducesWeights(const KernelField& field, const Session& s) {
   if (field.controls() != s.W.cols() || field.nodes() != KernelField::kPolynomialNodes + s.W.rows()) return false;
-  Weights W = field.weightsAt(s.samples.X);
-  if (field.lift().size() > 0) {  // the lift's own change at the samples
-    const SparseRowMatrix E = field.evaluationOperator(s.samples.X);
-    W -= E.rightCols(s.samples.size()) * field.lift();
-  }
+  // The field without its lobe lift (which moves the weights near the lobes' samples) interpolates W.
+  const bool lifted = field.lift().size() > 0;
+  const RowMatrix U = lifted ? RowMatrix(field.kernelCoefficients().U - field.lift()) : field.kernelCoefficients().U;
+  const Weights W =
+      lifted ? Weights(field.weightsAt(s.samples.X) - field.evaluationOperator(s.samples.X).rightCols(U.rows()) * field.lift())
+             : field.weightsAt(s.samples.X);
   if (!((W - s.W).cwiseAbs().maxCoeff() <= 1e-6)) return false;
   if (field.interpolator().mode() != InterpMode::Exact) return true;
-  const RowMatrix U =
-      field.lift().size() > 0 ? RowMatrix(field.kernelCoefficients().U - field.lift()) : field.kernelCoefficients().U;
   const Points& X = s.samples.X;
   for (int d = 0; d < 3; ++d) {
     const Eigen::VectorXd x = d == 0 ? Eigen::VectorXd::Ones(X.rows()) : Eigen::VectorXd(X.col(d - 1));
@@ -113,8 +112,8 @@ LobeLiftReport liftFieldLobes(const Session& s, KernelField& field) {
   if (s.params.kc.method != Method::QP || !s.params.kc.liftLobes) return {};
   // Not where post-processing sets the field (linear edges, lines through the samples) or with
   // rigid regions, whose weights the rigidity QP makes: the bumps would bend them.
-  const bool rigid = std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; });
-  if (rigid || !s.structure.rigid.empty() || s.params.kc.linearEdges || (!s.structure.lines.empty() && !s.params.kc.exactLines))
+  if (s.hasRigidity() || !s.structure.rigid.empty() || s.params.kc.linearEdges ||
+      (!s.structure.lines.empty() && !s.params.kc.exactLines))
     return {};
   return liftLobes(field, s.cage, s.samples.kind);
 }
@@ -280,7 +279,7 @@ class KcBackend final : public Backend {
       throw std::invalid_argument("this session has no target weights (weights.initial) to optimize from");
     const bool whole = subset.empty() || s.W.rows() != s.W0.rows() || s.W.cols() != s.W0.cols();
     auto* kernel = dynamic_cast<KernelField*>(s.field.get());
-    const bool rigid = std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; });
+    const bool rigid = s.hasRigidity();
     std::vector<Index> rows(subset.begin(), subset.end());
     if (rigid && !whole && kernel) {  // the rigid zone's rows get their unconstrained weights back first
       const std::vector<Index> zone = rigidityZone(*kernel, s.rigidity);

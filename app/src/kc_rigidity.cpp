@@ -2,8 +2,8 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <numeric>
 #include <chrono>
+#include <numeric>
 #include <stdexcept>
 
 #include "backends.h"
@@ -26,7 +26,7 @@ std::vector<char> rigidHeldSamples(const SampleSet& samples) {
 }
 
 RigidityReport applyRigidity(Session& s, KernelField& field, const Progress& progress) {
-  if (std::none_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) return {};
+  if (!s.hasRigidity()) return {};
   if (Index(s.rigidity.size()) != s.samples.size())
     throw std::invalid_argument("the session's rigidity has " + std::to_string(s.rigidity.size()) + " entries for " +
                                 std::to_string(s.samples.size()) + " samples");

@@ -159,7 +159,7 @@ std::string sessionToJson(const Session& s, WeightsForm form) {
   }
   if (const json field = detail::fieldToJson(s, form); !field.is_null()) j["field"] = field;
   j["reports"] = detail::reportsToJson(s.report, backendFor(s.params.backend));
-  if (std::any_of(s.rigidity.begin(), s.rigidity.end(), [](double r) { return r > 0.0; })) {
+  if (s.hasRigidity()) {
     json idx = json::array(), rho = json::array();
     for (std::size_t i = 0; i < s.rigidity.size(); ++i)
       if (s.rigidity[i] > 0.0) idx.push_back(i), rho.push_back(s.rigidity[i]);

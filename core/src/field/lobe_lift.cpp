@@ -8,6 +8,8 @@
 
 #include <Eigen/Dense>
 
+#include "kc/core/weights/optimizer.h"
+
 namespace kc {
 
 namespace {
@@ -140,37 +142,35 @@ RowMatrix liftFor(const KernelField& field, const std::vector<Candidate>& lobes,
   for (std::size_t l = 0; l < lobes.size(); ++l) Y.row(static_cast<Index>(l)) = lobes[l].y;
   const SparseRowMatrix E = field.evaluationOperator(Y), EC = field.evaluationOperator(C);
   const Weights base = field.weightsAt(Y);
-  std::vector<Bump> bumps(lobes.size());
-  for (std::size_t l = 0; l < lobes.size(); ++l) bumps[l] = bumpFor(E, static_cast<Index>(l), EC);
+  // The lobes a bump can raise: a lobe pinned by control points all round is left as it is.
+  std::vector<std::pair<Index, Bump>> liftable;
+  for (Index l = 0; l < Y.rows(); ++l)
+    if (Bump b = bumpFor(E, l, EC); b.gain > kPinnedGain * b.free) liftable.emplace_back(l, std::move(b));
 
   RowMatrix dU = RowMatrix::Zero(n, m);
-  const double cap = 10.0 * o.allowance;
   Eigen::VectorXd w(m), a(m), d(m);
+  std::vector<Eigen::Vector3d> g(static_cast<std::size_t>(m));
   constexpr int kPasses = 3;
   for (int pass = 0; pass < kPasses; ++pass)
-    for (std::size_t l = 0; l < lobes.size(); ++l) {
-      const Index row = static_cast<Index>(l), j = lobes[l].control;
-      w = base.row(row).transpose();
-      for (SparseRowMatrix::InnerIterator it(E, row); it; ++it)
+    for (const auto& [l, bump] : liftable) {
+      const Index j = lobes[static_cast<std::size_t>(l)].control;
+      const Vec2 y = lobes[static_cast<std::size_t>(l)].y;
+      w = base.row(l).transpose();
+      for (SparseRowMatrix::InnerIterator it(E, l); it; ++it)
         if (it.col() >= kP) w += it.value() * dU.row(it.col() - kP).transpose();
       const double deficit = o.target - w(j);
-      // A lobe pinned by controls all round cannot be raised without moving them: left as it is.
-      if (deficit <= 0.0 || bumps[l].gain <= kPinnedGain * bumps[l].free) continue;
+      if (deficit <= 0.0) continue;
       Eigen::Matrix3d M = Eigen::Matrix3d::Zero();
       for (Index c = 0; c < m; ++c) {
-        a(c) = std::min(std::max(w(c), 0.0), cap) + o.allowance;
-        const Eigen::Vector3d g(1.0, (C(c, 0) - lobes[l].y.x()) / L, (C(c, 1) - lobes[l].y.y()) / L);
-        M += a(c) * g * g.transpose();
+        g[static_cast<std::size_t>(c)] = Eigen::Vector3d(1.0, (C(c, 0) - y.x()) / L, (C(c, 1) - y.y()) / L);
+        a(c) = allowanceOf(w(c), o.allowance);
+        M += a(c) * g[static_cast<std::size_t>(c)] * g[static_cast<std::size_t>(c)].transpose();
       }
-      const Eigen::Vector3d gj(1.0, (C(j, 0) - lobes[l].y.x()) / L, (C(j, 1) - lobes[l].y.y()) / L);
-      const Eigen::Vector3d z = M.ldlt().solve(gj);
-      for (Index c = 0; c < m; ++c) {
-        const Eigen::Vector3d g(1.0, (C(c, 0) - lobes[l].y.x()) / L, (C(c, 1) - lobes[l].y.y()) / L);
-        d(c) = (c == j ? 1.0 : 0.0) - a(c) * g.dot(z);
-      }
+      const Eigen::Vector3d z = M.ldlt().solve(g[static_cast<std::size_t>(j)]);
+      for (Index c = 0; c < m; ++c) d(c) = (c == j ? 1.0 : 0.0) - a(c) * g[static_cast<std::size_t>(c)].dot(z);
       if (d(j) <= 1e-6) continue;
-      const double t = deficit / (bumps[l].gain * d(j));
-      for (const auto& [i, ci] : bumps[l].c) dU.row(i) += (t * ci) * d.transpose();
+      const double t = deficit / (bump.gain * d(j));
+      for (const auto& [i, ci] : bump.c) dU.row(i) += (t * ci) * d.transpose();
     }
   return dU;
 }

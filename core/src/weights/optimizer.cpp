@@ -74,8 +74,7 @@ OptimizeReport WeightOptimizer::optimize(const SampleSet& S, const Weights& W0, 
         case Method::QEC: sampleQec(m_frame, xh, w0, w); break;
         case Method::QP:
           if (weighted) {
-            for (Index i = 0; i < m; ++i)
-              allowance[static_cast<std::size_t>(i)] = std::min(std::max(0.0, W0(j, i)), kAllowanceCap * epsilon) + epsilon;
+            for (Index i = 0; i < m; ++i) allowance[static_cast<std::size_t>(i)] = allowanceOf(W0(j, i), epsilon);
             r = sampleQpWeighted(m_frame, xh, w0, allowance, w, options.qp);
           } else {
             r = sampleQp(m_frame, xh, w0, w, options.qp);

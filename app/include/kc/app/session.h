@@ -253,6 +253,12 @@ struct Session {
 
   /// True when the field can be evaluated.
   bool hasField() const { return field && field->ready(); }
+  /// Some sample is rigid (rigidity ρ > 0 anywhere).
+  bool hasRigidity() const {
+    for (const double r : rigidity)
+      if (r > 0.0) return true;
+    return false;
+  }
 };
 
 }  // namespace kc::app

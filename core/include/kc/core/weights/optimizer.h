@@ -2,6 +2,7 @@
 /// Per-sample weight optimization (thesis chapter 4), every sample independent and parallel,
 /// for all samples or any subset (painting re-optimizes only painted samples).
 
+#include <algorithm>
 #include <span>
 
 #include "kc/core/types.h"
@@ -30,6 +31,10 @@ struct EnumNames<Method> {
 /// without a target costs (kAllowanceCap + 1)× one with a target of at least kAllowanceCap·ε, and
 /// all those cost the same (a painted target does not buy its control a larger share).
 inline constexpr double kAllowanceCap = 10.0;
+/// a_j of the allowance metric for a target w0_j and ε.
+inline double allowanceOf(double target, double epsilon) {
+  return std::min(std::max(0.0, target), kAllowanceCap * epsilon) + epsilon;
+}
 
 struct OptimizeOptions {
   OptimizeOptions() = default;
