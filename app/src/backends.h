@@ -94,4 +94,12 @@ OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> ro
 /// edges or lines kept through the samples.
 LobeLiftReport liftFieldLobes(const Session& s, KernelField& field);
 
+/// The field's lobe bound for the session's parameters (KcParams::lobeBound, kc::LobeBound, fading
+/// outside the cage over σ, in the QP's allowance metric): set with the QP and exact interpolation
+/// on a cage with an interior, removed otherwise: QEC and L1, whose weights may be negative by
+/// design; the thesis's interpolation, whose partition of unity is approximate (a projection,
+/// exact, would make a jump where it starts); linear edges and structure lines, whose weights are
+/// made linear along them (a projection would bend them).
+void installLobeBound(const Session& s, CoordinateField& field);
+
 }  // namespace kc::app

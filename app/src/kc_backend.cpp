@@ -118,6 +118,13 @@ LobeLiftReport liftFieldLobes(const Session& s, KernelField& field) {
   return liftLobes(field, s.cage, s.samples.kind);
 }
 
+void installLobeBound(const Session& s, CoordinateField& field) {
+  const KcParams& kc = s.params.kc;
+  const bool bounded = kc.lobeBound > 0.0 && kc.method == Method::QP && kc.interp == InterpMode::Exact && !kc.linearEdges &&
+                       s.structure.lines.empty() && hasInterior(s.cage);
+  field.setLobeBound(bounded ? std::make_shared<LobeBound>(s.cage, kc.lobeBound, s.sigma, kc.qpAllowance) : nullptr);
+}
+
 OptimizeReport optimizeRows(Session& s, Method method, std::span<const Index> rows, const ExteriorContinuation& continuation) {
   const WeightOptimizer optimizer(s.cage.C);
   OptimizeOptions oo;
@@ -251,6 +258,7 @@ class KcBackend final : public Backend {
     s.rigidity = s.structure.rigid.empty() ? std::vector<double>{} : rigidityOfRegions(s.samples.X, s.structure.rigid);
     r.rigidity = applyRigidity(s, *field);
     r.lift = liftFieldLobes(s, *field);
+    installLobeBound(s, *field);
     r.timings.solve = secondsSince(ts);
     s.field = std::move(field);
   }
@@ -261,6 +269,7 @@ class KcBackend final : public Backend {
     if (auto* stored = dynamic_cast<KernelField*>(s.field.get());
         stored && stored->ready() && !stored->factorized() && reproducesWeights(*stored, s)) {
       installLineCorrection(s, *stored);
+      installLobeBound(s, *stored);
       return;
     }
     auto field = std::make_unique<KernelField>();
@@ -270,6 +279,7 @@ class KcBackend final : public Backend {
     field->update(s.W);
     installLineCorrection(s, *field);
     liftFieldLobes(s, *field);
+    installLobeBound(s, *field);
     s.field = std::move(field);
   }
 
@@ -330,6 +340,7 @@ class KcBackend final : public Backend {
         if (kernel) s.report.lift = liftFieldLobes(s, *kernel);
       } else if (!columns.empty()) s.field->update(s.W, columns);
     }
+    if (whole && s.field) installLobeBound(s, *s.field);  // a method switch sets or removes it
     if (changedColumns) *changedColumns = std::move(columns);
     return r;
   }

@@ -37,6 +37,19 @@ BackendParameter boolean(BackendParameter p, bool defaultValue, bool (*get)(cons
   return p;
 }
 
+/// A number of the Advanced panel in [0, max] that only the QP reads; sessions written before it read 0.
+BackendParameter qpNumber(BackendParameter p, double defaultValue, double max, double (*get)(const BindParams&),
+                          void (*set)(BindParams&, double)) {
+  p.min = 0.0, p.max = max;
+  p.defaultValue = defaultValue;
+  p.absentValue = 0.0;
+  p.panel = Panel::Advanced;
+  p.shownWhen = [](const BindParams& b) { return b.kc.method == Method::QP; };
+  p.get = get;
+  p.set = set;
+  return p;
+}
+
 /// `params.locality`: the Pixels rule's length, −1 for the Automatic rule, 0 otherwise (off, or
 /// the Spacings rule, which `params.locality_spacings` holds).
 double localityPixels(const Locality& l) {
@@ -181,26 +194,33 @@ std::vector<BackendParameter> describe() {
   lift.shownWhen = [](const BindParams& p) { return p.kc.method == Method::QP; };
   list.push_back(lift);
 
+  // Sessions written before the option read 0: the field unbounded.
+  BackendParameter bound = qpNumber(
+      named("lobe_bound", "Lobe bound",
+            "QP: the weights inside the cage stay >= -this value; where the field dips below it, its weights are "
+            "projected back (partition of unity and reproduction kept; 0 = off)",
+            "How far below zero an influence may dip inside the shape (0: no limit). With 0.0125, a 40 px drag moves "
+            "nothing inside the shape half a pixel or more the wrong way."),
+      defaults.lobeBound, kMaxLobeBound, [](const BindParams& p) { return p.kc.lobeBound; },
+      [](BindParams& p, double v) { p.kc.lobeBound = v; });
+  bound.accepts = "in [0, 0.5] (0 = off)";
+  list.push_back(bound);
+
   BackendParameter method = named("method", "Method", "Optimization", "How the influences are optimized.");
   describeChoice(
       method, defaults.method, [](const BindParams& p) { return p.kc.method; }, [](BindParams& p, Method m) { p.kc.method = m; });
   method.panel = Panel::Hidden;  // switched live in the Weights panel
   list.push_back(method);
 
-  BackendParameter allowance =
+  // Sessions written before the option read 0: the Euclidean QP.
+  list.push_back(qpNumber(
       named("qp_allowance", "Near correction",
             "QP metric: the change of a sample's weight on a control costs 1/(min(target, 10e) + e), e this value, so the "
             "correction that restores reproduction falls on the controls near the sample (0 = the thesis's plain QP)",
             "How strongly the optimizer keeps each point's pull to its own part of the shape when it corrects the "
-            "influences (smaller: more local; 0: the thesis's plain optimization).");
-  allowance.min = 0.0, allowance.max = 1.0;
-  allowance.defaultValue = defaults.qpAllowance;
-  allowance.absentValue = 0.0;  // sessions written before the option: the Euclidean QP
-  allowance.panel = Panel::Advanced;
-  allowance.shownWhen = [](const BindParams& p) { return p.kc.method == Method::QP; };
-  allowance.get = [](const BindParams& p) { return p.kc.qpAllowance; };
-  allowance.set = [](BindParams& p, double v) { p.kc.qpAllowance = v; };
-  list.push_back(allowance);
+            "influences (smaller: more local; 0: the thesis's plain optimization)."),
+      defaults.qpAllowance, 1.0, [](const BindParams& p) { return p.kc.qpAllowance; },
+      [](BindParams& p, double v) { p.kc.qpAllowance = v; }));
 
   BackendParameter interp = named("interp", "Interpolation", "Interpolation",
                                   "exact: influences add up to exactly 1 everywhere, so unmoved parts stay put (recommended);\n"

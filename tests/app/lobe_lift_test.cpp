@@ -27,6 +27,7 @@ BindParams liftParams(double spacing) {
   p.exterior = sampling::ExteriorExtent::Band;
   p.kc.liftLobes = true;
   p.kc.targetFloor = 0.05;
+  p.kc.lobeBound = 0.0;  // the lift alone (the bound would hold the lobes whatever the lift did)
   return p;
 }
 

@@ -39,10 +39,14 @@ TEST(LocalDefault, IsScreenedAndGuardedAndLocalerThanBefore) {
   const BindParams p = defaults();
   EXPECT_EQ(p.kc.locality, (Locality{Locality::Rule::Spacings, kLocalitySpacings}));
   EXPECT_TRUE(p.kc.guardLobes);
-  BindParams before = p;
+  // The screening and the guard, compared without the lobe bound (which holds the lobes at
+  // −kLobeDepth whatever made them).
+  BindParams unbounded = p;
+  unbounded.kc.lobeBound = 0.0;
+  BindParams before = unbounded;
   before.kc.locality = {Locality::Rule::Off, 0.0};
   before.kc.guardLobes = false;
-  const Diagnostics now = diagnose(bindFigure(p), 40000), old = diagnose(bindFigure(before), 40000);
+  const Diagnostics now = diagnose(bindFigure(unbounded), 40000), old = diagnose(bindFigure(before), 40000);
   std::printf("[measured] figure h = 10: drag area %.3f (before %.3f), deepest weight %.4f (before %.4f)\n", now.drag.mean,
               old.drag.mean, now.drag.minWeight, old.drag.minWeight);
   EXPECT_LT(now.drag.mean, 0.75 * old.drag.mean);

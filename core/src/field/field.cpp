@@ -43,6 +43,7 @@ void CoordinateField::apply(const SparseRowMatrix& E, std::span<const Index> col
 Weights CoordinateField::weightsAt(const Points& P) const {
   Weights W(P.rows(), controls());
   apply(evaluationOperator(P), {}, W);
+  if (m_bound) m_bound->apply(P, W);
   return W;
 }
 
@@ -53,6 +54,11 @@ void CoordinateField::gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy)
   dWdy.resize(P.rows(), controls());
   apply(Ex, {}, dWdx);
   apply(Ey, {}, dWdy);
+  boundGradients(P, dWdx, dWdy, [&](const Points& Q) {
+    Weights W(Q.rows(), controls());
+    apply(evaluationOperator(Q), {}, W);
+    return W;
+  });
 }
 
 }  // namespace kc

@@ -75,9 +75,15 @@ void KernelField::update(const Weights& W, std::span<const Index> columns) {
   }
 }
 
-Weights KernelField::weightsAt(const Points& P) const {
+Weights KernelField::unboundedWeightsAt(const Points& P) const {
   Weights W = m_interp.evaluate(m_coef, P);
   if (m_lines) m_lines->correctWeights(P, W, [&](const Points& Q) { return m_interp.evaluate(m_coef, Q); });
+  return W;
+}
+
+Weights KernelField::weightsAt(const Points& P) const {
+  Weights W = unboundedWeightsAt(P);
+  if (m_bound) m_bound->apply(P, W);
   return W;
 }
 
@@ -86,6 +92,7 @@ void KernelField::gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) con
   if (m_lines)
     m_lines->correctGradients(P, dWdx, dWdy, [&](const Points& Q) { return m_interp.evaluate(m_coef, Q); },
                               [&](const Points& Q, Weights& Gx, Weights& Gy) { m_interp.evaluateGradient(m_coef, Q, Gx, Gy); });
+  boundGradients(P, dWdx, dWdy, [&](const Points& Q) { return unboundedWeightsAt(Q); });
 }
 
 RowMatrix KernelField::coefficientColumns(std::span<const Index> columns) const {

@@ -141,7 +141,7 @@ RowMatrix liftFor(const KernelField& field, const std::vector<Candidate>& lobes,
   Points Y(static_cast<Index>(lobes.size()), 2);
   for (std::size_t l = 0; l < lobes.size(); ++l) Y.row(static_cast<Index>(l)) = lobes[l].y;
   const SparseRowMatrix E = field.evaluationOperator(Y), EC = field.evaluationOperator(C);
-  const Weights base = field.weightsAt(Y);
+  const Weights base = field.unboundedWeightsAt(Y);
   // The lobes a bump can raise: a lobe pinned by control points all round is left as it is.
   std::vector<std::pair<Index, Bump>> liftable;
   for (Index l = 0; l < Y.rows(); ++l)
@@ -235,7 +235,7 @@ LobeLiftReport liftLobes(KernelField& field, const Cage& cage, const std::vector
   for (int round = 0; round <= o.rounds && !active.empty(); ++round) {
     Points Q(static_cast<Index>(active.size()), 2);
     for (std::size_t k = 0; k < active.size(); ++k) Q.row(static_cast<Index>(k)) = P.row(active[k]);
-    const Weights W = field.weightsAt(Q);
+    const Weights W = field.unboundedWeightsAt(Q);
     std::vector<Candidate> c;
     for (Index q = 0; q < W.rows(); ++q) {
       const Index p = active[static_cast<std::size_t>(q)];

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -364,6 +365,33 @@ Eigen::Vector3d startMultipliers(const ControlFrame& frame, const Vec2& xh, std:
   return lambda;
 }
 
+/// min Σ (w − w0)²/a (a null: Euclidean) s.t. Aw = b at x̂, w ≥ −t, through u = w + t1 ≥ 0: the
+/// QP at βx̂ with the target β(w0 + t1), β = 1/(1 + m t) (the centroid is the frame's origin, so
+/// 1ᵀβu = 1 and Ĉβu = βx̂), whose solution is scaled back by 1/β. βx̂ must lie in the hull.
+/// Writes w = u/β − t; report.residual is in the original problem's units.
+bool shiftedQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, const double* a, double beta, double t,
+               std::span<double> w, const QpOptions& options, SampleReport& report) {
+  const Index m = frame.size();
+  const Vec2 y = beta * xh;
+  constexpr Index kStack = 64;
+  double stack[kStack];
+  std::vector<double> heap;
+  double* v0 = stack;
+  if (m > kStack) {
+    heap.resize(static_cast<std::size_t>(m));
+    v0 = heap.data();
+  }
+  for (Index i = 0; i < m; ++i) v0[i] = beta * (w0[i] + t);
+  const std::span<const double> v0s(v0, static_cast<std::size_t>(m));
+  const Eigen::Vector3d by(y.x(), y.y(), 1.0);
+  DualPoint q;
+  q.lambda = startMultipliers(frame, y, v0s, a);
+  evaluateDual(frame, v0, a, w.data(), by, q);
+  const bool ok = dualNewton(frame, by, v0, a, w.data(), q, options, report);
+  report.residual /= beta;
+  for (Index i = 0; i < m; ++i) w[i] = w[i] / beta - t;
+  return ok;
+}
 }  // namespace
 
 SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, std::span<double> w,
@@ -408,35 +436,42 @@ SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::sp
     // inwards by kHullInset of its length it is feasible there, and t changes by O(kHullInset).
     const double beta = frame.hullShrink(xh) * (1.0 - kHullInset);
     const double t = (1.0 - beta) / (static_cast<double>(m) * beta);
-    const Vec2 y = beta * xh;
-    constexpr Index kStack = 64;
-    double stack[kStack];
-    std::vector<double> heap;
-    double* v0 = stack;
-    if (m > kStack) {
-      heap.resize(static_cast<std::size_t>(m));
-      v0 = heap.data();
-    }
-    for (Index i = 0; i < m; ++i) v0[i] = beta * (w0[i] + t);
-    const std::span<const double> v0s(v0, static_cast<std::size_t>(m));
-    const Eigen::Vector3d by(y.x(), y.y(), 1.0);
-    DualPoint q;
-    q.lambda = qecMultipliers(frame, y, v0s);
-    evaluateDual(frame, v0, nullptr, w.data(), by, q);
-    const bool ok = dualNewton(frame, by, v0, nullptr, w.data(), q, options, report);
-    report.residual /= beta;
+    const bool ok = shiftedQp(frame, xh, w0, nullptr, beta, t, w, options, report);
     if (excess > options.hullTolerance) {
-      for (Index i = 0; i < m; ++i) w[i] = w[i] / beta - t;
       report.status = SolveStatus::Infeasible;
     } else {
       // On the hull boundary up to rounding: t is a rounding-level shift, so keep w ≥ 0 exact.
-      for (Index i = 0; i < m; ++i) w[i] = std::max(0.0, w[i] / beta - t);
+      for (Index i = 0; i < m; ++i) w[i] = std::max(0.0, w[i]);
     }
     if (ok) return report;
   }
   // Not certified: the last iterate projected onto Aw = b (QEC with the iterate as target) keeps
   // partition of unity and reproduction exact and moves w only by the small residual, so the
   // weights keep the QP's character (local, non-negative up to that residual).
+  sampleQec(frame, xh, w, w);
+  report.status = SolveStatus::NotConverged;
+  return report;
+}
+
+}  // namespace kc
+
+namespace kc {
+
+SampleReport sampleQpAbove(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, double bound,
+                           std::span<const double> allowance, std::span<double> w, const QpOptions& options) {
+  const Index m = frame.size();
+  assert(static_cast<Index>(w0.size()) == m && static_cast<Index>(w.size()) == m);
+  assert(allowance.empty() || static_cast<Index>(allowance.size()) == m);
+  if (!(bound <= 0.0)) throw std::invalid_argument("sampleQpAbove: the bound must be <= 0");
+  // The least slack t that makes w ≥ −t feasible at x̂ (0 inside the hull), kHullInset above it.
+  const double shrink = frame.hullShrink(xh) * (1.0 - kHullInset);
+  const double t = std::max(-bound, (1.0 - shrink) / (static_cast<double>(m) * shrink));
+  SampleReport report;
+  if (shiftedQp(frame, xh, w0, allowance.empty() ? nullptr : allowance.data(), 1.0 / (1.0 + static_cast<double>(m) * t), t, w,
+                options, report))
+    return report;
+  if (!allowance.empty()) return sampleQpAbove(frame, xh, w0, bound, {}, w, options);
+  // Not certified: as sampleQp, the iterate projected onto Aw = b.
   sampleQec(frame, xh, w, w);
   report.status = SolveStatus::NotConverged;
   return report;

@@ -3,7 +3,9 @@
 /// the evaluation operator E(P) is cached, so after an edit that changed a few controls' columns
 /// only those columns are re-evaluated (one sparse row product per point and column).
 
+#include <memory>
 #include <span>
+#include <vector>
 
 #include "kc/core/field/field.h"
 
@@ -16,13 +18,21 @@ class FieldSampler {
   FieldSampler(const CoordinateField& field, const Points& P);
 
   Index size() const { return m_E.rows(); }
-  /// w(P) = E(P)·Coef of `field` (the field the sampler was built for, possibly updated since): #P×m.
-  Weights evaluate(const CoordinateField& field) const;
-  /// Recomputes only `columns` of W (#P×m) from the field's current coefficients.
-  void updateColumns(const CoordinateField& field, std::span<const Index> columns, Weights& W) const;
+  /// w(P) = E(P)·Coef of `field` (the field the sampler was built for, possibly updated since),
+  /// then the field's lobe bound (CoordinateField::lobeBound): #P×m, what field.weightsAt(P) gives.
+  Weights evaluate(const CoordinateField& field);
+  /// Recomputes only `columns` of W (#P×m: this sampler's last evaluate() or updateColumns()
+  /// result, not changed since) from the field's current coefficients; with a lobe bound, the rows
+  /// it may change are projected again from their unbounded weights, which the sampler keeps.
+  void updateColumns(const CoordinateField& field, std::span<const Index> columns, Weights& W);
 
  private:
+  void bound(const CoordinateField& field, Weights& W);
+
   SparseRowMatrix m_E;  // #P×nodes
+  Points m_P;
+  std::vector<Index> m_rows;  // the rows the lobe bound may have changed (increasing) …
+  RowMatrix m_unbounded;      // … and their unbounded weights
 };
 
 }  // namespace kc::app

@@ -61,6 +61,9 @@ inline constexpr double kTargetFloor = 0.03;
 /// sample at most one control's target.
 inline constexpr double kMaxTargetFloor = 0.5;
 
+/// KcParams::lobeBound lies in [0, kMaxLobeBound].
+inline constexpr double kMaxLobeBound = 0.5;
+
 /// Default ε of the kc backend's QP allowance metric (KcParams::qpAllowance, kc::kAllowanceCap):
 /// the correction that restores reproduction after the targets' floor falls on the controls near
 /// a sample, not the farthest ones (a foot's weight on the back), and the drag area of `kcwarp-cli
@@ -113,6 +116,11 @@ struct KcParams {
   /// bumps move the weights along the cage's edges off their hat functions (the figure's edge
   /// linearity 0.066 → 0.104; docs/notes/measured-constants.md).
   bool liftLobes = false;
+  /// `--lobe-bound`: the field's weights inside the cage stay ≥ −lobeBound (kc::LobeBound, applied
+  /// on every evaluation; 0: none), in [0, kMaxLobeBound]. Only with the QP and exact interpolation,
+  /// and not with linear edges or structure lines (app's installLobeBound says why). Sessions
+  /// written before the option (no `params.lobe_bound`) read 0.
+  double lobeBound = kLobeDepth;
 };
 
 /// Bind parameters of the local-barycentric-coordinates backend ("lbc"); the mesh spacing is

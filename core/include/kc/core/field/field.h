@@ -2,13 +2,16 @@
 /// The coordinate field: weights w(P) at any points, linear in per-node coefficients,
 ///   w(P) = E(P) · Coef      (E(P) #P×nodes sparse, Coef nodes×m, w #P×m).
 /// The one door to weights for every consumer (eval, warp, heatmaps, stats, the GUI, the
-/// conformance suite). Implementations: KernelField (kernel coordinates, thesis 1.9 / 6.2–6.3)
+/// conformance suite). A field may carry a lower bound on its weights (LobeBound), applied after
+/// E·Coef by weightsAt, gradientsAt and app::FieldSampler: the operators are the unbounded field's. Implementations: KernelField (kernel coordinates, thesis 1.9 / 6.2–6.3)
 /// and MeshField (a triangle mesh with per-vertex weights, barycentric interpolation).
 
+#include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
 
+#include "kc/core/field/lobe_bound.h"
 #include "kc/core/kernel/kernel_matrix.h"
 #include "kc/core/types.h"
 
@@ -51,10 +54,17 @@ class CoordinateField {
   /// vertices, #V×m). The other columns are kept.
   virtual void update(const Weights& W, std::span<const Index> columns = {}) = 0;
 
-  /// w(P) = E(P)·Coef: #P×m.
+  /// w(P) = E(P)·Coef: #P×m, then the lobe bound when set.
   virtual Weights weightsAt(const Points& P) const;
-  /// ∇w at P: two #P×m matrices, ∂w/∂x = ∂E/∂x·Coef and ∂w/∂y = ∂E/∂y·Coef.
+  /// ∇w at P: two #P×m matrices, ∂w/∂x = ∂E/∂x·Coef and ∂w/∂y = ∂E/∂y·Coef (of the bounded field
+  /// when a lobe bound is set: LobeBound::applyGradients).
   virtual void gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const;
+
+  /// The lower bound every evaluation applies (lobe_bound.h); null: none. Its cage's points must be
+  /// the field's controls.
+  void setLobeBound(std::shared_ptr<const LobeBound> bound) { m_bound = std::move(bound); }
+  const LobeBound* lobeBound() const { return m_bound.get(); }
+  std::shared_ptr<const LobeBound> sharedLobeBound() const { return m_bound; }
 
   /// Coef: nodes×m.
   RowMatrix coefficients() const { return coefficientColumns({}); }
@@ -62,6 +72,16 @@ class CoordinateField {
   /// columns of W are left as they are. Each row is summed in E's storage order on its own, so
   /// any thread count gives the same bits.
   void apply(const SparseRowMatrix& E, std::span<const Index> columns, Weights& W) const;
+
+ protected:
+  /// The bound's part of gradientsAt: dWdx, dWdy of the unbounded field at P become the bounded
+  /// field's, `unbounded(P)` giving the unbounded weights there (nothing without a bound).
+  template <class Unbounded>
+  void boundGradients(const Points& P, Weights& dWdx, Weights& dWdy, Unbounded&& unbounded) const {
+    if (m_bound) m_bound->applyGradients(P, unbounded(P), dWdx, dWdy);
+  }
+
+  std::shared_ptr<const LobeBound> m_bound;
 };
 
 namespace detail {

@@ -56,10 +56,12 @@ class KernelField final : public CoordinateField {
   void update(const Weights& W, std::span<const Index> columns = {}) override;
 
   /// KernelInterpolator::evaluate (6.3) — the same bits as the interpolator path; with a line
-  /// correction, then LineCorrection::correctWeights.
+  /// correction, then LineCorrection::correctWeights; with a lobe bound, then LobeBound::apply.
   Weights weightsAt(const Points& P) const override;
+  /// weightsAt without the lobe bound: E(P)·Coef, what the evaluation operator gives.
+  Weights unboundedWeightsAt(const Points& P) const;
   /// KernelInterpolator::evaluateGradient (3.41–3.43); with a line correction, then
-  /// LineCorrection::correctGradients.
+  /// LineCorrection::correctGradients; with a lobe bound, then LobeBound::applyGradients.
   void gradientsAt(const Points& P, Weights& dWdx, Weights& dWdy) const override;
 
   /// Keeps structure lines straight (LineCorrection): every evaluation — operators, weightsAt,

@@ -64,4 +64,12 @@ SampleReport sampleQp(const ControlFrame& frame, const Vec2& xh, std::span<const
 SampleReport sampleQpWeighted(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0,
                               std::span<const double> allowance, std::span<double> w, const QpOptions& options = {});
 
+/// The QP with a lower bound other than 0: min Σ (w − w0)²/a_j (a = allowance; empty: Euclidean)
+/// s.t. Ĉw = x̂, 1ᵀw = 1, w ≥ bound (bound ≤ 0), through u = w − bound ≥ 0, which is the QP above at
+/// βx̂ with the target β(w0 − bound), β = 1/(1 − m·bound). Outside the hull the bound is lowered to
+/// the least one that is feasible there (the fallback's). What projects an interpolant's weights
+/// at a point onto w ≥ bound (LobeBound). Throws std::invalid_argument for bound > 0.
+SampleReport sampleQpAbove(const ControlFrame& frame, const Vec2& xh, std::span<const double> w0, double bound,
+                           std::span<const double> allowance, std::span<double> w, const QpOptions& options = {});
+
 }  // namespace kc
