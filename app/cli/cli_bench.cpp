@@ -108,18 +108,29 @@ void benchOptimizers(const BenchArgs& a) {
 
 /// A paint stroke's release as the GUI does it (ui/src/jobs.cpp): re-optimize the painted samples,
 /// re-solve and re-evaluate at the display mesh only the controls whose weights changed, re-weight
-/// the mesh. 1-megapixel image, 30 controls, ~10k samples, display mesh at 4 px.
-void benchStroke(const BenchArgs& a) {
+/// the mesh. 1-megapixel image, 30 controls, ~10k samples, display mesh at 4 px; with the default
+/// lobe bound (KcParams::lobeBound: the sampler projects the vertices below it again) or without.
+void benchStroke(const BenchArgs& a, double lobeBound) {
   const int m = 30;
   const double size = 1000.0;
   app::BindParams p = app::frameBindParams();
   p.spacing = size / (std::sqrt(static_cast<double>(a.samples)) - 6.0);
+  p.kc.lobeBound = lobeBound;
   app::Session s = app::bind(blobCage(m, size), static_cast<int>(size), static_cast<int>(size), p);
   app::FieldSampler sampler;
   Weights vertexWeights;
   WarpMesh mesh = app::buildWarpMesh(s, app::warpMeshOptionsFor(s), nullptr, &sampler, &vertexWeights);
-  std::printf("\npaint stroke release: %ld samples, m = %d, display mesh %ld vertices (median of %d strokes)\n",
-              static_cast<long>(s.samples.size()), m, static_cast<long>(mesh.restVertices().rows()), a.repeats);
+  Index bounded = 0;  // vertices a weight of which is at its bound
+  if (const LobeBound* b = s.field->lobeBound()) {
+    const std::vector<double> l = b->bounds(mesh.restVertices());
+    for (Index i = 0; i < vertexWeights.rows(); ++i)
+      bounded += std::abs(vertexWeights.row(i).minCoeff() - l[static_cast<std::size_t>(i)]) < 1e-12 ? 1 : 0;
+  }
+  std::printf(
+      "\npaint stroke release: %ld samples, m = %d, display mesh %ld vertices (median of %d strokes), lobe bound %g "
+      "(%ld vertices at it)\n",
+      static_cast<long>(s.samples.size()), m, static_cast<long>(mesh.restVertices().rows()), a.repeats, lobeBound,
+      static_cast<long>(bounded));
   std::vector<double> opt, remesh, total;
   std::vector<Index> columnsChanged, painted;
   for (int r = 0; r < a.repeats; ++r) {
@@ -200,7 +211,8 @@ void addBenchCommand(CLI::App& app) {
     }
     benchBind(*a);
     benchOptimizers(*a);
-    benchStroke(*a);
+    benchStroke(*a, app::BindParams{}.kc.lobeBound);
+    benchStroke(*a, 0.0);
   });
 }
 

@@ -1,5 +1,7 @@
 #include "kc/app/field_sampler.h"
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace kc::app {
@@ -13,15 +15,24 @@ FieldSampler::FieldSampler(const CoordinateField& field, const Points& P) {
 void FieldSampler::bound(const CoordinateField& field, Weights& W) {
   m_rows.clear();
   m_unbounded.resize(0, 0);
-  const LobeBound* b = field.lobeBound();
+  const std::shared_ptr<const LobeBound> b = field.sharedLobeBound();
   if (!b) return;
-  // Rows with a weight below −depth are the only ones the bound can change: keep their unbounded
-  // weights, then project them.
-  for (Index i = 0; i < W.rows(); ++i)
-    if (W.row(i).minCoeff() < -b->depth()) m_rows.push_back(i);
+  if (b != m_boundsOf) {  // ℓ at the points, once per bound, where needed (NaN: not yet)
+    m_bounds.assign(static_cast<std::size_t>(m_P.rows()), std::numeric_limits<double>::quiet_NaN());
+    m_boundsOf = b;
+  }
+  // The rows below their bound (only a weight below −depth can be): keep their unbounded weights,
+  // then project them.
+  for (Index i = 0; i < W.rows(); ++i) {
+    const double least = W.row(i).minCoeff();
+    if (!(least < -b->depth())) continue;
+    double& l = m_bounds[static_cast<std::size_t>(i)];
+    if (std::isnan(l)) l = b->bound(m_P.row(i).transpose());
+    if (least < l) m_rows.push_back(i);
+  }
   m_unbounded.resize(static_cast<Index>(m_rows.size()), W.cols());
   for (std::size_t k = 0; k < m_rows.size(); ++k) m_unbounded.row(static_cast<Index>(k)) = W.row(m_rows[k]);
-  if (!m_rows.empty()) b->apply(m_P, W, m_rows);
+  b->project(m_P, m_bounds, m_rows, W);
 }
 
 void FieldSampler::updateColumns(const CoordinateField& field, std::span<const Index> columns, Weights& W) {

@@ -42,8 +42,8 @@ double LobeBound::bound(const Vec2& x) const {
   return -m_depth - m_queries.distance(x) / m_fade;
 }
 
-bool LobeBound::projectRow(const Vec2& x, std::span<double> w, std::vector<double>& target, std::vector<double>& a) const {
-  const double l = bound(x);
+bool LobeBound::projectRow(const Vec2& x, double l, std::span<double> w, std::vector<double>& target,
+                           std::vector<double>& a) const {
   if (!(*std::min_element(w.begin(), w.end()) < l)) return false;
   target.assign(w.begin(), w.end());
   a.clear();
@@ -53,25 +53,52 @@ bool LobeBound::projectRow(const Vec2& x, std::span<double> w, std::vector<doubl
   return true;
 }
 
+std::vector<double> LobeBound::bounds(const Points& P) const {
+  std::vector<double> l(static_cast<std::size_t>(P.rows()));
+  parallelForRange(P.rows(), 256, [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) l[static_cast<std::size_t>(i)] = bound(P.row(i).transpose());
+  });
+  return l;
+}
+
 std::vector<Index> LobeBound::apply(const Points& P, Weights& W) const { return apply(P, W, {}); }
 
 std::vector<Index> LobeBound::apply(const Points& P, Weights& W, const std::vector<Index>& rows) const {
-  if (P.rows() != W.rows() || W.cols() != m_cage.size())
-    throw std::invalid_argument("lobe bound: the weights must have one row per point and one column per control");
+  checkShapes(P, W);
   const std::vector<Index> candidates = candidateRows(W, m_depth, rows.empty() ? nullptr : &rows);
   std::vector<char> changed(candidates.size(), 0);
   parallelForRange(static_cast<Index>(candidates.size()), 64, [&](Index begin, Index end) {
     std::vector<double> target, a;
     for (Index k = begin; k < end; ++k) {
       const Index i = candidates[static_cast<std::size_t>(k)];
+      const Vec2 x = P.row(i).transpose();
       changed[static_cast<std::size_t>(k)] =
-          projectRow(P.row(i).transpose(), std::span<double>(W.row(i).data(), static_cast<std::size_t>(W.cols())), target, a);
+          projectRow(x, bound(x), std::span<double>(W.row(i).data(), static_cast<std::size_t>(W.cols())), target, a);
     }
   });
   std::vector<Index> out;
   for (std::size_t k = 0; k < candidates.size(); ++k)
     if (changed[k]) out.push_back(candidates[k]);
   return out;
+}
+
+void LobeBound::project(const Points& P, std::span<const double> bounds, const std::vector<Index>& rows, Weights& W) const {
+  checkShapes(P, W);
+  if (bounds.size() != static_cast<std::size_t>(P.rows()))
+    throw std::invalid_argument("lobe bound: one bound per point is needed");
+  parallelForRange(static_cast<Index>(rows.size()), 64, [&](Index begin, Index end) {
+    std::vector<double> target, a;
+    for (Index k = begin; k < end; ++k) {
+      const Index i = rows[static_cast<std::size_t>(k)];
+      projectRow(P.row(i).transpose(), bounds[static_cast<std::size_t>(i)],
+                 std::span<double>(W.row(i).data(), static_cast<std::size_t>(W.cols())), target, a);
+    }
+  });
+}
+
+void LobeBound::checkShapes(const Points& P, const Weights& W) const {
+  if (P.rows() != W.rows() || W.cols() != m_cage.size())
+    throw std::invalid_argument("lobe bound: the weights must have one row per point and one column per control");
 }
 
 void LobeBound::applyGradients(const Points& P, const Weights& W, Weights& dWdx, Weights& dWdy) const {
@@ -89,8 +116,8 @@ void LobeBound::applyGradients(const Points& P, const Weights& W, Weights& dWdx,
       const Index i = candidates[static_cast<std::size_t>(k)];
       const Vec2 x = P.row(i).transpose();
       v = W.row(i);
-      if (!projectRow(x, std::span<double>(v.data(), static_cast<std::size_t>(m)), target, a)) continue;
       const double l = bound(x);
+      if (!projectRow(x, l, std::span<double>(v.data(), static_cast<std::size_t>(m)), target, a)) continue;
       // ∂ℓ: 0 inside; outside −∇d/fade, by central differences (d is smooth off the cage's medial
       // axis: its gradient is the unit vector from the nearest cage point).
       Vec2 dl = Vec2::Zero();

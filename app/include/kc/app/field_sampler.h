@@ -23,7 +23,7 @@ class FieldSampler {
   Weights evaluate(const CoordinateField& field);
   /// Recomputes only `columns` of W (#P×m: this sampler's last evaluate() or updateColumns()
   /// result, not changed since) from the field's current coefficients; with a lobe bound, the rows
-  /// it may change are projected again from their unbounded weights, which the sampler keeps.
+  /// it changed are projected again from their unbounded weights, which the sampler keeps.
   void updateColumns(const CoordinateField& field, std::span<const Index> columns, Weights& W);
 
  private:
@@ -31,8 +31,10 @@ class FieldSampler {
 
   SparseRowMatrix m_E;  // #P×nodes
   Points m_P;
-  std::vector<Index> m_rows;  // the rows the lobe bound may have changed (increasing) …
+  std::vector<Index> m_rows;  // the rows the lobe bound changed (increasing) …
   RowMatrix m_unbounded;      // … and their unbounded weights
+  std::shared_ptr<const LobeBound> m_boundsOf;  // the bound (kept alive: compared by address) whose ℓ at the points …
+  std::vector<double> m_bounds;                 // … this is
 };
 
 }  // namespace kc::app

@@ -58,18 +58,27 @@ class LobeBound {
   /// ℓ(x) (see the header).
   double bound(const Vec2& x) const;
 
+  /// ℓ at every row of P.
+  std::vector<double> bounds(const Points& P) const;
+
   /// Projects the rows of W (#P×m, the field's weights at the rows of P) that have a weight below
   /// their bound; the others are left as they are. Returns the rows it changed, increasing.
   /// Parallel over rows; each row's result is independent of the thread count.
   std::vector<Index> apply(const Points& P, Weights& W) const;
-  /// The same for the rows `rows` of W only.
+  /// The same for the rows `rows` of W only (all rows when empty).
   std::vector<Index> apply(const Points& P, Weights& W, const std::vector<Index>& rows) const;
+  /// The same for the rows `rows` with their bounds given (`bounds`: ℓ at the rows of P, as
+  /// bounds(P); only the entries of `rows` are read): for a fixed point set evaluated many times
+  /// (app::FieldSampler).
+  void project(const Points& P, std::span<const double> bounds, const std::vector<Index>& rows, Weights& W) const;
   /// Turns the gradients dWdx, dWdy of the unbounded field at P (whose weights there are `W`,
   /// unbounded) into those of the bounded field, in the rows where the bound is active.
   void applyGradients(const Points& P, const Weights& W, Weights& dWdx, Weights& dWdy) const;
 
  private:
-  bool projectRow(const Vec2& x, std::span<double> w, std::vector<double>& target, std::vector<double>& a) const;
+  /// Projects w (the weights at x) onto w ≥ l when a weight is below l; false when none is.
+  bool projectRow(const Vec2& x, double l, std::span<double> w, std::vector<double>& target, std::vector<double>& a) const;
+  void checkShapes(const Points& P, const Weights& W) const;
 
   Cage m_cage;
   CageQueries m_queries;
