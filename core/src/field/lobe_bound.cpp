@@ -103,9 +103,9 @@ void LobeBound::checkShapes(const Points& P, const Weights& W) const {
 
 void LobeBound::applyGradients(const Points& P, const Weights& W, Weights& dWdx, Weights& dWdy) const {
   const Index m = m_cage.size();
-  if (P.rows() != W.rows() || W.cols() != m || dWdx.rows() != W.rows() || dWdy.rows() != W.rows() || dWdx.cols() != m ||
-      dWdy.cols() != m)
-    throw std::invalid_argument("lobe bound: the weights and gradients must have one row per point and one column per control");
+  checkShapes(P, W);
+  if (dWdx.rows() != W.rows() || dWdy.rows() != W.rows() || dWdx.cols() != m || dWdy.cols() != m)
+    throw std::invalid_argument("lobe bound: the gradients must have the weights' shape");
   const std::vector<Index> candidates = candidateRows(W, m_depth, nullptr);
   const double invScale = (m_frame.normalize(Vec2(1.0, 0.0)) - m_frame.normalize(Vec2(0.0, 0.0))).x();  // ∂x̂/∂x
   const double cap = kAllowanceCap * m_allowance;
