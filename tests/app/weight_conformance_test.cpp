@@ -189,9 +189,10 @@ TEST_P(WeightConformanceSlow, PropertiesHold) {
 
 // Edge linearity and negative-lobe bounds per example (checker, star, figure) at h = 8: the values
 // measured with the local default (screened targets, KcParams::guardLobes; 2026-12-03), times 1.05
-// rounded up to two digits; re-measured where the floored targets (kTargetFloor, 2026-12-06) went
-// past a bound: QEC and L1 on the figure (edge linearity 0.113), their lobes and those of the thesis
-// interpolation and linear edges. Edge linearity is
+// rounded up to two digits; re-measured where the floored targets (kTargetFloor, 2026-12-06; 0.04
+// 2026-12-07) went past a bound: QEC and L1 on the figure (edge linearity 0.113), their lobes and
+// those of the thesis interpolation and linear edges (QEC star −0.0274, checker −0.0069; L1 −0.0460,
+// −0.0261; thesis star −0.0121, figure edge linearity 0.0571; linear edges figure −0.536). Edge linearity is
 // measured every h/8 along every edge since 2026-11-30 (16 points per edge before: the star's
 // 0.021 was 0.040 measured densely).
 
@@ -199,16 +200,16 @@ const BackendCase kCases[] = {
     kc("kc_qp_exact", Method::QP, InterpMode::Exact, InitMethod::HeatLinear,
        {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.069}}, {{"checker", 0.0054}, {"star", 0.012}, {"figure", 0.067}}),
     kc("kc_qec_exact", Method::QEC, InterpMode::Exact, InitMethod::HeatLinear,
-       {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.0055}, {"star", 0.024}, {"figure", 0.075}}),
+       {{"checker", 0.0024}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.0073}, {"star", 0.029}, {"figure", 0.075}}),
     kc("kc_l1_exact", Method::L1, InterpMode::Exact, InitMethod::HeatLinear,
-       {{"checker", 0.0062}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.02}, {"star", 0.038}, {"figure", 0.075}}),
+       {{"checker", 0.0062}, {"star", 0.021}, {"figure", 0.12}}, {{"checker", 0.028}, {"star", 0.049}, {"figure", 0.075}}),
     kc("kc_qp_thesis", Method::QP, InterpMode::Thesis, InitMethod::HeatLinear,
-       {{"checker", 0.0035}, {"star", 0.024}, {"figure", 0.057}}, {{"checker", 0.012}, {"star", 0.011}, {"figure", 0.05}}),
+       {{"checker", 0.0035}, {"star", 0.024}, {"figure", 0.06}}, {{"checker", 0.012}, {"star", 0.013}, {"figure", 0.05}}),
     kc("kc_qp_exact_impulse", Method::QP, InterpMode::Exact, InitMethod::HeatImpulse,
        {{"checker", 0.002}, {"star", 0.05}, {"figure", 0.13}}, {{"checker", 0.0038}, {"star", 0.013}, {"figure", 0.03}}),
     kc("kc_l1_exact_invdist", Method::L1, InterpMode::Exact, InitMethod::InverseDistance,
        {{"checker", 0.0032}, {"star", 0.099}, {"figure", 0.56}}, {{"checker", 0.12}, {"star", 0.58}, {"figure", 3.7}}),
-    kcLinearEdges({{"checker", 0.0071}, {"star", 0.068}, {"figure", 0.53}}),
+    kcLinearEdges({{"checker", 0.0071}, {"star", 0.068}, {"figure", 0.57}}),
     // KC on LBC targets (--init lbc: LBC on a mesh of 2h inside, heat-linear outside). The figure's
     // deepest weight inside over seeds 1-5: −0.035 to −0.050 (−0.035 to −0.050 before the graded
     // start kept each side's count; seed 1 −0.042 then, −0.050 now).
