@@ -51,10 +51,10 @@ struct Locality {
 
 /// Default floor of the kc backend's screened targets (KcParams::targetFloor, kc::floorTargets):
 /// the diffused heat's tail below 4% of a sample's weight is dropped before the per-sample
-/// optimization. A drag then moves little more than what the LBC backend's weights move
-/// (`kcwarp-cli stats`, locality.drag); lower floors keep more of the tail, higher ones leave
-/// the optimizer to restore reproduction with weights far from the control, and deepen the lobes
-/// (with the lobe lift, KcParams::liftLobes, 0.05 is the better floor; the measurements:
+/// optimization. A drag then moves about what the LBC backend's weights move (`kcwarp-cli stats`,
+/// locality.drag); lower floors keep more of the tail, higher ones leave the optimizer to restore
+/// reproduction with weights far from the control, and deepen the lobes of the unbounded field
+/// (the QP's are held by the lobe bound, KcParams::lobeBound; the measurements:
 /// docs/notes/measured-constants.md).
 inline constexpr double kTargetFloor = 0.04;
 /// KcParams::targetFloor lies in [0, kMaxTargetFloor): a floor of 1/2 or more would leave each
