@@ -2,9 +2,10 @@
 /// The coordinate field: weights w(P) at any points, linear in per-node coefficients,
 ///   w(P) = E(P) · Coef      (E(P) #P×nodes sparse, Coef nodes×m, w #P×m).
 /// The one door to weights for every consumer (eval, warp, heatmaps, stats, the GUI, the
-/// conformance suite). A field may carry a lower bound on its weights (LobeBound), applied after
-/// E·Coef by weightsAt, gradientsAt and app::FieldSampler: the operators are the unbounded field's. Implementations: KernelField (kernel coordinates, thesis 1.9 / 6.2–6.3)
-/// and MeshField (a triangle mesh with per-vertex weights, barycentric interpolation).
+/// conformance suite). Implementations: KernelField (kernel coordinates, thesis 1.9 / 6.2–6.3)
+/// and MeshField (a triangle mesh with per-vertex weights, barycentric interpolation). A field may
+/// carry a lower bound on its weights (LobeBound), applied after E·Coef by weightsAt, gradientsAt
+/// and app::FieldSampler: the operators are the unbounded field's.
 
 #include <memory>
 #include <span>
