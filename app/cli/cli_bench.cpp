@@ -36,6 +36,7 @@ void benchLines(const std::string& cagePath, int sets, int repeats, bool crossin
 void benchEdges(const std::string& folder, int repeats);                // cli_bench_lines.cpp
 void benchRigid(const std::string& imagesDir, int repeats, const std::string& speedOnly);  // cli_bench_rigid.cpp
 void benchGraded(const std::string& folder, int repeats);                                 // cli_bench_graded.cpp
+void benchBackends(const std::vector<std::string>& cages, int repeats);                   // cli_bench_graded.cpp
 
 namespace {
 
@@ -45,6 +46,7 @@ struct BenchArgs {
   int threads = 0;
   bool lines = false, edges = false;
   bool rigid = false, graded = false;
+  std::vector<std::string> backends;
   std::string narrow = "tests/data/narrow";
   std::string rigidSpeed;
   std::string images = "images";
@@ -179,6 +181,9 @@ void addBenchCommand(CLI::App& app) {
   sub->add_flag("--rigid", a->rigid, "Only the rigid-regions table (thesis Fig 6.37 set-up on the star, brush-release times)");
   sub->add_option("--images", a->images, "--rigid: the folder of the bundled examples (star, figure)")->capture_default_str();
   sub->add_option("--rigid-speed", a->rigidSpeed, "--rigid: only the brush-release speed rows: star, figure or both");
+  sub->add_option("--backends", a->backends,
+                  "Only the backends table: these cages bound with defaults by kc and by lbc, bind times and their ratio")
+      ->expected(1, -1);
   sub->add_flag("--graded", a->graded,
                 "Only the graded-sampling table: cages with narrow places against their gaps widened (both backends), "
                 "and a neck on a 12 MP picture");
@@ -192,6 +197,10 @@ void addBenchCommand(CLI::App& app) {
     const ScopedThreadCount threads(a->threads);
     if (!a->rigidSpeed.empty() && a->rigidSpeed != "star" && a->rigidSpeed != "figure" && a->rigidSpeed != "both")
       throw app::InputError("--rigid-speed", "must be star, figure or both (got '" + a->rigidSpeed + "')");
+    if (!a->backends.empty()) {
+      benchBackends(a->backends, a->repeats);
+      return;
+    }
     if (a->graded) {
       benchGraded(a->narrow, a->repeats);
       return;

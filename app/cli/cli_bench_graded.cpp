@@ -22,6 +22,7 @@
 #include "cli_common.h"
 #include "kc/app/errors.h"
 #include "kc/app/file_io.h"
+#include "kc/app/image_io.h"
 #include "kc/app/pipeline.h"
 
 namespace kc::cli {
@@ -130,13 +131,14 @@ struct Bindable {
   int w = 0, h = 0;
 };
 
-/// `repeats` binds of each, alternating (a, b, a, b, …), so that each b runs right after its a; the
+/// `repeats` binds of each (b with paramsB when given), alternating (a, b, a, b, …), so that each b runs right after its a; the
 /// ratio is the median over the pairs of b's time / a's (a change of the machine's load between
 /// pairs cancels in it). Both Timed hold their median time.
-double timedPair(const Bindable& a, const Bindable& b, const app::BindParams& params, int repeats, Timed& ta, Timed& tb) {
+double timedPair(const Bindable& a, const Bindable& b, const app::BindParams& params, int repeats, Timed& ta, Timed& tb,
+                 const app::BindParams* paramsB = nullptr) {
   for (int r = 0; r < repeats; ++r) {
     bindOnce(ta, a.cage, a.w, a.h, params);
-    bindOnce(tb, b.cage, b.w, b.h, params);
+    bindOnce(tb, b.cage, b.w, b.h, paramsB ? *paramsB : params);
   }
   ta.seconds = median(ta.runs);
   tb.seconds = median(tb.runs);
@@ -233,6 +235,46 @@ void benchGraded(const std::string& folder, int repeats) {
   const double ratio = timedPair({neckCage(small, 8.0 / 11.0), 364, 273}, {neckCage(big, 8.0), 4000, 3000}, defaults, repeats, t01, t12);
   row("kc", "neck 0.1 MP", t01, measured(t01, nullptr), 0.0);
   row("kc", "neck 12 MP", t12, measured(t12, nullptr), ratio);
+}
+
+void benchBackends(const std::vector<std::string>& cages, int repeats) {
+  std::printf(
+      "backends: each cage bound with kcwarp-cli bind's defaults by kc and by lbc (automatic spacing for each),\n"
+      "median of %d binds alternating kc, lbc; lbc/kc: the median of the paired ratios\n",
+      repeats);
+  std::printf("  %-10s %8s %8s %8s %8s %10s %8s\n", "cage", "kc ms", "samples", "lbc ms", "vertices", "iterations", "lbc/kc");
+  for (const std::string& path : cages) {
+    Bindable b;
+    b.cage = app::loadCage(path);
+    std::filesystem::path picture(path);
+    picture.replace_extension().replace_extension(".png");  // x.cage.json → x.png
+    if (std::filesystem::exists(picture)) {
+      const Image image = app::loadImage(picture.string());
+      b.w = image.width, b.h = image.height;
+    } else if (nlohmann::json::parse(app::readTextFile(path, app::kMaxJsonFileBytes)).contains("image_size")) {
+      std::tie(b.w, b.h) = cageImageSize(path);
+    } else {  // no picture named: the cage's bounding box and 40 px round it
+      b.w = int(std::ceil(b.cage.C.col(0).maxCoeff())) + 40, b.h = int(std::ceil(b.cage.C.col(1).maxCoeff())) + 40;
+    }
+    app::BindParams kc, lbc;
+    lbc.backend = "lbc";
+    Timed tk, tl;
+    const double ratio = timedPair(b, b, kc, repeats, tk, tl, &lbc);
+    const std::string name = std::filesystem::path(path).filename().string();
+    const std::string shortName = name.substr(0, name.find('.'));
+    if (!tk.refused.empty() || !tl.refused.empty()) {
+      std::printf("  %-10s refused: %.100s\n", shortName.c_str(), (tk.refused.empty() ? tl.refused : tk.refused).c_str());
+      continue;
+    }
+    const nlohmann::json report = tl.session.report.backend ? [&] {
+      nlohmann::json j;
+      tl.session.report.backend->toJson(j, false);
+      return j;
+    }() : nlohmann::json::object();
+    std::printf("  %-10s %8.0f %8ld %8.0f %8ld %10d %7.2fx\n", shortName.c_str(), 1e3 * tk.seconds, static_cast<long>(tk.samples),
+                1e3 * tl.seconds, static_cast<long>(report.value("mesh_vertices", Index{0})), report.value("iterations", 0),
+                ratio);
+  }
 }
 
 }  // namespace kc::cli

@@ -18,7 +18,9 @@ const std::string kImages = std::string(KC_SOURCE_DIR) + "/images/";
 TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   const fs::path dir = test::scratchDir("lbc_cli");
   const std::string cage = "'" + kImages + "star.cage.json'", image = "'" + kImages + "star.png'";
-  auto r = test::runCli("bind --backend lbc --spacing 10 --lbc-tau linear --cage " + cage + " --image " + image + " -o s.kcw.json", dir);
+  auto r = test::runCli(
+      "bind --backend lbc --spacing 10 --lbc-tau linear --lbc-gap 0.001 --cage " + cage + " --image " + image + " -o s.kcw.json",
+      dir);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("LBC mesh of"), std::string::npos) << r.out;
   r = test::runCli("stats --json --session s.kcw.json", dir);
@@ -32,6 +34,7 @@ TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
   EXPECT_EQ(st["backend"], "lbc");
   EXPECT_FALSE(st.contains("method") || st.contains("sigma")) << "KC's parameters mean nothing here";
   EXPECT_EQ(st["lbc"]["tau"], "linear");
+  EXPECT_EQ(st["lbc"]["gap"], 0.001);
   const nlohmann::json& lbc = st["solver"]["lbc"];
   EXPECT_TRUE(lbc["converged"].get<bool>());
   EXPECT_GE(lbc["objective"].get<double>(), lbc["lower_bound"].get<double>());
@@ -60,6 +63,8 @@ TEST(LbcBackendCli, BindStatsAndWhatItCannotDo) {
       {"bind --backend lbc --spacing 0.06 --cage " + cage + " --image " + image + " -o x.kcw.json", "larger --spacing"},
       {"bind --backend lbc --lbc-tau cubic --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-tau"},
       {"bind --backend lbc --lbc-tolerance 0 --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-tolerance"},
+      {"bind --backend lbc --lbc-gap 0 --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-gap"},
+      {"bind --backend lbc --lbc-gap nan --cage " + cage + " --image " + image + " -o x.kcw.json", "--lbc-gap"},
       {"warp --session s.kcw.json --outside deform -o w.png", "deform"},
   };
   for (const Bad& b : bad) {

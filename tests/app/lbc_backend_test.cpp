@@ -118,6 +118,57 @@ TEST(LbcBackend, SessionReloadsWithoutRecomputation) {
   EXPECT_THROW(loadSession((dir / "nofield.kcw.json").string()), InputError);
 }
 
+/// The solver's report of an LBC session as its session block (iterations, objective, lower_bound).
+nlohmann::json lbcReport(const Session& s) {
+  nlohmann::json j;
+  s.report.backend->toJson(j, true);
+  return j;
+}
+
+TEST(LbcBackend, StopsAtTheOptimalityGapAskedForAndTheSessionKeepsIt) {
+  // The default stops at a certified 1% gap; 0.1% (--lbc-gap 0.001) goes on further and is certified too.
+  const Cage cage = loadCage(kImageDir + "figure.cage.json");
+  BindParams p;
+  p.backend = "lbc";
+  p.spacing = automaticSpacing(cage, 320, 400, p);
+  ASSERT_EQ(p.lbc.gap, 0.01);
+  const Session quick = bind(cage, 320, 400, p);
+  p.lbc.gap = 0.001;
+  const Session tight = bind(cage, 320, 400, p);
+  const nlohmann::json q = lbcReport(quick), t = lbcReport(tight);
+  const auto gapOf = [](const nlohmann::json& r) {
+    return (r["objective"].get<double>() - r["lower_bound"].get<double>()) / r["lower_bound"].get<double>();
+  };
+  std::printf("[measured] figure: gap 1%%: %d iterations, certified %.3f%%; gap 0.1%%: %d iterations, certified %.4f%%\n",
+              q["iterations"].get<int>(), 100 * gapOf(q), t["iterations"].get<int>(), 100 * gapOf(t));
+  EXPECT_LE(gapOf(q), 0.01);
+  EXPECT_LE(gapOf(t), 0.001);
+  EXPECT_GT(gapOf(t), 0.0);
+  EXPECT_LT(q["iterations"].get<int>(), t["iterations"].get<int>());
+  // The weights of the two stops are close: the 1% stop is the same picture.
+  EXPECT_LT((quick.W - tight.W).cwiseAbs().maxCoeff(), 0.05);
+  EXPECT_GE(tight.W.minCoeff(), 0.0);
+  EXPECT_GE(quick.W.minCoeff(), 0.0);
+
+  // The session keeps the gap; a file written before the parameter existed means 0.1%.
+  const fs::path dir = test::scratchDir("lbc_gap");
+  saveSession((dir / "quick.kcw.json").string(), quick);
+  nlohmann::json j = nlohmann::json::parse(test::slurp(dir / "quick.kcw.json"));
+  EXPECT_EQ(j["params"]["lbc"]["gap"], 0.01);
+  EXPECT_EQ(loadSession((dir / "quick.kcw.json").string()).params.lbc.gap, 0.01);
+  j["params"]["lbc"].erase("gap");
+  test::writeText(dir / "old.kcw.json", j.dump());
+  EXPECT_EQ(loadSession((dir / "old.kcw.json").string()).params.lbc.gap, 0.001);
+  j["params"]["lbc"]["gap"] = 0.0;
+  test::writeText(dir / "zero.kcw.json", j.dump());
+  try {
+    loadSession((dir / "zero.kcw.json").string());
+    ADD_FAILURE() << "a gap of 0 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
+  }
+}
+
 TEST(LbcBackend, WarpRefusesDeformAndKeepsTheOutsideFixed) {
   const Session& s = boundStar();
   WarpMeshOptions deform;

@@ -67,8 +67,11 @@ TEST(LobeBoundApp, TheDefaultBindStaysAboveTheBoundOnAOnePixelGrid) {
     EXPECT_LE((W.rowwise().sum().array() - 1.0).abs().maxCoeff(), 1e-9);
     EXPECT_LE(((W * cage.C) - P).cwiseAbs().maxCoeff(), 1e-7);
     // Where the unbounded field is above the bound, the weights are its own, bit for bit.
-    for (Index i = 0; i < P.rows(); ++i)
-      if (W0.row(i).minCoeff() >= -kLobeDepth) ASSERT_EQ(W.row(i), W0.row(i)) << "point " << i;
+    for (Index i = 0; i < P.rows(); ++i) {
+      if (W0.row(i).minCoeff() >= -kLobeDepth) {
+        ASSERT_EQ(W.row(i), W0.row(i)) << "point " << i;
+      }
+    }
     // The drag figures of `stats` see the bounded field.
     const Diagnostics d = diagnose(s, 40000);
     EXPECT_GE(d.drag.minWeight, -kLobeDepth - 1e-12);

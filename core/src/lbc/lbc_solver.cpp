@@ -41,6 +41,43 @@
 namespace kc {
 namespace {
 
+/// Σ_j a_j² in four interleaved partial sums (a fixed order the compiler can vectorize).
+double sumOfSquares(const double* a, Index n) {
+  double p[4] = {0.0, 0.0, 0.0, 0.0};
+  Index j = 0;
+  for (; j + 4 <= n; j += 4)
+    for (int l = 0; l < 4; ++l) p[l] += a[j + l] * a[j + l];
+  for (; j < n; ++j) p[0] += a[j] * a[j];
+  return (p[0] + p[1]) + (p[2] + p[3]);
+}
+
+/// Step 1 of one triangle's m controls (eq. 30) from g = ∇_s W, u = U1_s (x parts, then y parts,
+/// 2m each) and the thresholds φ_s/μ: X = shrink(g − u, φ/μ), v ← αX + (1 − α)g + u, r ← X − g.
+/// A free function on restrict pointers, so that the loop vectorizes.
+void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u, const double* __restrict threshold,
+               double* __restrict v, double* __restrict r) {
+  for (Index i = 0; i < m; ++i) {  // (branch-free)
+    const double ax = g[i] - u[i], ay = g[m + i] - u[m + i];
+    const double len = std::sqrt(ax * ax + ay * ay), thr = threshold[i];
+    const double q = 1.0 - thr / len;  // NaN or ≤ 0 where len ≤ thr (len = 0 included): the factor is 0
+    const double f = q > 0.0 ? q : 0.0;
+    const double xx = f * ax, xy = f * ay;
+    v[i] = alpha * xx + (1.0 - alpha) * g[i] + u[i];
+    v[m + i] = alpha * xy + (1.0 - alpha) * g[m + i] + u[m + i];
+    r[i] = xx - g[i];
+    r[m + i] = xy - g[m + i];
+  }
+}
+
+/// The gradients (gx, gy: m each) of m linear functions on a triangle with corner values f0, f1,
+/// f2 and the corners' basis gradients gr (a free function on restrict pointers, so that it vectorizes).
+void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
+                const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
+  const double x0 = gr[0].x(), x1 = gr[1].x(), x2 = gr[2].x(), y0 = gr[0].y(), y1 = gr[1].y(), y2 = gr[2].y();
+  for (Index i = 0; i < m; ++i) gx[i] = x0 * f0[i] + x1 * f1[i] + x2 * f2[i];
+  for (Index i = 0; i < m; ++i) gy[i] = y0 * f0[i] + y1 * f1[i] + y2 * f2[i];
+}
+
 /// Σ of per-row partial sums in a fixed order (bit-identical for any thread count).
 double sum(const std::vector<double>& parts) {
   double s = 0.0;
@@ -122,6 +159,7 @@ struct LbcSolver::Impl {
   detail::RowBlockCholesky system;          // L_II + M_II
   detail::RowBlockCholesky laplace;         // L_II (harmonic warm start)
   std::unique_ptr<detail::BarycentricLp> lp;  // the certificate's inner LP over the normalized controls
+  std::vector<double> zeroRow;                // m zeros
   bool ok = true;
   double geodesicSeconds = 0.0, factorSeconds = 0.0;
 
@@ -164,15 +202,17 @@ struct LbcSolver::Impl {
 
   struct Admm;
 
+  /// ∇_s of interior rows D (n×m; the boundary rows 0) into gx, gy (length m each).
+  void interiorGradientRow(const RowMatrix& D, Index s, double* gx, double* gy) const {
+    const auto& t = T[std::size_t(s)];
+    auto rowOf = [&](int v) { return v < nb ? zeroRow.data() : &D(v - nb, 0); };
+    gradientOf(m, g.gradient[std::size_t(s)], rowOf(t[0]), rowOf(t[1]), rowOf(t[2]), gx, gy);
+  }
+
   /// ∇_s of the full weights [Wb; Z] into row s of G (#T×2m: x parts, then y parts).
   void gradientRow(const RowMatrix& Z, Index s, double* gx, double* gy) const {
     const auto& t = T[std::size_t(s)];
-    const auto& gr = g.gradient[std::size_t(s)];
-    const double* f0 = row(Z, t[0]);
-    const double* f1 = row(Z, t[1]);
-    const double* f2 = row(Z, t[2]);
-    for (Index i = 0; i < m; ++i) gx[i] = gr[0].x() * f0[i] + gr[1].x() * f1[i] + gr[2].x() * f2[i];
-    for (Index i = 0; i < m; ++i) gy[i] = gr[0].y() * f0[i] + gr[1].y() * f1[i] + gr[2].y() * f2[i];
+    gradientOf(m, g.gradient[std::size_t(s)], row(Z, t[0]), row(Z, t[1]), row(Z, t[2]), gx, gy);
   }
 };
 
@@ -267,6 +307,7 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
 
   // Dirichlet data (eq. 5): Lagrange at the controls, linear along the cage edges.
   d.Wb = Weights::Zero(d.nb, d.m);
+  d.zeroRow.assign(std::size_t(d.m), 0.0);
   for (Index v = 0; v < d.nb; ++v) {
     if (v < d.m) {
       d.Wb(v, v) = 1.0;
@@ -380,42 +421,41 @@ LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, 
 
 /// The ADMM iteration of (15) in Douglas–Rachford form. Its state is v = x̃ + U (per triangle
 /// V1 = X̃ + U1, per vertex V2 = W̃ + U2): step 2 is the projection Z = P v onto the affine
-/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z, G = ∇[Wb; Z], U1 and U2 are
-/// kept for the residuals, the certificate and a change of μ; the residuals' per-triangle and
-/// per-vertex shares are kept for the caller's sums.
+/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z, U1 and U2 are kept for the
+/// certificate and a change of μ, Z's last change for the dual residual; the residuals'
+/// per-triangle and per-vertex shares are kept for the caller's sums. ∇Z is not stored: each
+/// pass over the triangles computes it from Z's rows (one pass streams V1, U1 and φ only).
 struct LbcSolver::Impl::Admm {
   const Impl& d;
   const double alpha;  // relaxation
   double mu;           // penalty
-  RowMatrix Z, G, U1, U2, V1, V2, Qm;
+  RowMatrix Z, U1, U2, V1, V2, Qm, dZ;
   std::vector<double> primalT, dualT, primalV, dualV;
+  RowMatrix threshold;  // φ/μ (#T×m), the shrinkage's thresholds
 
   Admm(const Impl& solver, RowMatrix start, double relaxation, double penalty)
-      : d(solver), alpha(relaxation), mu(penalty), Z(std::move(start)), G(d.nt, 2 * d.m),
-        U1(RowMatrix::Zero(d.nt, 2 * d.m)), U2(RowMatrix::Zero(d.n, d.m)), V1(d.nt, 2 * d.m), V2(d.n, d.m), Qm(d.n, d.m),
-        primalT(std::size_t(d.nt)), dualT(primalT), primalV(std::size_t(d.n)), dualV(primalV) {
-    parallelFor(d.nt, [&](Index s) { d.gradientRow(Z, s, &G(s, 0), &G(s, d.m)); }, 256);
-  }
+      : d(solver),
+        alpha(relaxation),
+        mu(penalty),
+        Z(std::move(start)),
+        U1(RowMatrix::Zero(d.nt, 2 * d.m)),
+        U2(RowMatrix::Zero(d.n, d.m)),
+        V1(d.nt, 2 * d.m),
+        V2(d.n, d.m),
+        Qm(d.n, d.m),
+        dZ(d.n, d.m),
+        primalT(std::size_t(d.nt)),
+        dualT(primalT),
+        primalV(std::size_t(d.n)),
+        dualV(primalV),
+        threshold(d.phi / mu) {}
 
-  /// Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) and its next V1 = αX + (1 − α)G + U1;
-  /// returns a_s |X − G|² (the primal residual's share).
-  double shrink(Index s) {
-    const Index m = d.m;
-    const double* gs = &G(s, 0);
-    const double* us = &U1(s, 0);
-    const double* phis = &d.phi(s, 0);
-    double* vs = &V1(s, 0);
-    double p = 0.0;
-    for (Index i = 0; i < m; ++i) {
-      const double ax = gs[i] - us[i], ay = gs[m + i] - us[m + i];
-      const double len = std::sqrt(ax * ax + ay * ay), thr = phis[i] / mu;
-      const double f = len > thr ? 1.0 - thr / len : 0.0;
-      const double xx = f * ax, xy = f * ay;
-      vs[i] = alpha * xx + (1.0 - alpha) * gs[i] + us[i];
-      vs[m + i] = alpha * xy + (1.0 - alpha) * gs[m + i] + us[m + i];
-      p += (xx - gs[i]) * (xx - gs[i]) + (xy - gs[m + i]) * (xy - gs[m + i]);
-    }
-    return d.g.area[std::size_t(s)] * p;
+  /// Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) from its gradient g = ∇_s[Wb; Z]
+  /// (x parts, then y parts) and U1, and its next V1 = αX + (1 − α)G + U1; returns a_s |X − G|²
+  /// (the primal residual's share). `scratch`: 2m doubles.
+  double shrink(Index s, const double* gs, double* scratch) {
+    shrinkRow(d.m, alpha, gs, &U1(s, 0), &threshold(s, 0), &V1(s, 0), scratch);
+    return d.g.area[std::size_t(s)] * sumOfSquares(scratch, 2 * d.m);
   }
 
   /// Step 1 of interior vertex v (eq. 31: W = max(0, Z − U2)) and its next V2; returns m_v |W − Z|².
@@ -431,7 +471,13 @@ struct LbcSolver::Impl::Admm {
 
   /// Step 1 everywhere (at the start, and after μ changed).
   void firstStep() {
-    parallelFor(d.nt, [&](Index s) { primalT[std::size_t(s)] = shrink(s); }, 256);
+    parallelForRange(d.nt, 256, [&](Index begin, Index end) {
+      std::vector<double> g(std::size_t(4 * d.m));
+      for (Index s = begin; s < end; ++s) {
+        d.gradientRow(Z, s, g.data(), g.data() + d.m);
+        primalT[std::size_t(s)] = shrink(s, g.data(), g.data() + 2 * d.m);
+      }
+    });
     parallelFor(d.n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
   }
 
@@ -465,7 +511,8 @@ struct LbcSolver::Impl::Admm {
         for (Index i = 0; i < m; ++i) {
           const double z = znew[std::size_t(i)];
           U2(v, i) = V2(v, i) - z;
-          q += (z - Z(v, i)) * (z - Z(v, i));
+          dZ(v, i) = z - Z(v, i);
+          q += dZ(v, i) * dZ(v, i);
           Z(v, i) = z;
         }
         dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
@@ -474,22 +521,18 @@ struct LbcSolver::Impl::Admm {
     });
     // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
     parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
-      std::vector<double> buffer(std::size_t(2 * m));
-      double* nx = buffer.data();
-      double* ny = buffer.data() + m;
+      std::vector<double> buffer(std::size_t(6 * m));
+      double* g = buffer.data();           // ∇_s Z: x parts, then y parts
+      double* dg = buffer.data() + 2 * m;  // ∇_s of Z's change
+      double* scratch = buffer.data() + 4 * m;
       for (Index s = begin; s < end; ++s) {
-        d.gradientRow(Z, s, nx, ny);
-        double* gs = &G(s, 0);
+        d.gradientRow(Z, s, g, g + m);
+        d.interiorGradientRow(dZ, s, dg, dg + m);
         double* us = &U1(s, 0);
         const double* vs = &V1(s, 0);
-        double q = 0.0;  // (sums in index order; the loops below vectorize)
-        for (Index j = 0; j < 2 * m; ++j) q += (nx[j] - gs[j]) * (nx[j] - gs[j]);  // nx, ny are contiguous like a row of G
-        for (Index j = 0; j < 2 * m; ++j) {
-          us[j] = vs[j] - nx[j];
-          gs[j] = nx[j];
-        }
-        dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * q;
-        primalT[std::size_t(s)] = shrink(s);
+        for (Index j = 0; j < 2 * m; ++j) us[j] = vs[j] - g[j];
+        dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * sumOfSquares(dg, 2 * m);
+        primalT[std::size_t(s)] = shrink(s, g, scratch);
       }
     });
   }
@@ -497,6 +540,7 @@ struct LbcSolver::Impl::Admm {
   /// Residual balancing: μ ← factor·μ, the scaled multipliers U = λ/μ follow, step 1 is redone.
   void scalePenalty(double factor) {
     mu *= factor;
+    threshold = d.phi / mu;
     U1 /= factor;
     U2 /= factor;
     firstStep();
