@@ -127,19 +127,25 @@ TEST(Rebind, ThePoseFollowsTheControlPointsThatStayed) {
   EXPECT_EQ(carriedPose(Cage::polygon(C), pose, Cage::polygon(D.topRows(4)))[1].translate, Vec2(2, 0));
 }
 
+/// Chooses LBC in the Bind panel and binds with it, as a person does after a KC bind.
+template <class F>
+void bindLbcInThePanel(test::HeadlessImGui& gui, AppState& s, F&& draw) {
+  gui.frame(draw);
+  gui.clickLabel(s, "LBC", draw);
+  gui.frame(draw);
+  gui.clickLabel(s, "Bind", draw);
+  s.worker.waitFinished();
+  pollWorker(s);
+  ASSERT_TRUE(s.session);
+  ASSERT_GT(s.bound->report.meshVertices(), 0) << (s.messages.empty() ? "" : s.messages.back().text);
+}
+
 TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   test::HeadlessImGui gui;
   auto s = test::boundState(16.0);
   const auto kc = s->session;
   auto draw = [&] { drawFrame(*s); };
-  gui.frame(draw);
-  gui.clickLabel(*s, "LBC", draw);
-  gui.frame(draw);
-  gui.clickLabel(*s, "Bind", draw);
-  s->worker.waitFinished();
-  pollWorker(*s);
-  ASSERT_TRUE(s->session);
-  ASSERT_GT(s->bound->report.meshVertices(), 0) << (s->messages.empty() ? "" : s->messages.back().text);
+  ASSERT_NO_FATAL_FAILURE(bindLbcInThePanel(gui, *s, draw));
   // One click back to the KC bind (the Bind panel's "Previous bind"), one forward to LBC again.
   gui.frame(draw);
   gui.clickLabel(*s, "Previous bind", draw);
@@ -150,6 +156,56 @@ TEST(Rebind, SwitchingToLbcKeepsTheKcBindOneClickAway) {
   gui.clickLabel(*s, "Next bind", draw);
   EXPECT_GT(s->bound->report.meshVertices(), 0);
   EXPECT_EQ(s->bindParams.backend, "lbc");
+}
+
+TEST(Rebind, AfterDraggingThePreviousBindIsStillOneClickAwayInThePresentPose) {
+  // Compare KC and LBC on the same pose: bind LBC, drag a point, then Previous bind shows the KC
+  // weights in that pose; Previous bind again (or Ctrl+Z) comes back to LBC in the same pose.
+  test::HeadlessImGui gui;
+  auto s = test::boundState(16.0);
+  const auto kc = s->session;
+  auto draw = [&] { drawFrame(*s); };
+  ASSERT_NO_FATAL_FAILURE(bindLbcInThePanel(gui, *s, draw));
+  const auto lbc = s->session;
+  ASSERT_NE(lbc, kc);
+  auto samePose = [](const Pose& x, const Pose& y) {
+    if (x.size() != y.size()) return false;
+    for (std::size_t k = 0; k < x.size(); ++k)
+      if (x[k].translate != y[k].translate || x[k].rotate != y[k].rotate) return false;
+    return true;
+  };
+  const Vec2 c = s->bound->cage.C.row(3).transpose();
+  s->poseTool.press(*s, at(c));
+  s->poseTool.drag(*s, at(c + Vec2(20, -10)));
+  s->poseTool.release(*s, at(c + Vec2(20, -10)));
+  const Pose dragged = s->pose;
+  ASSERT_GT(dragged[3].translate.norm(), 10.0) << "the drag moved the point";
+  ASSERT_NE(bindBehindPoses(s->undo), nullptr);
+  gui.frame(draw);
+  gui.clickLabel(*s, "Previous bind", draw);
+  EXPECT_EQ(s->session, kc);
+  EXPECT_EQ(s->bindParams.backend, "kc");
+  EXPECT_TRUE(samePose(s->pose, dragged)) << "the KC weights in the pose the LBC bind had";
+  // Back to LBC in that pose, by the same button; then by Ctrl+Z after a second drag and toggle.
+  gui.frame(draw);
+  gui.clickLabel(*s, "Previous bind", draw);
+  EXPECT_EQ(s->session, lbc);
+  EXPECT_TRUE(samePose(s->pose, dragged));
+  const Vec2 moved = c + dragged[3].translate;
+  s->poseTool.press(*s, at(moved));
+  s->poseTool.drag(*s, at(moved + Vec2(0, 15)));
+  s->poseTool.release(*s, at(moved + Vec2(0, 15)));
+  const Pose again = s->pose;
+  ASSERT_TRUE(showPreviousBind(*s));
+  EXPECT_EQ(s->session, kc);
+  EXPECT_TRUE(samePose(s->pose, again));
+  undo(*s);
+  EXPECT_EQ(s->session, lbc);
+  EXPECT_TRUE(samePose(s->pose, again));
+  // Undo runs back through every step to the KC bind the test started from, its pose at rest.
+  while (s->undo.canUndo()) undo(*s);
+  EXPECT_EQ(s->session, kc);
+  EXPECT_TRUE(isRestPose(s->pose));
 }
 
 TEST(Rebind, SwitchingToLbcWithLinesAndRigidPaintAsksAndThePreviousBindKeepsThem) {

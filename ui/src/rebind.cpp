@@ -20,6 +20,19 @@ namespace {
 /// Binds kept on the undo stack (BindEdit): each holds a session with its weights and display mesh.
 constexpr std::size_t kKeptBinds = 4;
 
+/// Pushes a bind step holding `other`; each BindEdit holds a whole session and mesh, so past
+/// kKeptBinds the oldest go, with the edits before them.
+void pushBind(UndoStack& history, const char* label, std::shared_ptr<BoundDocument> other) {
+  history.push({label, BindEdit{std::move(other)}});
+  std::size_t binds = 0;
+  const std::vector<UndoEntry>& entries = history.undoEntries();
+  for (std::size_t k = entries.size(); k-- > 0;)
+    if (std::holds_alternative<BindEdit>(entries[k].edit) && ++binds > kKeptBinds) {
+      history.dropOldest(k + 1);
+      break;
+    }
+}
+
 }  // namespace
 
 namespace detail {
@@ -42,15 +55,7 @@ void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Se
   installSession(st, s, std::move(display), true);
   setPose(st, carriedPose(bound->cage, before->pose, s->cage));
   selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
-  history.push({"bind again", BindEdit{std::move(before)}});
-  // Each BindEdit holds a whole session and mesh: the oldest go, with the edits before them.
-  std::size_t binds = 0;
-  const std::vector<UndoEntry>& entries = history.undoEntries();
-  for (std::size_t k = entries.size(); k-- > 0;)
-    if (std::holds_alternative<BindEdit>(entries[k].edit) && ++binds > kKeptBinds) {
-      history.dropOldest(k + 1);
-      break;
-    }
+  pushBind(history, "bind again", std::move(before));
   st.undo = std::move(history);
   carryRigidityTo(st, bound->samples, oldRigidity, bound->spacing, *s);
 }
@@ -119,6 +124,44 @@ Pose carriedPose(const Cage& before, const Pose& pose, const Cage& after) {
         break;
       }
   return out;
+}
+
+const BindEdit* bindBehindPoses(const UndoStack& undo) {
+  const std::vector<UndoEntry>& entries = undo.undoEntries();
+  for (std::size_t k = entries.size(); k-- > 0;) {
+    if (std::holds_alternative<PoseEdit>(entries[k].edit)) continue;
+    const auto* bind = std::get_if<BindEdit>(&entries[k].edit);
+    return bind && k + 1 < entries.size() ? bind : nullptr;
+  }
+  return nullptr;
+}
+
+bool showPreviousBind(AppState& state) {
+  const BindEdit* behind = bindBehindPoses(state.undo);
+  if (!behind || !behind->other || !behind->other->session || !behind->other->mesh || !state.session || !state.bound ||
+      state.worker.busy())
+    return false;
+  const BoundDocument& previous = *behind->other;
+  auto present = std::make_shared<BoundDocument>(BoundDocument{state.session, std::make_shared<WarpMesh>(std::move(state.mesh)),
+                                                               state.meshSource, state.pose, state.weightsReproducible});
+  const Cage presentCage = state.bound->cage;
+  const Tool tool = state.tool;
+  UndoStack history = std::move(state.undo);
+  // The previous document stays in the bind step below, its session shared with it: the undo
+  // stack is last in, first out, so every edit made to it from now on is undone before that step
+  // swaps it back. Its display mesh and the mesh's source are copied (installing takes them).
+  DisplayMesh display{std::make_shared<WarpMesh>(*previous.mesh),
+                      previous.source ? std::make_shared<Document::MeshSource>(*previous.source) : nullptr};
+  installSession(state, previous.session, std::move(display), previous.weightsReproducible);
+  setPose(state, carriedPose(presentCage, present->pose, state.session->cage));
+  selectTool(state, tool);
+  pushBind(history, "previous bind", std::move(present));
+  state.undo = std::move(history);
+  postMessage(state,
+              "Back to the " + std::string(app::backendFor(state.session->params.backend).displayName()) +
+                  " bind, in the present pose (Previous bind again comes back).",
+              false);
+  return true;
 }
 
 bool swapBoundDocument(AppState& state, const BindEdit& edit) {

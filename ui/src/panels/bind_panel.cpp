@@ -9,6 +9,7 @@
 #include "kc/app/pipeline.h"
 #include "kc/ui/edits.h"
 #include "kc/ui/jobs.h"
+#include "kc/ui/rebind.h"
 #include "kc/ui/panels/panels.h"
 #include "kc/ui/panels/widgets.h"
 
@@ -232,6 +233,12 @@ void drawBindButtons(AppState& state) {
     if (button(state, "Previous bind", "Back to the bind before this one, with its weights and pose (Ctrl+Z); "
                                        "Next bind then comes back to this one."))
       undo(state);
+  } else if (idle && bindBehindPoses(state.undo)) {
+    ImGui::SameLine();
+    if (button(state, "Previous bind",
+               "Back to the bind before this one, with its weights, in the present pose; "
+               "Previous bind again comes back to this one."))
+      showPreviousBind(state);
   } else if (idle && next && std::holds_alternative<BindEdit>(next->edit)) {
     ImGui::SameLine();
     if (button(state, "Next bind", "Forward to the bind you came back from (Ctrl+Shift+Z).")) redo(state);

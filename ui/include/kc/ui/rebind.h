@@ -45,6 +45,16 @@ struct BoundDocument {
   bool weightsReproducible = false;
 };
 
+/// The newest bind step on the undo stack when only pose edits came after it (at least one): the
+/// bind "Previous bind" goes back to once points were dragged; null otherwise.
+const BindEdit* bindBehindPoses(const UndoStack& undo);
+
+/// "Previous bind" after pose edits: the document before the newest bind (bindBehindPoses), its
+/// weights and display mesh, installed in the present pose carried to its cage, as a new bind step
+/// (Ctrl+Z or Previous bind again comes back to the present one, in the pose it had). False when
+/// there is none or a job holds the session.
+bool showPreviousBind(AppState& state);
+
 /// Undo or redo of a bind: swaps the present bound document with edit.other (kept in the edit for
 /// the way back). False when the session is held by a job.
 bool swapBoundDocument(AppState& state, const BindEdit& edit);
