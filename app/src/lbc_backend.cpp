@@ -194,7 +194,7 @@ class LbcBackend final : public Backend {
   }
 
  private:
-  /// The tau, tolerance and iteration cap of LbcParams, described once (parameters()).
+  /// The tau, tolerance, iteration cap and optimality gap of LbcParams, described once (parameters()).
   static std::vector<BackendParameter> describe() {
     using Type = BackendParameter::Type;
     const LbcParams defaults;
