@@ -33,6 +33,24 @@ void pushBind(UndoStack& history, const char* label, std::shared_ptr<BoundDocume
     }
 }
 
+/// The present bound document with `session` (the display mesh moved out of `st`): what a bind
+/// step keeps of the side it leaves.
+std::shared_ptr<BoundDocument> takePresent(AppState& st, SessionPtr session) {
+  return std::make_shared<BoundDocument>(BoundDocument{std::move(session), std::make_shared<WarpMesh>(std::move(st.mesh)),
+                                                       st.meshSource, st.pose, st.weightsReproducible});
+}
+
+/// Makes a bound session the present document in `pose`, keeping the undo history (installSession
+/// clears it) and the tool `tool` where the session's backend can do it (else Pose).
+void installKeepingHistory(AppState& st, SessionPtr session, DisplayMesh display, bool reproducible, const Pose& pose,
+                           Tool tool) {
+  UndoStack history = std::move(st.undo);
+  installSession(st, std::move(session), std::move(display), reproducible);
+  st.undo = std::move(history);
+  setPose(st, pose);
+  selectTool(st, tool);
+}
+
 }  // namespace
 
 namespace detail {
@@ -46,17 +64,12 @@ void carryRigidityTo(AppState& st, const SampleSet& oldSamples, const std::vecto
 }
 
 void installReplacing(AppState& st, SessionPtr previous, std::shared_ptr<app::Session> s, DisplayMesh display) {
-  auto before = std::make_shared<BoundDocument>(
-      BoundDocument{std::move(previous), std::make_shared<WarpMesh>(std::move(st.mesh)), st.meshSource, st.pose, st.weightsReproducible});
+  auto before = takePresent(st, std::move(previous));
   const std::shared_ptr<const BoundSnapshot> bound = st.bound ? st.bound : std::make_shared<const BoundSnapshot>();
   const std::vector<double> oldRigidity = boundRigidity(st);
-  const Tool tool = st.tool == Tool::Cage ? Tool::Pose : st.tool;
-  UndoStack history = std::move(st.undo);
-  installSession(st, s, std::move(display), true);
-  setPose(st, carriedPose(bound->cage, before->pose, s->cage));
-  selectTool(st, tool);  // refused (Pose stays) when the new backend cannot do it
-  pushBind(history, "bind again", std::move(before));
-  st.undo = std::move(history);
+  const Pose pose = carriedPose(bound->cage, before->pose, s->cage);
+  installKeepingHistory(st, s, std::move(display), true, pose, st.tool == Tool::Cage ? Tool::Pose : st.tool);
+  pushBind(st.undo, "bind again", std::move(before));
   carryRigidityTo(st, bound->samples, oldRigidity, bound->spacing, *s);
 }
 
@@ -142,21 +155,15 @@ bool showPreviousBind(AppState& state) {
       state.worker.busy())
     return false;
   const BoundDocument& previous = *behind->other;
-  auto present = std::make_shared<BoundDocument>(BoundDocument{state.session, std::make_shared<WarpMesh>(std::move(state.mesh)),
-                                                               state.meshSource, state.pose, state.weightsReproducible});
-  const Cage presentCage = state.bound->cage;
-  const Tool tool = state.tool;
-  UndoStack history = std::move(state.undo);
+  auto present = takePresent(state, state.session);
+  const Pose pose = carriedPose(state.bound->cage, present->pose, previous.session->cage);
   // The previous document stays in the bind step below, its session shared with it: the undo
   // stack is last in, first out, so every edit made to it from now on is undone before that step
   // swaps it back. Its display mesh and the mesh's source are copied (installing takes them).
   DisplayMesh display{std::make_shared<WarpMesh>(*previous.mesh),
                       previous.source ? std::make_shared<Document::MeshSource>(*previous.source) : nullptr};
-  installSession(state, previous.session, std::move(display), previous.weightsReproducible);
-  setPose(state, carriedPose(presentCage, present->pose, state.session->cage));
-  selectTool(state, tool);
-  pushBind(history, "previous bind", std::move(present));
-  state.undo = std::move(history);
+  installKeepingHistory(state, previous.session, std::move(display), previous.weightsReproducible, pose, state.tool);
+  pushBind(state.undo, "previous bind", std::move(present));
   postMessage(state,
               "Back to the " + std::string(app::backendFor(state.session->params.backend).displayName()) +
                   " bind, in the present pose (Previous bind again comes back).",
@@ -167,14 +174,8 @@ bool showPreviousBind(AppState& state) {
 bool swapBoundDocument(AppState& state, const BindEdit& edit) {
   if (!state.session || !edit.other || !edit.other->session || state.worker.busy()) return false;
   BoundDocument next = std::move(*edit.other);
-  *edit.other = BoundDocument{std::move(state.session), std::make_shared<WarpMesh>(std::move(state.mesh)), state.meshSource, state.pose,
-                              state.weightsReproducible};
-  const Tool tool = state.tool;
-  UndoStack history = std::move(state.undo);
-  installSession(state, next.session, {next.mesh, next.source}, next.weightsReproducible);
-  state.undo = std::move(history);
-  setPose(state, next.pose);
-  selectTool(state, tool);
+  *edit.other = std::move(*takePresent(state, std::move(state.session)));
+  installKeepingHistory(state, next.session, {next.mesh, next.source}, next.weightsReproducible, next.pose, state.tool);
   const app::Session& b = *state.session;
   const Index vertices = b.report.meshVertices();
   postMessage(
