@@ -19,6 +19,13 @@
 //   The primal residual is therefore that of step 1's X, W against the Z_new they come from.
 // so the Y-system matrix is the same for every μ (adaptive μ costs nothing) and the residuals are
 // discretized L² norms, comparable across mesh sizes.
+//
+// Certificate. Besides the last iterate, the loop keeps weighted averages of Z and U1 over all
+// iterations, iteration k weighted by k² (the early ones fade out). ADMM's last iterate oscillates
+// about the optimum (more so over-relaxed); the averages settle on it sooner, so at each check the
+// weights are the better of the two projected candidates and the lower bound the larger of the
+// two multipliers' bounds. Both are valid whatever the averages: any non-negative barycentric
+// weights are a candidate, and the bound clips any multiplier into the dual-feasible set.
 #include "kc/core/lbc/lbc_solver.h"
 
 #include <algorithm>
@@ -76,6 +83,18 @@ void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict
   const double x0 = gr[0].x(), x1 = gr[1].x(), x2 = gr[2].x(), y0 = gr[0].y(), y1 = gr[1].y(), y2 = gr[2].y();
   for (Index i = 0; i < m; ++i) gx[i] = x0 * f0[i] + x1 * f1[i] + x2 * f2[i];
   for (Index i = 0; i < m; ++i) gy[i] = y0 * f0[i] + y1 * f1[i] + y2 * f2[i];
+}
+
+/// Iterations from a certificate check at iteration k with relative gap `gap` to the next: a
+/// geometric schedule, max(20, k/5), or sooner when the gap's fall since the previous check
+/// (iteration `lastK`, gap `lastGap`; lastK = 0: none), taken as geometric, reaches `target`
+/// earlier (with 10% to spare, at least 10 iterations: each check costs a few iterations' time).
+int nextCheckIn(int k, double gap, int lastK, double lastGap, double target) {
+  const int geometric = std::max(20, k / 5);
+  if (lastK <= 0 || !(gap < lastGap) || !(gap > target)) return geometric;
+  const double ratePerIteration = std::log(lastGap / gap) / double(k - lastK);
+  const double predicted = 1.1 * std::log(gap / target) / ratePerIteration;
+  return int(std::clamp(std::ceil(predicted), 10.0, double(geometric)));
 }
 
 /// Σ of per-row partial sums in a fixed order (bit-identical for any thread count).
@@ -430,6 +449,7 @@ struct LbcSolver::Impl::Admm {
   const double alpha;  // relaxation
   double mu;           // penalty
   RowMatrix Z, U1, U2, V1, V2, Qm, dZ;
+  RowMatrix Zavg, U1avg;  // Z and U1 averaged over iterations 1..k, iteration t weighted by t²
   std::vector<double> primalT, dualT, primalV, dualV;
   RowMatrix threshold;  // φ/μ (#T×m), the shrinkage's thresholds
 
@@ -444,6 +464,8 @@ struct LbcSolver::Impl::Admm {
         V2(d.n, d.m),
         Qm(d.n, d.m),
         dZ(d.n, d.m),
+        Zavg(RowMatrix::Zero(d.n, d.m)),
+        U1avg(RowMatrix::Zero(d.nt, 2 * d.m)),
         primalT(std::size_t(d.nt)),
         dualT(primalT),
         primalV(std::size_t(d.n)),
@@ -481,9 +503,11 @@ struct LbcSolver::Impl::Admm {
     parallelFor(d.n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
   }
 
-  /// Steps 2 and 3, then the next step 1; `parallel` or in one thread.
-  void iterate(bool parallel) {
+  /// Steps 2 and 3 of iteration k (1-based), then the next step 1; `parallel` or in one thread.
+  void iterate(int k, bool parallel) {
     const Index m = d.m, n = d.n, nt = d.nt;
+    // The averages' step: t² / Σ_{t ≤ k} t², so that iteration t carries weight t².
+    const double rate = 6.0 * k / ((k + 1.0) * (2.0 * k + 1.0));
     auto grain = [&](Index count, Index g) { return parallel ? g : count; };
     // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
     // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
@@ -514,6 +538,7 @@ struct LbcSolver::Impl::Admm {
           dZ(v, i) = z - Z(v, i);
           q += dZ(v, i) * dZ(v, i);
           Z(v, i) = z;
+          Zavg(v, i) += rate * (z - Zavg(v, i));
         }
         dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
         primalV[std::size_t(v)] = clamp(v);
@@ -529,8 +554,12 @@ struct LbcSolver::Impl::Admm {
         d.gradientRow(Z, s, g, g + m);
         d.interiorGradientRow(dZ, s, dg, dg + m);
         double* us = &U1(s, 0);
+        double* ua = &U1avg(s, 0);
         const double* vs = &V1(s, 0);
-        for (Index j = 0; j < 2 * m; ++j) us[j] = vs[j] - g[j];
+        for (Index j = 0; j < 2 * m; ++j) {
+          us[j] = vs[j] - g[j];
+          ua[j] += rate * (us[j] - ua[j]);
+        }
         dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * sumOfSquares(dg, 2 * m);
         primalT[std::size_t(s)] = shrink(s, g, scratch);
       }
@@ -542,6 +571,7 @@ struct LbcSolver::Impl::Admm {
     mu *= factor;
     threshold = d.phi / mu;
     U1 /= factor;
+    U1avg /= factor;  // the average of λ = μU1, in the new scale
     U2 /= factor;
     firstStep();
   }
@@ -576,18 +606,34 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     rep.projectionFailures = f.failures;
     rep.maxProjection = f.maxProjection;
   };
+  // The certificate at the present iterate: the best weights so far (the last iterate's and the
+  // averaged one's) and the larger of the two lower bounds.
+  auto certify = [&] {
+    const auto tc = std::chrono::steady_clock::now();
+    finalize(admm.Z);
+    rep.lowerBound = d.dualBound(admm.U1, admm.mu);
+    if (rep.iterations > 0) {
+      finalize(admm.Zavg);
+      rep.lowerBound = std::max(rep.lowerBound, d.dualBound(admm.U1avg, admm.mu));
+    }
+    rep.certifySeconds += secondsSince(tc);
+  };
   const auto iterStart = std::chrono::steady_clock::now();
   bool certified = false;  // rep.lowerBound and res.W are final
   if (d.n > 0 && d.r > 0) {
     const double norm = 1.0 / (double(d.m) * d.domainArea);
     int nextGapCheck = 0;
-    double shown = 0.0;  // the progress reported
+    double shown = 0.0;                                          // the progress reported
+    double firstGap = std::numeric_limits<double>::quiet_NaN();  // at the first check
+    double gapShown = 0.0;                                       // its way down to gapTolerance
+    int lastCheck = 0;                                           // the previous check and its gap
+    double lastGap = 0.0;
     rep.status = SolveStatus::NotConverged;
     admm.firstStep();
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
-      admm.iterate(threads.parallel(k));
+      admm.iterate(k, threads.parallel(k));
       rep.iterations = k;
       rep.primalResidual = std::sqrt((sum(admm.primalT) + sum(admm.primalV)) * norm);
       rep.dualResidual = admm.mu * std::sqrt((sum(admm.dualT) + sum(admm.dualV)) * norm);
@@ -598,22 +644,26 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
           break;
         }
         // Certified stop: the returned weights' objective within gapTolerance of a lower bound.
-        const auto tc = std::chrono::steady_clock::now();
-        finalize(admm.Z);
-        rep.lowerBound = d.dualBound(admm.U1, admm.mu);
-        rep.certifySeconds += secondsSince(tc);
-        if (rep.objective - rep.lowerBound <= options.gapTolerance * std::abs(rep.lowerBound)) {
+        certify();
+        const double gap = (rep.objective - rep.lowerBound) / std::abs(rep.lowerBound);
+        if (std::isnan(firstGap)) firstGap = gap;
+        gapShown = logProgress(gap, firstGap, options.gapTolerance);
+        if (gap <= options.gapTolerance) {
           rep.status = SolveStatus::Ok;
           certified = true;
           break;
         }
-        nextGapCheck = k + std::max(20, k / 5);  // a geometric schedule
+        nextGapCheck = k + nextCheckIn(k, gap, lastCheck, lastGap, options.gapTolerance);
+        lastCheck = k;
+        lastGap = gap;
       }
       if (options.progress && k % 10 == 0) {
-        // The residuals' way down from 1 to the tolerance or the iteration share; never backwards
-        // (ADMM's residuals need not fall at every iteration).
+        // The residuals' way down from 1 to the tolerance (with a gap to certify: the first half,
+        // then the gap's from the first check to gapTolerance), or the iteration share; never
+        // backwards (ADMM's residuals need not fall at every iteration, nor the gap at every check).
         const double byResidual = logProgress(std::max(rep.primalResidual, rep.dualResidual), 1.0, options.tolerance);
-        shown = std::min(std::max({shown, byResidual, double(k) / options.maxIterations}), 1.0);
+        const double byStop = options.gapTolerance > 0.0 ? 0.5 * byResidual + 0.5 * gapShown : byResidual;
+        shown = std::min(std::max({shown, byStop, double(k) / options.maxIterations}), 1.0);
         if (!options.progress(shown)) throw Cancelled();
       }
       if (options.adaptivePenalty) {  // residual balancing
@@ -626,12 +676,8 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
   rep.iterationSeconds = secondsSince(iterStart);
 
   if (!certified) {
-    finalize(admm.Z);
-    if (options.certify || options.gapTolerance > 0.0) {
-      const auto tc = std::chrono::steady_clock::now();
-      rep.lowerBound = d.dualBound(admm.U1, admm.mu);
-      rep.certifySeconds += secondsSince(tc);
-    }
+    if (options.certify || options.gapTolerance > 0.0) certify();
+    else finalize(admm.Z);
   }
   rep.seconds = secondsSince(start) + d.geodesicSeconds + d.factorSeconds;
   return res;

@@ -35,6 +35,8 @@ struct LbcOptions {
   /// Stopping rule: the primal and the dual residual (eq. 26–27), each as an area-weighted RMS
   /// per control function on the mesh scaled to bounding-box diameter 1, are ≤ tolerance. These
   /// are discretizations of L² norms of functions, so the rule does not loosen as the mesh is refined.
+  /// (The residuals, not the gap alone, keep the weights' small tails converged: a weight's
+  /// support, what the locality measures count, settles later than the objective.)
   double tolerance = 1e-3;
   int maxIterations = 20000;
   /// μ at the start (normalized units: bounding-box diameter 1); a fixed 0.03 takes fewer
@@ -46,22 +48,25 @@ struct LbcOptions {
   double relaxation = 1.9;
   bool harmonicStart = true;        ///< Warm start from harmonic coordinates (else Y = 0).
   bool projectNonNegative = true;   ///< Final per-vertex QP (thesis 4.1) onto w ≥ 0 keeping W K = B.
-  /// Certified stopping: once the residuals are below `tolerance`, also require
-  /// (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the ADMM
-  /// multipliers (a duality-gap certificate, LbcReport::lowerBound); checked on a geometric
-  /// schedule (each check: one projection, the objective and a small LP per vertex). 0 = residuals only.
+  /// Certified stopping: once the residuals are below `tolerance`, the solver stops at the first
+  /// check where (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the
+  /// ADMM multipliers (a duality-gap certificate, LbcReport::lowerBound). Checked on a geometric
+  /// schedule, each check with the last iterate and with the iterates' average (iteration t
+  /// weighted by t²), whichever gives the lower objective and the higher bound (each check: two
+  /// projections, their objectives and two small LPs per vertex). 0 = residuals only.
   double gapTolerance = 1e-3;
   /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
   bool certify = false;
-  /// Called every 10 iterations with the residuals' way down to `tolerance` (log scale) or the
-  /// share of maxIterations done, whichever is further, never decreasing; returning false throws
+  /// Called every 10 iterations with the residuals' way down to `tolerance` (log scale; with a
+  /// gap to certify, half of it, the other half the gap's way from the first check down to
+  /// gapTolerance) or the share of maxIterations done, whichever is further, never decreasing; returning false throws
   /// kc::Cancelled. Called on the calling thread.
   Progress progress;
 };
 
 struct LbcReport {
   /// Ok (residuals ≤ tolerance and the gap certified), NotConverged (maxIterations first: the
-  /// weights are the last iterate or, if lower in objective, one checked before, still exact
+  /// weights are the last iterate, its average or, if lower in objective, one checked before, still exact
   /// barycentric) or Singular (a factorization failed, the mesh is degenerate: no weights).
   SolveStatus status = SolveStatus::Ok;
   int iterations = 0;
