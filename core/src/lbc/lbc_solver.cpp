@@ -442,8 +442,9 @@ LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, 
 /// V1 = X̃ + U1, per vertex V2 = W̃ + U2): step 2 is the projection Z = P v onto the affine
 /// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z, U1 and U2 are kept for the
 /// certificate and a change of μ, Z's last change for the dual residual; the residuals'
-/// per-triangle and per-vertex shares are kept for the caller's sums. ∇Z is not stored: each
-/// pass over the triangles computes it from Z's rows (one pass streams V1, U1 and φ only).
+/// per-triangle and per-vertex shares are kept for the caller's sums (the dual residual's
+/// per-triangle shares only when asked: dualShares). ∇Z is not stored: each pass over the
+/// triangles computes it from Z's rows (one pass streams V1, U1 and φ only).
 struct LbcSolver::Impl::Admm {
   const Impl& d;
   const double alpha;  // relaxation
@@ -546,13 +547,11 @@ struct LbcSolver::Impl::Admm {
     });
     // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
     parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
-      std::vector<double> buffer(std::size_t(6 * m));
-      double* g = buffer.data();           // ∇_s Z: x parts, then y parts
-      double* dg = buffer.data() + 2 * m;  // ∇_s of Z's change
-      double* scratch = buffer.data() + 4 * m;
+      std::vector<double> buffer(std::size_t(4 * m));
+      double* g = buffer.data();  // ∇_s Z: x parts, then y parts
+      double* scratch = buffer.data() + 2 * m;
       for (Index s = begin; s < end; ++s) {
         d.gradientRow(Z, s, g, g + m);
-        d.interiorGradientRow(dZ, s, dg, dg + m);
         double* us = &U1(s, 0);
         double* ua = &U1avg(s, 0);
         const double* vs = &V1(s, 0);
@@ -560,8 +559,20 @@ struct LbcSolver::Impl::Admm {
           us[j] = vs[j] - g[j];
           ua[j] += rate * (us[j] - ua[j]);
         }
-        dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * sumOfSquares(dg, 2 * m);
         primalT[std::size_t(s)] = shrink(s, g, scratch);
+      }
+    });
+  }
+
+  /// The dual residual's per-triangle shares a_s |∇_s ΔZ|² of the last iteration (its per-vertex
+  /// shares come with the iteration): a pass of its own, run only where the residual is read.
+  void dualShares(bool parallel) {
+    const Index m = d.m;
+    parallelForRange(d.nt, parallel ? 256 : d.nt, [&](Index begin, Index end) {
+      std::vector<double> dg(std::size_t(2 * m));
+      for (Index s = begin; s < end; ++s) {
+        d.interiorGradientRow(dZ, s, dg.data(), dg.data() + m);
+        dualT[std::size_t(s)] = d.g.area[std::size_t(s)] * sumOfSquares(dg.data(), 2 * m);
       }
     });
   }
@@ -633,10 +644,17 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     ThreadChoice threads(threadCount() > 1);
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
-      admm.iterate(k, threads.parallel(k));
+      const bool parallel = threads.parallel(k);
+      admm.iterate(k, parallel);
       rep.iterations = k;
       rep.primalResidual = std::sqrt((sum(admm.primalT) + sum(admm.primalV)) * norm);
-      rep.dualResidual = admm.mu * std::sqrt((sum(admm.dualT) + sum(admm.dualV)) * norm);
+      // The dual residual where it is read: the stop's test (the primal one passed), residual
+      // balancing and the last iteration; elsewhere it keeps the last value (the progress's).
+      if ((rep.primalResidual <= options.tolerance && k >= nextGapCheck) || options.adaptivePenalty ||
+          k == options.maxIterations) {
+        admm.dualShares(parallel);
+        rep.dualResidual = admm.mu * std::sqrt((sum(admm.dualT) + sum(admm.dualV)) * norm);
+      }
       threads.record(k, secondsSince(iterationStart));
       if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
         if (!(options.gapTolerance > 0.0)) {
