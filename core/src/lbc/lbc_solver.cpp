@@ -20,12 +20,15 @@
 // so the Y-system matrix is the same for every μ (adaptive μ costs nothing) and the residuals are
 // discretized L² norms, comparable across mesh sizes.
 //
-// Certificate. Besides the last iterate, the loop keeps weighted averages of Z and U1 over all
-// iterations, iteration k weighted by k² (the early ones fade out). ADMM's last iterate oscillates
-// about the optimum (more so over-relaxed); the averages settle on it sooner, so at each check the
-// weights are the better of the two projected candidates and the lower bound the larger of the
-// two multipliers' bounds. Both are valid whatever the averages: any non-negative barycentric
-// weights are a candidate, and the bound clips any multiplier into the dual-feasible set.
+// Certificate. Besides the last iterate, the loop keeps averages: of Z over the iterations since
+// the previous check, of U1 over all iterations with iteration t weighted by t² (the early ones
+// fade out). ADMM's last iterate swings about the optimum (more so over-relaxed); the averages
+// settle on it sooner, so at each check the weights are the better of the two projected
+// candidates and the lower bound the larger of the two multipliers' bounds. Both are valid
+// whatever the averages: any non-negative barycentric weights are a candidate, and the bound
+// clips any multiplier into the dual-feasible set. Z's average starts afresh at each check: an
+// average reaching back to the harmonic start (non-zero everywhere) keeps small tails of it in
+// every weight, which the objective barely sees and the locality measures count.
 #include "kc/core/lbc/lbc_solver.h"
 
 #include <algorithm>
@@ -450,7 +453,9 @@ struct LbcSolver::Impl::Admm {
   const double alpha;  // relaxation
   double mu;           // penalty
   RowMatrix Z, U1, U2, V1, V2, Qm, dZ;
-  RowMatrix Zavg, U1avg;  // Z and U1 averaged over iterations 1..k, iteration t weighted by t²
+  RowMatrix Zavg;   // Z averaged over the iterations since the last check (from windowStart)
+  RowMatrix U1avg;  // U1 averaged over iterations 1..k, iteration t weighted by t²
+  int windowStart = 1;
   std::vector<double> primalT, dualT, primalV, dualV;
   RowMatrix threshold;  // φ/μ (#T×m), the shrinkage's thresholds
 
@@ -507,8 +512,10 @@ struct LbcSolver::Impl::Admm {
   /// Steps 2 and 3 of iteration k (1-based), then the next step 1; `parallel` or in one thread.
   void iterate(int k, bool parallel) {
     const Index m = d.m, n = d.n, nt = d.nt;
-    // The averages' step: t² / Σ_{t ≤ k} t², so that iteration t carries weight t².
+    // The averages' steps: t² / Σ_{t ≤ k} t², so that iteration t carries weight t² (U1), and
+    // 1/(iterations since the window's start) (Z).
     const double rate = 6.0 * k / ((k + 1.0) * (2.0 * k + 1.0));
+    const double windowRate = 1.0 / double(k - windowStart + 1);
     auto grain = [&](Index count, Index g) { return parallel ? g : count; };
     // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
     // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
@@ -539,7 +546,7 @@ struct LbcSolver::Impl::Admm {
           dZ(v, i) = z - Z(v, i);
           q += dZ(v, i) * dZ(v, i);
           Z(v, i) = z;
-          Zavg(v, i) += rate * (z - Zavg(v, i));
+          Zavg(v, i) += windowRate * (z - Zavg(v, i));
         }
         dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
         primalV[std::size_t(v)] = clamp(v);
@@ -673,6 +680,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
         }
         nextGapCheck = k + nextCheckIn(k, gap, lastCheck, lastGap, options.gapTolerance);
         lastCheck = k;
+        admm.windowStart = k + 1;
         lastGap = gap;
       }
       if (options.progress && k % 10 == 0) {

@@ -51,8 +51,9 @@ struct LbcOptions {
   /// Certified stopping: once the residuals are below `tolerance`, the solver stops at the first
   /// check where (objective − lower bound) ≤ gapTolerance·lower bound, the lower bound from the
   /// ADMM multipliers (a duality-gap certificate, LbcReport::lowerBound). Checked on a geometric
-  /// schedule, each check with the last iterate and with the iterates' average (iteration t
-  /// weighted by t²), whichever gives the lower objective and the higher bound (each check: two
+  /// schedule, each check with the last iterate and with averages (Z's over the iterations since
+  /// the previous check, U1's over all, iteration t weighted by t²), whichever gives the lower
+  /// objective and the higher bound (each check: two
   /// projections, their objectives and two small LPs per vertex). 0 = residuals only.
   double gapTolerance = 1e-3;
   /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
