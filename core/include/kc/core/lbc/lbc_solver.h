@@ -60,7 +60,7 @@ struct LbcOptions {
   bool certify = false;
   /// Called every 10 iterations with the residuals' way down to `tolerance` (log scale; the dual
   /// one as last computed: it is computed where the stop reads it; with a
-  /// gap to certify, half of it, the other half the gap's way from the first check down to
+  /// gap to certify, 90% of it, the last 10% the gap's way from the first check down to
   /// gapTolerance) or the share of maxIterations done, whichever is further, never decreasing; returning false throws
   /// kc::Cancelled. Called on the calling thread.
   Progress progress;
