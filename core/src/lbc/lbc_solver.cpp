@@ -26,9 +26,10 @@
 // settle on it sooner, so at each check the weights are the better of the two projected
 // candidates and the lower bound the larger of the two multipliers' bounds. Both are valid
 // whatever the averages: any non-negative barycentric weights are a candidate, and the bound
-// clips any multiplier into the dual-feasible set. Z's average starts afresh at each check: an
-// average reaching back to the harmonic start (non-zero everywhere) keeps small tails of it in
-// every weight, which the objective barely sees and the locality measures count.
+// clips any multiplier into the dual-feasible set. Z's average starts afresh at each check (and
+// only after the first): an average reaching back to the harmonic start (non-zero everywhere)
+// keeps small tails of it in every weight, which the objective barely sees and the locality
+// measures count.
 #include "kc/core/lbc/lbc_solver.h"
 
 #include <algorithm>
@@ -453,9 +454,9 @@ struct LbcSolver::Impl::Admm {
   const double alpha;  // relaxation
   double mu;           // penalty
   RowMatrix Z, U1, U2, V1, V2, Qm, dZ;
-  RowMatrix Zavg;   // Z averaged over the iterations since the last check (from windowStart)
-  RowMatrix U1avg;  // U1 averaged over iterations 1..k, iteration t weighted by t²
-  int windowStart = 1;
+  RowMatrix Zavg;       // Z averaged over iterations windowStart..k
+  RowMatrix U1avg;      // U1 averaged over iterations 1..k, iteration t weighted by t²
+  int windowStart = 0;  // the iteration after the last check (0: none yet, Z is not averaged)
   std::vector<double> primalT, dualT, primalV, dualV;
   RowMatrix threshold;  // φ/μ (#T×m), the shrinkage's thresholds
 
@@ -515,7 +516,8 @@ struct LbcSolver::Impl::Admm {
     // The averages' steps: t² / Σ_{t ≤ k} t², so that iteration t carries weight t² (U1), and
     // 1/(iterations since the window's start) (Z).
     const double rate = 6.0 * k / ((k + 1.0) * (2.0 * k + 1.0));
-    const double windowRate = 1.0 / double(k - windowStart + 1);
+    const bool averageZ = windowStart > 0;
+    const double windowRate = averageZ ? 1.0 / double(k - windowStart + 1) : 0.0;
     auto grain = [&](Index count, Index g) { return parallel ? g : count; };
     // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
     // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
@@ -546,7 +548,7 @@ struct LbcSolver::Impl::Admm {
           dZ(v, i) = z - Z(v, i);
           q += dZ(v, i) * dZ(v, i);
           Z(v, i) = z;
-          Zavg(v, i) += windowRate * (z - Zavg(v, i));
+          if (averageZ) Zavg(v, i) += windowRate * (z - Zavg(v, i));
         }
         dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
         primalV[std::size_t(v)] = clamp(v);
@@ -624,16 +626,14 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     rep.projectionFailures = f.failures;
     rep.maxProjection = f.maxProjection;
   };
-  // The certificate at the present iterate: the best weights so far (the last iterate's and the
-  // averaged one's) and the larger of the two lower bounds.
+  // The certificate at the present iterate: the best weights so far (the last iterate's and, once
+  // a check has opened a window, the window's average) and the larger of the two lower bounds.
   auto certify = [&] {
     const auto tc = std::chrono::steady_clock::now();
     finalize(admm.Z);
+    if (admm.windowStart > 0 && admm.windowStart <= rep.iterations) finalize(admm.Zavg);
     rep.lowerBound = d.dualBound(admm.U1, admm.mu);
-    if (rep.iterations > 0) {
-      finalize(admm.Zavg);
-      rep.lowerBound = std::max(rep.lowerBound, d.dualBound(admm.U1avg, admm.mu));
-    }
+    if (rep.iterations > 0) rep.lowerBound = std::max(rep.lowerBound, d.dualBound(admm.U1avg, admm.mu));
     rep.certifySeconds += secondsSince(tc);
   };
   const auto iterStart = std::chrono::steady_clock::now();
@@ -686,8 +686,8 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
       if (options.progress && k % 10 == 0) {
         // The residuals' way down from 1 to the tolerance (with a gap to certify: the first 90% —
         // at the defaults the first check is usually the last —, then the gap's way from the first
-        // check to gapTolerance), or the iteration share; never
-        // backwards (ADMM's residuals need not fall at every iteration, nor the gap at every check).
+        // check to gapTolerance), or the iteration share; never backwards (ADMM's residuals need
+        // not fall at every iteration, nor the gap at every check).
         const double byResidual = logProgress(std::max(rep.primalResidual, rep.dualResidual), 1.0, options.tolerance);
         const double byStop = options.gapTolerance > 0.0 ? 0.9 * byResidual + 0.1 * gapShown : byResidual;
         shown = std::min(std::max({shown, byStop, double(k) / options.maxIterations}), 1.0);

@@ -53,23 +53,23 @@ struct LbcOptions {
   /// ADMM multipliers (a duality-gap certificate, LbcReport::lowerBound). Checked on a geometric
   /// schedule, each check with the last iterate and with averages (Z's over the iterations since
   /// the previous check, U1's over all, iteration t weighted by t²), whichever gives the lower
-  /// objective and the higher bound (each check: two
-  /// projections, their objectives and two small LPs per vertex). 0 = residuals only.
+  /// objective and the higher bound (each check: up to two projections, their objectives and two
+  /// small LPs per vertex). 0 = residuals only.
   double gapTolerance = 1e-3;
   /// Compute LbcReport::lowerBound at the end even when gapTolerance is 0.
   bool certify = false;
   /// Called every 10 iterations with the residuals' way down to `tolerance` (log scale; the dual
-  /// one as last computed: it is computed where the stop reads it; with a
-  /// gap to certify, 90% of it, the last 10% the gap's way from the first check down to
-  /// gapTolerance) or the share of maxIterations done, whichever is further, never decreasing; returning false throws
+  /// residual as last computed, which is where the stop reads it; with a gap to certify, 90% of
+  /// the bar, the last 10% the gap's way from the first check down to gapTolerance) or the share
+  /// of maxIterations done, whichever is further, never decreasing; returning false throws
   /// kc::Cancelled. Called on the calling thread.
   Progress progress;
 };
 
 struct LbcReport {
   /// Ok (residuals ≤ tolerance and the gap certified), NotConverged (maxIterations first: the
-  /// weights are the last iterate, its average or, if lower in objective, one checked before, still exact
-  /// barycentric) or Singular (a factorization failed, the mesh is degenerate: no weights).
+  /// weights are the last iterate, its average or, if lower in objective, one checked before,
+  /// still exact barycentric) or Singular (a factorization failed, the mesh is degenerate: no weights).
   SolveStatus status = SolveStatus::Ok;
   int iterations = 0;
   double primalResidual = 0.0, dualResidual = 0.0;  ///< At the last iteration (see LbcOptions::tolerance).
