@@ -21,8 +21,8 @@
 // discretized L² norms, comparable across mesh sizes.
 //
 // Certificate. Besides the last iterate, the loop keeps averages: of Z over the iterations since
-// the previous check, of U1 over all iterations with iteration t weighted by t² (the early ones
-// fade out). ADMM's last iterate swings about the optimum (more so over-relaxed); the averages
+// the previous check, of U1 over every 4th iteration with iteration t weighted by t² (the early
+// ones fade out). ADMM's last iterate swings about the optimum (more so over-relaxed); the averages
 // settle on it sooner, so at each check the weights are the better of the two projected
 // candidates and the lower bound the larger of the two multipliers' bounds. Both are valid
 // whatever the averages: any non-negative barycentric weights are a candidate, and the bound
@@ -44,6 +44,7 @@
 
 #include "barycentric_lp.h"
 #include "row_block_cholesky.h"
+#include "simd.h"
 #include "kc/core/lbc/heat_geodesic.h"
 #include "kc/core/parallel.h"
 #include "kc/core/weights/sample_qp.h"
@@ -53,7 +54,7 @@ namespace kc {
 namespace {
 
 /// Σ_j a_j² in four interleaved partial sums (a fixed order the compiler can vectorize).
-double sumOfSquares(const double* a, Index n) {
+KC_VECTOR_CLONES double sumOfSquares(const double* a, Index n) {
   double p[4] = {0.0, 0.0, 0.0, 0.0};
   Index j = 0;
   for (; j + 4 <= n; j += 4)
@@ -65,8 +66,8 @@ double sumOfSquares(const double* a, Index n) {
 /// Step 1 of one triangle's m controls (eq. 30) from g = ∇_s W, u = U1_s (x parts, then y parts,
 /// 2m each) and the thresholds φ_s/μ: X = shrink(g − u, φ/μ), v ← αX + (1 − α)g + u, r ← X − g.
 /// A free function on restrict pointers, so that the loop vectorizes.
-void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u, const double* __restrict threshold,
-               double* __restrict v, double* __restrict r) {
+KC_VECTOR_CLONES void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u,
+                                const double* __restrict threshold, double* __restrict v, double* __restrict r) {
   for (Index i = 0; i < m; ++i) {  // (branch-free)
     const double ax = g[i] - u[i], ay = g[m + i] - u[m + i];
     const double len = std::sqrt(ax * ax + ay * ay), thr = threshold[i];
@@ -82,11 +83,70 @@ void shrinkRow(Index m, double alpha, const double* __restrict g, const double* 
 
 /// The gradients (gx, gy: m each) of m linear functions on a triangle with corner values f0, f1,
 /// f2 and the corners' basis gradients gr (a free function on restrict pointers, so that it vectorizes).
-void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
-                const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
+KC_VECTOR_CLONES void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
+                                 const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
   const double x0 = gr[0].x(), x1 = gr[1].x(), x2 = gr[2].x(), y0 = gr[0].y(), y1 = gr[1].y(), y2 = gr[2].y();
   for (Index i = 0; i < m; ++i) gx[i] = x0 * f0[i] + x1 * f1[i] + x2 * f2[i];
   for (Index i = 0; i < m; ++i) gy[i] = y0 * f0[i] + y1 * f1[i] + y2 * f2[i];
+}
+
+/// q ← q + gx·v[0, m) + gy·v[m, 2m): a triangle's row of V1 (x parts, then y parts) scaled by a
+/// corner's area-weighted basis gradient (gx, gy), into the corner's row of Gᵀ A V1.
+KC_VECTOR_CLONES void addGradientTranspose(Index m, double gx, double gy, const double* __restrict v, double* __restrict q) {
+  for (Index i = 0; i < m; ++i) q[i] += gx * v[i] + gy * v[m + i];
+}
+
+/// out = a − b (n values).
+KC_VECTOR_CLONES void difference(Index n, const double* __restrict a, const double* __restrict b, double* __restrict out) {
+  for (Index i = 0; i < n; ++i) out[i] = a[i] - b[i];
+}
+
+/// avg ← avg + rate·(x − avg) (n values).
+KC_VECTOR_CLONES void moveToward(Index n, double rate, const double* __restrict x, double* __restrict avg) {
+  for (Index i = 0; i < n; ++i) avg[i] += rate * (x[i] - avg[i]);
+}
+
+/// Step 3 at a vertex's m controls from the new affine row zn: u = v − zn, dz = zn − z, z = zn.
+KC_VECTOR_CLONES void affineStep(Index m, const double* __restrict zn, const double* __restrict v, double* __restrict z,
+                                 double* __restrict u, double* __restrict dz) {
+  for (Index i = 0; i < m; ++i) {
+    u[i] = v[i] - zn[i];
+    dz[i] = zn[i] - z[i];
+    z[i] = zn[i];
+  }
+}
+
+/// Step 1 at a vertex's m controls (eq. 31): W = max(0, z − u), v ← αW + (1 − α)z + u, r ← W − z.
+KC_VECTOR_CLONES void clampRow(Index m, double alpha, const double* __restrict z, const double* __restrict u,
+                               double* __restrict v, double* __restrict r) {
+  for (Index i = 0; i < m; ++i) {
+    const double d = z[i] - u[i], w = d > 0.0 ? d : 0.0;
+    v[i] = alpha * w + (1.0 - alpha) * z[i] + u[i];
+    r[i] = w - z[i];
+  }
+}
+
+/// out = y (I − Q Qᵀ) + h for a row y of m values, Q = [q0 q1 q2] (m×3, orthonormal columns): y's
+/// component off range(Q), plus h. Qᵀy in four-lane partial sums (a fixed order).
+KC_VECTOR_CLONES void projectOntoAffine(Index m, const double* __restrict y, const double* __restrict q0,
+                                        const double* __restrict q1, const double* __restrict q2, const double* __restrict h,
+                                        double* __restrict out) {
+  double p[3][4] = {};
+  Index i = 0;
+  for (; i + 4 <= m; i += 4)
+    for (int l = 0; l < 4; ++l) {
+      p[0][l] += y[i + l] * q0[i + l];
+      p[1][l] += y[i + l] * q1[i + l];
+      p[2][l] += y[i + l] * q2[i + l];
+    }
+  for (; i < m; ++i) {
+    p[0][0] += y[i] * q0[i];
+    p[1][0] += y[i] * q1[i];
+    p[2][0] += y[i] * q2[i];
+  }
+  double c[3];
+  for (int j = 0; j < 3; ++j) c[j] = (p[j][0] + p[j][1]) + (p[j][2] + p[j][3]);
+  for (i = 0; i < m; ++i) out[i] = y[i] - (c[0] * q0[i] + c[1] * q1[i] + c[2] * q2[i]) + h[i];
 }
 
 /// Iterations from a certificate check at iteration k with relative gap `gap` to the next: a
@@ -109,12 +169,15 @@ double sum(const std::vector<double>& parts) {
 }
 
 /// Runs the ADMM iterations on all threads or on the calling thread alone, whichever was measured
-/// faster. Each iteration has a few parallel loops of about a millisecond; on a machine shared with
-/// other work, every loop waits for all threads to be scheduled, which can make 2 threads several
-/// times slower than 1. Results do not depend on the choice (every loop writes
-/// its own rows, sums are reduced in a fixed order), so it is made by timing: kProbe iterations
-/// run in parallel, kProbe serially, then the faster way until the next probe, kPeriod
-/// iterations later, twice as long (up to kMaxPeriod) each time the answer repeats.
+/// faster. Each iteration has a few parallel loops of a fraction of a millisecond; on a machine
+/// shared with other work, every loop waits for all threads to be scheduled, which can make 2
+/// threads several times slower than 1. Results do not depend on the choice (every loop writes
+/// its own rows, sums are reduced in a fixed order), so it is made by timing: a probe runs
+/// kWarm + kProbe iterations in parallel, then as many serially, and compares the two ways' median
+/// times of their last kProbe iterations (the first ones after a switch wait for sleeping threads
+/// or cold caches; the median ignores one iteration disturbed by other work); the faster way runs
+/// until the next probe, kPeriod iterations later, twice as long (up to kMaxPeriod) each time the
+/// answer repeats.
 class ThreadChoice {
  public:
   explicit ThreadChoice(bool canParallel) : m_can(canParallel) {}
@@ -122,31 +185,30 @@ class ThreadChoice {
   bool parallel(int k) const {
     if (!m_can) return false;
     const int offset = k - m_probeStart;
-    if (offset >= 0 && offset < kProbe) return true;
-    if (offset >= kProbe && offset < 2 * kProbe) return false;
+    if (offset >= 0 && offset < 2 * kPhase) return offset < kPhase;
     return m_parallelFaster;
   }
   /// Records the wall time of iteration k.
   void record(int k, double seconds) {
     const int offset = k - m_probeStart;
-    if (offset < 0 || offset >= 2 * kProbe) return;
-    m_time[offset < kProbe ? 0 : 1] += seconds;
-    if (offset < 2 * kProbe - 1) return;
-    const bool faster = m_time[0] <= m_time[1];
+    if (offset < 0 || offset >= 2 * kPhase) return;
+    if (offset % kPhase >= kWarm) m_time[offset / kPhase][offset % kPhase - kWarm] = seconds;
+    if (offset < 2 * kPhase - 1) return;
+    for (auto& t : m_time) std::nth_element(t.begin(), t.begin() + kProbe / 2, t.end());
+    const bool faster = m_time[0][kProbe / 2] <= m_time[1][kProbe / 2];
     // The same answer again: probe half as often (the losing way can cost several iterations).
     m_period = m_probed && faster == m_parallelFaster ? std::min(2 * m_period, kMaxPeriod) : kPeriod;
     m_parallelFaster = faster;
     m_probed = true;
     m_probeStart += m_period;
-    m_time[0] = m_time[1] = 0.0;
   }
 
  private:
-  static constexpr int kPeriod = 100, kMaxPeriod = 800, kProbe = 3;
+  static constexpr int kWarm = 1, kProbe = 3, kPhase = kWarm + kProbe, kPeriod = 100, kMaxPeriod = 800;
   bool m_can;
   bool m_parallelFaster = true, m_probed = false;
   int m_probeStart = 1, m_period = kPeriod;
-  double m_time[2] = {0.0, 0.0};
+  std::array<std::array<double, kProbe>, 2> m_time{};  // the probe's timed iterations: parallel, serial
 };
 
 }  // namespace
@@ -190,10 +252,7 @@ struct LbcSolver::Impl {
   /// affine iterate's row from the Y-system's solution (H's rows lie in range(K), so y may
   /// include them).
   void projectRow(Index v, const double* y, double* out) const {
-    double c[3] = {0.0, 0.0, 0.0};
-    for (Index i = 0; i < m; ++i)
-      for (int j = 0; j < 3; ++j) c[j] += y[i] * Q1(i, j);
-    for (Index i = 0; i < m; ++i) out[i] = y[i] - (c[0] * Q1(i, 0) + c[1] * Q1(i, 1) + c[2] * Q1(i, 2)) + H(v, i);
+    projectOntoAffine(m, y, Q1.col(0).data(), Q1.col(1).data(), Q1.col(2).data(), &H(v, 0), out);
   }
 
   /// The m weights of (full) vertex v given the interior rows Z.
@@ -444,18 +503,18 @@ LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, 
 
 /// The ADMM iteration of (15) in Douglas–Rachford form. Its state is v = x̃ + U (per triangle
 /// V1 = X̃ + U1, per vertex V2 = W̃ + U2): step 2 is the projection Z = P v onto the affine
-/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z, U1 and U2 are kept for the
-/// certificate and a change of μ, Z's last change for the dual residual; the residuals'
-/// per-triangle and per-vertex shares are kept for the caller's sums (the dual residual's
-/// per-triangle shares only when asked: dualShares). ∇Z is not stored: each pass over the
-/// triangles computes it from Z's rows (one pass streams V1, U1 and φ only).
+/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z and U2 are kept for the
+/// certificate and a change of μ, U1 when asked (iterate's keepU1), Z's last change for the dual
+/// residual; the residuals' per-triangle and per-vertex shares are kept for the caller's sums (the
+/// dual residual's per-triangle shares only when asked: dualShares). ∇Z is not stored: each pass
+/// over the triangles computes it from Z's rows (one pass streams V1 and φ/μ only).
 struct LbcSolver::Impl::Admm {
   const Impl& d;
   const double alpha;  // relaxation
   double mu;           // penalty
   RowMatrix Z, U1, U2, V1, V2, Qm, dZ;
   RowMatrix Zavg;       // Z averaged over iterations windowStart..k
-  RowMatrix U1avg;      // U1 averaged over iterations 1..k, iteration t weighted by t²
+  RowMatrix U1avg;      // U1 averaged over every kAverageStride-th iteration, iteration t weighted by t²
   int windowStart = 0;  // the iteration after the last check (0: none yet, Z is not averaged)
   std::vector<double> primalT, dualT, primalV, dualV;
   RowMatrix threshold;  // φ/μ (#T×m), the shrinkage's thresholds
@@ -479,23 +538,23 @@ struct LbcSolver::Impl::Admm {
         dualV(primalV),
         threshold(d.phi / mu) {}
 
+  /// U1's average takes every kAverageStride-th iteration (a pass over U1avg costs about a quarter
+  /// of the triangle pass; U1 changes little from one iteration to the next).
+  static constexpr int kAverageStride = 4;
+
   /// Step 1 of triangle s (eq. 30: X = shrink(G − U1, φ/μ)) from its gradient g = ∇_s[Wb; Z]
-  /// (x parts, then y parts) and U1, and its next V1 = αX + (1 − α)G + U1; returns a_s |X − G|²
-  /// (the primal residual's share). `scratch`: 2m doubles.
-  double shrink(Index s, const double* gs, double* scratch) {
-    shrinkRow(d.m, alpha, gs, &U1(s, 0), &threshold(s, 0), &V1(s, 0), scratch);
+  /// and u = U1_s (x parts, then y parts), and its next V1 = αX + (1 − α)G + U1; returns
+  /// a_s |X − G|² (the primal residual's share). `scratch`: 2m doubles.
+  double shrink(Index s, const double* gs, const double* us, double* scratch) {
+    shrinkRow(d.m, alpha, gs, us, &threshold(s, 0), &V1(s, 0), scratch);
     return d.g.area[std::size_t(s)] * sumOfSquares(scratch, 2 * d.m);
   }
 
   /// Step 1 of interior vertex v (eq. 31: W = max(0, Z − U2)) and its next V2; returns m_v |W − Z|².
-  double clamp(Index v) {
-    double p = 0.0;
-    for (Index i = 0; i < d.m; ++i) {
-      const double z = Z(v, i), u = U2(v, i), w = std::max(0.0, z - u);
-      V2(v, i) = alpha * w + (1.0 - alpha) * z + u;
-      p += (w - z) * (w - z);
-    }
-    return d.g.vertexMass[std::size_t(d.nb + v)] * p;
+  /// `scratch`: m doubles.
+  double clamp(Index v, double* scratch) {
+    clampRow(d.m, alpha, &Z(v, 0), &U2(v, 0), &V2(v, 0), scratch);
+    return d.g.vertexMass[std::size_t(d.nb + v)] * sumOfSquares(scratch, d.m);
   }
 
   /// Step 1 everywhere (at the start, and after μ changed).
@@ -504,18 +563,24 @@ struct LbcSolver::Impl::Admm {
       std::vector<double> g(std::size_t(4 * d.m));
       for (Index s = begin; s < end; ++s) {
         d.gradientRow(Z, s, g.data(), g.data() + d.m);
-        primalT[std::size_t(s)] = shrink(s, g.data(), g.data() + 2 * d.m);
+        primalT[std::size_t(s)] = shrink(s, g.data(), &U1(s, 0), g.data() + 2 * d.m);
       }
     });
-    parallelFor(d.n, [&](Index v) { primalV[std::size_t(v)] = clamp(v); }, 64);
+    parallelForRange(d.n, 64, [&](Index begin, Index end) {
+      std::vector<double> scratch(std::size_t(d.m));
+      for (Index v = begin; v < end; ++v) primalV[std::size_t(v)] = clamp(v, scratch.data());
+    });
   }
 
   /// Steps 2 and 3 of iteration k (1-based), then the next step 1; `parallel` or in one thread.
-  void iterate(int k, bool parallel) {
+  /// U1 is stored only when `keepU1` (the certificate and a change of μ read it; step 1 needs
+  /// only each triangle's row, formed in the pass).
+  void iterate(int k, bool parallel, bool keepU1) {
     const Index m = d.m, n = d.n, nt = d.nt;
-    // The averages' steps: t² / Σ_{t ≤ k} t², so that iteration t carries weight t² (U1), and
-    // 1/(iterations since the window's start) (Z).
-    const double rate = 6.0 * k / ((k + 1.0) * (2.0 * k + 1.0));
+    // The averages' steps: with j = k / kAverageStride, j² / Σ_{i ≤ j} i², so that iteration t
+    // carries weight t² (U1), and 1/(iterations since the window's start) (Z).
+    const bool averageU1 = k % kAverageStride == 0;
+    const double j = double(k / kAverageStride), rate = 6.0 * j / ((j + 1.0) * (2.0 * j + 1.0));
     const bool averageZ = windowStart > 0;
     const double windowRate = averageZ ? 1.0 / double(k - windowStart + 1) : 0.0;
     auto grain = [&](Index count, Index g) { return parallel ? g : count; };
@@ -530,45 +595,36 @@ struct LbcSolver::Impl::Admm {
         for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
           const auto [s, c] = d.adj[std::size_t(a)];
           const Vec2 gr = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
-          const double* vs = &V1(s, 0);
-          for (Index i = 0; i < m; ++i) q[i] += gr.x() * vs[i] + gr.y() * vs[m + i];
+          addGradientTranspose(m, gr.x(), gr.y(), &V1(s, 0), q);
         }
       }
     });
     d.system.solveInPlace(Qm, parallel);
     // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
     parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
-      std::vector<double> znew(static_cast<std::size_t>(m));
+      std::vector<double> buffer(std::size_t(2 * m));
+      double* znew = buffer.data();
+      double* scratch = buffer.data() + m;
       for (Index v = begin; v < end; ++v) {
-        d.projectRow(v, &Qm(v, 0), znew.data());
-        double q = 0.0;
-        for (Index i = 0; i < m; ++i) {
-          const double z = znew[std::size_t(i)];
-          U2(v, i) = V2(v, i) - z;
-          dZ(v, i) = z - Z(v, i);
-          q += dZ(v, i) * dZ(v, i);
-          Z(v, i) = z;
-          if (averageZ) Zavg(v, i) += windowRate * (z - Zavg(v, i));
-        }
-        dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * q;
-        primalV[std::size_t(v)] = clamp(v);
+        d.projectRow(v, &Qm(v, 0), znew);
+        affineStep(m, znew, &V2(v, 0), &Z(v, 0), &U2(v, 0), &dZ(v, 0));
+        if (averageZ) moveToward(m, windowRate, &Z(v, 0), &Zavg(v, 0));
+        dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * sumOfSquares(&dZ(v, 0), m);
+        primalV[std::size_t(v)] = clamp(v, scratch);
       }
     });
     // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
     parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
-      std::vector<double> buffer(std::size_t(4 * m));
+      std::vector<double> buffer(std::size_t(6 * m));
       double* g = buffer.data();  // ∇_s Z: x parts, then y parts
-      double* scratch = buffer.data() + 2 * m;
+      double* u = buffer.data() + 2 * m;  // U1_s
+      double* scratch = buffer.data() + 4 * m;
       for (Index s = begin; s < end; ++s) {
         d.gradientRow(Z, s, g, g + m);
-        double* us = &U1(s, 0);
-        double* ua = &U1avg(s, 0);
-        const double* vs = &V1(s, 0);
-        for (Index j = 0; j < 2 * m; ++j) {
-          us[j] = vs[j] - g[j];
-          ua[j] += rate * (us[j] - ua[j]);
-        }
-        primalT[std::size_t(s)] = shrink(s, g, scratch);
+        difference(2 * m, &V1(s, 0), g, u);
+        if (keepU1) std::copy(u, u + 2 * m, &U1(s, 0));
+        if (averageU1) moveToward(2 * m, rate, u, &U1avg(s, 0));
+        primalT[std::size_t(s)] = shrink(s, g, u, scratch);
       }
     });
   }
@@ -633,7 +689,7 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     finalize(admm.Z);
     if (admm.windowStart > 0 && admm.windowStart <= rep.iterations) finalize(admm.Zavg);
     rep.lowerBound = d.dualBound(admm.U1, admm.mu);
-    if (rep.iterations > 0) rep.lowerBound = std::max(rep.lowerBound, d.dualBound(admm.U1avg, admm.mu));
+    if (rep.iterations >= Impl::Admm::kAverageStride) rep.lowerBound = std::max(rep.lowerBound, d.dualBound(admm.U1avg, admm.mu));
     rep.certifySeconds += secondsSince(tc);
   };
   const auto iterStart = std::chrono::steady_clock::now();
@@ -649,21 +705,25 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
     rep.status = SolveStatus::NotConverged;
     admm.firstStep();
     ThreadChoice threads(threadCount() > 1);
+    double lastPrimal = std::numeric_limits<double>::infinity();  // the previous iteration's
     for (int k = 1; k <= options.maxIterations; ++k) {
       const auto iterationStart = std::chrono::steady_clock::now();
       const bool parallel = threads.parallel(k);
-      admm.iterate(k, parallel);
+      // Iterations that may stop (the previous one's primal residual passed, which the
+      // iteration's fixed-point residual never raises; at most one iteration late), the last one
+      // and residual balancing keep U1 and compute the dual residual; elsewhere it keeps the last
+      // value (the progress's).
+      const bool mayStop =
+          (lastPrimal <= options.tolerance && k >= nextGapCheck) || options.adaptivePenalty || k == options.maxIterations;
+      admm.iterate(k, parallel, mayStop);
       rep.iterations = k;
-      rep.primalResidual = std::sqrt((sum(admm.primalT) + sum(admm.primalV)) * norm);
-      // The dual residual where it is read: the stop's test (the primal one passed), residual
-      // balancing and the last iteration; elsewhere it keeps the last value (the progress's).
-      if ((rep.primalResidual <= options.tolerance && k >= nextGapCheck) || options.adaptivePenalty ||
-          k == options.maxIterations) {
+      rep.primalResidual = lastPrimal = std::sqrt((sum(admm.primalT) + sum(admm.primalV)) * norm);
+      if (mayStop) {
         admm.dualShares(parallel);
         rep.dualResidual = admm.mu * std::sqrt((sum(admm.dualT) + sum(admm.dualV)) * norm);
       }
       threads.record(k, secondsSince(iterationStart));
-      if (rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
+      if (mayStop && rep.primalResidual <= options.tolerance && rep.dualResidual <= options.tolerance && k >= nextGapCheck) {
         if (!(options.gapTolerance > 0.0)) {
           rep.status = SolveStatus::Ok;
           break;

@@ -1,12 +1,14 @@
 #include "row_block_cholesky.h"
 
 #include <algorithm>
+#include <cstring>
 #include <utility>
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 
 #include "kc/core/parallel.h"
+#include "simd.h"
 
 namespace kc::detail {
 
@@ -34,41 +36,53 @@ bool RowBlockCholesky::compute(const SparseMatrix& A) {
 
 namespace {
 
-/// The two triangular solves on one block y (n rows of W values, row-major, permuted order); W
-/// a compile-time width so the row updates are short fixed-length loops the compiler unrolls.
+/// y ← y − l·x for rows of W values, four at a time (the compiler does not vectorize the
+/// unrolled loop by itself: rows of the block may alias).
 template <int W>
-void solveBlock(const std::vector<int>& start, const std::vector<int>& row, const std::vector<double>& value,
-                Index n, double* y) {
+inline void subtractScaled(double* y, const double* x, double l) {
+  int c = 0;
+  for (; c + 4 <= W; c += 4) {
+    D4 a, b;
+    std::memcpy(&a, y + c, sizeof a);
+    std::memcpy(&b, x + c, sizeof b);
+    a -= l * b;
+    std::memcpy(y + c, &a, sizeof a);
+  }
+  for (; c < W; ++c) y[c] -= l * x[c];
+}
+
+/// Columns c0 … c0 + W − 1 of the row-major n×k B ← A⁻¹ B: the block gathered into y (n rows of
+/// W values in the permuted order), the two triangular solves, the block scattered back. W is a
+/// compile-time width so the row operations are short fixed-length loops the compiler unrolls.
+template <int W>
+KC_VECTOR_CLONES void solveBlock(const std::vector<int>& perm, const std::vector<int>& start, const std::vector<int>& row,
+                                 const std::vector<double>& value, double* b, Index n, Index k, Index c0, double* y) {
+  for (Index i = 0; i < n; ++i) std::memcpy(y + Index(perm[std::size_t(i)]) * W, b + i * k + c0, W * sizeof(double));
   // L y = P b: column j divides y_j by L_jj, then subtracts L_ij y_j from the rows below.
   for (Index j = 0; j < n; ++j) {
     double* yj = y + j * W;
     const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
     const double d = value[std::size_t(s0)];
     for (int c = 0; c < W; ++c) yj[c] /= d;
-    for (int s = s0 + 1; s < s1; ++s) {
-      double* yi = y + Index(row[std::size_t(s)]) * W;
-      const double l = value[std::size_t(s)];
-      for (int c = 0; c < W; ++c) yi[c] -= l * yj[c];
-    }
+    for (int s = s0 + 1; s < s1; ++s) subtractScaled<W>(y + Index(row[std::size_t(s)]) * W, yj, value[std::size_t(s)]);
   }
   // Lᵀ x = y: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj, from the last row up.
   for (Index j = n - 1; j >= 0; --j) {
     double* yj = y + j * W;
     const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
-    for (int s = s0 + 1; s < s1; ++s) {
-      const double* yi = y + Index(row[std::size_t(s)]) * W;
-      const double l = value[std::size_t(s)];
-      for (int c = 0; c < W; ++c) yj[c] -= l * yi[c];
-    }
+    for (int s = s0 + 1; s < s1; ++s) subtractScaled<W>(yj, y + Index(row[std::size_t(s)]) * W, value[std::size_t(s)]);
     const double d = value[std::size_t(s0)];
     for (int c = 0; c < W; ++c) yj[c] /= d;
   }
+  for (Index i = 0; i < n; ++i) std::memcpy(b + i * k + c0, y + Index(perm[std::size_t(i)]) * W, W * sizeof(double));
 }
 
+/// solveBlock for the width w (1 … sizeof…(W)).
 template <int... W>
-void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vector<int>& start,
-                       const std::vector<int>& row, const std::vector<double>& value, Index n, double* y) {
-  ((w == W + 1 ? solveBlock<W + 1>(start, row, value, n, y) : void()), ...);
+void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vector<int>& perm, const std::vector<int>& start,
+                       const std::vector<int>& row, const std::vector<double>& value, double* b, Index n, Index k, Index c0,
+                       double* y) {
+  ((w == W + 1 ? solveBlock<W + 1>(perm, start, row, value, b, n, k, c0, y) : void()), ...);
 }
 
 }  // namespace
@@ -76,17 +90,18 @@ void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vec
 void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   const Index n = size(), k = B.cols();
   if (k == 0) return;
-  // Blocks of at most kBlock columns, at least two (both threads busy), as even as k allows (k
-  // alone decides, not the threads). Each column gets the same operations whatever its block.
-  const Index blocks = std::max(std::min(k, Index(2)), (k + kBlock - 1) / kBlock), width = (k + blocks - 1) / blocks;
+  // Blocks of at most kBlock columns, an even number of them where k allows (two threads share
+  // them evenly), as even in width as k allows (k alone decides, not the threads). Each column
+  // gets the same operations whatever its block.
+  Index blocks = std::max(std::min(k, Index(2)), (k + kBlock - 1) / kBlock);
+  if (blocks % 2 == 1 && blocks < k) ++blocks;
+  const Index width = (k + blocks - 1) / blocks;
   parallelFor(blocks, [&](Index b) {
     const Index c0 = b * width, w = std::min(width, k - c0);
+    if (w <= 0) return;
     std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
-    for (Index i = 0; i < n; ++i)
-      for (Index c = 0; c < w; ++c) y[std::size_t(m_perm[std::size_t(i)] * w + c)] = B(i, c0 + c);
-    solveBlockOfWidth(w, std::make_integer_sequence<int, int(kBlock)>{}, m_start, m_row, m_value, n, y.data());
-    for (Index i = 0; i < n; ++i)
-      for (Index c = 0; c < w; ++c) B(i, c0 + c) = y[std::size_t(m_perm[std::size_t(i)] * w + c)];
+    solveBlockOfWidth(w, std::make_integer_sequence<int, int(kBlock)>{}, m_perm, m_start, m_row, m_value, B.data(), n, k, c0,
+                      y.data());
   }, parallel ? 1 : blocks);
 }
 
