@@ -54,7 +54,7 @@ namespace kc {
 namespace {
 
 /// Σ_j a_j² in four interleaved partial sums (a fixed order the compiler can vectorize).
-KC_VECTOR_CLONES double sumOfSquares(const double* a, Index n) {
+inline double sumOfSquares(const double* a, Index n) {
   double p[4] = {0.0, 0.0, 0.0, 0.0};
   Index j = 0;
   for (; j + 4 <= n; j += 4)
@@ -66,7 +66,7 @@ KC_VECTOR_CLONES double sumOfSquares(const double* a, Index n) {
 /// Step 1 of one triangle's m controls (eq. 30) from g = ∇_s W, u = U1_s (x parts, then y parts,
 /// 2m each) and the thresholds φ_s/μ: X = shrink(g − u, φ/μ), v ← αX + (1 − α)g + u, r ← X − g.
 /// A free function on restrict pointers, so that the loop vectorizes.
-KC_VECTOR_CLONES void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u,
+inline void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u,
                                 const double* __restrict threshold, double* __restrict v, double* __restrict r) {
   for (Index i = 0; i < m; ++i) {  // (branch-free)
     const double ax = g[i] - u[i], ay = g[m + i] - u[m + i];
@@ -83,31 +83,25 @@ KC_VECTOR_CLONES void shrinkRow(Index m, double alpha, const double* __restrict 
 
 /// The gradients (gx, gy: m each) of m linear functions on a triangle with corner values f0, f1,
 /// f2 and the corners' basis gradients gr (a free function on restrict pointers, so that it vectorizes).
-KC_VECTOR_CLONES void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
+inline void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
                                  const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
   const double x0 = gr[0].x(), x1 = gr[1].x(), x2 = gr[2].x(), y0 = gr[0].y(), y1 = gr[1].y(), y2 = gr[2].y();
   for (Index i = 0; i < m; ++i) gx[i] = x0 * f0[i] + x1 * f1[i] + x2 * f2[i];
   for (Index i = 0; i < m; ++i) gy[i] = y0 * f0[i] + y1 * f1[i] + y2 * f2[i];
 }
 
-/// q ← q + gx·v[0, m) + gy·v[m, 2m): a triangle's row of V1 (x parts, then y parts) scaled by a
-/// corner's area-weighted basis gradient (gx, gy), into the corner's row of Gᵀ A V1.
-KC_VECTOR_CLONES void addGradientTranspose(Index m, double gx, double gy, const double* __restrict v, double* __restrict q) {
-  for (Index i = 0; i < m; ++i) q[i] += gx * v[i] + gy * v[m + i];
-}
-
 /// out = a − b (n values).
-KC_VECTOR_CLONES void difference(Index n, const double* __restrict a, const double* __restrict b, double* __restrict out) {
+inline void difference(Index n, const double* __restrict a, const double* __restrict b, double* __restrict out) {
   for (Index i = 0; i < n; ++i) out[i] = a[i] - b[i];
 }
 
 /// avg ← avg + rate·(x − avg) (n values).
-KC_VECTOR_CLONES void moveToward(Index n, double rate, const double* __restrict x, double* __restrict avg) {
+inline void moveToward(Index n, double rate, const double* __restrict x, double* __restrict avg) {
   for (Index i = 0; i < n; ++i) avg[i] += rate * (x[i] - avg[i]);
 }
 
 /// Step 3 at a vertex's m controls from the new affine row zn: u = v − zn, dz = zn − z, z = zn.
-KC_VECTOR_CLONES void affineStep(Index m, const double* __restrict zn, const double* __restrict v, double* __restrict z,
+inline void affineStep(Index m, const double* __restrict zn, const double* __restrict v, double* __restrict z,
                                  double* __restrict u, double* __restrict dz) {
   for (Index i = 0; i < m; ++i) {
     u[i] = v[i] - zn[i];
@@ -117,7 +111,7 @@ KC_VECTOR_CLONES void affineStep(Index m, const double* __restrict zn, const dou
 }
 
 /// Step 1 at a vertex's m controls (eq. 31): W = max(0, z − u), v ← αW + (1 − α)z + u, r ← W − z.
-KC_VECTOR_CLONES void clampRow(Index m, double alpha, const double* __restrict z, const double* __restrict u,
+inline void clampRow(Index m, double alpha, const double* __restrict z, const double* __restrict u,
                                double* __restrict v, double* __restrict r) {
   for (Index i = 0; i < m; ++i) {
     const double d = z[i] - u[i], w = d > 0.0 ? d : 0.0;
@@ -128,7 +122,7 @@ KC_VECTOR_CLONES void clampRow(Index m, double alpha, const double* __restrict z
 
 /// out = y (I − Q Qᵀ) + h for a row y of m values, Q = [q0 q1 q2] (m×3, orthonormal columns): y's
 /// component off range(Q), plus h. Qᵀy in four-lane partial sums (a fixed order).
-KC_VECTOR_CLONES void projectOntoAffine(Index m, const double* __restrict y, const double* __restrict q0,
+inline void projectOntoAffine(Index m, const double* __restrict y, const double* __restrict q0,
                                         const double* __restrict q1, const double* __restrict q2, const double* __restrict h,
                                         double* __restrict out) {
   double p[3][4] = {};
@@ -147,6 +141,60 @@ KC_VECTOR_CLONES void projectOntoAffine(Index m, const double* __restrict y, con
   double c[3];
   for (int j = 0; j < 3; ++j) c[j] = (p[j][0] + p[j][1]) + (p[j][2] + p[j][3]);
   for (i = 0; i < m; ++i) out[i] = y[i] - (c[0] * q0[i] + c[1] * q1[i] + c[2] * q2[i]) + h[i];
+}
+
+// The iteration's three row kernels, one per interior vertex or triangle, each compiled for AVX2
+// and the baseline (the helpers above are inlined into them).
+
+/// Row v of step 2's right-hand side, Gᵀ A (V1 − J) + M (V2 − H): q = mass·(v2 − h) − c +
+/// Σ_a w_a·V1_{s_a} over v's `count` incident (triangle, corner) pairs, w_a the corner's basis
+/// gradient times the triangle's area (x with a row's x parts, y with its y parts); V1's rows are
+/// 2m values, `stride` apart.
+KC_VECTOR_CLONES void gatherRow(Index m, double mass, const double* __restrict v2, const double* __restrict h,
+                                const double* __restrict c, const std::pair<int, int>* adjacent,
+                                const Vec2* weights, Index count, const double* V1, Index stride,
+                                double* __restrict q) {
+  for (Index i = 0; i < m; ++i) q[i] = mass * (v2[i] - h[i]) - c[i];
+  for (Index a = 0; a < count; ++a) {
+    const double* __restrict v = V1 + Index(adjacent[a].first) * stride;
+    const double wx = weights[a].x(), wy = weights[a].y();
+    for (Index i = 0; i < m; ++i) q[i] += wx * v[i] + wy * v[m + i];
+  }
+}
+
+/// Steps 3 and 1 at one interior vertex (m controls): from y, its row of the Y-system's solution,
+/// Z's new row y (I − QQᵀ) + h, then U2 = V2 − Z, dz = Z's change, z = Z (the window's average
+/// zavg, when given, moves toward it by `rate`), then the clamp and the next V2. shares: |dz|²,
+/// |W − Z|². `buffer`: 2m doubles.
+KC_VECTOR_CLONES void vertexStep(Index m, double alpha, const double* y, const double* q0, const double* q1,
+                                 const double* q2, const double* h, double* z, double* u2, double* v2, double* dz,
+                                 double* zavg, double rate, double* buffer, double shares[2]) {
+  double* znew = buffer;
+  double* r = buffer + m;
+  projectOntoAffine(m, y, q0, q1, q2, h, znew);
+  affineStep(m, znew, v2, z, u2, dz);
+  if (zavg) moveToward(m, rate, z, zavg);
+  clampRow(m, alpha, z, u2, v2, r);
+  shares[0] = sumOfSquares(dz, m);
+  shares[1] = sumOfSquares(r, m);
+}
+
+/// Steps 3 and 1 at one triangle (m controls): from the corner rows f0, f1, f2 of [Wb; Z] and the
+/// corners' basis gradients gr, G = ∇_s, U1_s = V1_s − G (stored in u1 and the average u1avg
+/// moved toward it by `rate`, each when given), X = shrink(G − U1_s, thresholds) and V1_s ← αX +
+/// (1 − α)G + U1_s in v1. Returns |X − G|². `buffer`: 6m doubles.
+KC_VECTOR_CLONES double triangleStep(Index m, double alpha, const std::array<Vec2, 3>& gr, const double* f0,
+                                     const double* f1, const double* f2, const double* threshold, double* v1,
+                                     double* u1, double* u1avg, double rate, double* buffer) {
+  double* g = buffer;  // x parts, then y parts
+  double* u = buffer + 2 * m;
+  double* r = buffer + 4 * m;
+  gradientOf(m, gr, f0, f1, f2, g, g + m);
+  difference(2 * m, v1, g, u);
+  if (u1) std::copy(u, u + 2 * m, u1);
+  if (u1avg) moveToward(2 * m, rate, u, u1avg);
+  shrinkRow(m, alpha, g, u, threshold, v1, r);
+  return sumOfSquares(r, 2 * m);
 }
 
 /// Iterations from a certificate check at iteration k with relative gap `gap` to the next: a
@@ -240,6 +288,7 @@ struct LbcSolver::Impl {
   RowMatrix GtAJ;                           // n×m: Gᵀ A ∇[Wb; H] = L_IB Wb + L_II H (constant part of step 2)
   std::vector<Index> adjStart;              // interior vertex v → (triangle, corner) pairs
   std::vector<std::pair<int, int>> adj;
+  std::vector<Vec2> adjWeight;              // per pair: the corner's basis gradient times the triangle's area
   SparseMatrix Lib;                         // n×nb block of the stiffness matrix
   detail::RowBlockCholesky system;          // L_II + M_II
   detail::RowBlockCholesky laplace;         // L_II (harmonic warm start)
@@ -425,6 +474,11 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   for (std::size_t s = 0; s < d.T.size(); ++s)
     for (int c = 0; c < 3; ++c)
       if (d.T[s][std::size_t(c)] >= d.nb) d.adj[std::size_t(fill[std::size_t(d.T[s][std::size_t(c)] - d.nb)]++)] = {int(s), c};
+  d.adjWeight.resize(d.adj.size());
+  for (std::size_t a = 0; a < d.adj.size(); ++a) {
+    const auto [s, c] = d.adj[a];
+    d.adjWeight[a] = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
+  }
 
   // Factorizations: L_II + M_II (the Y-system, eq. B step 2) and L_II (harmonic warm start).
   t0 = std::chrono::steady_clock::now();
@@ -589,42 +643,34 @@ struct LbcSolver::Impl::Admm {
     // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row.
     parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
       for (Index v = begin; v < end; ++v) {
-        const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
-        double* q = &Qm(v, 0);
-        for (Index i = 0; i < m; ++i) q[i] = mass * (V2(v, i) - d.H(v, i)) - d.GtAJ(v, i);
-        for (Index a = d.adjStart[std::size_t(v)]; a < d.adjStart[std::size_t(v + 1)]; ++a) {
-          const auto [s, c] = d.adj[std::size_t(a)];
-          const Vec2 gr = d.g.area[std::size_t(s)] * d.g.gradient[std::size_t(s)][std::size_t(c)];
-          addGradientTranspose(m, gr.x(), gr.y(), &V1(s, 0), q);
-        }
+        const Index a = d.adjStart[std::size_t(v)], count = d.adjStart[std::size_t(v + 1)] - a;
+        gatherRow(m, d.g.vertexMass[std::size_t(d.nb + v)], &V2(v, 0), &d.H(v, 0), &d.GtAJ(v, 0),
+                  &d.adj[std::size_t(a)], &d.adjWeight[std::size_t(a)], count, V1.data(), 2 * m, &Qm(v, 0));
       }
     });
     d.system.solveInPlace(Qm, parallel);
     // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
     parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
       std::vector<double> buffer(std::size_t(2 * m));
-      double* znew = buffer.data();
-      double* scratch = buffer.data() + m;
+      double shares[2];
       for (Index v = begin; v < end; ++v) {
-        d.projectRow(v, &Qm(v, 0), znew);
-        affineStep(m, znew, &V2(v, 0), &Z(v, 0), &U2(v, 0), &dZ(v, 0));
-        if (averageZ) moveToward(m, windowRate, &Z(v, 0), &Zavg(v, 0));
-        dualV[std::size_t(v)] = d.g.vertexMass[std::size_t(d.nb + v)] * sumOfSquares(&dZ(v, 0), m);
-        primalV[std::size_t(v)] = clamp(v, scratch);
+        vertexStep(m, alpha, &Qm(v, 0), d.Q1.col(0).data(), d.Q1.col(1).data(), d.Q1.col(2).data(), &d.H(v, 0),
+                   &Z(v, 0), &U2(v, 0), &V2(v, 0), &dZ(v, 0), averageZ ? &Zavg(v, 0) : nullptr, windowRate,
+                   buffer.data(), shares);
+        const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
+        dualV[std::size_t(v)] = mass * shares[0];
+        primalV[std::size_t(v)] = mass * shares[1];
       }
     });
     // ... and per triangle: G = ∇[Wb; Z], U1 = V1 − G, then the shrinkage.
     parallelForRange(nt, grain(nt, 256), [&](Index begin, Index end) {
       std::vector<double> buffer(std::size_t(6 * m));
-      double* g = buffer.data();  // ∇_s Z: x parts, then y parts
-      double* u = buffer.data() + 2 * m;  // U1_s
-      double* scratch = buffer.data() + 4 * m;
       for (Index s = begin; s < end; ++s) {
-        d.gradientRow(Z, s, g, g + m);
-        difference(2 * m, &V1(s, 0), g, u);
-        if (keepU1) std::copy(u, u + 2 * m, &U1(s, 0));
-        if (averageU1) moveToward(2 * m, rate, u, &U1avg(s, 0));
-        primalT[std::size_t(s)] = shrink(s, g, u, scratch);
+        const auto& t = d.T[std::size_t(s)];
+        const double share = triangleStep(m, alpha, d.g.gradient[std::size_t(s)], d.row(Z, t[0]), d.row(Z, t[1]),
+                                          d.row(Z, t[2]), &threshold(s, 0), &V1(s, 0), keepU1 ? &U1(s, 0) : nullptr,
+                                          averageU1 ? &U1avg(s, 0) : nullptr, rate, buffer.data());
+        primalT[std::size_t(s)] = d.g.area[std::size_t(s)] * share;
       }
     });
   }
