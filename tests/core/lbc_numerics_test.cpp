@@ -94,8 +94,8 @@ TEST(RowBlockCholesky, SolvesLikeEigenAndTheSameOnOneAndTwoThreads) {
   const Eigen::SimplicialLDLT<SparseMatrix> reference(S);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  // Widths 1…16 in one or two blocks, 33 and 42 in four (9+9+9+6, 11+11+11+9), 225 in sixteen of
-  // 15 whose last is empty (15 blocks hold all the columns).
+  // One or two blocks up to 30 columns (9: 8 + 1), four for 33 (9 + 9 + 9 + 6) and 42 (12 + 12 +
+  // 12 + 6), sixteen of 15 for 225, the last one empty.
   for (Index k : {1, 7, 8, 9, 30, 33, 42, 225}) {
     RowMatrix B(n, k);
     for (Index i = 0; i < B.size(); ++i) B.data()[i] = u(rng);

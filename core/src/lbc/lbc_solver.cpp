@@ -146,15 +146,13 @@ inline void projectOntoAffine(Index m, const double* __restrict y, const double*
 // The iteration's three row kernels, one per interior vertex or triangle, each compiled for AVX2
 // and the baseline (the helpers above are inlined into them).
 
-/// Row v of step 2's right-hand side, Gᵀ A (V1 − J) + M (V2 − H): q = mass·(v2 − h) − c +
-/// Σ_a w_a·V1_{s_a} over v's `count` incident (triangle, corner) pairs, w_a the corner's basis
-/// gradient times the triangle's area (x with a row's x parts, y with its y parts); V1's rows are
-/// 2m values, `stride` apart.
-KC_VECTOR_CLONES void gatherRow(Index m, double mass, const double* __restrict v2, const double* __restrict h,
-                                const double* __restrict c, const std::pair<int, int>* adjacent,
-                                const Vec2* weights, Index count, const double* V1, Index stride,
-                                double* __restrict q) {
-  for (Index i = 0; i < m; ++i) q[i] = mass * (v2[i] - h[i]) - c[i];
+/// Row v of step 2's varying right-hand side, Gᵀ A V1 + M V2: q = mass·v2 + Σ_a w_a·V1_{s_a} over
+/// v's `count` incident (triangle, corner) pairs, w_a the corner's basis gradient times the
+/// triangle's area (x with a row's x parts, y with its y parts); V1's rows are 2m values, `stride`
+/// apart.
+KC_VECTOR_CLONES void gatherRow(Index m, double mass, const double* __restrict v2, const std::pair<int, int>* adjacent,
+                                const Vec2* weights, Index count, const double* V1, Index stride, double* __restrict q) {
+  for (Index i = 0; i < m; ++i) q[i] = mass * v2[i];
   for (Index a = 0; a < count; ++a) {
     const double* __restrict v = V1 + Index(adjacent[a].first) * stride;
     const double wx = weights[a].x(), wy = weights[a].y();
@@ -163,15 +161,17 @@ KC_VECTOR_CLONES void gatherRow(Index m, double mass, const double* __restrict v
 }
 
 /// Steps 3 and 1 at one interior vertex (m controls): from y, its row of the Y-system's solution,
-/// Z's new row y (I − QQᵀ) + h, then U2 = V2 − Z, dz = Z's change, z = Z (the window's average
-/// zavg, when given, moves toward it by `rate`), then the clamp and the next V2. shares: |dz|²,
-/// |W − Z|². `buffer`: 2m doubles.
-KC_VECTOR_CLONES void vertexStep(Index m, double alpha, const double* y, const double* q0, const double* q1,
-                                 const double* q2, const double* h, double* z, double* u2, double* v2, double* dz,
-                                 double* zavg, double rate, double* buffer, double shares[2]) {
+/// Z's new row y (I − QQᵀ) + c, then U2 = V2 − Z, dz = Z's change (into u2 and dz when given),
+/// z = Z (the window's average zavg, when given, moves toward it by `rate`), then the clamp and
+/// the next V2. shares: |dz|², |W − Z|². `buffer`: 4m doubles.
+KC_VECTOR_CLONES void vertexStep(Index m, double alpha, const double* y, const double* q0, const double* q1, const double* q2,
+                                 const double* c, double* z, double* v2, double* u2, double* dz, double* zavg, double rate,
+                                 double* buffer, double shares[2]) {
   double* znew = buffer;
   double* r = buffer + m;
-  projectOntoAffine(m, y, q0, q1, q2, h, znew);
+  if (!u2) u2 = buffer + 2 * m;
+  if (!dz) dz = buffer + 3 * m;
+  projectOntoAffine(m, y, q0, q1, q2, c, znew);
   affineStep(m, znew, v2, z, u2, dz);
   if (zavg) moveToward(m, rate, z, zavg);
   clampRow(m, alpha, z, u2, v2, r);
@@ -285,7 +285,7 @@ struct LbcSolver::Impl {
   Points Vn;                                // #V×2 normalized positions
   Eigen::Matrix<double, Eigen::Dynamic, 3> Q1;  // m×3 orthonormal basis of range(K): I − Q1 Q1ᵀ = MnᵀMn
   RowMatrix H;                              // n×m least-norm solution of H K = B (interior rows)
-  RowMatrix GtAJ;                           // n×m: Gᵀ A ∇[Wb; H] = L_IB Wb + L_II H (constant part of step 2)
+  RowMatrix C;  // n×m: H − P (L_II + M_II)⁻¹ (Gᵀ A ∇[Wb; H] + M_II H), step 2's constant part
   std::vector<Index> adjStart;              // interior vertex v → (triangle, corner) pairs
   std::vector<std::pair<int, int>> adj;
   std::vector<Vec2> adjWeight;              // per pair: the corner's basis gradient times the triangle's area
@@ -485,10 +485,23 @@ LbcSolver::LbcSolver(const CageMesh& mesh, LbcTau tau) : m_impl(std::make_unique
   if (d.n > 0) {
     SparseMatrix Lii = L.bottomRightCorner(d.n, d.n);
     d.Lib = L.block(d.nb, 0, d.n, d.nb);
-    d.GtAJ = RowMatrix(d.Lib * d.Wb) + RowMatrix(Lii * d.H);
     SparseMatrix S = Lii;
     for (Index v = 0; v < d.n; ++v) S.coeffRef(v, v) += d.g.vertexMass[std::size_t(d.nb + v)];
     d.ok = d.system.compute(S) && d.laplace.compute(Lii) && d.ok;
+    // Step 2 is Z = P S⁻¹ (Gᵀ A (V1 − ∇[Wb; H]) + M_II (V2 − H)) + H, P = (I − Q1 Q1ᵀ) on the right,
+    // S = L_II + M_II; its constant part, C = H − P S⁻¹ (L_IB Wb + L_II H + M_II H), is added per
+    // row after the solve, so the loop reads neither H nor the constant right-hand side.
+    RowMatrix constant = RowMatrix(d.Lib * d.Wb) + RowMatrix(Lii * d.H);
+    for (Index v = 0; v < d.n; ++v) constant.row(v) += d.g.vertexMass[std::size_t(d.nb + v)] * d.H.row(v);
+    d.C.resize(d.n, d.m);
+    if (d.ok) {
+      d.system.solveInPlace(constant);
+      for (Index v = 0; v < d.n; ++v) {
+        projectOntoAffine(d.m, &constant(v, 0), d.Q1.col(0).data(), d.Q1.col(1).data(), d.Q1.col(2).data(), d.zeroRow.data(),
+                          &d.C(v, 0));
+        d.C.row(v) = d.H.row(v) - d.C.row(v);
+      }
+    }
   }
   d.factorSeconds = secondsSince(t0);
 }
@@ -557,10 +570,10 @@ LbcSolver::Impl::FinalWeights LbcSolver::Impl::finalWeights(const RowMatrix& Z, 
 
 /// The ADMM iteration of (15) in Douglas–Rachford form. Its state is v = x̃ + U (per triangle
 /// V1 = X̃ + U1, per vertex V2 = W̃ + U2): step 2 is the projection Z = P v onto the affine
-/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z and U2 are kept for the
-/// certificate and a change of μ, U1 when asked (iterate's keepU1), Z's last change for the dual
-/// residual; the residuals' per-triangle and per-vertex shares are kept for the caller's sums (the
-/// dual residual's per-triangle shares only when asked: dualShares). ∇Z is not stored: each pass
+/// iterates, U = v − B Z, then step 1 from B Z − U and the next v. Z is kept for the certificate;
+/// U1, U2 (the certificate, a change of μ) and Z's last change (the dual residual) only when asked
+/// (iterate's `keep`); the residuals' per-triangle and per-vertex shares are kept for the caller's
+/// sums (the dual residual's per-triangle shares only when asked: dualShares). ∇Z is not stored: each pass
 /// over the triangles computes it from Z's rows (one pass streams V1 and φ/μ only).
 struct LbcSolver::Impl::Admm {
   const Impl& d;
@@ -627,9 +640,9 @@ struct LbcSolver::Impl::Admm {
   }
 
   /// Steps 2 and 3 of iteration k (1-based), then the next step 1; `parallel` or in one thread.
-  /// U1 is stored only when `keepU1` (the certificate and a change of μ read it; step 1 needs
-  /// only each triangle's row, formed in the pass).
-  void iterate(int k, bool parallel, bool keepU1) {
+  /// U1, U2 and Z's change are stored only when `keep` (the certificate, the dual residual and a
+  /// change of μ read them; the steps need only each row's, formed in the pass).
+  void iterate(int k, bool parallel, bool keep) {
     const Index m = d.m, n = d.n, nt = d.nt;
     // The averages' steps: with j = k / kAverageStride, j² / Σ_{i ≤ j} i², so that iteration t
     // carries weight t² (U1), and 1/(iterations since the window's start) (Z).
@@ -638,25 +651,26 @@ struct LbcSolver::Impl::Admm {
     const bool averageZ = windowStart > 0;
     const double windowRate = averageZ ? 1.0 / double(k - windowStart + 1) : 0.0;
     auto grain = [&](Index count, Index g) { return parallel ? g : count; };
-    // Step 2: the right-hand side Gᵀ A (V1 − J) + M (V2 − H) per interior vertex, gathered from
+    // Step 2: the right-hand side's varying part Gᵀ A V1 + M V2 per interior vertex, gathered from
     // its triangles. With MᵀM = I − Q1 Q1ᵀ the Y-system's solution enters only as
-    // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row.
+    // (L_II + M_II)⁻¹ (right-hand side) MᵀM: solve for all m columns, then project each row and
+    // add the constant part C.
     parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
       for (Index v = begin; v < end; ++v) {
         const Index a = d.adjStart[std::size_t(v)], count = d.adjStart[std::size_t(v + 1)] - a;
-        gatherRow(m, d.g.vertexMass[std::size_t(d.nb + v)], &V2(v, 0), &d.H(v, 0), &d.GtAJ(v, 0),
-                  &d.adj[std::size_t(a)], &d.adjWeight[std::size_t(a)], count, V1.data(), 2 * m, &Qm(v, 0));
+        gatherRow(m, d.g.vertexMass[std::size_t(d.nb + v)], &V2(v, 0), &d.adj[std::size_t(a)], &d.adjWeight[std::size_t(a)],
+                  count, V1.data(), 2 * m, &Qm(v, 0));
       }
     });
     d.system.solveInPlace(Qm, parallel);
     // Step 3 and the next step 1 per interior vertex: Z, U2 = V2 − Z, then the clamp.
     parallelForRange(n, grain(n, 64), [&](Index begin, Index end) {
-      std::vector<double> buffer(std::size_t(2 * m));
+      std::vector<double> buffer(std::size_t(4 * m));
       double shares[2];
       for (Index v = begin; v < end; ++v) {
-        vertexStep(m, alpha, &Qm(v, 0), d.Q1.col(0).data(), d.Q1.col(1).data(), d.Q1.col(2).data(), &d.H(v, 0),
-                   &Z(v, 0), &U2(v, 0), &V2(v, 0), &dZ(v, 0), averageZ ? &Zavg(v, 0) : nullptr, windowRate,
-                   buffer.data(), shares);
+        vertexStep(m, alpha, &Qm(v, 0), d.Q1.col(0).data(), d.Q1.col(1).data(), d.Q1.col(2).data(), &d.C(v, 0), &Z(v, 0),
+                   &V2(v, 0), keep ? &U2(v, 0) : nullptr, keep ? &dZ(v, 0) : nullptr, averageZ ? &Zavg(v, 0) : nullptr,
+                   windowRate, buffer.data(), shares);
         const double mass = d.g.vertexMass[std::size_t(d.nb + v)];
         dualV[std::size_t(v)] = mass * shares[0];
         primalV[std::size_t(v)] = mass * shares[1];
@@ -667,9 +681,9 @@ struct LbcSolver::Impl::Admm {
       std::vector<double> buffer(std::size_t(6 * m));
       for (Index s = begin; s < end; ++s) {
         const auto& t = d.T[std::size_t(s)];
-        const double share = triangleStep(m, alpha, d.g.gradient[std::size_t(s)], d.row(Z, t[0]), d.row(Z, t[1]),
-                                          d.row(Z, t[2]), &threshold(s, 0), &V1(s, 0), keepU1 ? &U1(s, 0) : nullptr,
-                                          averageU1 ? &U1avg(s, 0) : nullptr, rate, buffer.data());
+        const double share =
+            triangleStep(m, alpha, d.g.gradient[std::size_t(s)], d.row(Z, t[0]), d.row(Z, t[1]), d.row(Z, t[2]), &threshold(s, 0),
+                         &V1(s, 0), keep ? &U1(s, 0) : nullptr, averageU1 ? &U1avg(s, 0) : nullptr, rate, buffer.data());
         primalT[std::size_t(s)] = d.g.area[std::size_t(s)] * share;
       }
     });
@@ -757,8 +771,8 @@ LbcResult LbcSolver::solve(const LbcOptions& options) const {
       const bool parallel = threads.parallel(k);
       // Iterations that may stop (the previous one's primal residual passed, which the
       // iteration's fixed-point residual never raises; at most one iteration late), the last one
-      // and residual balancing keep U1 and compute the dual residual; elsewhere it keeps the last
-      // value (the progress's).
+      // and residual balancing keep the multipliers and Z's change and compute the dual residual;
+      // elsewhere it keeps the last value (the progress's).
       const bool mayStop =
           (lastPrimal <= options.tolerance && k >= nextGapCheck) || options.adaptivePenalty || k == options.maxIterations;
       admm.iterate(k, parallel, mayStop);

@@ -36,8 +36,8 @@ bool RowBlockCholesky::compute(const SparseMatrix& A) {
 
 namespace {
 
-/// y ← y − l·x for rows of W values, four at a time (the compiler does not vectorize the
-/// unrolled loop by itself: rows of the block may alias).
+/// y ← y − l·x for rows of W values, four at a time, then two (the compiler does not vectorize
+/// the unrolled loop by itself: rows of the block may alias).
 template <int W>
 inline void subtractScaled(double* y, const double* x, double l) {
   int c = 0;
@@ -47,6 +47,14 @@ inline void subtractScaled(double* y, const double* x, double l) {
     std::memcpy(&b, x + c, sizeof b);
     a -= l * b;
     std::memcpy(y + c, &a, sizeof a);
+  }
+  if constexpr (W % 4 >= 2) {
+    D2 a, b;
+    std::memcpy(&a, y + c, sizeof a);
+    std::memcpy(&b, x + c, sizeof b);
+    a -= l * b;
+    std::memcpy(y + c, &a, sizeof a);
+    c += 2;
   }
   for (; c < W; ++c) y[c] -= l * x[c];
 }
@@ -91,11 +99,14 @@ void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   const Index n = size(), k = B.cols();
   if (k == 0) return;
   // Blocks of at most kBlock columns, an even number of them where k allows (two threads share
-  // them evenly), as even in width as k allows (k alone decides, not the threads). Each column
-  // gets the same operations whatever its block.
+  // them evenly), as even in width as k allows, the width rounded up to a multiple of 4 (whole
+  // vector operations; the last block takes the rest) where the blocks stay an even number. k
+  // alone decides, not the threads; each column gets the same operations whatever its block.
   Index blocks = std::max(std::min(k, Index(2)), (k + kBlock - 1) / kBlock);
   if (blocks % 2 == 1 && blocks < k) ++blocks;
-  const Index width = (k + blocks - 1) / blocks;
+  Index width = (k + blocks - 1) / blocks;
+  const Index rounded = std::min((width + 3) / 4 * 4, kBlock);
+  if (width > 4 && ((k + rounded - 1) / rounded) % 2 == 0) width = rounded;
   parallelFor(blocks, [&](Index b) {
     const Index c0 = b * width, w = std::min(width, k - c0);
     if (w <= 0) return;
