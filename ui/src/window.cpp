@@ -108,6 +108,9 @@ void openStartup(AppState& state, const WindowOptions& o) {
 /// usually ends within them, and a frame drawn meanwhile takes cores from it (a software renderer
 /// spends 0.1–0.3 s on one) and makes its result wait for the frame's end.
 constexpr double kQuietJobSeconds = 0.4;
+/// After them, progress redraws take at most this share of the time (a frame of 50 ms, as a
+/// software renderer draws one, every 0.25 s), and come at most 10 times a second.
+constexpr double kProgressFrameShare = 0.2;
 
 double msBetween(std::chrono::steady_clock::time_point a, std::chrono::steady_clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
@@ -328,8 +331,8 @@ void removeInputCallbacks(GLFWwindow* window) {
 /// When the loop draws the next frame. Display rate while dragging or for a few frames after an
 /// event, counted from the last event also when it arrived while a frame polled (ImGui settles
 /// hover, popups and keyboard focus over two or three frames); a running job gets a few
-/// progress redraws per second once it has run kQuietJobSeconds (before that, only input or its
-/// end wakes the loop); otherwise sleep until input arrives (no redraw while nothing changes). A
+/// progress redraws per second once it has run kQuietJobSeconds (at most kProgressFrameShare of
+/// the time; before that, only input or its end wakes the loop); otherwise sleep until input arrives (no redraw while nothing changes). A
 /// timeout wakes the loop only for a blinking text cursor and for the next autosave of unsaved work.
 struct FramePacing {
   int settleFrames = 3;
@@ -339,6 +342,7 @@ struct FramePacing {
   /// Polls or waits for events as above. `waitsForever`: a signal can wake a wait without timeout.
   /// Key and mouse events still queued (feedKeys, feedMouse) get the next frame at once.
   void waitForEvents(const AppState& state, const WindowInput& input, bool waitsForever) {
+    const double progressInterval = std::max(0.1, 1e-3 * state.timings.frameMs / kProgressFrameShare);
     const bool busy = state.worker.busy();
     if (busy && !wasBusy) jobSince = nowSeconds();
     wasBusy = busy;
@@ -351,7 +355,7 @@ struct FramePacing {
       settleFrames = state.canvasDrag.button >= 0 || input.events != before ? 3 : std::max(settleFrames - 1, 0);
       return;
     }
-    if (busy) glfwWaitEventsTimeout(std::max(quietLeft, 0.1));
+    if (busy) glfwWaitEventsTimeout(std::max(quietLeft, progressInterval));
     else if (ImGui::GetIO().WantTextInput) glfwWaitEventsTimeout(0.5);
     else if (state.unsaved) glfwWaitEventsTimeout(std::max(1.0, state.lastAutosave + kAutosaveSeconds - nowSeconds()));
     else if (waitsForever) glfwWaitEvents();
