@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <utility>
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -59,15 +58,29 @@ inline void subtractScaled(double* y, const double* x, double l) {
   for (; c < W; ++c) y[c] -= l * x[c];
 }
 
-/// Columns c0 … c0 + W − 1 of the row-major n×k B ← A⁻¹ B: the block gathered into y (n rows of
-/// W values in the permuted order), the two triangular solves, the block scattered back. W is a
-/// compile-time width so the row operations are short fixed-length loops the compiler unrolls.
+/// One block of columns of B ← A⁻¹ B: the factor (perm, start, row, value), the row-major n×k B,
+/// the block's first column c0, and y, room for the block (n rows of its width).
+struct Block {
+  const std::vector<int>& perm;
+  const std::vector<int>& start;
+  const std::vector<int>& row;
+  const std::vector<double>& value;
+  double* b;
+  Index n, k, c0;
+  double* y;
+};
+
+/// Columns c0 … c0 + W − 1: the block gathered into y (rows in the permuted order), the two
+/// triangular solves, the block scattered back. W is a compile-time width so the row operations
+/// are short fixed-length loops the compiler unrolls; always inlined into solveBlock's clones.
 template <int W>
-KC_VECTOR_CLONES void solveBlock(const std::vector<int>& perm, const std::vector<int>& start, const std::vector<int>& row,
-                                 const std::vector<double>& value, double* b, Index n, Index k, Index c0, double* y) {
-  for (Index i = 0; i < n; ++i) std::memcpy(y + Index(perm[std::size_t(i)]) * W, b + i * k + c0, W * sizeof(double));
+[[gnu::always_inline]] inline void solveBlockOf(const Block& q) {
+  const auto &perm = q.perm, &start = q.start, &row = q.row;
+  const auto& value = q.value;
+  double* y = q.y;
+  for (Index i = 0; i < q.n; ++i) std::memcpy(y + Index(perm[std::size_t(i)]) * W, q.b + i * q.k + q.c0, W * sizeof(double));
   // L y = P b: column j divides y_j by L_jj, then subtracts L_ij y_j from the rows below.
-  for (Index j = 0; j < n; ++j) {
+  for (Index j = 0; j < q.n; ++j) {
     double* yj = y + j * W;
     const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
     const double d = value[std::size_t(s0)];
@@ -75,22 +88,56 @@ KC_VECTOR_CLONES void solveBlock(const std::vector<int>& perm, const std::vector
     for (int s = s0 + 1; s < s1; ++s) subtractScaled<W>(y + Index(row[std::size_t(s)]) * W, yj, value[std::size_t(s)]);
   }
   // Lᵀ x = y: x_j = (y_j − Σ_{i>j} L_ij x_i) / L_jj, from the last row up.
-  for (Index j = n - 1; j >= 0; --j) {
+  for (Index j = q.n - 1; j >= 0; --j) {
     double* yj = y + j * W;
     const int s0 = start[std::size_t(j)], s1 = start[std::size_t(j + 1)];
     for (int s = s0 + 1; s < s1; ++s) subtractScaled<W>(yj, y + Index(row[std::size_t(s)]) * W, value[std::size_t(s)]);
     const double d = value[std::size_t(s0)];
     for (int c = 0; c < W; ++c) yj[c] /= d;
   }
-  for (Index i = 0; i < n; ++i) std::memcpy(b + i * k + c0, y + Index(perm[std::size_t(i)]) * W, W * sizeof(double));
+  for (Index i = 0; i < q.n; ++i) std::memcpy(q.b + i * q.k + q.c0, y + Index(perm[std::size_t(i)]) * W, W * sizeof(double));
 }
 
-/// solveBlock for the width w (1 … sizeof…(W)).
-template <int... W>
-void solveBlockOfWidth(Index w, std::integer_sequence<int, W...>, const std::vector<int>& perm, const std::vector<int>& start,
-                       const std::vector<int>& row, const std::vector<double>& value, double* b, Index n, Index k, Index c0,
-                       double* y) {
-  ((w == W + 1 ? solveBlock<W + 1>(perm, start, row, value, b, n, k, c0, y) : void()), ...);
+/// solveBlockOf for the width w (1 … RowBlockCholesky::kBlock). A plain function, so that it can
+/// have clones (compilers do not clone templates).
+KC_VECTOR_CLONES void solveBlock(Index w, const Block& q) {
+  static_assert(RowBlockCholesky::kBlock == 16);
+  switch (w) {
+    case 1:
+      return solveBlockOf<1>(q);
+    case 2:
+      return solveBlockOf<2>(q);
+    case 3:
+      return solveBlockOf<3>(q);
+    case 4:
+      return solveBlockOf<4>(q);
+    case 5:
+      return solveBlockOf<5>(q);
+    case 6:
+      return solveBlockOf<6>(q);
+    case 7:
+      return solveBlockOf<7>(q);
+    case 8:
+      return solveBlockOf<8>(q);
+    case 9:
+      return solveBlockOf<9>(q);
+    case 10:
+      return solveBlockOf<10>(q);
+    case 11:
+      return solveBlockOf<11>(q);
+    case 12:
+      return solveBlockOf<12>(q);
+    case 13:
+      return solveBlockOf<13>(q);
+    case 14:
+      return solveBlockOf<14>(q);
+    case 15:
+      return solveBlockOf<15>(q);
+    case 16:
+      return solveBlockOf<16>(q);
+    default:
+      return;
+  }
 }
 
 }  // namespace
@@ -111,8 +158,7 @@ void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
     const Index c0 = b * width, w = std::min(width, k - c0);
     if (w <= 0) return;
     std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
-    solveBlockOfWidth(w, std::make_integer_sequence<int, int(kBlock)>{}, m_perm, m_start, m_row, m_value, B.data(), n, k, c0,
-                      y.data());
+    solveBlock(w, Block{m_perm, m_start, m_row, m_value, B.data(), n, k, c0, y.data()});
   }, parallel ? 1 : blocks);
 }
 
