@@ -104,10 +104,11 @@ void openStartup(AppState& state, const WindowOptions& o) {
   }
 }
 
-/// A job's first seconds without progress redraws: a stroke's re-optimization (or a small bind)
-/// usually ends within them, and a frame drawn meanwhile takes cores from it (a software renderer
-/// spends 0.1–0.3 s on one) and makes its result wait for the frame's end.
-constexpr double kQuietJobSeconds = 0.4;
+/// A job's first second without progress redraws: a stroke's re-optimization or a bind of a
+/// typical cage usually ends within it, and a frame drawn meanwhile takes cores from it (a software
+/// renderer spends 0.05–0.3 s of both cores on one) and makes its result wait for the frame's end;
+/// a wait under a second needs no progress shown.
+constexpr double kQuietJobSeconds = 1.0;
 /// After them, progress redraws take at most this share of the time (a frame of 50 ms, as a
 /// software renderer draws one, every 0.25 s), and come at most 10 times a second.
 constexpr double kProgressFrameShare = 0.2;
