@@ -67,7 +67,7 @@ inline double sumOfSquares(const double* a, Index n) {
 /// 2m each) and the thresholds φ_s/μ: X = shrink(g − u, φ/μ), v ← αX + (1 − α)g + u, r ← X − g.
 /// A free function on restrict pointers, so that the loop vectorizes.
 inline void shrinkRow(Index m, double alpha, const double* __restrict g, const double* __restrict u,
-                                const double* __restrict threshold, double* __restrict v, double* __restrict r) {
+                      const double* __restrict threshold, double* __restrict v, double* __restrict r) {
   for (Index i = 0; i < m; ++i) {  // (branch-free)
     const double ax = g[i] - u[i], ay = g[m + i] - u[m + i];
     const double len = std::sqrt(ax * ax + ay * ay), thr = threshold[i];
@@ -84,7 +84,7 @@ inline void shrinkRow(Index m, double alpha, const double* __restrict g, const d
 /// The gradients (gx, gy: m each) of m linear functions on a triangle with corner values f0, f1,
 /// f2 and the corners' basis gradients gr (a free function on restrict pointers, so that it vectorizes).
 inline void gradientOf(Index m, const std::array<Vec2, 3>& gr, const double* __restrict f0, const double* __restrict f1,
-                                 const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
+                       const double* __restrict f2, double* __restrict gx, double* __restrict gy) {
   const double x0 = gr[0].x(), x1 = gr[1].x(), x2 = gr[2].x(), y0 = gr[0].y(), y1 = gr[1].y(), y2 = gr[2].y();
   for (Index i = 0; i < m; ++i) gx[i] = x0 * f0[i] + x1 * f1[i] + x2 * f2[i];
   for (Index i = 0; i < m; ++i) gy[i] = y0 * f0[i] + y1 * f1[i] + y2 * f2[i];
@@ -102,7 +102,7 @@ inline void moveToward(Index n, double rate, const double* __restrict x, double*
 
 /// Step 3 at a vertex's m controls from the new affine row zn: u = v − zn, dz = zn − z, z = zn.
 inline void affineStep(Index m, const double* __restrict zn, const double* __restrict v, double* __restrict z,
-                                 double* __restrict u, double* __restrict dz) {
+                       double* __restrict u, double* __restrict dz) {
   for (Index i = 0; i < m; ++i) {
     u[i] = v[i] - zn[i];
     dz[i] = zn[i] - z[i];
@@ -111,8 +111,8 @@ inline void affineStep(Index m, const double* __restrict zn, const double* __res
 }
 
 /// Step 1 at a vertex's m controls (eq. 31): W = max(0, z − u), v ← αW + (1 − α)z + u, r ← W − z.
-inline void clampRow(Index m, double alpha, const double* __restrict z, const double* __restrict u,
-                               double* __restrict v, double* __restrict r) {
+inline void clampRow(Index m, double alpha, const double* __restrict z, const double* __restrict u, double* __restrict v,
+                     double* __restrict r) {
   for (Index i = 0; i < m; ++i) {
     const double d = z[i] - u[i], w = d > 0.0 ? d : 0.0;
     v[i] = alpha * w + (1.0 - alpha) * z[i] + u[i];
@@ -122,9 +122,8 @@ inline void clampRow(Index m, double alpha, const double* __restrict z, const do
 
 /// out = y (I − Q Qᵀ) + h for a row y of m values, Q = [q0 q1 q2] (m×3, orthonormal columns): y's
 /// component off range(Q), plus h. Qᵀy in four-lane partial sums (a fixed order).
-inline void projectOntoAffine(Index m, const double* __restrict y, const double* __restrict q0,
-                                        const double* __restrict q1, const double* __restrict q2, const double* __restrict h,
-                                        double* __restrict out) {
+inline void projectOntoAffine(Index m, const double* __restrict y, const double* __restrict q0, const double* __restrict q1,
+                              const double* __restrict q2, const double* __restrict h, double* __restrict out) {
   double p[3][4] = {};
   Index i = 0;
   for (; i + 4 <= m; i += 4)
@@ -183,9 +182,9 @@ KC_VECTOR_CLONES void vertexStep(Index m, double alpha, const double* y, const d
 /// corners' basis gradients gr, G = ∇_s, U1_s = V1_s − G (stored in u1 and the average u1avg
 /// moved toward it by `rate`, each when given), X = shrink(G − U1_s, thresholds) and V1_s ← αX +
 /// (1 − α)G + U1_s in v1. Returns |X − G|². `buffer`: 6m doubles.
-KC_VECTOR_CLONES double triangleStep(Index m, double alpha, const std::array<Vec2, 3>& gr, const double* f0,
-                                     const double* f1, const double* f2, const double* threshold, double* v1,
-                                     double* u1, double* u1avg, double rate, double* buffer) {
+KC_VECTOR_CLONES double triangleStep(Index m, double alpha, const std::array<Vec2, 3>& gr, const double* f0, const double* f1,
+                                     const double* f2, const double* threshold, double* v1, double* u1, double* u1avg,
+                                     double rate, double* buffer) {
   double* g = buffer;  // x parts, then y parts
   double* u = buffer + 2 * m;
   double* r = buffer + 4 * m;

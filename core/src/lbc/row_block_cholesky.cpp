@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "kc/core/parallel.h"
+#include "../weights/simd2.h"
 #include "simd.h"
 
 namespace kc::detail {
@@ -48,11 +49,7 @@ inline void subtractScaled(double* y, const double* x, double l) {
     std::memcpy(y + c, &a, sizeof a);
   }
   if constexpr (W % 4 >= 2) {
-    D2 a, b;
-    std::memcpy(&a, y + c, sizeof a);
-    std::memcpy(&b, x + c, sizeof b);
-    a -= l * b;
-    std::memcpy(y + c, &a, sizeof a);
+    store2(y + c, load2(y + c) - l * load2(x + c));
     c += 2;
   }
   for (; c < W; ++c) y[c] -= l * x[c];
@@ -154,12 +151,15 @@ void RowBlockCholesky::solveInPlace(RowMatrix& B, bool parallel) const {
   Index width = (k + blocks - 1) / blocks;
   const Index rounded = std::min((width + 3) / 4 * 4, kBlock);
   if (width > 4 && ((k + rounded - 1) / rounded) % 2 == 0) width = rounded;
-  parallelFor(blocks, [&](Index b) {
-    const Index c0 = b * width, w = std::min(width, k - c0);
-    if (w <= 0) return;
-    std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
-    solveBlock(w, Block{m_perm, m_start, m_row, m_value, B.data(), n, k, c0, y.data()});
-  }, parallel ? 1 : blocks);
+  parallelFor(
+      blocks,
+      [&](Index b) {
+        const Index c0 = b * width, w = std::min(width, k - c0);
+        if (w <= 0) return;
+        std::vector<double> y(std::size_t(n * w));  // the block in the permuted order, row-major
+        solveBlock(w, Block{m_perm, m_start, m_row, m_value, B.data(), n, k, c0, y.data()});
+      },
+      parallel ? 1 : blocks);
 }
 
 }  // namespace kc::detail
